@@ -1,0 +1,225 @@
+"""Write the bundled vehicle models from one description.
+
+    python examples/make_vehicles.py            # rewrites the example files
+    python examples/make_vehicles.py --cars 10 -o train.toml   # a train, for benchmarks
+
+The paper's forced-steering car (Figs. 7 and 8): car body CB (x, y, roll, yaw), bogie
+frames T1, T2 (x, y, roll, yaw), wheelsets W1..W4 (y, yaw) and steering levers
+L1..L4 (pitch-axis rotation ry, plus the virtual longitudinal DOF x at the pin):
+11 bodies, 28 DOFs, 4 pins, 42 elements + 4 virtual ones.  The conventional twin
+drops the levers and links (20 DOFs) and uses the ordinary axle-box stiffness.
+
+Lever kinematics (docs/vehicle.md): each lever is pinned to its bogie frame at
+lateral offset +-bL; its upper arm lLU is linked to the car-body steering beam
+above the bogie centre (kLU); the link to the front axle box is at lLL below the
+pin and the link to the rear axle box at lLL above it (kLL), so that one rotation
+moves the two axle boxes of a side in opposite directions, as the paper describes.
+Both ends of every element are placed at the same station, so the curve module
+sees the track geometry correctly.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover
+    import tomli as tomllib
+
+HERE = Path(__file__).resolve().parent
+SIDES = (("L", "bL", "b1", "b2"), ("R", "-bL", "-b1", "-b2"))
+
+
+def _q(text: str) -> str:
+    return '"' + text + '"'
+
+
+def _vec(*values) -> str:
+    return "[" + ", ".join(v if isinstance(v, str) and v.startswith('"') else _q(str(v)) if isinstance(v, str) else str(v) for v in values) + "]"
+
+
+def _shift(expression: str, offset: str) -> str:
+    """Station expression moved back by ``offset`` (for cars of a train)."""
+    if not offset:
+        return expression
+    return f"{expression} - {offset}" if expression != "0" else f"-{offset}"
+
+
+class _Writer:
+    def __init__(self):
+        self.bodies: list[str] = []
+        self.points: list[str] = []
+        self.elements: list[str] = []
+        self.pins: list[str] = []
+        self.classic_bodies: list[tuple] = []
+        self.counts = {"C": 0}
+
+    def body(self, name, label, mass, inertia, dofs, position):
+        self.bodies.append(
+            f"[bodies.{name}]\nlabel = {_q(label)}\nmass = {_q(mass)}\n"
+            f"inertia = {_vec(*inertia)}\ndofs = [{', '.join(_q(d) for d in dofs)}]\n"
+            f"position = {_vec(*position)}\n"
+        )
+
+    def point(self, name, body, offset):
+        self.points.append(f"[points.{name}]\nbody = {_q(body)}\noffset = {_vec(*offset)}\n")
+
+    def element(self, name, label, s_end, t_end, direction, stiffness, damping="0"):
+        self.elements.append(
+            f"[elements.{name}]\nlabel = {_q(label)}\nfrom = {_q(s_end)}\nto = {_q(t_end)}\n"
+            f"direction = {_q(direction)}\nstiffness = {_q(stiffness)}\ndamping = {_q(damping)}\n"
+        )
+
+    def link(self, name, label, s_body, s_offset, t_body, t_offset, direction, stiffness, damping="0"):
+        """An element with its two CPs (named after the element)."""
+        self.point(f"{name}_S", s_body, s_offset)
+        self.point(f"{name}_T", t_body, t_offset)
+        self.element(name, label, f"{name}_S", f"{name}_T", direction, stiffness, damping)
+
+
+def build_car(w: _Writer, steered: bool, prefix: str = "", station: str = "") -> list[str]:
+    """Add one car's bodies, CPs, elements and pins; return its wheelset ids."""
+    p = prefix
+    cb = f"{p}CB"
+    w.body(cb, "car body", "mc", ("Icx", "Icy", "Icz"), ("x", "y", "rx", "rz"), (_shift("0", station), 0, "hc"))
+    wheelsets = []
+    for t_index, (t_sign, w_numbers) in enumerate((("", (1, 2)), ("-", (3, 4))), start=1):
+        bogie = f"{p}T{t_index}"
+        s_t = f"{t_sign}lT" if t_sign else "lT"
+        w.body(bogie, f"bogie frame {t_index}", "mt", ("Itx", "Ity", "Itz"), ("x", "y", "rx", "rz"), (_shift(s_t, station), 0, "ht"))
+        for w_index, a_sign in zip(w_numbers, ("", "-")):
+            ws = f"{p}W{w_index}"
+            wheelsets.append(ws)
+            s_w = f"{s_t} + a" if a_sign == "" else f"{s_t} - a"
+            w.body(ws, f"wheelset {w_index}", "mw", ("Iwx", "0", "Iwz"), ("y", "rz"), (_shift(s_w, station), 0, "r0"))
+            ax = "a" if a_sign == "" else "-a"
+            for side, _bl, b1, _b2 in SIDES:
+                w.link(f"{ws}_px{side}", f"primary longitudinal, wheelset {w_index} {side}",
+                       bogie, (ax, b1, "h1 - ht"), ws, (0, b1, "h1 - r0"), "x", "kx1")
+                w.link(f"{ws}_py{side}", f"primary lateral, wheelset {w_index} {side}",
+                       bogie, (ax, b1, "h1 - ht"), ws, (0, b1, "h1 - r0"), "y", "ky1", "cy1")
+        s_cb = "lT" if not t_sign else "-lT"
+        for side, _bl, _b1, b2 in SIDES:
+            w.link(f"{bogie}_sx{side}", f"secondary longitudinal, bogie {t_index} {side}",
+                   cb, (s_cb, b2, "h2 - hc"), bogie, (0, b2, "h2 - ht"), "x", "kx2")
+            w.link(f"{bogie}_sy{side}", f"secondary lateral, bogie {t_index} {side}",
+                   cb, (s_cb, b2, "h2 - hc"), bogie, (0, b2, "h2 - ht"), "y", "ky2")
+            w.link(f"{bogie}_sz{side}", f"secondary vertical, bogie {t_index} {side}",
+                   cb, (s_cb, b2, "h2 - hc"), bogie, (0, b2, "h2 - ht"), "z", "kz2", "cz2")
+        w.link(f"{bogie}_dy", f"secondary lateral damper, bogie {t_index}",
+               cb, (s_cb, 0, "h2 - hc"), bogie, (0, 0, "h2 - ht"), "y", "0", "cy2")
+        if not steered:
+            continue
+        front, rear = (f"{p}W{w_numbers[0]}", f"{p}W{w_numbers[1]}")
+        for lever_index, (side, bl, _b1, _b2) in zip((2 * t_index - 1, 2 * t_index), SIDES):
+            lever = f"{p}L{lever_index}"
+            w.body(lever, f"steering lever {lever_index} ({'left' if side == 'L' else 'right'}, bogie {t_index})",
+                   "mL", ("0", "ILy", "0"), ("x", "ry"), (_shift(s_t, station), 0, "ht"))
+            w.link(f"{lever}_upper", f"lever {lever_index} upper link to the car-body steering beam",
+                   lever, (0, bl, "lLU"), cb, (s_cb, bl, "ht + lLU - hc"), "x", "kLU")
+            w.link(f"{lever}_front", f"lever {lever_index} link to the front axle box",
+                   lever, ("a", bl, "-lLL"), front, (0, bl, "h1 - r0"), "x", "kLL")
+            w.link(f"{lever}_rear", f"lever {lever_index} link to the rear axle box",
+                   lever, ("-a", bl, "lLL"), rear, (0, bl, "h1 - r0"), "x", "kLL")
+            w.link(f"{lever}_pin", f"lever {lever_index} pin to the bogie frame (virtual)",
+                   lever, (0, bl, 0), bogie, (0, bl, 0), "x", "kinf")
+            w.pins.append(f"[pins.{lever}_pin]\nvirtual = {_q(lever + '_pin_S')}\nnon_virtual = {_q(lever + '_pin_T')}\n")
+    return wheelsets
+
+
+def _parameters(conventional: bool) -> str:
+    data = tomllib.loads((HERE / "vehicle_parameters.toml").read_text(encoding="utf-8"))
+    values = dict(data["parameters"])
+    if conventional:
+        values.update(data.get("parameters_conventional", {}))
+    lines = []
+    source_lines = (HERE / "vehicle_parameters.toml").read_text(encoding="utf-8").splitlines()
+    comments = {}
+    for line in source_lines:
+        name = line.split("=", 1)[0].strip()
+        if "#" in line and "{" in line:
+            comments.setdefault(name, line.split("#", 1)[1].strip())
+    for name, spec in values.items():
+        if name == "v":
+            lines.append('v = "120 km/h"  # paper: running speed')
+            continue
+        if conventional and name in ("mL", "ILy", "lLU", "lLL", "bL", "kLU", "kLL", "kx1c"):
+            continue
+        value = spec["value"]
+        comment = comments.get(name, "")
+        if conventional and name in data.get("parameters_conventional", {}):
+            comment = "conventional bogie: " + comment
+        lines.append(f'{name} = {{ value = {value!r}, unit = "{spec["unit"]}" }}' + (f"  # {comment}" if comment else ""))
+    lines.append('hf = { value = 1.2, unit = "m" }  # floor height above rail (est.: JR EMU floor 1.1-1.2 m)')
+    if not conventional:
+        lines.append('kinf = { value = 1.0e9, unit = "N/m" }  # virtual pin stiffness: eliminated, never used')
+    return "\n".join(lines) + "\n"
+
+
+def vehicle_toml(steered: bool = True, cars: int = 1, car_length: str = "20.0") -> str:
+    """TOML text of the forced-steering (``steered``) or conventional vehicle, or a train."""
+    w = _Writer()
+    wheelsets: list[str] = []
+    for car in range(cars):
+        prefix = f"C{car + 1}" if cars > 1 else ""
+        station = "" if car == 0 else f"{car}*Lc"
+        wheelsets += build_car(w, steered, prefix, station)
+        if car > 0:
+            previous = f"C{car}CB"
+            here = f"{prefix}CB"
+            for direction, stiffness, damping in (("x", "kcx", "ccx"), ("y", "kcy", "ccy")):
+                w.link(f"{prefix}_coupler_{direction}", f"coupler {car}-{car + 1} ({direction})",
+                       previous, ("-Lc/2", 0, 0), here, ("Lc/2", 0, 0), direction, stiffness, damping)
+    name = "forced_steering" if steered else "conventional"
+    title = ("Forced-steering narrow-gauge limited-express car (Tanifuji & Suzuki 2001, Figs. 7-8)"
+             if steered else "The same car with conventional bogies (no steering levers or links)")
+    if cars > 1:
+        name += f"_train{cars}"
+        title = f"{cars}-car train of: {title}"
+    out = [
+        "# EXPRESS model file (modern format, docs/model-format.md).",
+        "# Written by examples/make_vehicles.py; parameter sources in docs/parameters.md.",
+        "",
+        "[model]",
+        f'name = "{name}"',
+        f'title = "{title}"',
+        "",
+        "[parameters]",
+        _parameters(conventional=not steered),
+    ]
+    if cars > 1:
+        out.append(f'Lc = {{ value = {car_length}, unit = "m" }}  # car length (coupler to coupler)\n'
+                   'kcx = { value = 1.0e7, unit = "N/m" }\nccx = { value = 1.0e5, unit = "N*s/m" }\n'
+                   'kcy = { value = 1.0e5, unit = "N/m" }\nccy = { value = 1.0e4, unit = "N*s/m" }\n')
+    out += w.bodies + w.points + w.elements + w.pins
+    wheelset_list = ", ".join(_q(x) for x in wheelsets)
+    out.append(
+        "[rail]\nspeed = \"v\"\ncant_base = \"G\"\ngravity = \"g\"\n"
+        f"wheelsets = [{wheelset_list}]\n\n"
+        "[rail.wheel_rail]\nf1 = \"f1\"\nf2 = \"f2\"\nconicity = \"Gamma\"\nr0 = \"r0\"\nb = \"b\"\n"
+        "flange_clearance = \"delta\"\nrail_stiffness = \"kR\"\nfriction = \"mu\"\nwheel_load = \"P0\"\n\n"
+        f"[rail.outputs.floor_front]\nbody = \"{'C1' if cars > 1 else ''}CB\"\noffset = [\"lT\", 0, \"hf - hc\"]\n\n"
+        f"[rail.outputs.floor_rear]\nbody = \"{'C1' if cars > 1 else ''}CB\"\noffset = [\"-lT\", 0, \"hf - hc\"]\n"
+    )
+    return "\n".join(out)
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--cars", type=int, default=0, help="write a train of this many steered cars")
+    parser.add_argument("-o", "--output", help="output file for --cars")
+    args = parser.parse_args(argv)
+    if args.cars:
+        text = vehicle_toml(True, cars=args.cars)
+        Path(args.output or f"train{args.cars}.toml").write_text(text, encoding="utf-8")
+        return 0
+    (HERE / "forced-steering.toml").write_text(vehicle_toml(True), encoding="utf-8")
+    (HERE / "conventional.toml").write_text(vehicle_toml(False), encoding="utf-8")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

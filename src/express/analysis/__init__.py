@@ -1,0 +1,1 @@
+"""Analyses: state space, curving simulation, frequency response, stability."""

@@ -1,0 +1,437 @@
+"""The generator: model -> exact symbolic M, C, K, P, Pd with pinned joints eliminated.
+
+Paper sections 2.1 and 2.2 in 3-D.  Each element's deflection is a linear form
+``delta = g . q + h . u`` (``g`` over the generalized coordinates, ``h`` over the
+inputs); the element adds ``k g g^T`` to K, ``c g g^T`` to C and ``-k g h^T``,
+``-c g h^T`` to the input matrices P and Pd (eq. 3 and its dissipative twin).
+
+Pinned joints are eliminated exactly by ``q = T q_r`` (``M_r = T^T M T``, likewise C,
+K, P, Pd), applied per element to ``g`` before assembly: ``K_r = sum k (T^T g)(T^T g)^T``.
+The virtual element's ``T^T g`` is the pin constraint itself, hence exactly zero, so
+the virtual stiffness never enters the result.
+
+Rail modules add their own terms through :class:`AddedTerms` (full coordinates,
+before elimination); the generator treats them like everything else.
+"""
+
+from __future__ import annotations
+
+from collections import defaultdict
+from dataclasses import dataclass, field
+
+import sympy as sp
+
+from .algebra import ExactDomain, needs_fractions
+from .diagnostics import ModelError, Problem
+from .equations import EquationsOfMotion
+from .kinematics import generalized_coordinates, point_motion
+from .model import AXES, Model, check_model
+
+__all__ = ["AddedTerms", "GenerationResult", "generate", "generate_equations", "pin_transformation"]
+
+
+@dataclass(frozen=True)
+class AddedTerms:
+    """Terms added by the rail modules, in full coordinates (before pin elimination).
+
+    Attributes
+    ----------
+    inputs : tuple of str
+        Input names, in order, appended after the ground inputs.
+    point_inputs : dict
+        ``(cp_id, axis) -> {input: coefficient}``: extra motion of a CP driven by an
+        input (the curvature terms of ``rail.md``); enters every element on the CP.
+    stiffness, damping : list of (str, str, sympy.Expr)
+        ``(row DOF, column DOF, value)`` added to K or C (need not be symmetric).
+    forces, rate_forces : list of (str, str, sympy.Expr)
+        ``(DOF, input, coefficient)`` added to P or Pd.
+    """
+
+    inputs: tuple[str, ...] = ()
+    point_inputs: dict[tuple[str, int], dict[str, sp.Expr]] = field(default_factory=dict)
+    stiffness: list[tuple[str, str, sp.Expr]] = field(default_factory=list)
+    damping: list[tuple[str, str, sp.Expr]] = field(default_factory=list)
+    forces: list[tuple[str, str, sp.Expr]] = field(default_factory=list)
+    rate_forces: list[tuple[str, str, sp.Expr]] = field(default_factory=list)
+
+    def expressions(self):
+        """Every coefficient, for collecting the parameter symbols."""
+        for terms in self.point_inputs.values():
+            yield from terms.values()
+        for group in (self.stiffness, self.damping, self.forces, self.rate_forces):
+            for *_, value in group:
+                yield value
+
+
+@dataclass(frozen=True)
+class GenerationResult:
+    """Equations of motion plus what the generator noticed.
+
+    Attributes
+    ----------
+    equations : EquationsOfMotion
+        The matrices.
+    warnings : tuple of Problem
+        Suspicious features (a DOF with zero mass or inertia).
+    transformation : sympy.ImmutableMatrix
+        ``T`` with ``q = T q_r`` (full DOFs x reduced DOFs).
+    full_dofs : tuple of str
+        Generalized coordinates before elimination (rows of ``T``).
+    """
+
+    equations: EquationsOfMotion
+    warnings: tuple[Problem, ...]
+    transformation: sp.ImmutableMatrix
+    full_dofs: tuple[str, ...]
+
+
+class _NeedsFractions(Exception):
+    """Pin elimination divides by a parameter: redo in the fraction field."""
+
+
+def _model_expressions(model: Model, added: AddedTerms):
+    for body in model.bodies:
+        yield body.mass
+        yield from body.inertia
+    for point in model.points:
+        yield from point.offset
+    for element in model.elements:
+        yield element.stiffness
+        yield element.damping
+    yield from added.expressions()
+
+
+def _pin_elements(model: Model):
+    """The element joining each pin's CPs (validated by :func:`check_model`)."""
+    by_ends = {frozenset((e.s_end, e.t_end)): e for e in model.elements}
+    return [(pin, by_ends[frozenset((pin.virtual, pin.non_virtual))]) for pin in model.pins]
+
+
+def pin_transformation(model: Model, domain: ExactDomain, gradients: dict[str, dict[str, object]]):
+    """Solve the pin constraints for the virtual DOFs.
+
+    Parameters
+    ----------
+    model : Model
+        Validated model.
+    domain : ExactDomain
+        Arithmetic domain.
+    gradients : dict
+        Element id -> ``{dof: coefficient}`` of its deflection.
+
+    Returns
+    -------
+    virtual : list of str
+        Virtual DOFs, in pin order.
+    solution : dict
+        Virtual DOF -> ``{independent dof: coefficient}`` so that
+        ``q_virtual = sum coefficient * q_dof``.
+
+    Raises
+    ------
+    ModelError
+        If two pins share a virtual DOF or the constraint set is singular.
+    """
+    problems = []
+    virtual_of: dict[str, str] = {}
+    rows: dict[str, dict[str, object]] = {}
+    owner: dict[str, str] = {}
+    for pin, element in _pin_elements(model):
+        body = model.point(pin.virtual).host
+        dof = f"{body}.{AXES[element.direction]}"
+        if dof in owner:
+            problems.append(
+                Problem(
+                    model.source,
+                    pin.line,
+                    f"pin {pin.id}",
+                    f"pins {owner[dof]} and {pin.id} both take {dof} as their virtual DOF",
+                )
+            )
+            continue
+        owner[dof] = pin.id
+        virtual_of[pin.id] = dof
+        rows[pin.id] = gradients[element.id]
+    if problems:
+        raise ModelError(problems)
+    virtual = list(virtual_of.values())
+    virtual_set = set(virtual)
+
+    # connected components: pin p touches the virtual DOFs in its row
+    parent = {pin_id: pin_id for pin_id in rows}
+
+    def find(item: str) -> str:
+        while parent[item] != item:
+            parent[item] = parent[parent[item]]
+            item = parent[item]
+        return item
+
+    for pin_id, row in rows.items():
+        for dof in row:
+            if dof in virtual_set:
+                parent[find(pin_id)] = find(owner[dof])
+    components: dict[str, list[str]] = defaultdict(list)
+    for pin_id in rows:
+        components[find(pin_id)].append(pin_id)
+
+    solution: dict[str, dict[str, object]] = {}
+    for pins in components.values():
+        unknowns = [virtual_of[p] for p in pins]
+        if len(pins) == 1:
+            row = rows[pins[0]]
+            pivot = row.get(unknowns[0], domain.zero)
+            if not pivot:
+                raise _singular(model, pins, virtual_of)
+            if not domain.fractions and not _is_constant(pivot):
+                raise _NeedsFractions
+            inverse = domain.one / pivot if domain.fractions else domain.domain.domain.quo(
+                domain.domain.domain.one, pivot.LC
+            )
+            solution[unknowns[0]] = {
+                dof: -value * inverse for dof, value in row.items() if dof != unknowns[0]
+            }
+            continue
+        independents = sorted({d for p in pins for d in rows[p] if d not in virtual_set})
+        a_vv = sp.Matrix(
+            [[domain.to_expr(rows[p].get(u, domain.zero)) for u in unknowns] for p in pins]
+        )
+        a_vr = sp.Matrix(
+            [[domain.to_expr(rows[p].get(d, domain.zero)) for d in independents] for p in pins]
+        )
+        if sp.cancel(a_vv.det(method="berkowitz")) == 0:
+            raise _singular(model, pins, virtual_of)
+        x = (-a_vv.LUsolve(a_vr)).applyfunc(sp.cancel)
+        if not domain.fractions and needs_fractions(x):
+            raise _NeedsFractions
+        for i, unknown in enumerate(unknowns):
+            solution[unknown] = {
+                dof: domain.from_expr(x[i, j]) for j, dof in enumerate(independents) if x[i, j] != 0
+            }
+    return virtual, solution
+
+
+def _is_constant(element) -> bool:
+    return element.is_ground
+
+
+def _singular(model: Model, pins: list[str], virtual_of: dict[str, str]) -> ModelError:
+    by_id = {pin.id: pin for pin in model.pins}
+    bodies = sorted({dof.split(".")[0] for p in pins for dof in [virtual_of[p]]})
+    names = ", ".join(pins)
+    dofs = ", ".join(virtual_of[p] for p in pins)
+    return ModelError(
+        [
+            Problem(
+                model.source,
+                by_id[pins[0]].line,
+                f"pin{'s' if len(pins) > 1 else ''} {names}",
+                f"the pin constraints do not determine the virtual DOFs {dofs} "
+                f"(singular constraint set; bodies {', '.join(bodies)})",
+            )
+        ]
+    )
+
+
+def generate(model: Model, *, keep_virtual: bool = False, added: AddedTerms | None = None) -> GenerationResult:
+    """Generate the exact symbolic equations of motion of ``model``.
+
+    Parameters
+    ----------
+    model : Model
+        The model (validated again here).
+    keep_virtual : bool
+        Keep the virtual DOFs and the virtual elements (the paper's eq. 6).
+    added : AddedTerms, optional
+        Terms from the rail modules.
+
+    Returns
+    -------
+    GenerationResult
+
+    Raises
+    ------
+    ModelError
+        For an invalid model or a singular set of pin constraints.
+
+    Examples
+    --------
+    >>> from express.io.classic import read_classic
+    >>> eom = generate(read_classic("examples/lever.exp")).equations
+    >>> eom.dofs, eom.eliminated
+    (('B1.rz', 'B2.ry'), ('B2.x',))
+    >>> eom.K[0, 0]
+    b**2*(kLL + kLU)
+    """
+    problems = check_model(model)
+    if problems:
+        raise ModelError(problems)
+    added = added or AddedTerms()
+    expressions = list(_model_expressions(model, added))
+    symbols = set().union(*(sp.sympify(e).free_symbols for e in expressions)) if expressions else set()
+    fractions = needs_fractions(expressions)
+    try:
+        return _generate(model, keep_virtual, added, ExactDomain(symbols, fractions))
+    except _NeedsFractions:
+        return _generate(model, keep_virtual, added, ExactDomain(symbols, True))
+
+
+def generate_equations(model: Model, *, keep_virtual: bool = False, added: AddedTerms | None = None) -> EquationsOfMotion:
+    """Shortcut for ``generate(...).equations``."""
+    return generate(model, keep_virtual=keep_virtual, added=added).equations
+
+
+def _add_outer(target, left, right, scale) -> None:
+    for i, a in left.items():
+        factor = a * scale
+        for j, b in right.items():
+            target[(i, j)] = target.get((i, j), 0) + factor * b
+
+
+def _generate(model: Model, keep_virtual: bool, added: AddedTerms, domain: ExactDomain) -> GenerationResult:
+    full_dofs = generalized_coordinates(model)
+    conv = domain.from_expr
+
+    # deflection of every element: dofs part and inputs part
+    ground_inputs: list[str] = []
+    gradients: dict[str, dict[str, object]] = {}
+    input_gradients: dict[str, dict[str, object]] = {}
+    pin_element_ids = {element.id for _, element in _pin_elements(model)}
+    motion_cache: dict[tuple[str, int], tuple[dict, dict]] = {}
+
+    def motion(point_id: str, axis: int):
+        key = (point_id, axis)
+        if key not in motion_cache:
+            dofs, inputs = point_motion(model, point_id, axis)
+            inputs = dict(inputs)
+            for name, value in added.point_inputs.get(key, {}).items():
+                inputs[name] = inputs.get(name, 0) + value
+            motion_cache[key] = (
+                {d: conv(v) for d, v in dofs.items()},
+                {u: conv(v) for u, v in inputs.items()},
+            )
+        return motion_cache[key]
+
+    for element in model.elements:
+        s_dofs, s_inputs = motion(element.s_end, element.direction)
+        t_dofs, t_inputs = motion(element.t_end, element.direction)
+        g = dict(s_dofs)
+        for dof, value in t_dofs.items():
+            g[dof] = g.get(dof, domain.zero) - value
+        h = dict(s_inputs)
+        for name, value in t_inputs.items():
+            h[name] = h.get(name, domain.zero) - value
+        gradients[element.id] = {d: v for d, v in g.items() if v}
+        if element.id in pin_element_ids:
+            h = {}  # a pin to a ground holds the virtual DOF to a static ground
+        input_gradients[element.id] = {u: v for u, v in h.items() if v}
+        for name in input_gradients[element.id]:
+            if name not in ground_inputs and name not in added.inputs:
+                ground_inputs.append(name)
+
+    ground_order = {f"{g.id}.{axis}": (i, a) for i, g in enumerate(model.grounds) for a, axis in enumerate(AXES)}
+    ground_inputs.sort(key=lambda name: ground_order[name])
+    inputs = ground_inputs + [name for name in added.inputs if name not in ground_inputs]
+
+    # the transformation q = T q_r
+    if not model.pins:
+        virtual: list[str] = []
+        solution: dict[str, dict[str, object]] = {}
+    else:
+        virtual, solution = pin_transformation(model, domain, gradients)
+    reduced = [dof for dof in full_dofs if dof not in solution]
+    if keep_virtual:  # as the paper's eq. (6): virtual DOFs kept, placed last
+        reduced += virtual
+        virtual, solution = [], {}
+    r_index = {dof: i for i, dof in enumerate(reduced)}
+    t_rows: dict[str, dict[int, object]] = {dof: {r_index[dof]: domain.one} for dof in reduced}
+    for dof, combination in solution.items():
+        t_rows[dof] = {r_index[d]: v for d, v in combination.items()}
+    in_index = {name: i for i, name in enumerate(inputs)}
+
+    def reduce(vector: dict[str, object]) -> dict[int, object]:
+        result: dict[int, object] = {}
+        for dof, value in vector.items():
+            for j, t in t_rows[dof].items():
+                result[j] = result.get(j, domain.zero) + value * t
+        return {j: v for j, v in result.items() if v}
+
+    stiffness: dict[tuple[int, int], object] = {}
+    damping: dict[tuple[int, int], object] = {}
+    p_matrix: dict[tuple[int, int], object] = {}
+    pd_matrix: dict[tuple[int, int], object] = {}
+    for element in model.elements:
+        if not keep_virtual and element.id in pin_element_ids:
+            continue  # its reduced gradient is the pin constraint: exactly zero
+        g = reduce(gradients[element.id])
+        if not g:
+            continue
+        h = {in_index[u]: v for u, v in input_gradients[element.id].items()}
+        k, c = conv(element.stiffness), conv(element.damping)
+        if k:
+            _add_outer(stiffness, g, g, k)
+            _add_outer(p_matrix, g, h, -k)
+        if c:
+            _add_outer(damping, g, g, c)
+            _add_outer(pd_matrix, g, h, -c)
+
+    mass: dict[tuple[int, int], object] = {}
+    for body in model.bodies:
+        for dof in body.dofs:
+            inertia = conv(body.dof_inertia(dof))
+            if inertia:
+                row = t_rows[f"{body.id}.{dof}"]
+                _add_outer(mass, row, row, inertia)
+
+    for target, terms in ((stiffness, added.stiffness), (damping, added.damping)):
+        for row_dof, column_dof, value in terms:
+            _add_outer(target, t_rows[row_dof], t_rows[column_dof], conv(value))
+    for target, terms in ((p_matrix, added.forces), (pd_matrix, added.rate_forces)):
+        for dof, name, value in terms:
+            _add_outer(target, t_rows[dof], {in_index[name]: domain.one}, conv(value))
+
+    n, m = len(reduced), len(inputs)
+
+    def build(entries: dict[tuple[int, int], object], columns: int) -> sp.ImmutableMatrix:
+        flat = [sp.S.Zero] * (n * columns)
+        for (i, j), value in entries.items():
+            if value:
+                flat[i * columns + j] = domain.readable(value)
+        return sp.ImmutableMatrix(n, columns, flat)
+
+    matrices = {"M": build(mass, n), "C": build(damping, n), "K": build(stiffness, n)}
+    if inputs:
+        matrices["P"] = build(p_matrix, m)
+        matrices["Pd"] = build(pd_matrix, m)
+    symbols = set()
+    for matrix in matrices.values():
+        symbols |= matrix.free_symbols
+    parameters = tuple(sorted(s.name for s in symbols))
+    equations = EquationsOfMotion(
+        name=model.name,
+        dofs=tuple(reduced),
+        eliminated=tuple(virtual),
+        inputs=tuple(inputs),
+        matrices=matrices,
+        parameters=parameters,
+        values={name: p.value for name, p in sorted(model.parameters.items())},
+        units={name: p.unit for name, p in sorted(model.parameters.items()) if p.unit},
+    )
+    warnings = []
+    by_id = {body.id: body for body in model.bodies}
+    for i, dof in enumerate(reduced):
+        if matrices["M"][i, i] == 0:
+            body = by_id[dof.split(".")[0]]
+            warnings.append(
+                Problem(
+                    model.source,
+                    body.line,
+                    f"body {body.id}",
+                    f"DOF {dof} has zero mass or inertia: M is singular and must not be inverted",
+                )
+            )
+    t_matrix = sp.ImmutableMatrix(
+        len(full_dofs),
+        n,
+        lambda i, j: domain.readable(t_rows[full_dofs[i]].get(j, domain.zero)),
+    )
+    return GenerationResult(equations, tuple(warnings), t_matrix, tuple(full_dofs))

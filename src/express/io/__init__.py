@@ -1,0 +1,30 @@
+"""Model readers and writers: classic (paper Fig. 5) and modern (TOML) files."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from ..diagnostics import ModelError, Problem
+from ..model import Model
+from .classic import parse_classic, read_classic
+from .toml_model import parse_toml_model, read_toml_model
+from .toml_writer import model_to_toml
+
+__all__ = ["load_model", "read_classic", "parse_classic", "read_toml_model", "parse_toml_model", "model_to_toml"]
+
+
+def load_model(path: str | Path) -> Model:
+    """Read a model file: ``.toml`` is the modern format, anything else the classic one.
+
+    Raises
+    ------
+    ModelError
+        For a missing, unreadable or malformed file (every problem at once).
+    """
+    path = Path(path)
+    if not path.is_file():
+        what = "is a directory" if path.is_dir() else "does not exist"
+        raise ModelError([Problem(str(path), None, "", f"file {what}")])
+    if path.suffix.lower() == ".toml":
+        return read_toml_model(path)
+    return read_classic(path)

@@ -1,0 +1,235 @@
+"""Reader for the classic model file of the paper's Fig. 5 (``conventions.md``).
+
+Five sections opened by ``(1) Body``, ``(2) Ground``, ``(3) CP``, ``(4) TSD``,
+``(5) Pinned Joint``; comma- or tab-separated data rows that start with the item's
+id (``B1``, ``G1``, ``C1``, ``T1``, ``P1``); any other line (column headings, blank
+lines) is not data.  Every problem in the file is collected and raised together.
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import sympy as sp
+
+from ..diagnostics import ModelError, Problem
+from ..expressions import ExpressionError, parse_expression
+from ..model import (
+    AXES,
+    DOF_NAMES,
+    Body,
+    ConnectionPoint,
+    Element,
+    Ground,
+    Model,
+    PinnedJoint,
+    check_model,
+)
+
+__all__ = ["read_classic", "parse_classic", "model_name_from_path"]
+
+SECTIONS = {1: "Body", 2: "Ground", 3: "CP", 4: "TSD", 5: "Pinned Joint"}
+_PREFIX = {"Body": "B", "Ground": "G", "CP": "C", "TSD": "T", "Pinned Joint": "P"}
+_COLUMNS = {
+    "Body": "id, mass, Ix, Iy, Iz, tx, ty, tz, rx, ry, rz",
+    "Ground": "id",
+    "CP": "id, body or ground, lx, ly, lz",
+    "TSD": "id, stiffness, damping, S_End CP, T_End CP, direction",
+    "Pinned Joint": "id, virtual CP, non-virtual CP",
+}
+_WIDTH = {"Body": 11, "Ground": 1, "CP": 5, "TSD": 6, "Pinned Joint": 3}
+_HEADER = re.compile(r"\s*\(\s*(\d+)\s*\)\s*([A-Za-z][A-Za-z ]*?)\s*[,\t]*\s*$")
+_ID_LIKE = re.compile(r"[A-Za-z][A-Za-z_]*\d[A-Za-z0-9_]*\Z")
+
+
+def model_name_from_path(path: str | Path) -> str:
+    """A valid identifier made from a file name (``lever.exp`` -> ``lever``)."""
+    name = re.sub(r"\W", "_", Path(path).stem)
+    if not name or not name[0].isalpha():
+        name = "model_" + name
+    return name
+
+
+def _fields(line: str) -> list[str]:
+    fields = re.split(r"\s*,\s*|\s*\t\s*", line.strip())
+    while fields and fields[-1] == "":
+        fields.pop()
+    return fields
+
+
+class _RowReader:
+    """Turns one data row into a record, noting problems instead of raising."""
+
+    def __init__(self, source: str, line: int, item: str, problems: list[Problem]):
+        self.source, self.line, self.item, self.problems = source, line, item, problems
+        self.ok = True
+
+    def problem(self, message: str) -> None:
+        self.problems.append(Problem(self.source, self.line, self.item, message))
+        self.ok = False
+
+    def value(self, text: str, column: str) -> sp.Expr:
+        try:
+            return parse_expression(text)
+        except ExpressionError as error:
+            self.problem(f'{column} "{text}" is not a valid expression ({error})')
+            return sp.S.Zero
+
+    def flag(self, text: str, column: str) -> bool:
+        if text in ("0", "1"):
+            return text == "1"
+        self.problem(f'{column} flag must be 0 or 1, got "{text}"')
+        return False
+
+    def direction(self, text: str) -> int:
+        if text in ("1", "2", "3"):
+            return int(text) - 1
+        self.problem(f'direction must be 1, 2 or 3 (x, y, z), got "{text}"')
+        return 0
+
+    def identifier(self, text: str, column: str) -> str:
+        if not re.fullmatch(r"[A-Za-z][A-Za-z0-9_]*", text):
+            self.problem(f'{column} "{text}" is not an id')
+        return text
+
+
+def parse_classic(text: str, source: str = "<string>") -> Model:
+    """Parse the text of a classic model file.
+
+    Parameters
+    ----------
+    text : str
+        File contents.
+    source : str
+        File name used in messages and as the model's source.
+
+    Returns
+    -------
+    Model
+        The validated model (no parameter values: the classic format has none).
+
+    Raises
+    ------
+    ModelError
+        With every problem found, each naming the file, line and item.
+    """
+    problems: list[Problem] = []
+    section: str | None = None
+    seen_sections: set[str] = set()
+    rows: dict[str, list] = {name: [] for name in SECTIONS.values()}
+    for number, raw in enumerate(text.splitlines(), start=1):
+        line = raw.strip()
+        if not line or line.startswith(("#", "%")):
+            continue
+        header = _HEADER.match(raw)
+        if header:
+            index, title = int(header.group(1)), header.group(2).strip()
+            expected = SECTIONS.get(index)
+            if expected is None or title.lower() != expected.lower():
+                known = ", ".join(f"({k}) {v}" for k, v in SECTIONS.items())
+                problems.append(
+                    Problem(source, number, f"section ({index}) {title}", f"unknown section; expected one of {known}")
+                )
+                section = None
+                continue
+            if expected in seen_sections:
+                problems.append(Problem(source, number, f"section ({index}) {expected}", "section appears twice"))
+            seen_sections.add(expected)
+            section = expected
+            continue
+        fields = _fields(raw)
+        if not fields:
+            continue
+        first = fields[0]
+        if not _ID_LIKE.match(first):
+            continue  # column headings and other text are not data
+        if section is None:
+            problems.append(
+                Problem(source, number, first, "data row before any section header such as (1) Body")
+            )
+            continue
+        prefix = _PREFIX[section]
+        if not first.startswith(prefix):
+            problems.append(
+                Problem(
+                    source,
+                    number,
+                    first,
+                    f"row in section {section}, whose ids start with {prefix} "
+                    f"(columns: {_COLUMNS[section]})",
+                )
+            )
+            continue
+        width = _WIDTH[section]
+        if len(fields) != width:
+            problems.append(
+                Problem(
+                    source,
+                    number,
+                    f"{section} {first}",
+                    f"expected {width} columns ({_COLUMNS[section]}), found {len(fields)}",
+                )
+            )
+            continue
+        rows[section].append((number, fields))
+
+    if not seen_sections and not problems:
+        problems.append(Problem(source, None, "", "no section header such as (1) Body found: not a classic model file"))
+
+    bodies, grounds, points, elements, pins = [], [], [], [], []
+    for number, fields in rows["Body"]:
+        row = _RowReader(source, number, f"body {fields[0]}", problems)
+        mass = row.value(fields[1], "mass")
+        inertia = tuple(row.value(fields[2 + i], f"I{axis}") for i, axis in enumerate(AXES))
+        flags = [row.flag(fields[5 + i], name) for i, name in enumerate(DOF_NAMES)]
+        dofs = tuple(name for name, on in zip(DOF_NAMES, flags) if on)
+        bodies.append(Body(fields[0], mass, inertia, dofs, line=number))
+    for number, fields in rows["Ground"]:
+        grounds.append(Ground(fields[0], line=number))
+    for number, fields in rows["CP"]:
+        row = _RowReader(source, number, f"CP {fields[0]}", problems)
+        host = row.identifier(fields[1], "body")
+        offset = tuple(row.value(fields[2 + i], f"l{axis}") for i, axis in enumerate(AXES))
+        points.append(ConnectionPoint(fields[0], host, offset, line=number))
+    for number, fields in rows["TSD"]:
+        row = _RowReader(source, number, f"TSD {fields[0]}", problems)
+        stiffness = row.value(fields[1], "stiffness")
+        damping = row.value(fields[2], "damping")
+        s_end = row.identifier(fields[3], "S_End")
+        t_end = row.identifier(fields[4], "T_End")
+        direction = row.direction(fields[5])
+        elements.append(Element(fields[0], stiffness, damping, s_end, t_end, direction, line=number))
+    for number, fields in rows["Pinned Joint"]:
+        row = _RowReader(source, number, f"pin {fields[0]}", problems)
+        pins.append(
+            PinnedJoint(
+                fields[0],
+                row.identifier(fields[1], "virtual CP"),
+                row.identifier(fields[2], "non-virtual CP"),
+                line=number,
+            )
+        )
+    model = Model(
+        name=model_name_from_path(source),
+        source=source,
+        bodies=tuple(bodies),
+        grounds=tuple(grounds),
+        points=tuple(points),
+        elements=tuple(elements),
+        pins=tuple(pins),
+    )
+    problems.extend(check_model(model))
+    if problems:
+        raise ModelError(sorted(problems, key=lambda p: (p.line or 0)))
+    return model
+
+
+def read_classic(path: str | Path) -> Model:
+    """Read a classic model file (see :func:`parse_classic`)."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except UnicodeDecodeError as error:
+        raise ModelError([Problem(str(path), None, "", f"not a UTF-8 text file ({error.reason})")]) from None
+    return parse_classic(text, source=str(path))

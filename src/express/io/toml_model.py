@@ -1,0 +1,457 @@
+"""Reader for the modern model format (TOML), the one people write by hand.
+
+Named bodies, points and elements, comments, parameter values with units, body
+positions and rail data.  ``docs/model-format.md`` documents every key; in short::
+
+    [model]
+    name = "lever"
+
+    [parameters]
+    b = "0.5 m"                       # number with unit, or a bare SI number,
+    kLU = { value = 500, unit = "kN/m" }   # or a table, or an expression of
+    lLL = "0.2*lLU"                   # other parameters
+
+    [bodies.B2]
+    mass = "m"
+    inertia = [0, "J2", 0]            # Ix, Iy, Iz
+    dofs = ["x", "ry"]
+    position = [0, 0, 0]              # station, lateral, height (rail modules)
+
+    [grounds.G1]
+
+    [points.C1]
+    body = "B2"                       # a body or a ground
+    offset = [0, 0, "lLU"]
+
+    [elements.T1]
+    from = "C1"                       # S_End
+    to = "C2"                         # T_End
+    direction = "x"                   # x/y/z or 1/2/3
+    stiffness = "kLU"
+    damping = 0
+
+    [pins.P1]
+    virtual = "C5"
+    non_virtual = "C6"
+
+Every problem is collected and reported with the file, the line, the item and what
+is wrong.  Values are parsed by :mod:`express.expressions`, never evaluated.
+"""
+
+from __future__ import annotations
+
+import re
+import sys
+from pathlib import Path
+from typing import Any
+
+import sympy as sp
+
+from ..diagnostics import ModelError, Problem
+from ..expressions import ExpressionError, is_valid_name, parse_expression
+from ..model import (
+    AXES,
+    DOF_NAMES,
+    Body,
+    ConnectionPoint,
+    Element,
+    Ground,
+    Model,
+    OutputPoint,
+    Parameter,
+    PinnedJoint,
+    RailSpec,
+    Wheelset,
+    check_model,
+)
+from ..units import UnitError, parse_quantity, unit_factor
+from .classic import model_name_from_path
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover - exercised on Python 3.10 only
+    import tomli as tomllib
+
+__all__ = ["parse_toml_model", "read_toml_model", "WHEELSET_KEYS"]
+
+_TOP_KEYS = ("model", "parameters", "bodies", "grounds", "points", "elements", "pins", "rail")
+_BODY_KEYS = ("mass", "inertia", "dofs", "position", "label")
+_POINT_KEYS = ("body", "offset")
+_ELEMENT_KEYS = ("from", "to", "direction", "stiffness", "damping", "label")
+_PIN_KEYS = ("virtual", "non_virtual")
+WHEELSET_KEYS = (
+    "f1",
+    "f2",
+    "conicity",
+    "r0",
+    "b",
+    "flange_clearance",
+    "rail_stiffness",
+    "friction",
+    "wheel_load",
+)
+_RAIL_KEYS = ("speed", "cant_base", "gravity", "wheelsets", "wheel_rail", "wheelset", "outputs")
+_DIRECTIONS = {"x": 0, "y": 1, "z": 2, "1": 0, "2": 1, "3": 2}
+_HEADER = re.compile(r"\s*\[\[?\s*([^\]]+?)\s*\]\]?\s*(?:#.*)?$")
+_KEY = re.compile(r"\s*([A-Za-z0-9_\-\"'.]+)\s*=")
+
+
+def _line_index(text: str) -> dict[tuple[str, ...], int]:
+    """Map TOML key paths to the line defining them (headers and ``key =`` lines)."""
+    index: dict[tuple[str, ...], int] = {}
+    table: tuple[str, ...] = ()
+    for number, line in enumerate(text.splitlines(), start=1):
+        header = _HEADER.match(line)
+        if header:
+            table = tuple(part.strip().strip("\"'") for part in header.group(1).split("."))
+            index.setdefault(table, number)
+            continue
+        key = _KEY.match(line)
+        if key:
+            path = table + tuple(part.strip().strip("\"'") for part in key.group(1).split("."))
+            index.setdefault(path, number)
+            # inline tables: `B1 = { mass = ... }` also define (table, B1)
+    return index
+
+
+class _Reader:
+    def __init__(self, text: str, source: str):
+        self.source = source
+        self.problems: list[Problem] = []
+        self.lines = _line_index(text)
+
+    def line(self, *path: str) -> int | None:
+        for end in range(len(path), 0, -1):
+            found = self.lines.get(tuple(path[:end]))
+            if found is not None:
+                return found
+        return None
+
+    def problem(self, path: tuple[str, ...], item: str, message: str) -> None:
+        self.problems.append(Problem(self.source, self.line(*path), item, message))
+
+    def table(self, value: Any, path: tuple[str, ...], item: str) -> dict:
+        if isinstance(value, dict):
+            return value
+        self.problem(path, item, f"expected a table, got {_kind(value)}")
+        return {}
+
+    def unknown_keys(self, table: dict, allowed: tuple[str, ...], path: tuple[str, ...], item: str) -> None:
+        for key in table:
+            if key not in allowed:
+                self.problem(
+                    path + (key,), item, f'unknown key "{key}" (allowed: {", ".join(allowed)})'
+                )
+
+    def expression(self, value: Any, path: tuple[str, ...], item: str, what: str) -> sp.Expr:
+        if isinstance(value, bool):
+            self.problem(path, item, f"{what} must be a number or an expression, got a boolean")
+            return sp.S.Zero
+        if isinstance(value, int):
+            return sp.Integer(value)
+        if isinstance(value, float):
+            if value != value or value in (float("inf"), float("-inf")):
+                self.problem(path, item, f"{what} must be finite, got {value}")
+                return sp.S.Zero
+            return parse_expression(repr(value))
+        if isinstance(value, str):
+            try:
+                return parse_expression(value)
+            except ExpressionError as error:
+                self.problem(path, item, f'{what} "{value}" is not a valid expression ({error})')
+                return sp.S.Zero
+        self.problem(path, item, f"{what} must be a number or an expression, got {_kind(value)}")
+        return sp.S.Zero
+
+    def vector(self, value: Any, path: tuple[str, ...], item: str, what: str) -> tuple[sp.Expr, ...]:
+        if not isinstance(value, list) or len(value) != 3:
+            self.problem(path, item, f"{what} must be a list of 3 values [x, y, z], got {_show(value)}")
+            return (sp.S.Zero,) * 3
+        return tuple(self.expression(v, path, item, f"{what}[{i}]") for i, v in enumerate(value))
+
+    def name(self, value: Any, path: tuple[str, ...], item: str, what: str) -> str:
+        if isinstance(value, str) and re.fullmatch(r"[A-Za-z][A-Za-z0-9_]*", value):
+            return value
+        self.problem(path, item, f"{what} must be an id (letters, digits, _), got {_show(value)}")
+        return "?"
+
+
+def _kind(value: Any) -> str:
+    return {dict: "a table", list: "a list", str: "a string", bool: "a boolean"}.get(
+        type(value), type(value).__name__
+    )
+
+
+def _show(value: Any) -> str:
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
+def _parameters(reader: _Reader, table: dict) -> dict[str, Parameter]:
+    """Parameter values in SI: numbers, quantities with units, or expressions."""
+    numeric: dict[str, Parameter] = {}
+    derived: dict[str, tuple[sp.Expr, int | None]] = {}
+    for name, raw in table.items():
+        path = ("parameters", name)
+        item = f"parameter {name}"
+        line = reader.line(*path)
+        if not is_valid_name(name):
+            reader.problem(path, item, "a parameter name must start with a letter (letters, digits, _)")
+            continue
+        if isinstance(raw, dict):
+            extra = set(raw) - {"value", "unit", "source", "note"}
+            if extra:
+                reader.problem(path, item, f"unknown keys {sorted(extra)} (allowed: value, unit, source, note)")
+            value, unit = raw.get("value"), raw.get("unit", "")
+            if isinstance(value, bool) or not isinstance(value, (int, float)):
+                reader.problem(path, item, f"value must be a number, got {_show(value)}")
+                continue
+            try:
+                numeric[name] = Parameter(name, float(value) * unit_factor(str(unit)), str(unit), line)
+            except UnitError as error:
+                reader.problem(path, item, str(error))
+            continue
+        if isinstance(raw, bool):
+            reader.problem(path, item, "value must be a number, got a boolean")
+        elif isinstance(raw, (int, float)):
+            numeric[name] = Parameter(name, float(raw), "", line)
+        elif isinstance(raw, str):
+            try:
+                value, unit = parse_quantity(raw)
+                numeric[name] = Parameter(name, value, unit, line)
+                continue
+            except UnitError:
+                pass
+            try:
+                derived[name] = (parse_expression(raw), line)
+            except ExpressionError as error:
+                reader.problem(path, item, f'"{raw}" is neither a number with a unit nor an expression ({error})')
+        else:
+            reader.problem(path, item, f"value must be a number, got {_kind(raw)}")
+    # derived parameters: expressions of others, evaluated in dependency order
+    pending = dict(derived)
+    while pending:
+        progressed = False
+        for name, (expression, line) in list(pending.items()):
+            names = {s.name for s in expression.free_symbols}
+            missing = sorted(names - set(numeric) - set(pending))
+            if missing:
+                reader.problem(
+                    ("parameters", name),
+                    f"parameter {name}",
+                    f"undefined name{'s' if len(missing) > 1 else ''} {', '.join(missing)} where a number is required",
+                )
+                del pending[name]
+                progressed = True
+                continue
+            if names <= set(numeric):
+                value = expression.subs({sp.Symbol(n): numeric[n].value for n in names})
+                numeric[name] = Parameter(name, float(value), "", line)
+                del pending[name]
+                progressed = True
+        if not progressed:
+            cycle = ", ".join(sorted(pending))
+            first = sorted(pending)[0]
+            reader.problem(("parameters", first), f"parameter {first}", f"circular definition among {cycle}")
+            break
+    return numeric
+
+
+def _rail(reader: _Reader, table: dict) -> RailSpec | None:
+    reader.unknown_keys(table, _RAIL_KEYS, ("rail",), "rail")
+    defaults = reader.table(table.get("wheel_rail", {}), ("rail", "wheel_rail"), "rail.wheel_rail")
+    reader.unknown_keys(defaults, WHEELSET_KEYS, ("rail", "wheel_rail"), "rail.wheel_rail")
+    overrides = reader.table(table.get("wheelset", {}), ("rail", "wheelset"), "rail.wheelset")
+    names = table.get("wheelsets", [])
+    if not isinstance(names, list):
+        reader.problem(("rail", "wheelsets"), "rail.wheelsets", "must be a list of body ids")
+        names = []
+    wheelsets = []
+    for name in names:
+        body = reader.name(name, ("rail", "wheelsets"), "rail.wheelsets", "wheelset")
+        own = reader.table(overrides.get(body, {}), ("rail", "wheelset", body), f"wheelset {body}")
+        reader.unknown_keys(own, WHEELSET_KEYS, ("rail", "wheelset", body), f"wheelset {body}")
+        values = {}
+        for key in WHEELSET_KEYS:
+            raw = own.get(key, defaults.get(key))
+            if raw is None:
+                reader.problem(("rail", "wheel_rail"), f"wheelset {body}", f'missing "{key}" (give it in [rail.wheel_rail])')
+                raw = 0
+            values[key] = reader.expression(raw, ("rail", "wheelset", body, key), f"wheelset {body}", key)
+        wheelsets.append(Wheelset(body, line=reader.line("rail", "wheelsets"), **values))
+    for body in overrides:
+        if body not in names:
+            reader.problem(("rail", "wheelset", body), f"wheelset {body}", "not listed in rail.wheelsets")
+    outputs = []
+    output_table = reader.table(table.get("outputs", {}), ("rail", "outputs"), "rail.outputs")
+    for name, raw in output_table.items():
+        path = ("rail", "outputs", name)
+        spec = reader.table(raw, path, f"output {name}")
+        reader.unknown_keys(spec, ("body", "offset"), path, f"output {name}")
+        outputs.append(
+            OutputPoint(
+                name,
+                reader.name(spec.get("body"), path, f"output {name}", "body"),
+                reader.vector(spec.get("offset", [0, 0, 0]), path, f"output {name}", "offset"),
+                reader.line(*path),
+            )
+        )
+    scalars = {}
+    for key, default in (("speed", "v"), ("cant_base", "G"), ("gravity", "g")):
+        scalars[key] = reader.expression(table.get(key, default), ("rail", key), "rail", key)
+    return RailSpec(tuple(wheelsets), outputs=tuple(outputs), line=reader.line("rail"), **scalars)
+
+
+def parse_toml_model(text: str, source: str = "<string>") -> Model:
+    """Parse the text of a modern (TOML) model file.
+
+    Parameters
+    ----------
+    text : str
+        File contents.
+    source : str
+        File name used in messages and as the model's source.
+
+    Returns
+    -------
+    Model
+
+    Raises
+    ------
+    ModelError
+        With every problem found, each naming the file, line and item.
+    """
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as error:
+        match = re.search(r"line (\d+)", str(error))
+        line = int(match.group(1)) if match else None
+        message = re.sub(r"\s*\(at line \d+, column \d+\)", "", str(error))
+        raise ModelError([Problem(source, line, "TOML", f"not valid TOML: {message}")]) from None
+    reader = _Reader(text, source)
+    reader.unknown_keys(data, _TOP_KEYS, (), "file")
+
+    info = reader.table(data.get("model", {}), ("model",), "model")
+    reader.unknown_keys(info, ("name", "title"), ("model",), "model")
+    name = info.get("name", model_name_from_path(source))
+    if not isinstance(name, str) or not re.fullmatch(r"[A-Za-z][A-Za-z0-9_]*", name):
+        reader.problem(("model", "name"), "model", f"name must be an identifier, got {_show(name)}")
+        name = model_name_from_path(source)
+    title = info.get("title", "")
+
+    parameters = _parameters(reader, reader.table(data.get("parameters", {}), ("parameters",), "parameters"))
+
+    bodies = []
+    for body_id, raw in reader.table(data.get("bodies", {}), ("bodies",), "bodies").items():
+        path = ("bodies", body_id)
+        item = f"body {body_id}"
+        spec = reader.table(raw, path, item)
+        reader.unknown_keys(spec, _BODY_KEYS, path, item)
+        dofs = spec.get("dofs", [])
+        if not isinstance(dofs, list) or any(d not in DOF_NAMES for d in dofs):
+            reader.problem(path + ("dofs",), item, f"dofs must be a list drawn from {list(DOF_NAMES)}, got {_show(dofs)}")
+            dofs = []
+        elif len(set(dofs)) != len(dofs):
+            reader.problem(path + ("dofs",), item, "a DOF is listed twice")
+        inertia = reader.vector(spec.get("inertia", [0, 0, 0]), path + ("inertia",), item, "inertia")
+        bodies.append(
+            Body(
+                body_id,
+                reader.expression(spec.get("mass", 0), path + ("mass",), item, "mass"),
+                inertia,
+                tuple(d for d in DOF_NAMES if d in dofs),
+                reader.vector(spec.get("position", [0, 0, 0]), path + ("position",), item, "position"),
+                str(spec.get("label", "")),
+                reader.line(*path),
+            )
+        )
+    grounds_raw = data.get("grounds", {})
+    if isinstance(grounds_raw, list):  # grounds = ["G1", "G2"]
+        grounds_raw = {g: {} for g in grounds_raw if isinstance(g, str)}
+    grounds = []
+    for ground_id, raw in reader.table(grounds_raw, ("grounds",), "grounds").items():
+        spec = reader.table(raw, ("grounds", ground_id), f"ground {ground_id}")
+        reader.unknown_keys(spec, ("label",), ("grounds", ground_id), f"ground {ground_id}")
+        grounds.append(Ground(ground_id, str(spec.get("label", "")), reader.line("grounds", ground_id)))
+    points = []
+    for point_id, raw in reader.table(data.get("points", {}), ("points",), "points").items():
+        path = ("points", point_id)
+        item = f"CP {point_id}"
+        spec = reader.table(raw, path, item)
+        reader.unknown_keys(spec, _POINT_KEYS, path, item)
+        points.append(
+            ConnectionPoint(
+                point_id,
+                reader.name(spec.get("body"), path + ("body",), item, "body"),
+                reader.vector(spec.get("offset", [0, 0, 0]), path + ("offset",), item, "offset"),
+                reader.line(*path),
+            )
+        )
+    elements = []
+    for element_id, raw in reader.table(data.get("elements", {}), ("elements",), "elements").items():
+        path = ("elements", element_id)
+        item = f"TSD {element_id}"
+        spec = reader.table(raw, path, item)
+        reader.unknown_keys(spec, _ELEMENT_KEYS, path, item)
+        direction = spec.get("direction")
+        axis = _DIRECTIONS.get(str(direction)) if not isinstance(direction, (bool, float)) else None
+        if axis is None:
+            reader.problem(path + ("direction",), item, f"direction must be x, y, z or 1, 2, 3, got {_show(direction)}")
+            axis = 0
+        stiffness = reader.expression(spec.get("stiffness", 0), path + ("stiffness",), item, "stiffness")
+        damping = reader.expression(spec.get("damping", 0), path + ("damping",), item, "damping")
+        elements.append(
+            Element(
+                element_id,
+                stiffness,
+                damping,
+                reader.name(spec.get("from"), path + ("from",), item, "from"),
+                reader.name(spec.get("to"), path + ("to",), item, "to"),
+                axis,
+                str(spec.get("label", "")),
+                reader.line(*path),
+            )
+        )
+    pins = []
+    for pin_id, raw in reader.table(data.get("pins", {}), ("pins",), "pins").items():
+        path = ("pins", pin_id)
+        item = f"pin {pin_id}"
+        spec = reader.table(raw, path, item)
+        reader.unknown_keys(spec, _PIN_KEYS, path, item)
+        pins.append(
+            PinnedJoint(
+                pin_id,
+                reader.name(spec.get("virtual"), path + ("virtual",), item, "virtual"),
+                reader.name(spec.get("non_virtual"), path + ("non_virtual",), item, "non_virtual"),
+                reader.line(*path),
+            )
+        )
+    rail = None
+    if "rail" in data:
+        rail = _rail(reader, reader.table(data["rail"], ("rail",), "rail"))
+    model = Model(
+        name=name,
+        source=source,
+        bodies=tuple(bodies),
+        grounds=tuple(grounds),
+        points=tuple(points),
+        elements=tuple(elements),
+        pins=tuple(pins),
+        parameters=parameters,
+        rail=rail,
+        title=str(title),
+    )
+    problems = reader.problems + check_model(model)
+    if problems:
+        raise ModelError(problems)
+    return model
+
+
+def read_toml_model(path: str | Path) -> Model:
+    """Read a modern (TOML) model file (see :func:`parse_toml_model`)."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except UnicodeDecodeError as error:
+        raise ModelError([Problem(str(path), None, "", f"not a UTF-8 text file ({error.reason})")]) from None
+    return parse_toml_model(text, source=str(path))

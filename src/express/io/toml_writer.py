@@ -1,0 +1,117 @@
+"""Writer of the modern (TOML) model format: ``express convert``.
+
+Turns any :class:`~express.model.Model` (typically read from a classic file) into a
+TOML file that reads back to the same model.  Exact values are written as TOML
+numbers when they are decimals (``3/10`` -> ``0.3``) and as expression strings
+otherwise.
+"""
+
+from __future__ import annotations
+
+import json
+
+import sympy as sp
+
+from ..model import AXES, Model
+
+__all__ = ["model_to_toml", "value_to_toml"]
+
+
+def _decimal(value: sp.Rational) -> str | None:
+    """``3/10`` -> ``"0.3"`` when the rational has a finite decimal form."""
+    denominator = int(value.q)
+    twos = fives = 0
+    while denominator % 2 == 0:
+        denominator //= 2
+        twos += 1
+    while denominator % 5 == 0:
+        denominator //= 5
+        fives += 1
+    if denominator != 1:
+        return None
+    digits = max(twos, fives)
+    scaled = value * 10**digits
+    text = str(abs(int(scaled))).rjust(digits + 1, "0")
+    sign = "-" if value < 0 else ""
+    if digits == 0:
+        return f"{sign}{text}"
+    return f"{sign}{text[:-digits]}.{text[-digits:]}"
+
+
+def value_to_toml(value: sp.Expr) -> str:
+    """A TOML value for an exact expression: a number if possible, else a string."""
+    if value.is_Integer:
+        return str(int(value))
+    if value.is_Rational:
+        decimal = _decimal(value)
+        if decimal is not None:
+            return decimal
+    return json.dumps(sp.sstr(value))
+
+
+def _vector(values) -> str:
+    return "[" + ", ".join(value_to_toml(v) for v in values) + "]"
+
+
+def _string(text: str) -> str:
+    return json.dumps(text, ensure_ascii=False)
+
+
+def model_to_toml(model: Model) -> str:
+    """The TOML text of ``model`` (deterministic)."""
+    lines = [
+        f"# EXPRESS model, converted from {model.source}",
+        "# Format: docs/model-format.md.  Values are numbers or expressions of parameters.",
+        "",
+        "[model]",
+        f"name = {_string(model.name)}",
+    ]
+    if model.title:
+        lines.append(f"title = {_string(model.title)}")
+    lines += ["", "[parameters]"]
+    if model.parameters:
+        for name, parameter in model.parameters.items():
+            lines.append(f"{name} = {parameter.value!r}  # SI")
+    else:
+        names = set()
+        for body in model.bodies:
+            names |= {s.name for s in (body.mass, *body.inertia, *body.position) for s in s.free_symbols}
+        for point in model.points:
+            names |= {s.name for v in point.offset for s in v.free_symbols}
+        for element in model.elements:
+            names |= {s.name for v in (element.stiffness, element.damping) for s in v.free_symbols}
+        lines.append("# values for: " + ", ".join(sorted(names)))
+    for body in model.bodies:
+        lines += ["", f"[bodies.{body.id}]"]
+        if body.label:
+            lines.append(f"label = {_string(body.label)}")
+        lines.append(f"mass = {value_to_toml(body.mass)}")
+        lines.append(f"inertia = {_vector(body.inertia)}  # Ix, Iy, Iz")
+        lines.append("dofs = [" + ", ".join(_string(d) for d in body.dofs) + "]")
+        if any(v != 0 for v in body.position):
+            lines.append(f"position = {_vector(body.position)}")
+    for ground in model.grounds:
+        lines += ["", f"[grounds.{ground.id}]"]
+        if ground.label:
+            lines.append(f"label = {_string(ground.label)}")
+    for point in model.points:
+        lines += ["", f"[points.{point.id}]", f"body = {_string(point.host)}", f"offset = {_vector(point.offset)}"]
+    for element in model.elements:
+        lines += ["", f"[elements.{element.id}]"]
+        if element.label:
+            lines.append(f"label = {_string(element.label)}")
+        lines += [
+            f"from = {_string(element.s_end)}",
+            f"to = {_string(element.t_end)}",
+            f"direction = {_string(AXES[element.direction])}",
+            f"stiffness = {value_to_toml(element.stiffness)}",
+            f"damping = {value_to_toml(element.damping)}",
+        ]
+    for pin in model.pins:
+        lines += [
+            "",
+            f"[pins.{pin.id}]",
+            f"virtual = {_string(pin.virtual)}",
+            f"non_virtual = {_string(pin.non_virtual)}",
+        ]
+    return "\n".join(lines) + "\n"

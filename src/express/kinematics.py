@@ -1,0 +1,76 @@
+"""Small-motion kinematics: generalized coordinates and connection-point motion.
+
+A CP at offset ``r = (lx, ly, lz)`` on a body moves by ``u = t + theta x r``
+(paper eq. 4 in 3-D, ``conventions.md``)::
+
+    u_x = x + ry*lz - rz*ly
+    u_y = y + rz*lx - rx*lz
+    u_z = z + rx*ly - ry*lx
+
+DOFs the body does not have are zero.  A CP on a ground moves with the ground's
+translation, named as an input ``<ground>.<axis>``.
+"""
+
+from __future__ import annotations
+
+import sympy as sp
+
+from .model import AXES, Model
+
+__all__ = ["generalized_coordinates", "point_motion"]
+
+# (translation, [(rotation, sign, offset component)]) per axis, from theta x r.
+_ROTATION_TERMS = {
+    0: (("ry", 1, 2), ("rz", -1, 1)),
+    1: (("rz", 1, 0), ("rx", -1, 2)),
+    2: (("rx", 1, 1), ("ry", -1, 0)),
+}
+
+
+def generalized_coordinates(model: Model) -> list[str]:
+    """All DOF names ``<body>.<dof>``: bodies in file order, DOFs x, y, z, rx, ry, rz."""
+    return [name for body in model.bodies for name in body.dof_names()]
+
+
+def point_motion(model: Model, point_id: str, axis: int) -> tuple[dict[str, sp.Expr], dict[str, sp.Expr]]:
+    """Displacement of a CP along ``axis`` as linear forms.
+
+    Parameters
+    ----------
+    model : Model
+        The model holding the CP.
+    point_id : str
+        CP id.
+    axis : int
+        0, 1, 2 for x, y, z.
+
+    Returns
+    -------
+    dofs : dict of str to sympy.Expr
+        Coefficient of each generalized coordinate (zero ones omitted).
+    inputs : dict of str to sympy.Expr
+        Coefficient of each ground input ``<ground>.<axis>`` (for a CP on a ground).
+
+    Examples
+    --------
+    The lever's upper CP (paper Fig. 5, C1 on B2 at ``(0, 0, lLU)``) moves along x by
+    ``B2.x + lLU*B2.ry``:
+
+    >>> from express.io.classic import read_classic
+    >>> lever = read_classic("examples/lever.exp")
+    >>> point_motion(lever, "C1", 0)
+    ({'B2.x': 1, 'B2.ry': lLU}, {})
+    """
+    point = model.point(point_id)
+    body_ids = {body.id for body in model.bodies}
+    if point.host not in body_ids:
+        return {}, {f"{point.host}.{AXES[axis]}": sp.S.One}
+    body = model.body(point.host)
+    coefficients: dict[str, sp.Expr] = {}
+    if AXES[axis] in body.dofs:
+        coefficients[f"{body.id}.{AXES[axis]}"] = sp.S.One
+    for rotation, sign, component in _ROTATION_TERMS[axis]:
+        lever_arm = point.offset[component]
+        if rotation in body.dofs and lever_arm != 0:
+            coefficients[f"{body.id}.{rotation}"] = sign * lever_arm
+    return coefficients, {}

@@ -1,0 +1,372 @@
+"""Model records: bodies, grounds, connection points, elements, pinned joints.
+
+These are what every reader produces and every later stage consumes.  Values are
+exact SymPy expressions of parameter names; numerical parameter values (SI) travel
+alongside in :attr:`Model.parameters`.  :func:`check_model` validates the cross
+references and reports every problem at once.
+
+Axes and names follow ``conventions.md``: x forward, y left, z up; DOFs
+``x, y, z, rx, ry, rz``; a generalized coordinate is ``<body>.<dof>``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+
+import sympy as sp
+
+from .diagnostics import ModelError, Problem
+
+__all__ = [
+    "AXES",
+    "DOF_NAMES",
+    "Body",
+    "Ground",
+    "ConnectionPoint",
+    "Element",
+    "PinnedJoint",
+    "Parameter",
+    "Wheelset",
+    "OutputPoint",
+    "RailSpec",
+    "Model",
+    "check_model",
+    "model_warnings",
+    "with_values",
+]
+
+AXES = ("x", "y", "z")
+DOF_NAMES = ("x", "y", "z", "rx", "ry", "rz")
+
+Vector = tuple[sp.Expr, sp.Expr, sp.Expr]
+ZERO3: Vector = (sp.S.Zero, sp.S.Zero, sp.S.Zero)
+
+
+@dataclass(frozen=True)
+class Body:
+    """A rigid body.
+
+    Attributes
+    ----------
+    id : str
+        Identifier (``B1``, ``car_body``).
+    mass : sympy.Expr
+        Mass [kg].
+    inertia : tuple of 3 sympy.Expr
+        Principal moments of inertia about x, y, z through the centre [kg m^2].
+    dofs : tuple of str
+        The DOFs the body has, a subset of :data:`DOF_NAMES` in that order.
+    position : tuple of 3 sympy.Expr
+        Centre in the vehicle frame [m]: station along the vehicle (x), lateral, height.
+        Used by the rail modules (curvature terms); ignored by the core generator.
+    label : str
+        Human description.
+    line : int or None
+        Line in the source file.
+    """
+
+    id: str
+    mass: sp.Expr
+    inertia: Vector
+    dofs: tuple[str, ...]
+    position: Vector = ZERO3
+    label: str = ""
+    line: int | None = None
+
+    def dof_names(self) -> list[str]:
+        """Generalized-coordinate names ``<id>.<dof>`` of this body, in order."""
+        return [f"{self.id}.{dof}" for dof in self.dofs]
+
+    def dof_inertia(self, dof: str) -> sp.Expr:
+        """Mass (translations) or moment of inertia (rotations) for ``dof``."""
+        if dof in AXES:
+            return self.mass
+        return self.inertia[AXES.index(dof[1])]
+
+
+@dataclass(frozen=True)
+class Ground:
+    """A ground: a surface that does not move unless driven as an input."""
+
+    id: str
+    label: str = ""
+    line: int | None = None
+
+
+@dataclass(frozen=True)
+class ConnectionPoint:
+    """A connection point (CP) at ``offset`` [m] from the centre of its host."""
+
+    id: str
+    host: str
+    offset: Vector
+    line: int | None = None
+
+
+@dataclass(frozen=True)
+class Element:
+    """A spring/damper element (TSD) between CPs ``s_end`` and ``t_end``.
+
+    Its deflection is ``u_S[d] - u_T[d]`` along axis ``direction`` (0 = x, 1 = y, 2 = z).
+    ``stiffness`` [N/m] and ``damping`` [N s/m] may be zero (not both, usefully).
+    """
+
+    id: str
+    stiffness: sp.Expr
+    damping: sp.Expr
+    s_end: str
+    t_end: str
+    direction: int
+    label: str = ""
+    line: int | None = None
+
+
+@dataclass(frozen=True)
+class PinnedJoint:
+    """A pinned joint: the CP ``virtual`` moves with ``non_virtual`` along the joining
+    element's direction; the virtual CP's body carries the virtual DOF."""
+
+    id: str
+    virtual: str
+    non_virtual: str
+    line: int | None = None
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """A parameter value: ``value`` in SI units, ``unit`` as the user wrote it."""
+
+    name: str
+    value: float
+    unit: str = ""
+    line: int | None = None
+
+
+@dataclass(frozen=True)
+class Wheelset:
+    """Wheel/rail data of a body that is a wheelset (``rail.md``).
+
+    All values are expressions of parameters: creep coefficients ``f1``, ``f2`` [N]
+    per wheel, ``conicity`` [-], rolling radius ``r0`` [m], contact half distance
+    ``b`` [m], ``flange_clearance`` [m], equivalent rail lateral stiffness
+    ``rail_stiffness`` [N/m], ``friction`` coefficient [-], static ``wheel_load`` [N].
+    """
+
+    body: str
+    f1: sp.Expr
+    f2: sp.Expr
+    conicity: sp.Expr
+    r0: sp.Expr
+    b: sp.Expr
+    flange_clearance: sp.Expr
+    rail_stiffness: sp.Expr
+    friction: sp.Expr
+    wheel_load: sp.Expr
+    line: int | None = None
+
+
+@dataclass(frozen=True)
+class OutputPoint:
+    """A named point on a body whose motion is reported (e.g. the floor above a bogie)."""
+
+    name: str
+    body: str
+    offset: Vector
+    line: int | None = None
+
+
+@dataclass(frozen=True)
+class RailSpec:
+    """What makes a model a rail vehicle: wheelsets, speed, cant base, outputs."""
+
+    wheelsets: tuple[Wheelset, ...]
+    speed: sp.Expr
+    cant_base: sp.Expr
+    gravity: sp.Expr = sp.Float(9.81)
+    outputs: tuple[OutputPoint, ...] = ()
+    line: int | None = None
+
+
+@dataclass(frozen=True)
+class Model:
+    """A whole model as read from a file."""
+
+    name: str
+    source: str
+    bodies: tuple[Body, ...]
+    grounds: tuple[Ground, ...]
+    points: tuple[ConnectionPoint, ...]
+    elements: tuple[Element, ...]
+    pins: tuple[PinnedJoint, ...]
+    parameters: dict[str, Parameter] = field(default_factory=dict)
+    rail: RailSpec | None = None
+    title: str = ""
+
+    def body(self, body_id: str) -> Body:
+        """The body with id ``body_id`` (KeyError if none)."""
+        for body in self.bodies:
+            if body.id == body_id:
+                return body
+        raise KeyError(body_id)
+
+    def point(self, point_id: str) -> ConnectionPoint:
+        """The CP with id ``point_id`` (KeyError if none)."""
+        for point in self.points:
+            if point.id == point_id:
+                return point
+        raise KeyError(point_id)
+
+    def values(self) -> dict[str, float]:
+        """Parameter values in SI, by name."""
+        return {name: parameter.value for name, parameter in self.parameters.items()}
+
+
+def with_values(model: Model, overrides: dict[str, float]) -> Model:
+    """A copy of ``model`` with parameter values (SI) replaced or added (``--set``)."""
+    parameters = dict(model.parameters)
+    for name, value in overrides.items():
+        previous = parameters.get(name)
+        parameters[name] = Parameter(name, float(value), "", previous.line if previous else None)
+    return replace(model, parameters=parameters)
+
+
+def _duplicates(records, kind: str, source: str, problems: list[Problem]) -> None:
+    seen: dict[str, int | None] = {}
+    for record in records:
+        if record.id in seen:
+            first = seen[record.id]
+            where = f" (first defined on line {first})" if first is not None else ""
+            problems.append(Problem(source, record.line, f"{kind} {record.id}", f"duplicate id{where}"))
+        else:
+            seen[record.id] = record.line
+
+
+def check_model(model: Model) -> list[Problem]:
+    """Every error in the cross references of ``model`` (empty list if none).
+
+    Checks duplicate ids, CPs on unknown bodies or grounds, elements on unknown CPs,
+    pins naming unknown CPs or lacking their element, virtual CPs whose body lacks the
+    translation along the pin direction, and rail data naming unknown bodies.
+    """
+    source = model.source
+    problems: list[Problem] = []
+    _duplicates(model.bodies, "body", source, problems)
+    _duplicates(model.grounds, "ground", source, problems)
+    _duplicates(model.points, "CP", source, problems)
+    _duplicates(model.elements, "TSD", source, problems)
+    _duplicates(model.pins, "pin", source, problems)
+    body_ids = {body.id for body in model.bodies}
+    ground_ids = {ground.id for ground in model.grounds}
+    for clash in sorted(body_ids & ground_ids):
+        problems.append(Problem(source, None, f"ground {clash}", "id is also used by a body"))
+    hosts = {point.id: point.host for point in model.points}
+    for point in model.points:
+        if point.host not in body_ids and point.host not in ground_ids:
+            problems.append(
+                Problem(source, point.line, f"CP {point.id}", f'unknown body or ground "{point.host}"')
+            )
+    for element in model.elements:
+        for end_name, end in (("S_End", element.s_end), ("T_End", element.t_end)):
+            if end not in hosts:
+                problems.append(
+                    Problem(source, element.line, f"TSD {element.id}", f'{end_name} "{end}" is not a CP')
+                )
+        if element.s_end == element.t_end:
+            problems.append(
+                Problem(source, element.line, f"TSD {element.id}", "S_End and T_End are the same CP")
+            )
+    bodies = {body.id: body for body in model.bodies}
+    for pin in model.pins:
+        item = f"pin {pin.id}"
+        known = True
+        for role, cp in (("virtual", pin.virtual), ("non-virtual", pin.non_virtual)):
+            if cp not in hosts:
+                problems.append(Problem(source, pin.line, item, f'{role} CP "{cp}" is not a CP'))
+                known = False
+        if not known:
+            continue
+        joining = [
+            element
+            for element in model.elements
+            if {element.s_end, element.t_end} == {pin.virtual, pin.non_virtual}
+        ]
+        if not joining:
+            problems.append(
+                Problem(
+                    source,
+                    pin.line,
+                    item,
+                    f"no element joins its CPs {pin.virtual} and {pin.non_virtual} "
+                    "(the element gives the pin direction)",
+                )
+            )
+            continue
+        if len(joining) > 1:
+            ids = ", ".join(element.id for element in joining)
+            problems.append(Problem(source, pin.line, item, f"several elements join its CPs: {ids}"))
+            continue
+        virtual_host = hosts[pin.virtual]
+        if virtual_host not in bodies:
+            problems.append(
+                Problem(source, pin.line, item, f"virtual CP {pin.virtual} is on ground {virtual_host}")
+            )
+            continue
+        axis = AXES[joining[0].direction]
+        if axis not in bodies[virtual_host].dofs:
+            problems.append(
+                Problem(
+                    source,
+                    pin.line,
+                    item,
+                    f"virtual CP {pin.virtual} is on body {virtual_host}, which has no "
+                    f"{axis} translation DOF (the pin direction of element {joining[0].id})",
+                )
+            )
+    if model.rail is not None:
+        for wheelset in model.rail.wheelsets:
+            if wheelset.body not in bodies:
+                problems.append(
+                    Problem(source, wheelset.line, f"wheelset {wheelset.body}", "unknown body")
+                )
+            elif not {"y", "rz"} <= set(bodies[wheelset.body].dofs):
+                problems.append(
+                    Problem(
+                        source,
+                        wheelset.line,
+                        f"wheelset {wheelset.body}",
+                        "a wheelset body needs the y and rz DOFs",
+                    )
+                )
+        for output in model.rail.outputs:
+            if output.body not in bodies:
+                problems.append(
+                    Problem(source, output.line, f"output {output.name}", f'unknown body "{output.body}"')
+                )
+    return problems
+
+
+def model_warnings(model: Model) -> list[Problem]:
+    """Suspicious but usable features: DOFs with zero mass or inertia."""
+    warnings = []
+    for body in model.bodies:
+        for dof in body.dofs:
+            if body.dof_inertia(dof) == 0:
+                what = "mass" if dof in AXES else f"moment of inertia I{dof[1]}"
+                warnings.append(
+                    Problem(
+                        model.source,
+                        body.line,
+                        f"body {body.id}",
+                        f"DOF {body.id}.{dof} has zero {what}; M is singular unless a pin "
+                        "removes it",
+                    )
+                )
+    return warnings
+
+
+def require_valid(model: Model) -> Model:
+    """Return ``model`` unchanged, or raise :class:`ModelError` with every problem."""
+    problems = check_model(model)
+    if problems:
+        raise ModelError(problems)
+    return model

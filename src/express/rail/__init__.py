@@ -1,0 +1,1 @@
+"""Rail modules: wheel/rail contact, curves, tracks and the rail inputs (paper 4.2)."""

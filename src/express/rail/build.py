@@ -1,0 +1,109 @@
+"""Rail vehicle assembly: the wheel/rail and curve terms added to the core generator.
+
+Inputs are named and ordered as the paper's eq. (13): the irregularity at every
+wheelset (``W1.yR``, ...), the flange penetrations (``W1.dy``, ...), the curvature
+at every station (``B1.rho``, ...) and the cant at every station (``B1.S``, ...);
+ground inputs of the core model, if any, come first.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import sympy as sp
+
+from ..generator import AddedTerms, GenerationResult, generate
+from ..model import Model
+from .curve import Station, cant_deficiency_forces, curvature_point_inputs, station_of, stations
+from .wheelrail import flange_input, irregularity_input, wheelset_terms
+
+__all__ = ["RailLayout", "rail_layout", "rail_terms", "generate_vehicle"]
+
+
+@dataclass(frozen=True)
+class RailLayout:
+    """Where the rail inputs are and what they mean.
+
+    Attributes
+    ----------
+    wheelsets : tuple of str
+        Wheelset body ids, front to back as listed in the model.
+    stations : tuple of Station
+        Stations that carry curvature and cant inputs.
+    irregularity, flange, curvature, cant : tuple of str
+        Input names of each group, in order.
+    """
+
+    wheelsets: tuple[str, ...]
+    stations: tuple[Station, ...]
+    irregularity: tuple[str, ...]
+    flange: tuple[str, ...]
+    curvature: tuple[str, ...]
+    cant: tuple[str, ...]
+
+    @property
+    def inputs(self) -> tuple[str, ...]:
+        """All rail inputs in the paper's order."""
+        return self.irregularity + self.flange + self.curvature + self.cant
+
+
+def rail_layout(model: Model) -> RailLayout:
+    """The rail inputs of ``model`` (which must have rail data)."""
+    if model.rail is None:
+        raise ValueError(f"{model.source}: the model has no [rail] data")
+    wheelsets = model.rail.wheelsets
+    all_stations = stations(model)
+    return RailLayout(
+        wheelsets=tuple(w.body for w in wheelsets),
+        stations=tuple(all_stations),
+        irregularity=tuple(irregularity_input(w) for w in wheelsets),
+        flange=tuple(flange_input(w) for w in wheelsets),
+        curvature=tuple(s.curvature_input for s in all_stations),
+        cant=tuple(s.cant_input for s in all_stations),
+    )
+
+
+def rail_terms(model: Model) -> AddedTerms:
+    """Every wheel/rail and curve term of ``model`` as :class:`AddedTerms`."""
+    rail = model.rail
+    if rail is None:
+        return AddedTerms()
+    layout = rail_layout(model)
+    by_body = station_of(model)
+    stiffness, damping, forces = [], [], []
+    for wheelset in rail.wheelsets:
+        k, c, p = wheelset_terms(wheelset, rail.speed, by_body[wheelset.body].curvature_input)
+        stiffness += k
+        damping += c
+        forces += p
+    forces += cant_deficiency_forces(model, rail.speed, rail.gravity, rail.cant_base)
+    return AddedTerms(
+        inputs=layout.inputs,
+        point_inputs=curvature_point_inputs(model),
+        stiffness=stiffness,
+        damping=damping,
+        forces=forces,
+    )
+
+
+def generate_vehicle(model: Model, *, keep_virtual: bool = False, with_rail: bool = True) -> GenerationResult:
+    """Generate the equations of a model, with its rail terms when it has rail data.
+
+    Examples
+    --------
+    >>> from express.io import load_model
+    >>> vehicle = load_model("examples/forced-steering.toml")
+    >>> eom = generate_vehicle(vehicle).equations
+    >>> len(eom.dofs), len(eom.eliminated)
+    (24, 4)
+    """
+    added = rail_terms(model) if with_rail and model.rail is not None else None
+    return generate(model, keep_virtual=keep_virtual, added=added)
+
+
+def speed_symbol(model: Model) -> sp.Symbol | None:
+    """The speed symbol of a rail model (``v``), if the speed is a plain parameter."""
+    if model.rail is None:
+        return None
+    speed = model.rail.speed
+    return speed if isinstance(speed, sp.Symbol) else None
