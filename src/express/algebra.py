@@ -27,9 +27,9 @@ SparseVector = dict  # index -> domain element, zero entries omitted
 def needs_fractions(expressions: Iterable[sp.Expr]) -> bool:
     """Whether any expression divides by a parameter (needs the fraction field)."""
     for expression in expressions:
-        _, denominator = sp.fraction(sp.together(expression))
-        if denominator.free_symbols:
-            return True
+        for power in sp.sympify(expression).atoms(sp.Pow):
+            if power.exp.is_negative and power.base.free_symbols:
+                return True
     return False
 
 

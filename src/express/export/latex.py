@@ -30,7 +30,6 @@ from __future__ import annotations
 import math
 import re
 
-import sympy as sp
 from sympy.printing.latex import LatexPrinter, greek_letters_set, translate
 
 from express.equations import EquationsOfMotion

@@ -212,5 +212,6 @@ def to_python(eom: EquationsOfMotion) -> str:
         "def _matrices(p):",
     ]
     if renamed:
-        lines.append("    # local names of parameters: " + ", ".join(renamed))
+        lines.append("    # Local names of parameters whose own name is unsafe here:")
+        lines += [f"    #   {line}" for line in renamed]
     return "\n".join(lines + body) + "\n"

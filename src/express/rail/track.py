@@ -498,7 +498,7 @@ def get_spectrum(name: str) -> AlignmentSpectrum:
     return SPECTRA[key]
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True)
 class SpectrumIrregularity(Irregularity):
     """Random alignment with a published spectrum: a sum of cosines, random phases.
 
@@ -507,8 +507,8 @@ class SpectrumIrregularity(Irregularity):
     ``[2 pi / wavelength_max, 2 pi / wavelength_min]``, amplitudes
     ``a_k = sqrt(2 * integral of S over the bin of Omega_k)`` (bins of width
     ``2 pi / period`` centred on ``Omega_k``, the outer two reaching the band edges;
-    integrated exactly)
-    and phases ``phi_k`` uniform in ``[0, 2 pi)`` from ``numpy.random.default_rng(seed)``.
+    integrated exactly) and phases ``phi_k`` uniform in ``[0, 2 pi)`` from
+    ``numpy.random.default_rng(seed)``.
     The profile repeats every ``period`` metres, and its mean square over one period is
     exactly the integral of S over the band (the band variance).
 
@@ -532,9 +532,10 @@ class SpectrumIrregularity(Irregularity):
     wavelength_min: float = 3.0
     wavelength_max: float = 120.0
     period: float = 10_000.0
-    wavenumbers: FloatArray = field(init=False, repr=False)
-    amplitudes: FloatArray = field(init=False, repr=False)
-    phases: FloatArray = field(init=False, repr=False)
+    #: Wavenumbers Omega_k [rad/m], amplitudes a_k [m] and phases phi_k [rad].
+    wavenumbers: FloatArray = field(init=False, repr=False, compare=False)
+    amplitudes: FloatArray = field(init=False, repr=False, compare=False)
+    phases: FloatArray = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         if isinstance(self.spectrum, str):
