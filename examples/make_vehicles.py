@@ -6,7 +6,9 @@
 The paper's forced-steering car (Figs. 7 and 8): car body CB (x, y, roll, yaw), bogie
 frames T1, T2 (x, y, roll, yaw), wheelsets W1..W4 (y, yaw) and steering levers
 L1..L4 (pitch-axis rotation ry, plus the virtual longitudinal DOF x at the pin):
-11 bodies, 28 DOFs, 4 pins, 42 elements + 4 virtual ones.  The conventional twin
+11 bodies, 28 DOFs, 4 pins, 50 elements + 4 virtual ones (the
+issue's example list of 42 plus the 8 primary vertical springs, without which the
+bogie roll is unrestrained: K would have a zero-stiffness roll/sway mode).  The conventional twin
 drops the levers and links (20 DOFs) and uses the ordinary axle-box stiffness.
 
 Lever kinematics (docs/vehicle.md): each lever is pinned to its bogie frame at
@@ -101,10 +103,12 @@ def build_car(w: _Writer, steered: bool, prefix: str = "", station: str = "") ->
                        bogie, (ax, b1, "h1 - ht"), ws, (0, b1, "h1 - r0"), "x", "kx1")
                 w.link(f"{ws}_py{side}", f"primary lateral, wheelset {w_index} {side}",
                        bogie, (ax, b1, "h1 - ht"), ws, (0, b1, "h1 - r0"), "y", "ky1", "cy1")
+                w.link(f"{ws}_pz{side}", f"primary vertical, wheelset {w_index} {side}",
+                       bogie, (ax, b1, "h1 - ht"), ws, (0, b1, "h1 - r0"), "z", "kz1", "cz1")
         s_cb = "lT" if not t_sign else "-lT"
         for side, _bl, _b1, b2 in SIDES:
-            w.link(f"{bogie}_sx{side}", f"secondary longitudinal, bogie {t_index} {side}",
-                   cb, (s_cb, b2, "h2 - hc"), bogie, (0, b2, "h2 - ht"), "x", "kx2")
+            w.link(f"{bogie}_sx{side}", f"secondary longitudinal (air spring and yaw damper), bogie {t_index} {side}",
+                   cb, (s_cb, b2, "h2 - hc"), bogie, (0, b2, "h2 - ht"), "x", "kx2", "cyaw")
             w.link(f"{bogie}_sy{side}", f"secondary lateral, bogie {t_index} {side}",
                    cb, (s_cb, b2, "h2 - hc"), bogie, (0, b2, "h2 - ht"), "y", "ky2")
             w.link(f"{bogie}_sz{side}", f"secondary vertical, bogie {t_index} {side}",

@@ -1,0 +1,353 @@
+"""Numerical state space ``x' = A(v) x + B(v) u + Bd u'`` (paper eqs. 14-16).
+
+The symbolic matrices are evaluated once at the model's parameter values, keeping
+the speed ``v`` apart: ``C = C0 + C1 / v`` (creep damping) and ``P = P0 + P2 v**2``
+(cant deficiency), so that ``A(v)`` and ``B(v)`` at a new speed cost a few array
+operations.  ``M`` is inverted numerically (never symbolically) and refused with a
+clear error when it is singular.
+
+Examples
+--------
+>>> from express.io import load_model
+>>> vehicle = vehicle_model(load_model("examples/forced-steering.toml"))
+>>> vehicle.A(30.0).shape, vehicle.B(30.0).shape
+((48, 48), (48, 22))
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import sympy as sp
+
+from .diagnostics import ModelError, Problem
+from .equations import EquationsOfMotion
+from .model import Model
+from .rail.build import RailLayout, generate_vehicle, rail_layout
+
+__all__ = ["WheelsetData", "VehicleModel", "vehicle_model", "evaluate_matrices", "SingularMassError"]
+
+
+class SingularMassError(ModelError):
+    """M cannot be inverted (a DOF without mass or inertia)."""
+
+
+@dataclass(frozen=True)
+class WheelsetData:
+    """Numerical wheel/rail data of one wheelset.
+
+    ``y`` and ``psi`` are the indices of its lateral and yaw DOFs in ``q``;
+    ``station`` its position along the vehicle [m] (x of its body).
+    """
+
+    name: str
+    y: int
+    psi: int
+    station: float
+    f1: float
+    f2: float
+    conicity: float
+    r0: float
+    b: float
+    flange_clearance: float
+    rail_stiffness: float
+    friction: float
+    wheel_load: float
+
+
+@dataclass
+class VehicleModel:
+    """A model's numerical equations of motion, with the speed kept apart.
+
+    Attributes
+    ----------
+    equations : EquationsOfMotion
+        The symbolic equations it was evaluated from.
+    values : dict of str to float
+        Parameter values used (SI).
+    speed : float
+        The model's own speed ``v`` [m/s] (nan when it has none).
+    M, K, C0, C1, P0, P2, Pd : numpy.ndarray
+        ``M`` (n, n); ``C(v) = C0 + C1 / v``; ``K`` (n, n); ``P(v) = P0 + P2 v**2``
+        (n, m); ``Pd`` (n, m).
+    layout : RailLayout or None
+        Meaning of the rail inputs.
+    wheelsets : tuple of WheelsetData
+    station_positions : numpy.ndarray
+        x position of every station of ``layout`` [m], shape (len(layout.stations),).
+    """
+
+    equations: EquationsOfMotion
+    values: dict[str, float]
+    speed: float
+    M: np.ndarray
+    K: np.ndarray
+    C0: np.ndarray
+    C1: np.ndarray
+    P0: np.ndarray
+    P2: np.ndarray
+    Pd: np.ndarray
+    layout: RailLayout | None = None
+    wheelsets: tuple[WheelsetData, ...] = ()
+    station_positions: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    model: Model | None = None
+
+    def __post_init__(self) -> None:
+        self.M_inv = _invert_mass(self.M, self.equations, self.model)
+        self._minv_k = self.M_inv @ self.K
+        self._minv_c0 = self.M_inv @ self.C0
+        self._minv_c1 = self.M_inv @ self.C1
+        self._minv_p0 = self.M_inv @ self.P0
+        self._minv_p2 = self.M_inv @ self.P2
+        self._minv_pd = self.M_inv @ self.Pd
+
+    @property
+    def dofs(self) -> tuple[str, ...]:
+        return self.equations.dofs
+
+    @property
+    def inputs(self) -> tuple[str, ...]:
+        return self.equations.inputs
+
+    @property
+    def n(self) -> int:
+        """Number of DOFs."""
+        return len(self.equations.dofs)
+
+    def dof_index(self, name: str) -> int:
+        """Index of a DOF by name (``ValueError`` naming the DOFs if unknown)."""
+        try:
+            return self.equations.dofs.index(name)
+        except ValueError:
+            raise ValueError(f"unknown DOF {name!r}; DOFs: {', '.join(self.equations.dofs)}") from None
+
+    def C(self, v: float) -> np.ndarray:  # noqa: N802
+        """Damping matrix at speed ``v`` [m/s], shape (n, n)."""
+        return self.C0 + self.C1 / v
+
+    def P(self, v: float) -> np.ndarray:  # noqa: N802
+        """Input matrix at speed ``v`` [m/s], shape (n, m)."""
+        return self.P0 + self.P2 * v**2
+
+    def A(self, v: float) -> np.ndarray:  # noqa: N802
+        """State matrix at speed ``v`` [m/s], shape (2n, 2n), state ``[q; q']``."""
+        n = self.n
+        a = np.zeros((2 * n, 2 * n))
+        a[:n, n:] = np.eye(n)
+        a[n:, :n] = -self._minv_k
+        a[n:, n:] = -(self._minv_c0 + self._minv_c1 / v)
+        return a
+
+    def B(self, v: float) -> np.ndarray:  # noqa: N802
+        """Input matrix of ``u`` at speed ``v``, shape (2n, m)."""
+        b = np.zeros((2 * self.n, self.P0.shape[1]))
+        b[self.n :] = self._minv_p0 + self._minv_p2 * v**2
+        return b
+
+    def Bd(self) -> np.ndarray:  # noqa: N802
+        """Input matrix of the input rates ``u'``, shape (2n, m)."""
+        b = np.zeros((2 * self.n, self.Pd.shape[1]))
+        b[self.n :] = self._minv_pd
+        return b
+
+    def eigenvalues(self, v: float) -> np.ndarray:
+        """Eigenvalues of ``A(v)`` [1/s], shape (2n,)."""
+        return np.linalg.eigvals(self.A(v))
+
+
+def _invert_mass(mass: np.ndarray, equations: EquationsOfMotion, model: Model | None) -> np.ndarray:
+    source = model.source if model is not None else equations.name
+    try:
+        np.linalg.cholesky(mass)
+    except np.linalg.LinAlgError:
+        diagonal = np.diag(mass)
+        bad = [equations.dofs[i] for i in range(len(diagonal)) if not diagonal[i] > 0]
+        what = (
+            f"DOF{'s' if len(bad) > 1 else ''} {', '.join(bad)} ha{'ve' if len(bad) > 1 else 's'} "
+            "zero (or negative) mass or inertia"
+            if bad
+            else "M is not positive definite"
+        )
+        raise SingularMassError(
+            [Problem(source, None, "mass matrix", f"M cannot be inverted: {what}; give it a mass or remove the DOF")]
+        ) from None
+    return np.linalg.inv(mass)
+
+
+class _MatrixEvaluator:
+    """Compiled numerical evaluation of every matrix of a set of equations."""
+
+    def __init__(self, equations: EquationsOfMotion):
+        self.equations = equations
+        self.symbols = [sp.Symbol(name) for name in equations.parameters]
+        self.functions = {}
+        for key, matrix in equations.matrices.items():
+            entries = [(i, j, value) for (i, j), value in matrix.todok().items()]
+            function = sp.lambdify(self.symbols, [value for _, _, value in entries], modules="math")
+            self.functions[key] = (matrix.shape, entries, function)
+
+    def __call__(self, values: dict[str, float]) -> dict[str, np.ndarray]:
+        missing = [name for name in self.equations.parameters if name not in values]
+        if missing:
+            raise ValueError(f"no value for parameter{'s' if len(missing) > 1 else ''} {', '.join(missing)}")
+        arguments = [float(values[name]) for name in self.equations.parameters]
+        result = {}
+        for key, (shape, entries, function) in self.functions.items():
+            array = np.zeros(shape)
+            for (i, j, _), number in zip(entries, function(*arguments)):
+                array[i, j] = number
+            result[key] = array
+        return result
+
+
+def evaluate_matrices(equations: EquationsOfMotion, values: dict[str, float]) -> dict[str, np.ndarray]:
+    """Every matrix of ``equations`` as float arrays at ``values``.
+
+    Raises
+    ------
+    ValueError
+        Naming the parameters that have no value.
+    """
+    return _MatrixEvaluator(equations)(values)
+
+
+def _speed_split(equations: EquationsOfMotion, values: dict[str, float], speed_name: str | None):
+    """Evaluate at two speeds and separate ``C0 + C1/v`` and ``P0 + P2 v**2``."""
+    if speed_name is None or speed_name not in equations.parameters:
+        matrices = evaluate_matrices(equations, values)
+        n = len(equations.dofs)
+        m = len(equations.inputs)
+        zeros_c = np.zeros((n, n))
+        zeros_p = np.zeros((n, m))
+        return matrices, zeros_c, zeros_p
+    evaluate = _MatrixEvaluator(equations)
+    at = {v: evaluate({**values, speed_name: v}) for v in (1.0, 2.0, 3.0)}
+    c1 = 2.0 * (at[1.0]["C"] - at[2.0]["C"])
+    c0 = at[1.0]["C"] - c1
+    m = len(equations.inputs)
+    n = len(equations.dofs)
+    p1 = at[1.0].get("P", np.zeros((n, m)))
+    p2 = (at[2.0].get("P", np.zeros((n, m))) - p1) / 3.0
+    p0 = p1 - p2
+    check_c = c0 + c1 / 3.0
+    check_p = p0 + p2 * 9.0
+    scale = max(1.0, np.abs(at[3.0]["C"]).max(), np.abs(at[3.0].get("P", np.zeros(1))).max())
+    if (
+        np.abs(check_c - at[3.0]["C"]).max() > 1e-9 * scale
+        or np.abs(check_p - at[3.0].get("P", np.zeros((n, m)))).max() > 1e-9 * scale
+        or np.abs(at[1.0]["K"] - at[2.0]["K"]).max() > 1e-9 * max(1.0, np.abs(at[1.0]["K"]).max())
+        or np.abs(at[1.0]["M"] - at[2.0]["M"]).max() > 0
+    ):
+        raise ValueError(
+            f"the speed {speed_name!r} enters the matrices other than as C0 + C1/v and P0 + P2 v^2"
+        )
+    base = dict(at[1.0])
+    base["C"], base["P"] = c0, p0
+    return base, c1, p2
+
+
+def vehicle_model(model: Model, *, with_rail: bool = True) -> VehicleModel:
+    """Generate and evaluate a model's equations at its parameter values.
+
+    Parameters
+    ----------
+    model : Model
+        A model with values for every parameter (``--set`` applied already).
+    with_rail : bool
+        Include the wheel/rail and curve terms when the model has rail data.
+
+    Returns
+    -------
+    VehicleModel
+
+    Raises
+    ------
+    ModelError
+        For missing parameter values or a singular mass matrix.
+    """
+    equations = generate_vehicle(model, with_rail=with_rail).equations
+    values = model.values()
+    speed_name = None
+    if with_rail and model.rail is not None and isinstance(model.rail.speed, sp.Symbol):
+        speed_name = model.rail.speed.name
+    try:
+        base, c1, p2 = _speed_split(equations, values, speed_name)
+    except ValueError as error:
+        raise ModelError([Problem(model.source, None, "parameters", str(error))]) from None
+    n, m = len(equations.dofs), len(equations.inputs)
+    layout = None
+    wheelsets: tuple[WheelsetData, ...] = ()
+    stations = np.zeros(0)
+    speed = float("nan")
+    if with_rail and model.rail is not None:
+        layout = rail_layout(model)
+        numeric = _numeric(model, values)
+        speed = numeric(model.rail.speed)
+        wheelsets = tuple(
+            WheelsetData(
+                name=w.body,
+                y=equations.dofs.index(f"{w.body}.y"),
+                psi=equations.dofs.index(f"{w.body}.rz"),
+                station=numeric(model.body(w.body).position[0]),
+                f1=numeric(w.f1),
+                f2=numeric(w.f2),
+                conicity=numeric(w.conicity),
+                r0=numeric(w.r0),
+                b=numeric(w.b),
+                flange_clearance=numeric(w.flange_clearance),
+                rail_stiffness=numeric(w.rail_stiffness),
+                friction=numeric(w.friction),
+                wheel_load=numeric(w.wheel_load),
+            )
+            for w in model.rail.wheelsets
+        )
+        stations = np.array([numeric(s.position) for s in layout.stations])
+    return VehicleModel(
+        equations=equations,
+        values=values,
+        speed=speed,
+        M=base["M"],
+        K=base["K"],
+        C0=base["C"],
+        C1=c1,
+        P0=base.get("P", np.zeros((n, m))),
+        P2=p2,
+        Pd=base.get("Pd", np.zeros((n, m))),
+        layout=layout,
+        wheelsets=wheelsets,
+        station_positions=stations,
+        model=model,
+    )
+
+
+def _numeric(model: Model, values: dict[str, float]):
+    def evaluate(expression) -> float:
+        expression = sp.sympify(expression)
+        missing = sorted(s.name for s in expression.free_symbols if s.name not in values)
+        if missing:
+            raise ModelError(
+                [Problem(model.source, None, "parameters", f"no value for {', '.join(missing)}")]
+            )
+        return float(expression.subs({sp.Symbol(k): v for k, v in values.items() if sp.Symbol(k) in expression.free_symbols}))
+
+    return evaluate
+
+
+def point_lateral_row(model: Model, equations: EquationsOfMotion, body_id: str, offset) -> np.ndarray:
+    """Row vector giving the lateral displacement of a point on a body from ``q``.
+
+    ``u_y = y + rz lx - rx lz`` in the body's track frame (shape (n,)).
+    """
+    values = model.values()
+    body = model.body(body_id)
+    lx = float(sp.sympify(offset[0]).subs(values)) if offset[0] != 0 else 0.0
+    lz = float(sp.sympify(offset[2]).subs(values)) if offset[2] != 0 else 0.0
+    row = np.zeros(len(equations.dofs))
+    for dof, coefficient in (("y", 1.0), ("rz", lx), ("rx", -lz)):
+        name = f"{body.id}.{dof}"
+        if dof in body.dofs and name in equations.dofs:
+            row[equations.dofs.index(name)] += coefficient
+    return row
+
+
