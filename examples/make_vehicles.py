@@ -13,9 +13,10 @@ drops the levers and links (20 DOFs) and uses the ordinary axle-box stiffness.
 
 Lever kinematics (docs/vehicle.md): each lever is pinned to its bogie frame at
 lateral offset +-bL; its upper arm lLU is linked to the car-body steering beam
-above the bogie centre (kLU); the link to the front axle box is at lLL below the
-pin and the link to the rear axle box at lLL above it (kLL), so that one rotation
-moves the two axle boxes of a side in opposite directions, as the paper describes.
+above the bogie centre (kLU); the link to the axle box at the car end is at lLL
+below the pin and the link to the inner axle box at lLL above it (kLL), so that
+one rotation moves the two axle boxes of a side in opposite directions, as the
+paper describes (the rear bogie is the front one turned end for end).
 Both ends of every element are placed at the same station, so the curve module
 sees the track geometry correctly.
 """
@@ -124,10 +125,13 @@ def build_car(w: _Writer, steered: bool, prefix: str = "", station: str = "") ->
                    "mL", ("0", "ILy", "0"), ("x", "ry"), (_shift(s_t, station), 0, "ht"))
             w.link(f"{lever}_upper", f"lever {lever_index} upper link to the car-body steering beam",
                    lever, (0, bl, "lLU"), cb, (s_cb, bl, "ht + lLU - hc"), "x", "kLU")
+            # the rear bogie is the front one turned end for end: its lower arm drives
+            # the axle at the car end (the rear one), its upper arm the inner one
+            front_arm, rear_arm = ("-lLL", "lLL") if t_index == 1 else ("lLL", "-lLL")
             w.link(f"{lever}_front", f"lever {lever_index} link to the front axle box",
-                   lever, ("a", bl, "-lLL"), front, (0, bl, "h1 - r0"), "x", "kLL")
+                   lever, ("a", bl, front_arm), front, (0, bl, "h1 - r0"), "x", "kLL")
             w.link(f"{lever}_rear", f"lever {lever_index} link to the rear axle box",
-                   lever, ("-a", bl, "lLL"), rear, (0, bl, "h1 - r0"), "x", "kLL")
+                   lever, ("-a", bl, rear_arm), rear, (0, bl, "h1 - r0"), "x", "kLL")
             w.link(f"{lever}_pin", f"lever {lever_index} pin to the bogie frame (virtual)",
                    lever, (0, bl, 0), bogie, (0, bl, 0), "x", "kinf")
             w.pins.append(f"[pins.{lever}_pin]\nvirtual = {_q(lever + '_pin_S')}\nnon_virtual = {_q(lever + '_pin_T')}\n")

@@ -151,6 +151,26 @@ class VehicleModel:
         b[self.n :] = self._minv_pd
         return b
 
+    def with_values(self, changes: dict[str, float]) -> VehicleModel:
+        """The same vehicle with some parameter values changed (SI), re-evaluated
+        numerically from the compiled matrices (about a millisecond; no regeneration).
+
+        The wheel/rail data (conicity, creep coefficients, ...) follow the new values.
+
+        Examples
+        --------
+        >>> from express.io import load_model
+        >>> vehicle = vehicle_model(load_model("examples/conventional.toml"))
+        >>> vehicle.with_values({"Gamma": 0.2}).wheelsets[0].conicity
+        0.2
+        """
+        if self.model is None:
+            raise ValueError("this VehicleModel has no model to re-evaluate")
+        from .model import with_values
+
+        model = with_values(self.model, changes)
+        return _evaluate_vehicle(model, self.equations, self._evaluator, self._speed_name)
+
     def eigenvalues(self, v: float) -> np.ndarray:
         """Eigenvalues of ``A(v)`` [1/s], shape (2n,)."""
         return np.linalg.eigvals(self.A(v))
@@ -212,16 +232,21 @@ def evaluate_matrices(equations: EquationsOfMotion, values: dict[str, float]) ->
     return _MatrixEvaluator(equations)(values)
 
 
-def _speed_split(equations: EquationsOfMotion, values: dict[str, float], speed_name: str | None):
+def _speed_split(
+    equations: EquationsOfMotion,
+    values: dict[str, float],
+    speed_name: str | None,
+    evaluate: _MatrixEvaluator | None = None,
+):
     """Evaluate at two speeds and separate ``C0 + C1/v`` and ``P0 + P2 v**2``."""
+    evaluate = evaluate or _MatrixEvaluator(equations)
     if speed_name is None or speed_name not in equations.parameters:
-        matrices = evaluate_matrices(equations, values)
+        matrices = evaluate(values)
         n = len(equations.dofs)
         m = len(equations.inputs)
         zeros_c = np.zeros((n, n))
         zeros_p = np.zeros((n, m))
         return matrices, zeros_c, zeros_p
-    evaluate = _MatrixEvaluator(equations)
     at = {v: evaluate({**values, speed_name: v}) for v in (1.0, 2.0, 3.0)}
     c1 = 2.0 * (at[1.0]["C"] - at[2.0]["C"])
     c0 = at[1.0]["C"] - c1
@@ -267,12 +292,16 @@ def vehicle_model(model: Model, *, with_rail: bool = True) -> VehicleModel:
         For missing parameter values or a singular mass matrix.
     """
     equations = generate_vehicle(model, with_rail=with_rail).equations
-    values = model.values()
     speed_name = None
     if with_rail and model.rail is not None and isinstance(model.rail.speed, sp.Symbol):
         speed_name = model.rail.speed.name
+    return _evaluate_vehicle(model, equations, _MatrixEvaluator(equations), speed_name, with_rail)
+
+
+def _evaluate_vehicle(model, equations, evaluator, speed_name, with_rail=True) -> VehicleModel:
+    values = model.values()
     try:
-        base, c1, p2 = _speed_split(equations, values, speed_name)
+        base, c1, p2 = _speed_split(equations, values, speed_name, evaluator)
     except ValueError as error:
         raise ModelError([Problem(model.source, None, "parameters", str(error))]) from None
     n, m = len(equations.dofs), len(equations.inputs)
@@ -280,7 +309,7 @@ def vehicle_model(model: Model, *, with_rail: bool = True) -> VehicleModel:
     wheelsets: tuple[WheelsetData, ...] = ()
     stations = np.zeros(0)
     speed = float("nan")
-    if with_rail and model.rail is not None:
+    if with_rail and model.rail is not None and equations.inputs:
         layout = rail_layout(model)
         numeric = _numeric(model, values)
         speed = numeric(model.rail.speed)
@@ -303,7 +332,7 @@ def vehicle_model(model: Model, *, with_rail: bool = True) -> VehicleModel:
             for w in model.rail.wheelsets
         )
         stations = np.array([numeric(s.position) for s in layout.stations])
-    return VehicleModel(
+    vehicle = VehicleModel(
         equations=equations,
         values=values,
         speed=speed,
@@ -319,11 +348,16 @@ def vehicle_model(model: Model, *, with_rail: bool = True) -> VehicleModel:
         station_positions=stations,
         model=model,
     )
+    vehicle._evaluator = evaluator
+    vehicle._speed_name = speed_name
+    return vehicle
 
 
 def _numeric(model: Model, values: dict[str, float]):
     def evaluate(expression) -> float:
         expression = sp.sympify(expression)
+        if expression.is_Number:
+            return float(expression)
         missing = sorted(s.name for s in expression.free_symbols if s.name not in values)
         if missing:
             raise ModelError(

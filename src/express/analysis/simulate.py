@@ -1,0 +1,410 @@
+"""Curving simulation: a vehicle running along a track (paper Fig. 9).
+
+The state-space model is driven by the track seen at every station (curvature,
+cant, lateral irregularity and their rates, the rear stations delayed behind the
+leading wheelset), with flange contact and creep saturation fed back at every step.
+Results are indexed by ``d1``, the leading wheelset's distance along the track.
+
+Derived quantities (``rail.md``):
+
+``Q{n}``
+    Lateral force from the rail on the flanging wheel of wheelset n [N], the quantity
+    the paper plots (横圧): the flange force plus that wheel's half of the lateral creep
+    force (both wheels have the same creep coefficients and lateral creepage), positive
+    to the left.  Without flange contact it is half the wheelset's creep force.
+``Qtot{n}``
+    Total lateral force from the rails on wheelset n [N] (creep plus flange).
+``QP{n}``
+    Derailment quotient ``Q / P`` of the flanging wheel, ``P`` the static wheel load.
+``psi_TW{n}``
+    Yaw of wheelset n relative to its bogie frame [rad] (the steering angle; the ideal
+    radial value is ``a / R``).
+``theta_<lever>``
+    Rotation of each steering lever [rad] (bodies carrying a pin's virtual DOF).
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import sys
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..rail.nonlinear import wheelset_forces
+from ..rail.track import Track
+from ..statespace import VehicleModel
+from .integrator import discretize, march
+
+__all__ = ["SimulationResult", "simulate", "bogie_of_wheelsets", "lever_bodies", "TrackInputs", "track_inputs"]
+
+
+@dataclass
+class SimulationResult:
+    """Time histories of a simulation.
+
+    Attributes
+    ----------
+    time : numpy.ndarray, shape (N,)
+        [s].
+    distance : numpy.ndarray, shape (N,)
+        ``d1``, distance of the leading wheelset along the track [m].
+    dofs : tuple of str
+    q, q_dot : numpy.ndarray, shape (N, n)
+        Generalized coordinates [m, rad] and velocities.
+    outputs : dict of str to numpy.ndarray, each shape (N,)
+        Derived quantities (see the module docstring) and ``rho1`` (curvature at the
+        leading wheelset, 1/m), ``S1`` (cant there, m).
+    speed : float
+        [m/s].
+    options : dict
+        ``flange``, ``saturation``, ``dt``.
+    """
+
+    time: np.ndarray
+    distance: np.ndarray
+    dofs: tuple[str, ...]
+    q: np.ndarray
+    q_dot: np.ndarray
+    outputs: dict[str, np.ndarray]
+    speed: float
+    options: dict = field(default_factory=dict)
+
+    def series(self) -> dict[str, np.ndarray]:
+        """Every column: time, d1, each DOF, each DOF rate (``<dof>_dot``), outputs."""
+        columns = {"time": self.time, "d1": self.distance}
+        for i, dof in enumerate(self.dofs):
+            columns[dof] = self.q[:, i]
+        for i, dof in enumerate(self.dofs):
+            columns[f"{dof}_dot"] = self.q_dot[:, i]
+        columns.update(self.outputs)
+        return columns
+
+    def max_abs(self) -> dict[str, float]:
+        """Largest absolute value of every derived output (SI units)."""
+        return {name: float(np.max(np.abs(values))) for name, values in self.outputs.items()}
+
+    def to_csv(self) -> str:
+        """CSV text (header row of column names, SI units)."""
+        columns = self.series()
+        buffer = io.StringIO()
+        writer = csv.writer(buffer, lineterminator="\n")
+        writer.writerow(columns)
+        data = np.column_stack(list(columns.values()))
+        for row in data:
+            writer.writerow([f"{value:.9g}" for value in row])
+        return buffer.getvalue()
+
+    def save(self, path: str | Path) -> None:
+        """Save as ``.csv``, ``.npz`` or ``.mat`` (by suffix), written whole."""
+        path = Path(path)
+        suffix = path.suffix.lower()
+        temporary = path.with_name(f".{path.name}.tmp{suffix}")
+        try:
+            if suffix == ".csv":
+                temporary.write_text(self.to_csv(), encoding="utf-8")
+            elif suffix == ".npz":
+                np.savez_compressed(temporary, **_safe_keys(self.series()))
+            elif suffix == ".mat":
+                from scipy.io import savemat
+
+                savemat(temporary, _safe_keys(self.series()), do_compression=True)
+            else:
+                raise ValueError(f"{path}: unknown result format {suffix!r} (use .csv, .npz or .mat)")
+            temporary.replace(path)
+        finally:
+            temporary.unlink(missing_ok=True)
+
+
+def _safe_keys(columns: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    return {name.replace(".", "_"): values for name, values in columns.items()}
+
+
+def lever_bodies(vehicle: VehicleModel) -> list[str]:
+    """Bodies that carry a pin's virtual DOF and a rotation DOF (the steering levers)."""
+    model = vehicle.model
+    if model is None:
+        return []
+    levers = []
+    for pin in model.pins:
+        body = model.point(pin.virtual).host
+        if body not in levers and any(f"{body}.{r}" in vehicle.dofs for r in ("rx", "ry", "rz")):
+            levers.append(body)
+    return levers
+
+
+def _lever_rotation(vehicle: VehicleModel, body: str) -> str:
+    for rotation in ("ry", "rz", "rx"):
+        if f"{body}.{rotation}" in vehicle.dofs:
+            return f"{body}.{rotation}"
+    raise ValueError(body)
+
+
+def bogie_of_wheelsets(vehicle: VehicleModel) -> dict[str, str]:
+    """The body each wheelset is suspended from: the one with a yaw DOF sharing the most
+    elements with it."""
+    model = vehicle.model
+    result = {}
+    if model is None:
+        return result
+    host = {point.id: point.host for point in model.points}
+    for wheelset in vehicle.wheelsets:
+        counts: dict[str, int] = {}
+        for element in model.elements:
+            ends = {host[element.s_end], host[element.t_end]}
+            if wheelset.name in ends and len(ends) == 2:
+                (other,) = ends - {wheelset.name}
+                if f"{other}.rz" in vehicle.dofs and other not in {w.name for w in vehicle.wheelsets}:
+                    counts[other] = counts.get(other, 0) + 1
+        if counts:
+            result[wheelset.name] = max(sorted(counts), key=lambda body: counts[body])
+    return result
+
+
+@dataclass(frozen=True)
+class TrackInputs:
+    """The known inputs along a run: ``u`` and ``u'`` at every instant, shape (N, m)."""
+
+    u: np.ndarray
+    u_rate: np.ndarray
+    y_rail: np.ndarray  # (N, n_wheelsets)
+    rho_wheelsets: np.ndarray  # (N, n_wheelsets)
+    rho_stations: np.ndarray  # (N, n_stations)
+
+
+def track_inputs(vehicle: VehicleModel, track: Track, distance: np.ndarray, speed: float) -> TrackInputs:
+    """Inputs seen by the vehicle when its leading wheelset is at ``distance`` [m].
+
+    Each station ``k`` at ``x_k`` in the vehicle is ``x_lead - x_k`` behind the leading
+    wheelset; its curvature, cant and irregularity are read there.  Rates are
+    ``v d/ds``.  Flange inputs are left at zero (they are fed back).
+    """
+    layout = vehicle.layout
+    if layout is None:
+        raise ValueError("the model has no rail data: add a [rail] section to simulate it")
+    inputs = list(vehicle.inputs)
+    lead = max(w.station for w in vehicle.wheelsets)
+    count = distance.size
+    u = np.zeros((count, len(inputs)))
+    u_rate = np.zeros_like(u)
+    # every station at once: one track evaluation per quantity
+    behind = lead - np.asarray(vehicle.station_positions, dtype=float)
+    s = (distance[:, None] - behind[None, :]).ravel()
+    shape = (count, behind.size)
+    curvature = np.asarray(track.curvature(s)).reshape(shape)
+    curvature_rate = np.asarray(track.curvature_rate(s)).reshape(shape)
+    cant = np.asarray(track.cant(s)).reshape(shape)
+    cant_rate = np.asarray(track.cant_rate(s)).reshape(shape)
+    for k, station in enumerate(layout.stations):
+        u[:, inputs.index(station.curvature_input)] = curvature[:, k]
+        u_rate[:, inputs.index(station.curvature_input)] = speed * curvature_rate[:, k]
+        u[:, inputs.index(station.cant_input)] = cant[:, k]
+        u_rate[:, inputs.index(station.cant_input)] = speed * cant_rate[:, k]
+    at_wheelset = [_station_index(vehicle, w.name) for w in vehicle.wheelsets]
+    rho = np.ascontiguousarray(curvature[:, at_wheelset])
+    behind_w = lead - np.array([w.station for w in vehicle.wheelsets])
+    s_w = (distance[:, None] - behind_w[None, :]).ravel()
+    shape_w = (count, behind_w.size)
+    y_rail = np.asarray(track.lateral_irregularity(s_w), dtype=float).reshape(shape_w)
+    y_rail_rate = np.asarray(track.lateral_irregularity_rate(s_w), dtype=float).reshape(shape_w)
+    for j, name in enumerate(layout.irregularity):
+        u[:, inputs.index(name)] = y_rail[:, j]
+        u_rate[:, inputs.index(name)] = speed * y_rail_rate[:, j]
+    return TrackInputs(u, u_rate, y_rail, rho, curvature)
+
+
+def _terminal_progress(stream=sys.stderr):
+    if not stream.isatty():
+        return None
+
+    def show(fraction: float) -> None:
+        width = 40
+        filled = int(round(fraction * width))
+        stream.write(f"\rsimulating [{'#' * filled}{'.' * (width - filled)}] {fraction:4.0%}")
+        if fraction >= 1.0:
+            stream.write("\n")
+        stream.flush()
+
+    return show
+
+
+def simulate(
+    vehicle: VehicleModel,
+    track: Track,
+    *,
+    speed: float | None = None,
+    dt: float = 0.005,
+    start: float = 0.0,
+    end: float | None = None,
+    flange: bool = True,
+    saturation: bool = True,
+    initial_state: np.ndarray | None = None,
+    progress: bool | None = None,
+) -> SimulationResult:
+    """Run ``vehicle`` along ``track``.
+
+    Parameters
+    ----------
+    vehicle : VehicleModel
+        Numerical vehicle with rail data.
+    track : Track
+        Curvature, cant and irregularity along the track.
+    speed : float, optional
+        [m/s]; the model's own speed by default.
+    dt : float
+        Time step [s] (the linear part is exact; the step limits how finely the
+        flange and saturation feedback is followed).
+    start, end : float
+        Leading-wheelset distance at the start and end [m]; ``end`` defaults to the
+        track length.
+    flange, saturation : bool
+        Include flange contact and creep saturation (both on, as in the paper's Fig. 9).
+    initial_state : numpy.ndarray, shape (2n,), optional
+        ``[q; q']`` at the start (zero by default).
+    progress : bool, optional
+        Show a progress bar; by default only when standard error is a terminal.
+
+    Returns
+    -------
+    SimulationResult
+    """
+    v = float(vehicle.speed if speed is None else speed)
+    if not v > 0:
+        raise ValueError(f"speed must be positive, got {v}")
+    end = track.length if end is None else end
+    if end <= start:
+        raise ValueError(f"end ({end} m) must lie beyond start ({start} m)")
+    steps = int(np.ceil((end - start) / (v * dt)))
+    time = np.arange(steps + 1) * dt
+    distance = start + v * time
+    inputs = track_inputs(vehicle, track, distance, v)
+    phi, gamma0, gamma1 = discretize(vehicle.A(v), dt)
+    # drive[k] = gamma0 e[k] + gamma1 (e[k+1] - e[k]) with e = B u + Bd u'
+    b, bd = vehicle.B(v), vehicle.Bd()
+    early, late = (gamma0 - gamma1), gamma1
+    drive = (
+        inputs.u[:-1] @ (early @ b).T
+        + inputs.u[1:] @ (late @ b).T
+        + inputs.u_rate[:-1] @ (early @ bd).T
+        + inputs.u_rate[1:] @ (late @ bd).T
+    )
+    n = vehicle.n
+    count = len(vehicle.wheelsets)
+    selector = np.zeros((2 * n, 2 * count))
+    for j, wheelset in enumerate(vehicle.wheelsets):
+        selector[n:, j] = vehicle.M_inv[:, wheelset.y]
+        selector[n:, count + j] = vehicle.M_inv[:, wheelset.psi]
+    g0, g1 = gamma0 @ selector, gamma1 @ selector
+    wheel_rail = _wheel_rail_arrays(vehicle, inputs, v)
+    x0 = np.zeros(2 * n) if initial_state is None else np.asarray(initial_state, dtype=float)
+    show = _terminal_progress() if progress is None else (_terminal_progress() if progress else None)
+    states = march(
+        np.ascontiguousarray(phi), np.ascontiguousarray(drive), np.ascontiguousarray(g0),
+        np.ascontiguousarray(g1), x0, wheel_rail, flange=flange, saturation=saturation, progress=show,
+    )
+    q, q_dot = states[:, :n], states[:, n:]
+    outputs = derived_outputs(vehicle, q, q_dot, inputs, v, flange=flange, saturation=saturation)
+    return SimulationResult(time, distance, vehicle.dofs, q, q_dot, outputs, v,
+                            {"flange": flange, "saturation": saturation, "dt": dt})
+
+
+def _wheel_rail_arrays(vehicle: VehicleModel, inputs: TrackInputs, speed: float) -> dict:
+    ws = vehicle.wheelsets
+    return {
+        "iy": np.array([w.y for w in ws], dtype=np.int64),
+        "ipsi": np.array([w.psi for w in ws], dtype=np.int64),
+        "y_rail": np.ascontiguousarray(inputs.y_rail),
+        "rho": np.ascontiguousarray(inputs.rho_wheelsets),
+        "speed": speed,
+        "f1": np.array([w.f1 for w in ws]),
+        "f2": np.array([w.f2 for w in ws]),
+        "conicity": np.array([w.conicity for w in ws]),
+        "r0": np.array([w.r0 for w in ws]),
+        "b": np.array([w.b for w in ws]),
+        "clearance": np.array([w.flange_clearance for w in ws]),
+        "k_rail": np.array([w.rail_stiffness for w in ws]),
+        "limit": np.array([w.friction * w.wheel_load for w in ws]),
+    }
+
+
+def derived_outputs(vehicle: VehicleModel, q, q_dot, inputs: TrackInputs, speed: float, *, flange=True, saturation=True):
+    """The derived quantities of ``rail.md`` from the state histories."""
+    ws = vehicle.wheelsets
+    iy = [w.y for w in ws]
+    ipsi = [w.psi for w in ws]
+    forces = wheelset_forces(
+        q[:, iy], q[:, ipsi], q_dot[:, iy], q_dot[:, ipsi], inputs.y_rail, inputs.rho_wheelsets,
+        speed, ws, flange=flange, saturation=saturation,
+    )
+    outputs: dict[str, np.ndarray] = {
+        "rho1": inputs.rho_wheelsets[:, 0],
+        "S1": inputs.u[:, list(vehicle.inputs).index(vehicle.layout.cant[_station_index(vehicle, ws[0].name)])],
+    }
+    bogies = bogie_of_wheelsets(vehicle)
+    for j, wheelset in enumerate(ws, start=1):
+        wheel = forces["flange"][:, j - 1] + 0.5 * forces["lateral_creep"][:, j - 1]
+        outputs[f"Q{j}"] = wheel
+        outputs[f"QP{j}"] = wheel / wheelset.wheel_load
+        outputs[f"Qtot{j}"] = forces["lateral"][:, j - 1]
+        outputs[f"flange{j}"] = forces["flange"][:, j - 1]
+        outputs[f"dy{j}"] = forces["dy"][:, j - 1]
+        bogie = bogies.get(wheelset.name)
+        if bogie is not None:
+            # each body's yaw is measured from the track at its own station: add the
+            # turn of the track between the bogie and the wheelset stations
+            bogie_station = _station_index(vehicle, bogie)
+            turn = 0.5 * (inputs.rho_wheelsets[:, j - 1] + inputs.rho_stations[:, bogie_station]) * (
+                wheelset.station - vehicle.station_positions[bogie_station]
+            )
+            outputs[f"psi_TW{j}"] = q[:, wheelset.psi] - q[:, vehicle.dof_index(f"{bogie}.rz")] + turn
+    for lever in lever_bodies(vehicle):
+        outputs[f"theta_{lever}"] = q[:, vehicle.dof_index(_lever_rotation(vehicle, lever))]
+    return outputs
+
+
+def _station_index(vehicle: VehicleModel, body: str) -> int:
+    for index, station in enumerate(vehicle.layout.stations):
+        if body in station.bodies:
+            return index
+    raise ValueError(body)
+
+
+def continuous_rhs(
+    vehicle: VehicleModel,
+    track: Track,
+    *,
+    speed: float | None = None,
+    start: float = 0.0,
+    flange: bool = True,
+    saturation: bool = True,
+):
+    """The same equations as :func:`simulate` as a plain right-hand side ``f(t, x)``.
+
+    For reference integrations with ``scipy.integrate.solve_ivp`` (tests and the
+    simulation benchmark's baseline): no discretization, inputs evaluated at ``t``.
+    """
+    v = float(vehicle.speed if speed is None else speed)
+    a, b, bd = vehicle.A(v), vehicle.B(v), vehicle.Bd()
+    n = vehicle.n
+    ws = vehicle.wheelsets
+    count = len(ws)
+    selector = np.zeros((2 * n, 2 * count))
+    for j, wheelset in enumerate(ws):
+        selector[n:, j] = vehicle.M_inv[:, wheelset.y]
+        selector[n:, count + j] = vehicle.M_inv[:, wheelset.psi]
+    iy = [w.y for w in ws]
+    ipsi = [w.psi for w in ws]
+
+    def rhs(t: float, x: np.ndarray) -> np.ndarray:
+        inputs = track_inputs(vehicle, track, np.array([start + v * t]), v)
+        q, q_dot = x[:n], x[n:]
+        forces = wheelset_forces(
+            q[iy], q[ipsi], q_dot[iy], q_dot[ipsi], inputs.y_rail[0], inputs.rho_wheelsets[0], v, ws,
+            flange=flange, saturation=saturation,
+        )
+        z = np.concatenate([forces["flange"] + forces["lateral_correction"], forces["yaw_correction"]])
+        return a @ x + b @ inputs.u[0] + bd @ inputs.u_rate[0] + selector @ z
+
+    return rhs
