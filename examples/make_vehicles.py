@@ -156,12 +156,17 @@ def _parameters(conventional: bool) -> str:
             continue
         if conventional and name in ("mL", "ILy", "lLU", "lLL", "bL", "kLU", "kLL", "kx1c"):
             continue
+        if name in ("f1", "f2"):
+            continue  # computed from the contact: [rail.creep]
         value = spec["value"]
         comment = comments.get(name, "")
         if conventional and name in data.get("parameters_conventional", {}):
             comment = "conventional bogie: " + comment
         lines.append(f'{name} = {{ value = {value!r}, unit = "{spec["unit"]}" }}' + (f"  # {comment}" if comment else ""))
     lines.append('hf = { value = 1.2, unit = "m" }  # floor height above rail (est.: JR EMU floor 1.1-1.2 m)')
+    lines.append('Rrail = { value = 0.3, unit = "m" }  # rail-head transverse radius (JIS 50N crown, 300 mm)')
+    lines.append('Emod = { value = 206, unit = "GPa" }  # Young\'s modulus of wheel and rail steel')
+    lines.append('nu = { value = 0.3, unit = "1" }  # Poisson\'s ratio')
     if not conventional:
         lines.append('kinf = { value = 1.0e9, unit = "N/m" }  # virtual pin stiffness: eliminated, never used')
     return "\n".join(lines) + "\n"
@@ -209,6 +214,9 @@ def vehicle_toml(steered: bool = True, cars: int = 1, car_length: str = "20.0") 
         f"wheelsets = [{wheelset_list}]\n\n"
         "[rail.wheel_rail]\nf1 = \"f1\"\nf2 = \"f2\"\nconicity = \"Gamma\"\nr0 = \"r0\"\nb = \"b\"\n"
         "flange_clearance = \"delta\"\nrail_stiffness = \"kR\"\nfriction = \"mu\"\nwheel_load = \"P0\"\n\n"
+        "# f1, f2 (per wheel) from the Hertz ellipse and Kalker's coefficients (docs/contact.md)\n"
+        "[rail.creep]\nfrom = \"kalker\"\nlongitudinal = \"f1\"\nlateral = \"f2\"\nwheel_load = \"P0\"\n"
+        "wheel_radius = \"r0\"\nrail_head_radius = \"Rrail\"\nyoungs_modulus = \"Emod\"\npoisson = \"nu\"\n\n"
         f"[rail.outputs.floor_front]\nbody = \"{'C1' if cars > 1 else ''}CB\"\noffset = [\"lT\", 0, \"hf - hc\"]\n\n"
         f"[rail.outputs.floor_rear]\nbody = \"{'C1' if cars > 1 else ''}CB\"\noffset = [\"-lT\", 0, \"hf - hc\"]\n"
     )
@@ -225,6 +233,12 @@ def main(argv=None) -> int:
         Path(args.output or f"train{args.cars}.toml").write_text(text, encoding="utf-8")
         return 0
     (HERE / "forced-steering.toml").write_text(vehicle_toml(True), encoding="utf-8")
+    sys.path.insert(0, str(HERE.parent / "src"))
+    from express.io import load_model
+    from express.io.classic_writer import model_to_classic
+
+    classic, _ = model_to_classic(load_model(HERE / "forced-steering.toml"))
+    (HERE / "forced-steering.exp").write_text(classic, encoding="utf-8")
     (HERE / "conventional.toml").write_text(vehicle_toml(False), encoding="utf-8")
     return 0
 

@@ -70,10 +70,11 @@ def write_output(path: Path, text: str, inputs: Sequence[Path] = ()) -> None:
 def _load(args: argparse.Namespace):
     from .io import load_model
     from .model import with_values
+    from .rail.build import with_creep_coefficients
 
     model = load_model(args.model)
     overrides = parse_assignments(args.set or [])
-    return with_values(model, overrides) if overrides else model
+    return with_creep_coefficients(with_values(model, overrides)) if overrides else model
 
 
 def _print_warnings(warnings: Sequence[Problem]) -> None:

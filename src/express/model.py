@@ -29,6 +29,7 @@ __all__ = [
     "Wheelset",
     "OutputPoint",
     "RailSpec",
+    "CreepSpec",
     "Model",
     "check_model",
     "model_warnings",
@@ -176,6 +177,25 @@ class OutputPoint:
 
 
 @dataclass(frozen=True)
+class CreepSpec:
+    """Creep coefficients computed from the contact (Hertz ellipse + Kalker's table).
+
+    The parameters named ``longitudinal`` and ``lateral`` receive ``f11`` and ``f22``
+    [N] computed from the wheel load [N], wheel rolling radius [m], rail-head
+    transverse radius [m], Young's modulus [Pa] and Poisson's ratio.
+    """
+
+    longitudinal: str
+    lateral: str
+    wheel_load: sp.Expr
+    wheel_radius: sp.Expr
+    rail_head_radius: sp.Expr
+    youngs_modulus: sp.Expr
+    poisson: sp.Expr
+    line: int | None = None
+
+
+@dataclass(frozen=True)
 class RailSpec:
     """What makes a model a rail vehicle: wheelsets, speed, cant base, outputs."""
 
@@ -185,6 +205,7 @@ class RailSpec:
     gravity: sp.Expr = sp.Float(9.81)
     outputs: tuple[OutputPoint, ...] = ()
     line: int | None = None
+    creep: CreepSpec | None = None
 
 
 @dataclass(frozen=True)

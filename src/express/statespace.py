@@ -167,8 +167,9 @@ class VehicleModel:
         if self.model is None:
             raise ValueError("this VehicleModel has no model to re-evaluate")
         from .model import with_values
+        from .rail.build import with_creep_coefficients
 
-        model = with_values(self.model, changes)
+        model = with_creep_coefficients(with_values(self.model, changes))
         return _evaluate_vehicle(model, self.equations, self._evaluator, self._speed_name)
 
     def eigenvalues(self, v: float) -> np.ndarray:

@@ -54,6 +54,7 @@ from ..model import (
     DOF_NAMES,
     Body,
     ConnectionPoint,
+    CreepSpec,
     Element,
     Ground,
     Model,
@@ -90,7 +91,17 @@ WHEELSET_KEYS = (
     "friction",
     "wheel_load",
 )
-_RAIL_KEYS = ("speed", "cant_base", "gravity", "wheelsets", "wheel_rail", "wheelset", "outputs")
+_RAIL_KEYS = ("speed", "cant_base", "gravity", "wheelsets", "wheel_rail", "wheelset", "outputs", "creep")
+_CREEP_KEYS = (
+    "from",
+    "longitudinal",
+    "lateral",
+    "wheel_load",
+    "wheel_radius",
+    "rail_head_radius",
+    "youngs_modulus",
+    "poisson",
+)
 _DIRECTIONS = {"x": 0, "y": 1, "z": 2, "1": 0, "2": 1, "3": 2}
 _HEADER = re.compile(r"\s*\[\[?\s*([^\]]+?)\s*\]\]?\s*(?:#.*)?$")
 _KEY = re.compile(r"\s*([A-Za-z0-9_\-\"'.]+)\s*=")
@@ -299,7 +310,26 @@ def _rail(reader: _Reader, table: dict) -> RailSpec | None:
     scalars = {}
     for key, default in (("speed", "v"), ("cant_base", "G"), ("gravity", "g")):
         scalars[key] = reader.expression(table.get(key, default), ("rail", key), "rail", key)
-    return RailSpec(tuple(wheelsets), outputs=tuple(outputs), line=reader.line("rail"), **scalars)
+    creep = None
+    if "creep" in table:
+        path = ("rail", "creep")
+        spec = reader.table(table["creep"], path, "rail.creep")
+        reader.unknown_keys(spec, _CREEP_KEYS, path, "rail.creep")
+        if spec.get("from", "kalker") != "kalker":
+            reader.problem(path + ("from",), "rail.creep", f'from must be "kalker", got {_show(spec.get("from"))}')
+        defaults = {"youngs_modulus": 206e9, "poisson": 0.3}
+        values = {}
+        for key in ("wheel_load", "wheel_radius", "rail_head_radius", "youngs_modulus", "poisson"):
+            if key not in spec and key not in defaults:
+                reader.problem(path, "rail.creep", f'missing "{key}"')
+            values[key] = reader.expression(spec.get(key, defaults.get(key, 0)), path + (key,), "rail.creep", key)
+        creep = CreepSpec(
+            longitudinal=reader.name(spec.get("longitudinal", "f1"), path, "rail.creep", "longitudinal"),
+            lateral=reader.name(spec.get("lateral", "f2"), path, "rail.creep", "lateral"),
+            line=reader.line(*path),
+            **values,
+        )
+    return RailSpec(tuple(wheelsets), outputs=tuple(outputs), line=reader.line("rail"), creep=creep, **scalars)
 
 
 def parse_toml_model(text: str, source: str = "<string>") -> Model:

@@ -14,7 +14,7 @@ import sympy as sp
 
 from ..model import AXES, Model
 
-__all__ = ["model_to_toml", "value_to_toml"]
+__all__ = ["model_to_toml", "value_to_toml", "value_text"]
 
 
 def _decimal(value: sp.Rational) -> str | None:
@@ -36,6 +36,17 @@ def _decimal(value: sp.Rational) -> str | None:
     if digits == 0:
         return f"{sign}{text}"
     return f"{sign}{text[:-digits]}.{text[-digits:]}"
+
+
+def value_text(value: sp.Expr) -> str:
+    """Plain text of an exact value: ``0.3`` for 3/10, ``h2 - hc`` for expressions."""
+    if value.is_Integer:
+        return str(int(value))
+    if value.is_Rational:
+        decimal = _decimal(value)
+        if decimal is not None:
+            return decimal
+    return sp.sstr(value)
 
 
 def value_to_toml(value: sp.Expr) -> str:
