@@ -50,7 +50,16 @@ def is_valid_name(name: str) -> bool:
 
 
 def parse_number(text: str) -> sp.Rational:
-    """Parse a decimal literal exactly (``"0.3"`` -> ``3/10``, ``"1e5"`` -> ``100000``)."""
+    """Parse a decimal literal exactly (``"0.3"`` -> ``3/10``, ``"1e5"`` -> ``100000``).
+
+    Raises
+    ------
+    ExpressionError
+        For an exponent beyond the range of a double (``1e400``).
+    """
+    mantissa, _, exponent = text.lower().partition("e")
+    if exponent and abs(int(exponent)) > 308:
+        raise ExpressionError(f'number "{text}" is out of range (exponent beyond 308)')
     value = Fraction(text)
     return sp.Rational(value.numerator, value.denominator)
 
@@ -130,6 +139,10 @@ class _Parser:
                 )
             if base == 0 and exponent < 0:
                 raise ExpressionError(f"column {column}: division by zero")
+            if base.is_Rational and base != 0:
+                size = max(abs(base.p), abs(base.q)).bit_length() * abs(int(exponent))
+                if size > 4096:
+                    raise ExpressionError(f"column {column}: number too large")
             return base**exponent
         return base
 

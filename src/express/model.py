@@ -327,6 +327,8 @@ def check_model(model: Model) -> list[Problem]:
             problems.append(Problem(source, pin.line, item, f"several elements join its CPs: {ids}"))
             continue
         virtual_host = hosts[pin.virtual]
+        if virtual_host not in bodies and virtual_host not in ground_ids:
+            continue  # the CP's unknown host is reported with the CP
         if virtual_host not in bodies:
             problems.append(
                 Problem(source, pin.line, item, f"virtual CP {pin.virtual} is on ground {virtual_host}")

@@ -229,7 +229,7 @@ def read_classic(path: str | Path) -> Model:
     """Read a classic model file (see :func:`parse_classic`)."""
     path = Path(path)
     try:
-        text = path.read_text(encoding="utf-8")
+        text = path.read_text(encoding="utf-8-sig")
     except UnicodeDecodeError as error:
         raise ModelError([Problem(str(path), None, "", f"not a UTF-8 text file ({error.reason})")]) from None
     return parse_classic(text, source=str(path))

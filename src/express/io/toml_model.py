@@ -40,6 +40,7 @@ is wrong.  Values are parsed by :mod:`express.expressions`, never evaluated.
 
 from __future__ import annotations
 
+import math
 import re
 import sys
 from pathlib import Path
@@ -115,7 +116,8 @@ def _line_index(text: str) -> dict[tuple[str, ...], int]:
         header = _HEADER.match(line)
         if header:
             table = tuple(part.strip().strip("\"'") for part in header.group(1).split("."))
-            index.setdefault(table, number)
+            for end in range(1, len(table) + 1):
+                index.setdefault(table[:end], number)
             continue
         key = _KEY.match(line)
         if key:
@@ -187,6 +189,14 @@ class _Reader:
         return "?"
 
 
+_ID = re.compile(r"[A-Za-z][A-Za-z0-9_]*\Z")
+
+
+def _check_id(reader: _Reader, identifier: str, path: tuple[str, ...], item: str) -> None:
+    if not _ID.match(identifier):
+        reader.problem(path, item, "an id must start with a letter and hold only letters, digits and _")
+
+
 def _kind(value: Any) -> str:
     return {dict: "a table", list: "a list", str: "a string", bool: "a boolean"}.get(
         type(value), type(value).__name__
@@ -218,21 +228,33 @@ def _parameters(reader: _Reader, table: dict) -> dict[str, Parameter]:
                 reader.problem(path, item, f"value must be a number, got {_show(value)}")
                 continue
             try:
-                numeric[name] = Parameter(name, float(value) * unit_factor(str(unit)), str(unit), line)
+                si = float(value) * unit_factor(str(unit))
             except UnitError as error:
                 reader.problem(path, item, str(error))
+                continue
+            if math.isfinite(si):
+                numeric[name] = Parameter(name, si, str(unit), line)
+            else:
+                reader.problem(path, item, f"value must be finite, got {si}")
             continue
         if isinstance(raw, bool):
             reader.problem(path, item, "value must be a number, got a boolean")
         elif isinstance(raw, (int, float)):
-            numeric[name] = Parameter(name, float(raw), "", line)
+            if math.isfinite(float(raw)):
+                numeric[name] = Parameter(name, float(raw), "", line)
+            else:
+                reader.problem(path, item, f"value must be finite, got {raw}")
         elif isinstance(raw, str):
             try:
                 value, unit = parse_quantity(raw)
-                numeric[name] = Parameter(name, value, unit, line)
-                continue
             except UnitError:
                 pass
+            else:
+                if math.isfinite(value):
+                    numeric[name] = Parameter(name, value, unit, line)
+                else:
+                    reader.problem(path, item, f'"{raw}" is not a finite number')
+                continue
             try:
                 derived[name] = (parse_expression(raw), line)
             except ExpressionError as error:
@@ -257,7 +279,15 @@ def _parameters(reader: _Reader, table: dict) -> dict[str, Parameter]:
                 continue
             if names <= set(numeric):
                 value = expression.subs({sp.Symbol(n): numeric[n].value for n in names})
-                numeric[name] = Parameter(name, float(value), "", line)
+                if value.is_real and value.is_finite and math.isfinite(float(value)):
+                    numeric[name] = Parameter(name, float(value), "", line)
+                else:
+                    reader.problem(
+                        ("parameters", name),
+                        f"parameter {name}",
+                        f'"{sp.sstr(expression)}" does not give a finite number here '
+                        "(division by zero or overflow)",
+                    )
                 del pending[name]
                 progressed = True
         if not progressed:
@@ -375,6 +405,7 @@ def parse_toml_model(text: str, source: str = "<string>") -> Model:
     for body_id, raw in reader.table(data.get("bodies", {}), ("bodies",), "bodies").items():
         path = ("bodies", body_id)
         item = f"body {body_id}"
+        _check_id(reader, body_id, path, item)
         spec = reader.table(raw, path, item)
         reader.unknown_keys(spec, _BODY_KEYS, path, item)
         dofs = spec.get("dofs", [])
@@ -400,6 +431,7 @@ def parse_toml_model(text: str, source: str = "<string>") -> Model:
         grounds_raw = {g: {} for g in grounds_raw if isinstance(g, str)}
     grounds = []
     for ground_id, raw in reader.table(grounds_raw, ("grounds",), "grounds").items():
+        _check_id(reader, ground_id, ("grounds", ground_id), f"ground {ground_id}")
         spec = reader.table(raw, ("grounds", ground_id), f"ground {ground_id}")
         reader.unknown_keys(spec, ("label",), ("grounds", ground_id), f"ground {ground_id}")
         grounds.append(Ground(ground_id, str(spec.get("label", "")), reader.line("grounds", ground_id)))
@@ -407,6 +439,7 @@ def parse_toml_model(text: str, source: str = "<string>") -> Model:
     for point_id, raw in reader.table(data.get("points", {}), ("points",), "points").items():
         path = ("points", point_id)
         item = f"CP {point_id}"
+        _check_id(reader, point_id, path, item)
         spec = reader.table(raw, path, item)
         reader.unknown_keys(spec, _POINT_KEYS, path, item)
         points.append(
@@ -421,6 +454,7 @@ def parse_toml_model(text: str, source: str = "<string>") -> Model:
     for element_id, raw in reader.table(data.get("elements", {}), ("elements",), "elements").items():
         path = ("elements", element_id)
         item = f"TSD {element_id}"
+        _check_id(reader, element_id, path, item)
         spec = reader.table(raw, path, item)
         reader.unknown_keys(spec, _ELEMENT_KEYS, path, item)
         direction = spec.get("direction")
@@ -446,6 +480,7 @@ def parse_toml_model(text: str, source: str = "<string>") -> Model:
     for pin_id, raw in reader.table(data.get("pins", {}), ("pins",), "pins").items():
         path = ("pins", pin_id)
         item = f"pin {pin_id}"
+        _check_id(reader, pin_id, path, item)
         spec = reader.table(raw, path, item)
         reader.unknown_keys(spec, _PIN_KEYS, path, item)
         pins.append(
@@ -481,7 +516,7 @@ def read_toml_model(path: str | Path) -> Model:
     """Read a modern (TOML) model file (see :func:`parse_toml_model`)."""
     path = Path(path)
     try:
-        text = path.read_text(encoding="utf-8")
+        text = path.read_text(encoding="utf-8-sig")
     except UnicodeDecodeError as error:
         raise ModelError([Problem(str(path), None, "", f"not a UTF-8 text file ({error.reason})")]) from None
     return parse_toml_model(text, source=str(path))

@@ -81,8 +81,12 @@ def model_to_toml(model: Model) -> str:
         lines.append(f"title = {_string(model.title)}")
     lines += ["", "[parameters]"]
     if model.parameters:
+        creep = model.rail.creep if model.rail is not None else None
+        computed = {creep.longitudinal, creep.lateral} if creep is not None else set()
         for name, parameter in model.parameters.items():
-            lines.append(f"{name} = {parameter.value!r}  # SI")
+            if name in computed:
+                continue  # recomputed from [rail.creep] on loading
+            lines.append(f"{name} = {parameter.value!r}  # SI" + (f", given in {parameter.unit}" if parameter.unit else ""))
     else:
         names = set()
         for body in model.bodies:
@@ -125,4 +129,36 @@ def model_to_toml(model: Model) -> str:
             f"virtual = {_string(pin.virtual)}",
             f"non_virtual = {_string(pin.non_virtual)}",
         ]
+    if model.rail is not None:
+        lines += _rail_lines(model)
     return "\n".join(lines) + "\n"
+
+
+def _rail_lines(model: Model) -> list[str]:
+    rail = model.rail
+    lines = [
+        "",
+        "[rail]",
+        f"speed = {value_to_toml(rail.speed)}",
+        f"cant_base = {value_to_toml(rail.cant_base)}",
+        f"gravity = {value_to_toml(rail.gravity)}",
+        "wheelsets = [" + ", ".join(_string(w.body) for w in rail.wheelsets) + "]",
+    ]
+    keys = ("f1", "f2", "conicity", "r0", "b", "flange_clearance", "rail_stiffness", "friction", "wheel_load")
+    for wheelset in rail.wheelsets:
+        lines += ["", f"[rail.wheelset.{wheelset.body}]"]
+        lines += [f"{key} = {value_to_toml(getattr(wheelset, key))}" for key in keys]
+    if rail.creep is not None:
+        creep = rail.creep
+        lines += [
+            "",
+            "[rail.creep]",
+            'from = "kalker"',
+            f"longitudinal = {_string(creep.longitudinal)}",
+            f"lateral = {_string(creep.lateral)}",
+        ]
+        for key in ("wheel_load", "wheel_radius", "rail_head_radius", "youngs_modulus", "poisson"):
+            lines.append(f"{key} = {value_to_toml(getattr(creep, key))}")
+    for output in rail.outputs:
+        lines += ["", f"[rail.outputs.{output.name}]", f"body = {_string(output.body)}", f"offset = {_vector(output.offset)}"]
+    return lines

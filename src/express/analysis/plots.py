@@ -1,0 +1,367 @@
+"""Figures of the analyses (matplotlib, Agg backend), the paper's Figs. 3, 9, 10 and 11.
+
+Every function takes plain arrays (SI units) and returns a :class:`matplotlib.figure.Figure`;
+:func:`save_figure` writes it as PNG or SVG, whole or not at all.  SVG output is
+deterministic: fixed ``svg.hashsalt``, no date in the metadata, text kept as paths.
+
+Plotted units are the ones people read: km/h, kN, mm, mrad where noted in the axis
+labels; the CSV files written next to the figures stay in SI.
+"""
+
+from __future__ import annotations
+
+import io
+import os
+import tempfile
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+
+import numpy as np
+
+__all__ = [
+    "FIGURE_SUFFIXES",
+    "save_figure",
+    "figure_lever_step",
+    "figure_curving",
+    "figure_frequency_response",
+    "figure_critical_speed",
+    "figure_simulation",
+    "figure_eigen_locus",
+]
+
+#: Figure formats written by :func:`save_figure`.
+FIGURE_SUFFIXES = (".png", ".svg", ".pdf")
+
+_STYLE = {
+    "font.size": 9.5,
+    "axes.titlesize": 10.5,
+    "axes.labelsize": 9.5,
+    "legend.fontsize": 8.5,
+    "axes.grid": True,
+    "grid.alpha": 0.35,
+    "grid.linewidth": 0.6,
+    "lines.linewidth": 1.5,
+    "figure.dpi": 110,
+    "savefig.dpi": 130,
+    "svg.hashsalt": "express",
+    "svg.fonttype": "path",
+    "path.simplify": True,
+}
+
+# one colour per axle / bogie position, one line style per vehicle
+_BLUE, _ORANGE, _GREEN, _RED, _PURPLE, _GREY = (
+    "#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#555555",
+)
+STEERED = {"linestyle": "-"}
+CONVENTIONAL = {"linestyle": (0, (5, 2.5)), "linewidth": 1.3}
+
+
+def _pyplot():
+    import matplotlib
+
+    matplotlib.use("Agg", force=True)
+    import matplotlib.pyplot as plt
+
+    plt.rcParams.update(_STYLE)
+    return plt
+
+
+def _new_figure(*args, **kwargs):
+    plt = _pyplot()
+    return plt.subplots(*args, **kwargs)
+
+
+def save_figure(figure, path: str | Path) -> Path:
+    """Write ``figure`` to ``path`` (.png, .svg or .pdf by suffix), whole or not at all.
+
+    The figure is closed afterwards.  Raises ``ValueError`` for another suffix.
+    """
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix not in FIGURE_SUFFIXES:
+        raise ValueError(f"{path}: unknown figure format {suffix or '(none)'!r}; use .png, .svg or .pdf")
+    plt = _pyplot()
+    metadata = {"Date": None, "Creator": None} if suffix == ".svg" else (
+        {"Software": None} if suffix == ".png" else {"CreationDate": None, "Creator": None, "Producer": None}
+    )
+    buffer = io.BytesIO()
+    with plt.rc_context({"svg.hashsalt": "express", "svg.fonttype": "path"}):
+        figure.savefig(buffer, format=suffix[1:], metadata=metadata)
+    plt.close(figure)
+    _write_bytes(path, buffer.getvalue())
+    return path
+
+
+def _write_bytes(path: Path, data: bytes) -> None:
+    target = path.resolve()
+    target.parent.mkdir(parents=True, exist_ok=True)
+    handle, temporary = tempfile.mkstemp(dir=target.parent, prefix=f".{target.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(handle, "wb") as stream:
+            stream.write(data)
+        os.replace(temporary, target)
+    except BaseException:
+        Path(temporary).unlink(missing_ok=True)
+        raise
+
+
+def _caption(figure, text: str | None) -> None:
+    if text:
+        figure.text(0.01, 0.005, text, fontsize=7.5, color=_GREY, ha="left", va="bottom", wrap=True)
+
+
+# --------------------------------------------------------------------------------------
+# Fig. 3: lever step response
+# --------------------------------------------------------------------------------------
+
+
+def figure_lever_step(
+    time: np.ndarray,
+    cases: Sequence[Mapping],
+    *,
+    step: float,
+    caption: str | None = None,
+):
+    """Lever angle ``q2`` against time after a step of ``q1`` (paper Fig. 3).
+
+    ``cases``: one mapping per leverage case with ``label``, ``q2`` (array [rad]) and
+    ``steady`` (the static value [rad]).
+    """
+    figure, axis = _new_figure(figsize=(7.0, 4.4))
+    colours = (_BLUE, _RED, _GREEN, _PURPLE)
+    for k, case in enumerate(cases):
+        colour = colours[k % len(colours)]
+        axis.plot(time * 1e3, np.asarray(case["q2"]) * 1e3, color=colour, label=case["label"])
+        axis.axhline(case["steady"] * 1e3, color=colour, linestyle=":", linewidth=1.0)
+    axis.axhline(0.0, color="black", linewidth=0.6)
+    axis.set_xlabel("time t [ms] (step of q1 at t = 0)")
+    axis.set_ylabel("lever angle q2 [mrad]")
+    axis.set_title(f"Fig. 3 - lever angle q2 after a step q1 = {step * 1e3:g} mrad (dotted: static value)")
+    axis.set_xlim(time[0] * 1e3, time[-1] * 1e3)
+    axis.legend(loc="center right", framealpha=0.9)
+    figure.tight_layout(rect=(0, 0.07 if caption else 0, 1, 1))
+    _caption(figure, caption)
+    return figure
+
+
+# --------------------------------------------------------------------------------------
+# Fig. 9: curve negotiation
+# --------------------------------------------------------------------------------------
+
+
+def figure_curving(
+    steered: Mapping[str, np.ndarray],
+    conventional: Mapping[str, np.ndarray] | None,
+    *,
+    ideal_yaw: float,
+    geometric_lever: float | None = None,
+    title: str = "Fig. 9 - curve negotiation",
+    caption: str | None = None,
+):
+    """Three panels against ``d1`` (paper Fig. 9).
+
+    ``steered`` and ``conventional`` map ``d1``, ``rho1``, ``theta_L1`` (steered only),
+    ``psi_TW1``, ``psi_TW2``, ``Q1``, ``Q2`` to arrays (SI).  ``psi_TW2`` is negative in a
+    left curve (the rear wheelset turns the other way), so panel (b) plots the signed
+    angles with the ideal ``+-a/R`` dashed.
+    """
+    plt = _pyplot()
+    figure, (top, middle, bottom) = plt.subplots(3, 1, figsize=(7.6, 9.6), sharex=True)
+    d = steered["d1"]
+
+    # (a) curvature and lever angle
+    top.plot(d, steered["rho1"] * 1e3, color=_GREY, label=r"curvature $\rho_1$ (left axis)")
+    top.set_ylabel(r"curvature $\rho_1$ [1/km]")
+    top.set_ylim(bottom=min(0.0, float(np.min(steered["rho1"]) * 1e3)) - 0.1, top=float(np.max(steered["rho1"]) * 1e3) * 1.35 + 1e-9)
+    twin = top.twinx()
+    twin.grid(False)
+    handles = [top.get_lines()[0]]
+    if "theta_L1" in steered:
+        (line,) = twin.plot(d, steered["theta_L1"], color=_BLUE, label=r"lever angle $\theta_{L1}$ (right axis)")
+        handles.append(line)
+        if geometric_lever is not None:
+            ref = twin.axhline(geometric_lever, color=_BLUE, linestyle="--", linewidth=1.0,
+                               label=fr"geometric $b_L l_T/(R\,l_{{LU}})$ = {geometric_lever:.3f} rad")
+            handles.append(ref)
+        high = max(float(np.max(steered["theta_L1"])), geometric_lever or 0.0)
+        low = min(float(np.min(steered["theta_L1"])), 0.0)
+        twin.set_ylim(low - 0.1 * (high - low), high * 1.35)
+    twin.set_ylabel(r"lever angle $\theta_{L1}$ [rad]", color=_BLUE)
+    twin.tick_params(axis="y", colors=_BLUE)
+    top.legend(handles=handles, loc="upper left", framealpha=0.9)
+    top.set_title("(a) curvature at the leading wheelset and front steering-lever angle", loc="left")
+
+    # (b) steering angles
+    for key, colour, name in (("psi_TW1", _BLUE, "axle 1"), ("psi_TW2", _ORANGE, "axle 2")):
+        middle.plot(d, steered[key] * 1e3, color=colour, label=f"{name}, steered", **STEERED)
+        if conventional is not None:
+            middle.plot(conventional["d1"], conventional[key] * 1e3, color=colour,
+                        label=f"{name}, conventional", **CONVENTIONAL)
+    middle.axhline(ideal_yaw * 1e3, color="black", linestyle="--", linewidth=1.0,
+                   label=fr"ideal radial $\pm a/R$ = $\pm${ideal_yaw * 1e3:.2f} mrad")
+    middle.axhline(-ideal_yaw * 1e3, color="black", linestyle="--", linewidth=1.0)
+    middle.axhline(0.0, color="black", linewidth=0.6)
+    middle.set_ylabel(r"bogie-wheelset yaw $\psi_{TW}$ [mrad]")
+    middle.set_ylim(-ideal_yaw * 1e3 * 1.6, ideal_yaw * 1e3 * 2.1)
+    middle.legend(loc="upper right", ncol=2, framealpha=0.9)
+    middle.set_title(r"(b) steering angle $\psi_{TW}$ (signed: axle 1 turns left (+), axle 2 right (-) in this left curve)", loc="left")
+
+    # (c) lateral forces
+    for key, colour, name in (("Q1", _BLUE, "axle 1"), ("Q2", _ORANGE, "axle 2")):
+        bottom.plot(d, steered[key] * 1e-3, color=colour, label=f"$Q_{key[1]}$ {name}, steered", **STEERED)
+        if conventional is not None:
+            bottom.plot(conventional["d1"], conventional[key] * 1e-3, color=colour,
+                        label=f"$Q_{key[1]}$ {name}, conventional", **CONVENTIONAL)
+    bottom.axhline(0.0, color="black", linewidth=0.6)
+    bottom.set_ylabel("lateral force Q [kN]")
+    bottom.set_xlabel(r"distance of the leading wheelset $d_1$ [m]")
+    high = max(float(np.max(s[k])) for s in (steered, conventional) if s is not None for k in ("Q1", "Q2")) * 1e-3
+    bottom.set_ylim(-0.05 * high, 1.35 * high)
+    bottom.legend(loc="upper right", ncol=2, framealpha=0.9)
+    bottom.set_title("(c) lateral force on the outer (flanging) wheel", loc="left")
+    bottom.set_xlim(float(d[0]), float(d[-1]))
+
+    figure.suptitle(title, fontsize=11.5)
+    figure.tight_layout(rect=(0, 0.045 if caption else 0, 1, 1))
+    _caption(figure, caption)
+    return figure
+
+
+# --------------------------------------------------------------------------------------
+# Fig. 10: frequency response
+# --------------------------------------------------------------------------------------
+
+
+def figure_frequency_response(
+    frequencies: np.ndarray,
+    curves: Sequence[Mapping],
+    *,
+    title: str = "Fig. 10 - car-body floor acceleration",
+    ylabel: str = "acceleration amplitude [m/s²]",
+    caption: str | None = None,
+):
+    """Amplitudes against frequency on a log frequency axis (paper Fig. 10).
+
+    ``curves``: mappings with ``label``, ``values`` (real amplitudes), and optional
+    ``color`` and ``style`` (``"steered"`` solid, ``"conventional"`` dashed).
+    """
+    figure, axis = _new_figure(figsize=(7.2, 4.6))
+    palette = (_BLUE, _ORANGE, _GREEN, _RED, _PURPLE, _GREY)
+    for k, curve in enumerate(curves):
+        style = CONVENTIONAL if curve.get("style") == "conventional" else STEERED
+        axis.plot(frequencies, curve["values"], color=curve.get("color", palette[k % len(palette)]),
+                  label=curve["label"], **style)
+    axis.set_xscale("log")
+    axis.set_xlim(float(frequencies[0]), float(frequencies[-1]))
+    axis.set_ylim(bottom=0.0)
+    axis.set_xlabel("frequency f [Hz]")
+    axis.set_ylabel(ylabel)
+    axis.set_title(title)
+    axis.grid(True, which="minor", alpha=0.15)
+    axis.legend(loc="upper left", framealpha=0.9)
+    figure.tight_layout(rect=(0, 0.06 if caption else 0, 1, 1))
+    _caption(figure, caption)
+    return figure
+
+
+# --------------------------------------------------------------------------------------
+# Fig. 11: critical speed against conicity
+# --------------------------------------------------------------------------------------
+
+
+def figure_critical_speed(
+    curves: Sequence[Mapping],
+    *,
+    running_speed_kmh: float | None = None,
+    nominal_conicity: float | None = None,
+    title: str = r"Fig. 11 - critical speed $V_{cr}$ against conicity $\Gamma$",
+    caption: str | None = None,
+):
+    """``V_cr`` [km/h] against ``Gamma`` (paper Fig. 11).
+
+    ``curves``: mappings with ``label``, ``conicity`` (array), ``speed_kmh`` (array, nan
+    where no critical speed was found below the search limit) and optional ``style``.
+    """
+    figure, axis = _new_figure(figsize=(7.0, 4.6))
+    palette = (_BLUE, _RED, _GREEN, _PURPLE)
+    top = 0.0
+    for k, curve in enumerate(curves):
+        style = CONVENTIONAL if curve.get("style") == "conventional" else STEERED
+        speeds = np.asarray(curve["speed_kmh"], dtype=float)
+        axis.plot(curve["conicity"], speeds, color=curve.get("color", palette[k % len(palette)]),
+                  marker="o", markersize=2.8, label=curve["label"], **style)
+        if np.isfinite(speeds).any():
+            top = max(top, float(np.nanmax(speeds)))
+    if running_speed_kmh is not None:
+        axis.axhline(running_speed_kmh, color=_GREY, linestyle=":", linewidth=1.2,
+                     label=f"running speed {running_speed_kmh:g} km/h")
+    if nominal_conicity is not None:
+        axis.axvline(nominal_conicity, color=_GREY, linestyle="-.", linewidth=0.9,
+                     label=fr"nominal $\Gamma$ = {nominal_conicity:g}")
+    axis.set_xlabel(r"tread conicity $\Gamma$ [-]")
+    axis.set_ylabel(r"critical speed $V_{cr}$ [km/h]")
+    axis.set_xlim(left=0.0)
+    axis.set_ylim(0.0, top * 1.12 if top > 0 else None)
+    axis.set_title(title)
+    axis.legend(loc="upper right", framealpha=0.9)
+    figure.tight_layout(rect=(0, 0.06 if caption else 0, 1, 1))
+    _caption(figure, caption)
+    return figure
+
+
+# --------------------------------------------------------------------------------------
+# Generic figures of the commands
+# --------------------------------------------------------------------------------------
+
+
+def figure_simulation(distance: np.ndarray, outputs: Mapping[str, np.ndarray], *, title: str):
+    """A quick look at one run (``express simulate --plot``): curvature and lever
+    angles, steering angles, lateral forces against ``d1``."""
+    plt = _pyplot()
+    figure, (top, middle, bottom) = plt.subplots(3, 1, figsize=(7.6, 8.6), sharex=True)
+    top.plot(distance, outputs["rho1"] * 1e3, color=_GREY, label=r"curvature $\rho_1$ [1/km]")
+    thetas = sorted(k for k in outputs if k.startswith("theta_"))
+    if thetas:
+        twin = top.twinx()
+        twin.grid(False)
+        for k, name in enumerate(thetas):
+            twin.plot(distance, outputs[name], color=(_BLUE, _ORANGE, _GREEN, _RED)[k % 4], label=name)
+        twin.set_ylabel("lever angle [rad]")
+        twin.legend(loc="upper right", ncol=2)
+    top.set_ylabel(r"$\rho_1$ [1/km]")
+    top.legend(loc="upper left")
+    top.set_title("(a) curvature at the leading wheelset" + (" and lever angles" if thetas else ""), loc="left")
+    colours = (_BLUE, _ORANGE, _GREEN, _RED)
+    for k, name in enumerate(sorted(k for k in outputs if k.startswith("psi_TW"))):
+        middle.plot(distance, outputs[name] * 1e3, color=colours[k % 4], label=name)
+    middle.set_ylabel(r"$\psi_{TW}$ [mrad]")
+    middle.legend(loc="upper right", ncol=4)
+    middle.set_title("(b) wheelset yaw relative to its bogie", loc="left")
+    for k, name in enumerate(sorted((k for k in outputs if k[:1] == "Q" and k[1:].isdigit()), key=lambda s: int(s[1:]))):
+        bottom.plot(distance, outputs[name] * 1e-3, color=colours[k % 4], label=name)
+    bottom.set_ylabel("Q [kN]")
+    bottom.set_xlabel(r"distance of the leading wheelset $d_1$ [m]")
+    bottom.legend(loc="upper right", ncol=4)
+    bottom.set_title("(c) lateral force on the flanging wheel", loc="left")
+    bottom.set_xlim(float(distance[0]), float(distance[-1]))
+    figure.suptitle(title)
+    figure.tight_layout()
+    return figure
+
+
+def figure_eigen_locus(speeds_kmh: np.ndarray, eigenvalues: np.ndarray, *, title: str):
+    """Root locus: real part of every eigenvalue against speed (``critical-speed --plot``
+    without ``--conicities``)."""
+    figure, axis = _new_figure(figsize=(7.0, 4.4))
+    real = np.real(eigenvalues)
+    for column in range(real.shape[1]):
+        axis.plot(speeds_kmh, real[:, column], color=_BLUE, linewidth=0.8, alpha=0.7)
+    axis.axhline(0.0, color="black", linewidth=0.8)
+    axis.set_xlabel("speed V [km/h]")
+    axis.set_ylabel("real part of eigenvalue [1/s]")
+    finite = real[np.isfinite(real)]
+    low = float(np.percentile(finite, 20)) if finite.size else -1.0
+    axis.set_ylim(min(low, -1.0), max(2.0, 0.2 * abs(low)))
+    axis.set_title(title)
+    figure.tight_layout()
+    return figure

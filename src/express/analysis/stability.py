@@ -1,0 +1,758 @@
+"""Running stability: eigenvalues, root locus and critical speed (paper section 4.4, Fig. 11).
+
+The state matrix of the linear vehicle (straight track, no flange contact, no creep
+saturation) is ``A(v) = [[0, I], [-M^-1 K, -M^-1 (C0 + C1 / v)]]`` (``rail.md``): the
+speed enters only through the creep damping ``C1 / v``. Its eigenvalues
+``lambda = Re + j Im`` [1/s] give the free motions ``exp(lambda t)``; the vehicle is
+stable at ``v`` when every real part is negative. The **critical speed** ``v_cr`` is the
+lowest speed at which the largest real part turns from negative to positive.
+
+Functions
+---------
+eigen_analysis
+    Every mode at one speed (one of each conjugate pair), sorted least stable first,
+    each with its frequency, damping ratio, dominant DOFs and a short label.
+root_locus
+    Eigenvalues at many speeds at once (about 0.25 ms per speed for the 24-DOF car).
+critical_speed
+    Coarse geometric scan of the largest real part, then bisection of the first
+    stable-to-unstable bracket to ``tolerance_kmh``.
+critical_speed_vs_conicity
+    ``critical_speed`` for each value of a parameter (the tread conicity ``Gamma`` by
+    default), re-evaluating the matrices with :meth:`VehicleModel.with_values`.
+
+Examples
+--------
+>>> from express.io import load_model
+>>> from express.statespace import vehicle_model
+>>> car = vehicle_model(load_model("examples/conventional.toml"))
+>>> result = eigen_analysis(car, 30.0)
+>>> result.modes[0].real < 0          # stable at 30 m/s
+True
+>>> cs = critical_speed(car)
+>>> round(cs.speed_kmh)                                     # doctest: +SKIP
+406
+>>> cs.mode.describe()                                      # doctest: +SKIP
+'hunting, rear bogie (W4.y, W3.y, W4.rz)'
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..statespace import VehicleModel
+
+__all__ = [
+    "Mode",
+    "EigenResult",
+    "CriticalSpeed",
+    "eigen_analysis",
+    "modes_of",
+    "root_locus",
+    "max_real_part",
+    "critical_speed",
+    "critical_speed_vs_conicity",
+]
+
+#: Number of DOFs listed in :attr:`Mode.dominant`.
+DOMINANT_COUNT = 4
+#: Length [m] by which a rotation [rad] is multiplied before it is compared with a
+#: translation [m] when the body's mass or inertia is unknown (or zero).
+REFERENCE_LENGTH = 1.0
+
+_MOTION_WORDS = {"x": "longitudinal", "y": "sway", "z": "bounce", "rx": "roll", "ry": "pitch", "rz": "yaw"}
+_FRAME_WORDS = {"x": "longitudinal", "y": "lateral", "z": "vertical", "rx": "roll", "ry": "pitch", "rz": "yaw"}
+
+
+# ---------------------------------------------------------------------------------------
+# Modes
+# ---------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Mode:
+    """One eigenvalue of ``A(v)`` and what moves in it.
+
+    Attributes
+    ----------
+    eigenvalue : complex
+        ``lambda = Re + j Im`` [1/s]; the free motion is ``exp(lambda t)``. Only the
+        member with ``Im >= 0`` of a conjugate pair is kept.
+    frequency_hz : float
+        Damped natural frequency ``Im / (2 pi)`` [Hz] (0 for a real eigenvalue).
+    damping_ratio : float
+        ``-Re / |lambda|`` [-]: positive when the mode decays, negative when it grows,
+        0 for a zero eigenvalue.
+    dominant : tuple of (str, float)
+        Up to :data:`DOMINANT_COUNT` DOFs with the largest share of the displacement part
+        ``phi`` of the eigenvector, largest first, with their share in [0, 1]:
+        ``share_i = |l_i phi_i|^2 / sum_j |l_j phi_j|^2`` with ``l = 1`` for a
+        translation and, for a rotation, ``l`` = the body's radius of gyration about
+        that axis, ``sqrt(I / m)`` [m], so that radians compare with metres (a rotation
+        counts as the displacement of the body's inertia-equivalent point: 0.65 m for a
+        wheelset's yaw, 6 m for the car body's). The shares of all DOFs sum to 1, so
+        those listed sum to at most 1.
+    kind : str
+        Short label of the mode (see :meth:`describe`), e.g. ``"hunting, front bogie"``.
+    body_shares : tuple of (str, float)
+        Share of every body (sum of its DOFs' shares), largest first.
+
+    Examples
+    --------
+    >>> mode = Mode(complex(-0.5, 20.0), 20.0 / (2 * np.pi), 0.025,
+    ...             (("W1.y", 0.4), ("W2.y", 0.3), ("T1.rz", 0.2)), "hunting, front bogie")
+    >>> mode.describe()
+    'hunting, front bogie (W1.y, W2.y, T1.rz)'
+    >>> round(mode.frequency_hz, 3), mode.stable
+    (3.183, True)
+    """
+
+    eigenvalue: complex
+    frequency_hz: float
+    damping_ratio: float
+    dominant: tuple[tuple[str, float], ...]
+    kind: str = ""
+    body_shares: tuple[tuple[str, float], ...] = field(default=(), repr=False)
+
+    @property
+    def real(self) -> float:
+        """Real part of the eigenvalue [1/s] (growth rate when positive)."""
+        return float(self.eigenvalue.real)
+
+    @property
+    def imag(self) -> float:
+        """Imaginary part of the eigenvalue [rad/s]."""
+        return float(self.eigenvalue.imag)
+
+    @property
+    def stable(self) -> bool:
+        """True when the real part is negative."""
+        return self.real < 0.0
+
+    def describe(self) -> str:
+        """Short human label: :attr:`kind` and the DOFs that dominate.
+
+        The DOFs listed are those of :attr:`dominant` with at least 10 % of the
+        displacement (at most three; at least the first).
+
+        Returns
+        -------
+        str
+            E.g. ``"hunting, front bogie (W1.y, W2.y, T1.rz)"`` or
+            ``"car body sway/roll (CB.y, CB.rx)"``.
+        """
+        names = [name for name, share in self.dominant[:3] if share >= 0.1] or [
+            name for name, _ in self.dominant[:1]
+        ]
+        kind = self.kind or "mode"
+        return f"{kind} ({', '.join(names)})" if names else kind
+
+
+@dataclass(frozen=True)
+class EigenResult:
+    """Every mode of the vehicle at one speed.
+
+    Attributes
+    ----------
+    speed : float
+        [m/s].
+    modes : tuple of Mode
+        One per conjugate pair (and one per real eigenvalue), sorted by descending real
+        part: ``modes[0]`` is the least stable.
+
+    Examples
+    --------
+    >>> from express.io import load_model
+    >>> from express.statespace import vehicle_model
+    >>> car = vehicle_model(load_model("examples/conventional.toml"))
+    >>> result = eigen_analysis(car, 30.0)
+    >>> result.stable, len(result.modes) <= 2 * car.n
+    (True, True)
+    >>> sorted(result.rows()[0])
+    ['damping_ratio', 'description', 'frequency_hz', 'imag', 'real']
+    """
+
+    speed: float
+    modes: tuple[Mode, ...]
+
+    @property
+    def speed_kmh(self) -> float:
+        """Speed [km/h]."""
+        return self.speed * 3.6
+
+    @property
+    def max_real(self) -> float:
+        """Largest real part [1/s]."""
+        return max(mode.real for mode in self.modes)
+
+    @property
+    def stable(self) -> bool:
+        """True when every mode decays."""
+        return self.max_real < 0.0
+
+    def rows(self) -> list[dict[str, float | str]]:
+        """One dict per mode, least stable first, for printing or CSV.
+
+        Keys: ``real`` [1/s], ``imag`` [rad/s], ``frequency_hz`` [Hz],
+        ``damping_ratio`` [-], ``description`` (:meth:`Mode.describe`).
+        """
+        return [
+            {
+                "real": mode.real,
+                "imag": mode.imag,
+                "frequency_hz": mode.frequency_hz,
+                "damping_ratio": mode.damping_ratio,
+                "description": mode.describe(),
+            }
+            for mode in self.modes
+        ]
+
+    def table(self) -> str:
+        """The rows as aligned text (one line per mode)."""
+        lines = [f"eigenvalues at {self.speed:.3f} m/s ({self.speed_kmh:.1f} km/h)",
+                 f"{'Re [1/s]':>12} {'Im [rad/s]':>12} {'f [Hz]':>9} {'zeta':>8}  mode"]
+        for row in self.rows():
+            lines.append(
+                f"{row['real']:12.4f} {row['imag']:12.4f} {row['frequency_hz']:9.3f} "
+                f"{row['damping_ratio']:8.4f}  {row['description']}"
+            )
+        return "\n".join(lines)
+
+
+@dataclass(frozen=True)
+class CriticalSpeed:
+    """Result of :func:`critical_speed`.
+
+    Attributes
+    ----------
+    speed : float
+        Critical speed ``v_cr`` [m/s]: the midpoint of the final bisection bracket, so
+        within ``tolerance_kmh / 2`` of the crossing. Equal to ``v_min`` when
+        :attr:`unstable_at_min`.
+    mode : Mode
+        The least stable mode at :attr:`speed` (the one that crosses; at ``v_min`` when
+        :attr:`unstable_at_min`).
+    unstable_at_min : bool
+        True when the vehicle is already unstable at the lowest speed scanned: then no
+        crossing was found and :attr:`speed` is only an upper bound of where it happens.
+    bracket : tuple of float
+        ``(lo, hi)`` [m/s]: stable at ``lo``, unstable at ``hi`` (``(v_min, v_min)``
+        when :attr:`unstable_at_min`).
+    evaluations : int
+        Number of eigenvalue problems solved.
+    """
+
+    speed: float
+    mode: Mode
+    unstable_at_min: bool
+    bracket: tuple[float, float]
+    evaluations: int = 0
+
+    @property
+    def speed_kmh(self) -> float:
+        """Critical speed [km/h]."""
+        return self.speed * 3.6
+
+    def describe(self) -> str:
+        """One line: the speed and the mode that goes unstable."""
+        if self.unstable_at_min:
+            return (f"already unstable at the lowest speed {self.speed:.2f} m/s "
+                    f"({self.speed_kmh:.1f} km/h): {self.mode.describe()}")
+        return (f"critical speed {self.speed:.2f} m/s ({self.speed_kmh:.1f} km/h), "
+                f"{self.mode.frequency_hz:.2f} Hz: {self.mode.describe()}")
+
+
+# ---------------------------------------------------------------------------------------
+# Body roles for the labels
+# ---------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class _Roles:
+    role: dict[str, str]  # body -> "wheelset", "lever", "bogie", "body"
+    group: dict[str, str]  # running-gear body -> its bogie ("" without one)
+    bogie_label: dict[str, str]  # bogie -> "front bogie" / "rear bogie" / "bogie T1"
+
+
+def _roles(vehicle: VehicleModel) -> _Roles:
+    """Classify the bodies: wheelsets (rail data), levers (host of a pin's virtual CP),
+    bogies (the non-wheelset, non-lever body sharing most elements with a wheelset) and
+    the rest (car body)."""
+    model = vehicle.model
+    wheelsets = [w.name for w in vehicle.wheelsets]
+    role: dict[str, str] = {}
+    group: dict[str, str] = {}
+    bogie_label: dict[str, str] = {}
+    if model is None:
+        for dof in vehicle.dofs:
+            body = dof.split(".")[0]
+            role.setdefault(body, "wheelset" if body in wheelsets else "body")
+        return _Roles(role, group, bogie_label)
+    body_ids = {body.id for body in model.bodies}
+    host = {point.id: point.host for point in model.points}
+    levers: dict[str, str] = {}
+    for pin in model.pins:
+        lever, other = host.get(pin.virtual), host.get(pin.non_virtual)
+        if lever in body_ids:
+            levers[lever] = other if other in body_ids else ""
+    bogie_of: dict[str, str] = {}
+    for wheelset in wheelsets:
+        counts: dict[str, int] = {}
+        for element in model.elements:
+            ends = {host.get(element.s_end), host.get(element.t_end)}
+            if wheelset in ends and len(ends) == 2:
+                (other,) = ends - {wheelset}
+                if other in body_ids and other not in wheelsets and other not in levers:
+                    counts[other] = counts.get(other, 0) + 1
+        if counts:
+            bogie_of[wheelset] = max(sorted(counts), key=lambda body: counts[body])
+    bogies = sorted(set(bogie_of.values()), key=lambda b: -_station(model, b))
+    for body in model.bodies:
+        if body.id in wheelsets:
+            role[body.id] = "wheelset"
+            group[body.id] = bogie_of.get(body.id, "")
+        elif body.id in levers:
+            role[body.id] = "lever"
+            group[body.id] = levers[body.id] if levers[body.id] in bogies else ""
+        elif body.id in bogies:
+            role[body.id] = "bogie"
+            group[body.id] = body.id
+        else:
+            role[body.id] = "body"
+    if len(bogies) == 2:
+        bogie_label = {bogies[0]: "front bogie", bogies[1]: "rear bogie"}
+    else:
+        bogie_label = {b: f"bogie {b}" for b in bogies}
+    return _Roles(role, group, bogie_label)
+
+
+def _station(model, body_id: str) -> float:
+    values = model.values()
+    import sympy as sp
+
+    try:
+        return float(sp.sympify(model.body(body_id).position[0]).subs(values))
+    except (TypeError, ValueError):
+        return 0.0
+
+
+def _classify(shares: np.ndarray, dofs: Sequence[str], frequency: float, damping_ratio: float, roles: _Roles) -> str:
+    """Label a mode from the share of each DOF (heuristics of :func:`eigen_analysis`)."""
+    by_role: dict[str, float] = {}
+    by_group: dict[str, float] = {}
+    body_dofs: dict[str, float] = {}
+    frame_dofs: dict[str, float] = {}
+    wheel_dofs: dict[str, float] = {}
+    for share, dof in zip(shares, dofs):
+        body, _, motion = dof.partition(".")
+        r = roles.role.get(body, "body")
+        by_role[r] = by_role.get(r, 0.0) + share
+        if r == "body":
+            body_dofs[motion] = body_dofs.get(motion, 0.0) + share
+        else:
+            g = roles.group.get(body, "")
+            by_group[g] = by_group.get(g, 0.0) + share
+            if r == "bogie":
+                frame_dofs[motion] = frame_dofs.get(motion, 0.0) + share
+            elif r == "wheelset":
+                wheel_dofs[motion] = wheel_dofs.get(motion, 0.0) + share
+    gear = sum(by_group.values())
+    oscillatory = frequency > 0.0
+
+    def where() -> str:
+        if not by_group:
+            return ""
+        top = max(sorted(by_group), key=lambda g: by_group[g])
+        if top and by_group[top] >= 0.75 * gear:
+            return roles.bogie_label.get(top, f"bogie {top}")
+        if len([g for g in by_group if g]) >= 2:
+            return "both bogies" if len(roles.bogie_label) == 2 else "all bogies"
+        return ""
+
+    def words(parts: dict[str, float], vocabulary: dict[str, str]) -> str:
+        total = sum(parts.values()) or 1.0
+        chosen = [m for m in sorted(parts, key=lambda m: -parts[m]) if parts[m] >= 0.15 * total]
+        return "/".join(vocabulary.get(m, m) for m in chosen[:2])
+
+    place = where()
+    suffix = f", {place}" if place else ""
+    if by_role.get("lever", 0.0) >= 0.5:
+        return f"steering lever{suffix}"
+    if gear >= 0.5:
+        wheels = by_role.get("wheelset", 0.0)
+        if wheels >= 0.5 * gear:
+            if not oscillatory:
+                return f"wheelset creep, non-oscillatory{suffix}"
+            if damping_ratio < 0.5 and wheel_dofs.get("y", 0.0) >= wheel_dofs.get("rz", 0.0):
+                return f"hunting{suffix}"
+            return f"wheelset {words(wheel_dofs, _FRAME_WORDS)}{suffix}"
+        motion = words(frame_dofs, _FRAME_WORDS)
+        return f"bogie frame {motion}{suffix}".replace("  ", " ")
+    motion = words(body_dofs, _MOTION_WORDS)
+    kind = f"car body {motion}" if motion else "car body"
+    return kind if oscillatory else f"{kind}, non-oscillatory"
+
+
+def _dof_lengths(vehicle: VehicleModel) -> np.ndarray:
+    """``l_i`` of :attr:`Mode.dominant`: 1 for translations, the radius of gyration
+    ``sqrt(I / m)`` [m] for rotations."""
+    import sympy as sp
+
+    model = vehicle.model
+    values = model.values() if model is not None else {}
+    bodies = {body.id: body for body in model.bodies} if model is not None else {}
+    axis = {"rx": 0, "ry": 1, "rz": 2}
+    lengths = np.ones(vehicle.n)
+    for i, dof in enumerate(vehicle.dofs):
+        name, _, motion = dof.partition(".")
+        if motion not in axis:
+            continue
+        lengths[i] = REFERENCE_LENGTH
+        body = bodies.get(name)
+        if body is None:
+            continue
+        try:
+            mass = float(sp.sympify(body.mass).subs(values))
+            inertia = float(sp.sympify(body.inertia[axis[motion]]).subs(values))
+        except (TypeError, ValueError):
+            continue
+        if mass > 0 and inertia > 0:
+            lengths[i] = np.sqrt(inertia / mass)
+    return lengths
+
+
+def _participation(phi: np.ndarray, lengths: np.ndarray) -> np.ndarray:
+    weight = np.abs(phi * lengths) ** 2
+    total = weight.sum()
+    return weight / total if total > 0 else weight
+
+
+def modes_of(vehicle: VehicleModel, eigenvalues: np.ndarray, eigenvectors: np.ndarray) -> tuple[Mode, ...]:
+    """Build the :class:`Mode` records of eigenpairs of ``A`` (state ``[q; q']``).
+
+    Parameters
+    ----------
+    vehicle : VehicleModel
+        Gives the DOF names and the body roles for the labels.
+    eigenvalues : numpy.ndarray, shape (2n,)
+    eigenvectors : numpy.ndarray, shape (2n, 2n)
+        Columns are the eigenvectors, as from :func:`numpy.linalg.eig`.
+
+    Returns
+    -------
+    tuple of Mode
+        One per conjugate pair (the member with ``Im >= 0``) and per real eigenvalue,
+        sorted by descending real part.
+    """
+    n = vehicle.n
+    dofs = vehicle.dofs
+    roles = _roles(vehicle)
+    lengths = _dof_lengths(vehicle)
+    keep = np.flatnonzero(eigenvalues.imag >= 0.0)
+    order = keep[np.lexsort((-eigenvalues.imag[keep], -eigenvalues.real[keep]))]
+    modes = []
+    for k in order:
+        lam = complex(eigenvalues[k])
+        shares = _participation(eigenvectors[:n, k], lengths)
+        ranked = np.argsort(-shares, kind="stable")
+        dominant = tuple((dofs[i], float(shares[i])) for i in ranked[:DOMINANT_COUNT])
+        bodies: dict[str, float] = {}
+        for share, dof in zip(shares, dofs):
+            body = dof.partition(".")[0]
+            bodies[body] = bodies.get(body, 0.0) + float(share)
+        body_shares = tuple(sorted(bodies.items(), key=lambda item: -item[1]))
+        magnitude = abs(lam)
+        frequency = lam.imag / (2.0 * np.pi)
+        zeta = float(-lam.real / magnitude) if magnitude > 0 else 0.0
+        modes.append(
+            Mode(
+                eigenvalue=lam,
+                frequency_hz=float(frequency),
+                damping_ratio=zeta,
+                dominant=dominant,
+                kind=_classify(shares, dofs, frequency, zeta, roles),
+                body_shares=body_shares,
+            )
+        )
+    return tuple(modes)
+
+
+# ---------------------------------------------------------------------------------------
+# Analyses
+# ---------------------------------------------------------------------------------------
+
+
+def _check_speed_dependent(vehicle: VehicleModel) -> None:
+    if vehicle.layout is None or not vehicle.wheelsets:
+        raise ValueError("the model has no rail data (wheelsets): its eigenvalues do not depend on the speed")
+
+
+def eigen_analysis(vehicle: VehicleModel, speed: float) -> EigenResult:
+    """Every mode of the linear vehicle at one speed.
+
+    Parameters
+    ----------
+    vehicle : VehicleModel
+        Numerical vehicle (:func:`express.statespace.vehicle_model`).
+    speed : float
+        Forward speed ``v`` [m/s], > 0.
+
+    Returns
+    -------
+    EigenResult
+        Modes sorted by descending real part, one per conjugate pair.
+
+    Notes
+    -----
+    Labels (:attr:`Mode.kind`) come from simple, documented heuristics on the
+    participation shares: the bodies are classified as wheelsets (rail data), levers
+    (bodies holding a pin's virtual CP), bogie frames (the body sharing most elements
+    with a wheelset) and car body (the rest). A mode is a *steering lever* mode when
+    levers hold at least half of the displacement; else *running gear* when wheelsets,
+    frames and levers together hold at least half: *hunting* when the wheelsets hold at
+    least half of that, the mode is a lightly damped oscillation (damping ratio
+    below 0.5) and the wheelsets' lateral DOFs hold at least as much as their yaw:
+    the kinematic oscillation of the wheelsets), *wheelset lateral* or
+    *wheelset yaw* for a heavily damped one, *wheelset creep, non-oscillatory* for a
+    real eigenvalue,
+    *bogie frame ...* otherwise, located at the *front*/*rear bogie* when one bogie's
+    running gear holds at least 75 % of it, else *both bogies*; otherwise a *car body*
+    mode named after its car-body DOFs holding at least 15 % of the car-body share
+    (``y`` sway, ``rx`` roll, ``rz`` yaw, ``x`` longitudinal).
+
+    Examples
+    --------
+    >>> from express.io import load_model
+    >>> from express.statespace import vehicle_model
+    >>> car = vehicle_model(load_model("examples/forced-steering.toml"))
+    >>> result = eigen_analysis(car, 120 / 3.6)
+    >>> print(result.table())                                    # doctest: +SKIP
+    eigenvalues at 33.333 m/s (120.0 km/h)
+        Re [1/s]   Im [rad/s]    f [Hz]     zeta  mode
+         -0.2957    1023.3332   162.868   0.0003  steering lever, rear bogie (L3.ry, L4.ry)
+    ...
+    """
+    if not speed > 0:
+        raise ValueError(f"speed must be positive, got {speed}")
+    _check_speed_dependent(vehicle)
+    values, vectors = np.linalg.eig(vehicle.A(float(speed)))
+    return EigenResult(float(speed), modes_of(vehicle, values, vectors))
+
+
+class _Pieces:
+    """``A(v)`` assembled from precomputed blocks, many speeds at once."""
+
+    def __init__(self, vehicle: VehicleModel):
+        n = vehicle.n
+        self.n = n
+        m_inv = vehicle.M_inv
+        self.template = np.zeros((2 * n, 2 * n))
+        self.template[:n, n:] = np.eye(n)
+        self.template[n:, :n] = -(m_inv @ vehicle.K)
+        self.c0 = -(m_inv @ vehicle.C0)
+        self.c1 = -(m_inv @ vehicle.C1)
+
+    def stack(self, speeds: np.ndarray) -> np.ndarray:
+        n = self.n
+        a = np.broadcast_to(self.template, (speeds.size, 2 * n, 2 * n)).copy()
+        a[:, n:, n:] = self.c0[None] + self.c1[None] / speeds[:, None, None]
+        return a
+
+    def eigenvalues(self, speeds: np.ndarray, chunk: int = 256) -> np.ndarray:
+        out = np.empty((speeds.size, 2 * self.n), dtype=complex)
+        for start in range(0, speeds.size, chunk):
+            part = speeds[start : start + chunk]
+            out[start : start + part.size] = np.linalg.eigvals(self.stack(part))
+        return out
+
+
+def _speeds(speeds: Iterable[float] | float) -> np.ndarray:
+    array = np.atleast_1d(np.asarray(speeds, dtype=float))
+    if array.ndim != 1:
+        raise ValueError("speeds must be a 1-D sequence of speeds [m/s]")
+    if array.size and not np.all(array > 0):
+        raise ValueError("every speed must be positive [m/s]")
+    return array
+
+
+def root_locus(vehicle: VehicleModel, speeds: Iterable[float]) -> np.ndarray:
+    """Eigenvalues of ``A(v)`` at every speed.
+
+    ``A(v)`` is assembled from blocks computed once (``-M^-1 K``, ``-M^-1 C0``,
+    ``-M^-1 C1``) and the eigenvalues of all speeds are computed by stacked
+    :func:`numpy.linalg.eigvals` calls: a 1000-speed locus of the 24-DOF car takes
+    about 0.25 s.
+
+    Parameters
+    ----------
+    vehicle : VehicleModel
+    speeds : sequence of float, shape (S,)
+        Speeds [m/s], > 0.
+
+    Returns
+    -------
+    numpy.ndarray, complex, shape (S, 2n)
+        Row ``i`` holds every eigenvalue [1/s] at ``speeds[i]`` (both members of each
+        conjugate pair), sorted by descending real part, ties by descending imaginary
+        part. Branches are not tracked from one speed to the next.
+
+    Examples
+    --------
+    >>> from express.io import load_model
+    >>> from express.statespace import vehicle_model
+    >>> car = vehicle_model(load_model("examples/conventional.toml"))
+    >>> locus = root_locus(car, np.linspace(10.0, 150.0, 1000))
+    >>> locus.shape
+    (1000, 40)
+    >>> bool(locus[0, 0].real < 0 < locus[-1, 0].real)      # stable at 10, not at 150 m/s
+    True
+    """
+    _check_speed_dependent(vehicle)
+    v = _speeds(speeds)
+    values = _Pieces(vehicle).eigenvalues(v)
+    order = np.lexsort((-values.imag, -values.real), axis=-1)
+    return np.take_along_axis(values, order, axis=-1)
+
+
+def max_real_part(vehicle: VehicleModel, speeds: Iterable[float]) -> np.ndarray:
+    """Largest real part of the eigenvalues [1/s] at every speed, shape (S,)."""
+    _check_speed_dependent(vehicle)
+    v = _speeds(speeds)
+    return _Pieces(vehicle).eigenvalues(v).real.max(axis=1)
+
+
+def critical_speed(
+    vehicle: VehicleModel,
+    *,
+    v_min: float = 1.0,
+    v_max: float = 150.0,
+    tolerance_kmh: float = 0.1,
+    threshold: float = 1e-6,
+    points: int = 40,
+) -> CriticalSpeed | None:
+    """Lowest speed at which the largest real part of the eigenvalues becomes positive.
+
+    Algorithm: the largest real part ``sigma(v)`` is computed on ``points`` speeds
+    spaced geometrically from ``v_min`` to ``v_max`` (equal ratios, 13.7 % apart with the
+    defaults); the first interval where ``sigma`` goes from ``<= threshold`` to
+    ``> threshold`` is bisected until it is narrower than ``tolerance_kmh``.
+
+    Why a geometric grid: the speed enters ``A`` only as ``1 / v`` (creep damping), so
+    the eigenvalues change fastest at low speed (``dA/d ln v = M^-1 C1 / v``). Equal
+    ratios resolve the low speeds, where a steered vehicle with a small conicity goes
+    unstable, as finely as the high speeds relative to the speed itself, with 40
+    points from 1 to 150 m/s. Equal steps in ``1 / v`` would leave the high speeds
+    far too coarse, equal steps in ``v`` the low ones. An instability confined to a
+    window narrower than one grid step (unstable, then stable again) can be missed;
+    raise ``points`` if that is a concern.
+
+    Parameters
+    ----------
+    vehicle : VehicleModel
+    v_min, v_max : float
+        Speed range scanned [m/s], ``0 < v_min < v_max``.
+    tolerance_kmh : float
+        Width of the final bracket [km/h]; the speed returned (its midpoint) is within
+        half of it of the crossing.
+    threshold : float
+        A real part counts as positive only above this [1/s], so that modes whose real
+        part is zero up to round-off (rigid-body modes, undamped modes) are not taken
+        for an instability.
+    points : int
+        Number of speeds of the coarse scan (>= 2).
+
+    Returns
+    -------
+    CriticalSpeed or None
+        ``None`` when the vehicle is stable over the whole range. When it is already
+        unstable at ``v_min`` the result has ``unstable_at_min=True`` and
+        ``speed = v_min``.
+
+    Examples
+    --------
+    >>> from express.io import load_model
+    >>> from express.statespace import vehicle_model
+    >>> car = vehicle_model(load_model("examples/conventional.toml"))
+    >>> cs = critical_speed(car)
+    >>> cs.unstable_at_min, 50.0 < cs.speed < 150.0
+    (False, True)
+    >>> critical_speed(car, v_max=40.0) is None
+    True
+    """
+    if not (0 < v_min < v_max):
+        raise ValueError(f"need 0 < v_min < v_max, got v_min={v_min}, v_max={v_max}")
+    if not tolerance_kmh > 0:
+        raise ValueError(f"tolerance_kmh must be positive, got {tolerance_kmh}")
+    if points < 2:
+        raise ValueError(f"points must be at least 2, got {points}")
+    _check_speed_dependent(vehicle)
+    pieces = _Pieces(vehicle)
+    grid = np.geomspace(v_min, v_max, points)
+    sigma = pieces.eigenvalues(grid).real.max(axis=1)
+    evaluations = grid.size
+    unstable = sigma > threshold
+    if not unstable.any():
+        return None
+    first = int(np.argmax(unstable))
+    if first == 0:
+        mode = eigen_analysis(vehicle, float(v_min)).modes[0]
+        return CriticalSpeed(float(v_min), mode, True, (float(v_min), float(v_min)), evaluations + 1)
+    lo, hi = float(grid[first - 1]), float(grid[first])
+    tolerance = tolerance_kmh / 3.6
+    while hi - lo > tolerance:
+        mid = 0.5 * (lo + hi)
+        evaluations += 1
+        if pieces.eigenvalues(np.array([mid])).real.max() > threshold:
+            hi = mid
+        else:
+            lo = mid
+    speed = 0.5 * (lo + hi)
+    mode = eigen_analysis(vehicle, speed).modes[0]
+    return CriticalSpeed(speed, mode, False, (lo, hi), evaluations + 1)
+
+
+def critical_speed_vs_conicity(
+    vehicle: VehicleModel,
+    conicities: Iterable[float],
+    *,
+    parameter: str = "Gamma",
+    **options,
+) -> list[CriticalSpeed | None]:
+    """Critical speed for each value of the tread conicity (paper Fig. 11).
+
+    Parameters
+    ----------
+    vehicle : VehicleModel
+    conicities : sequence of float
+        Values of ``parameter`` [-].
+    parameter : str
+        Name of the model parameter varied (``"Gamma"`` in the bundled vehicles).
+    **options
+        Passed to :func:`critical_speed` (``v_min``, ``v_max``, ``tolerance_kmh``,
+        ``threshold``, ``points``).
+
+    Returns
+    -------
+    list of (CriticalSpeed or None)
+        One per conicity, in order.
+
+    Raises
+    ------
+    ValueError
+        When the model has no parameter ``parameter``.
+
+    Examples
+    --------
+    >>> from express.io import load_model
+    >>> from express.statespace import vehicle_model
+    >>> car = vehicle_model(load_model("examples/conventional.toml"))
+    >>> [round(c.speed_kmh) for c in critical_speed_vs_conicity(car, [0.1, 0.2])]  # doctest: +SKIP
+    [406, 288]
+    """
+    if vehicle.model is None or parameter not in vehicle.model.parameters:
+        known = ", ".join(sorted(vehicle.model.parameters)) if vehicle.model is not None else "none"
+        raise ValueError(f"the model has no parameter {parameter!r} (parameters: {known})")
+    return [critical_speed(vehicle.with_values({parameter: float(g)}), **options) for g in conicities]
