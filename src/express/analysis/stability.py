@@ -329,13 +329,20 @@ def _roles(vehicle: VehicleModel) -> _Roles:
     return _Roles(role, group, bogie_label)
 
 
-def _station(model, body_id: str) -> float:
-    values = model.values()
+def _number(expression, values: dict[str, float]) -> float:
+    """Value of a parameter expression (substituting only its own symbols: fast)."""
     import sympy as sp
 
+    expression = sp.sympify(expression)
+    if expression.is_Number:
+        return float(expression)
+    return float(expression.xreplace({s: sp.Float(values[s.name]) for s in expression.free_symbols}))
+
+
+def _station(model, body_id: str) -> float:
     try:
-        return float(sp.sympify(model.body(body_id).position[0]).subs(values))
-    except (TypeError, ValueError):
+        return _number(model.body(body_id).position[0], model.values())
+    except (KeyError, TypeError, ValueError):
         return 0.0
 
 
@@ -399,8 +406,6 @@ def _classify(shares: np.ndarray, dofs: Sequence[str], frequency: float, damping
 def _dof_lengths(vehicle: VehicleModel) -> np.ndarray:
     """``l_i`` of :attr:`Mode.dominant`: 1 for translations, the radius of gyration
     ``sqrt(I / m)`` [m] for rotations."""
-    import sympy as sp
-
     model = vehicle.model
     values = model.values() if model is not None else {}
     bodies = {body.id: body for body in model.bodies} if model is not None else {}
@@ -415,9 +420,9 @@ def _dof_lengths(vehicle: VehicleModel) -> np.ndarray:
         if body is None:
             continue
         try:
-            mass = float(sp.sympify(body.mass).subs(values))
-            inertia = float(sp.sympify(body.inertia[axis[motion]]).subs(values))
-        except (TypeError, ValueError):
+            mass = _number(body.mass, values)
+            inertia = _number(body.inertia[axis[motion]], values)
+        except (KeyError, TypeError, ValueError):
             continue
         if mass > 0 and inertia > 0:
             lengths[i] = np.sqrt(inertia / mass)

@@ -11,9 +11,10 @@ centreline, seen in the track frame at the CP's own station, is displaced by
 
 so an element whose ends lie on bodies at different stations deflects in a curve
 even when every coordinate is zero: that is how a bogie turns relative to the car
-body and how the steering lever is driven.  Inside a transition the curvature is
-taken at the body's station; the error this makes is measured in
-``docs/rail.md`` against an exact integration of the track geometry.
+body and how the steering lever is driven.  Inside a transition, a CP that sits at
+another station uses the curvature at both stations (see
+:func:`curvature_point_inputs`); the error is measured in ``docs/rail.md`` against
+an exact integration of the track geometry.
 
 The cant-deficiency force on every body with a lateral DOF is
 ``F_y = -m (v**2 rho - g S / G)``.
@@ -77,8 +78,21 @@ def station_of(model: Model) -> dict[str, Station]:
 
 
 def curvature_point_inputs(model: Model) -> dict[tuple[str, int], dict[str, sp.Expr]]:
-    """Curvature terms of every CP on a body: ``(cp, axis) -> {rho input: coefficient}``."""
+    """Curvature terms of every CP on a body: ``(cp, axis) -> {rho input: coefficient}``.
+
+    When the CP sits at another station (``s_m + lx`` equals a station ``s_n``, as
+    for a car-body CP above a bogie centre), the curvature is taken at both ends, which
+    is exact to first order for a linear ramp of curvature (a clothoid)::
+
+        longitudinal  + Y lx (rho_m + rho_n) / 2
+        lateral       - lx**2 (rho_m / 3 + rho_n / 6)
+
+    Otherwise the body's own curvature is used (``rail.md``): ``+ rho_m lx Y`` and
+    ``- rho_m lx**2 / 2``.  In a steady curve both forms are the same; inside a
+    transition the two-station form is the more accurate (``docs/rail.md``).
+    """
     by_body = station_of(model)
+    all_stations = stations(model)
     bodies = {body.id: body for body in model.bodies}
     terms: dict[tuple[str, int], dict[str, sp.Expr]] = {}
     for point in model.points:
@@ -89,12 +103,27 @@ def curvature_point_inputs(model: Model) -> dict[tuple[str, int], dict[str, sp.E
         if lx == 0:
             continue
         lateral_position = body.position[1] + point.offset[1]
-        rho = by_body[body.id].curvature_input
+        own = by_body[body.id]
+        there = _station_at(all_stations, sp.sympify(own.position) + lx)
         longitudinal = sp.expand(lx * lateral_position)
+        if there is None or there is own:
+            weights = {own.curvature_input: (1, sp.Rational(1, 2))}
+        else:
+            weights = {
+                own.curvature_input: (sp.Rational(1, 2), sp.Rational(1, 3)),
+                there.curvature_input: (sp.Rational(1, 2), sp.Rational(1, 6)),
+            }
         if longitudinal != 0:
-            terms[(point.id, 0)] = {rho: longitudinal}
-        terms[(point.id, 1)] = {rho: -(lx**2) / 2}
+            terms[(point.id, 0)] = {rho: w_long * longitudinal for rho, (w_long, _) in weights.items()}
+        terms[(point.id, 1)] = {rho: -w_lat * lx**2 for rho, (_, w_lat) in weights.items()}
     return terms
+
+
+def _station_at(all_stations: list[Station], position: sp.Expr) -> Station | None:
+    for station in all_stations:
+        if sp.expand(station.position - position) == 0:
+            return station
+    return None
 
 
 def cant_deficiency_forces(model: Model, speed: sp.Expr, gravity: sp.Expr, cant_base: sp.Expr):
