@@ -230,6 +230,18 @@ def _rss_now() -> float:
         return 0.0
 
 
+def _peak_rss_of(pid: int):
+    """Peak RSS (VmHWM) of a running process, bytes, or None."""
+    try:
+        with open(f"/proc/{pid}/status") as handle:
+            for line in handle:
+                if line.startswith("VmHWM:"):
+                    return float(line.split()[1]) * 1024
+    except (OSError, ValueError, IndexError):
+        pass
+    return None
+
+
 def _max_rss(who=resource.RUSAGE_SELF) -> float:
     """Maximum resident set size, bytes (ru_maxrss is KiB on Linux, bytes on macOS)."""
     value = resource.getrusage(who).ru_maxrss
@@ -269,6 +281,7 @@ def _child(channel, function, model, values):
         clear_cache()
         gc.collect()
         rss_start = _rss_now()
+        channel.put(("start", rss_start))
         start = time.perf_counter()
         names, matrices = function(model)
         elapsed = time.perf_counter() - start
@@ -283,16 +296,20 @@ def run_in_child(function, model, values, timeout: float):
     """Run ``function(model)`` in a forked process with a time limit.
 
     Returns a dict with ``seconds``, ``rss_growth`` (peak RSS minus RSS at start, bytes),
-    and ``names``/``arrays`` (matrices evaluated at ``values``), or ``{"timeout": True}``
-    or ``{"error": message}``.
+    and ``names``/``arrays`` (matrices evaluated at ``values``), or
+    ``{"timeout": True, "rss_growth": peak so far}`` or ``{"error": message}``.
     """
     context = mp.get_context("fork")
     channel = context.Queue()
     process = context.Process(target=_child, args=(channel, function, model, values), daemon=True)
     process.start()
     outcome: dict = {}
+    rss_start = 0.0
     try:
-        message = channel.get(timeout=timeout)
+        message = channel.get(timeout=60)
+        if message[0] == "start":
+            rss_start = message[1]
+            message = channel.get(timeout=timeout)
         if message[0] == "error":
             outcome = {"error": message[1]}
         else:
@@ -306,6 +323,9 @@ def run_in_child(function, model, values, timeout: float):
                 pass
     except queue.Empty:
         outcome = {"timeout": True}
+        peak = _peak_rss_of(process.pid)
+        if peak is not None:
+            outcome["rss_growth"] = max(peak - rss_start, 0.0)
     finally:
         if process.is_alive():
             process.terminate()
@@ -449,7 +469,7 @@ class Bench:
                     break
                 lagrange_times.append(outcome["seconds"])
                 lagrange_rss = outcome["rss_growth"] if lagrange_rss is None else max(lagrange_rss, outcome["rss_growth"])
-                if "arrays" in outcome:
+                if outcome.get("arrays"):
                     lagrange_errors = compare(reference, outcome["names"], outcome["arrays"])
         e_med = statistics.median(express)
         n_med = statistics.median(naive_times)
@@ -532,12 +552,12 @@ class Bench:
                 values = random_values(model)
                 outcome = run_in_child(naive_hessian, model, values, args.baseline_timeout)
                 if "timeout" in outcome:
-                    baseline = {"timeout": True, "limit": args.baseline_timeout}
+                    baseline = {**outcome, "limit": args.baseline_timeout}
                 elif "error" in outcome:
                     baseline = {"why": outcome["error"]}
                 else:
                     baseline = outcome
-                    if "arrays" in outcome:
+                    if outcome.get("arrays"):
                         reference = reference_arrays(result, values)
                         baseline["errors"] = compare(reference, outcome["names"], outcome["arrays"])
         e_med = train["median"]
@@ -551,7 +571,8 @@ class Bench:
                          f"{baseline['seconds'] / e_med:.3g}", "-", fmt_mb(baseline.get("rss_growth"))])
         elif baseline.get("timeout"):
             rows.append(["naive SymPy Hessian (M, C, K)", f">{args.baseline_timeout:.0f} (timed out)",
-                         "1 (child)", f">{args.baseline_timeout / e_med:.3g}", "-", "-"])
+                         "1 (child)", f">{args.baseline_timeout / e_med:.3g}", "-",
+                         f">{fmt_mb(baseline['rss_growth'])}" if "rss_growth" in baseline else "-"])
         else:
             rows.append(["naive SymPy Hessian (M, C, K)", baseline.get("why", "-"), "-", "-", "-", "-"])
         rows.append(["LagrangesMethod", "not run (lever and vehicle only)", "-", "-", "-", "-"])

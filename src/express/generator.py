@@ -406,6 +406,13 @@ def _generate(model: Model, keep_virtual: bool, added: AddedTerms, domain: Exact
     for matrix in matrices.values():
         symbols |= matrix.free_symbols
     parameters = tuple(sorted(s.name for s in symbols))
+    # the virtual stiffness vanishes from the result: leave its value out too
+    virtual_only = {
+        symbol.name
+        for element in model.elements
+        if element.id in pin_element_ids
+        for symbol in (sp.sympify(element.stiffness).free_symbols | sp.sympify(element.damping).free_symbols)
+    } - set(parameters)
     equations = EquationsOfMotion(
         name=model.name,
         dofs=tuple(reduced),
@@ -413,8 +420,10 @@ def _generate(model: Model, keep_virtual: bool, added: AddedTerms, domain: Exact
         inputs=tuple(inputs),
         matrices=matrices,
         parameters=parameters,
-        values={name: p.value for name, p in sorted(model.parameters.items())},
-        units={name: p.unit for name, p in sorted(model.parameters.items()) if p.unit},
+        values={name: p.value for name, p in sorted(model.parameters.items()) if name not in virtual_only},
+        units={
+            name: p.unit for name, p in sorted(model.parameters.items()) if p.unit and name not in virtual_only
+        },
     )
     warnings = []
     by_id = {body.id: body for body in model.bodies}

@@ -435,7 +435,9 @@ def _participation(phi: np.ndarray, lengths: np.ndarray) -> np.ndarray:
     return weight / total if total > 0 else weight
 
 
-def modes_of(vehicle: VehicleModel, eigenvalues: np.ndarray, eigenvectors: np.ndarray) -> tuple[Mode, ...]:
+def modes_of(
+    vehicle: VehicleModel, eigenvalues: np.ndarray, eigenvectors: np.ndarray, *, limit: int | None = None
+) -> tuple[Mode, ...]:
     """Build the :class:`Mode` records of eigenpairs of ``A`` (state ``[q; q']``).
 
     Parameters
@@ -445,6 +447,8 @@ def modes_of(vehicle: VehicleModel, eigenvalues: np.ndarray, eigenvectors: np.nd
     eigenvalues : numpy.ndarray, shape (2n,)
     eigenvectors : numpy.ndarray, shape (2n, 2n)
         Columns are the eigenvectors, as from :func:`numpy.linalg.eig`.
+    limit : int, optional
+        Build only the ``limit`` least stable modes.
 
     Returns
     -------
@@ -458,6 +462,8 @@ def modes_of(vehicle: VehicleModel, eigenvalues: np.ndarray, eigenvectors: np.nd
     lengths = _dof_lengths(vehicle)
     keep = np.flatnonzero(eigenvalues.imag >= 0.0)
     order = keep[np.lexsort((-eigenvalues.imag[keep], -eigenvalues.real[keep]))]
+    if limit is not None:
+        order = order[:limit]
     modes = []
     for k in order:
         lam = complex(eigenvalues[k])
@@ -493,6 +499,11 @@ def modes_of(vehicle: VehicleModel, eigenvalues: np.ndarray, eigenvectors: np.nd
 def _check_speed_dependent(vehicle: VehicleModel) -> None:
     if vehicle.layout is None or not vehicle.wheelsets:
         raise ValueError("the model has no rail data (wheelsets): its eigenvalues do not depend on the speed")
+
+
+def _least_stable_mode(vehicle: VehicleModel, speed: float) -> Mode:
+    values, vectors = np.linalg.eig(vehicle.A(float(speed)))
+    return modes_of(vehicle, values, vectors, limit=1)[0]
 
 
 def eigen_analysis(vehicle: VehicleModel, speed: float) -> EigenResult:
@@ -703,7 +714,7 @@ def critical_speed(
         return None
     first = int(np.argmax(unstable))
     if first == 0:
-        mode = eigen_analysis(vehicle, float(v_min)).modes[0]
+        mode = _least_stable_mode(vehicle, float(v_min))
         return CriticalSpeed(float(v_min), mode, True, (float(v_min), float(v_min)), evaluations + 1)
     lo, hi = float(grid[first - 1]), float(grid[first])
     tolerance = tolerance_kmh / 3.6
@@ -715,7 +726,7 @@ def critical_speed(
         else:
             lo = mid
     speed = 0.5 * (lo + hi)
-    mode = eigen_analysis(vehicle, speed).modes[0]
+    mode = _least_stable_mode(vehicle, speed)
     return CriticalSpeed(speed, mode, False, (lo, hi), evaluations + 1)
 
 

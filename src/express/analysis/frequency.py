@@ -1,0 +1,241 @@
+"""Frequency response to a sinusoidal lateral track irregularity (paper Fig. 10).
+
+The leading wheelset sees the alignment ``yR_1(t) = Y sin(2 pi f t)`` and wheelset n
+the same, delayed by the time the vehicle takes to cover the distance between them
+(``rail.md``)::
+
+    yR_n(t) = Y sin(2 pi f (t - t_n)),   t_n = (x_lead - x_n) / v
+
+(for the paper's car ``t_2 = 2a/v``, ``t_3 = 2 l_T / v``, ``t_4 = 2 (a + l_T) / v``).
+The linear model (straight track, no flange contact, no creep saturation)
+``M q'' + C(v) q' + K q = P(v) u + Pd u'`` is solved in the frequency domain.
+
+Phase convention
+----------------
+Every sinusoid is the imaginary part of a complex amplitude times ``exp(i w t)``,
+``w = 2 pi f``: ``yR_n(t) = Im(U_n exp(i w t))`` with ``U_n = Y exp(-i w t_n)``, and
+every DOF ``q_i(t) = Im(X_i exp(i w t)) = |X_i| sin(w t + arg X_i)``. So ``|X_i|`` is
+the amplitude and ``arg X_i`` the phase lead [rad] of ``q_i`` over the irregularity at
+the leading wheelset (the paper's ``q_i = X_i sin 2 pi f t``). ``X`` solves::
+
+    (-w^2 M + i w C(v) + K) X = (P(v) + i w Pd) U
+
+with ``U`` zero except in the irregularity inputs ``W1.yR, ...``.
+
+Output points
+-------------
+The model's ``[rail.outputs]`` (e.g. ``floor_front``, ``floor_rear``: the car-body
+floor above the bogie centres) are points on bodies; their lateral displacement is
+``u_y = y + rz lx - rx lz`` (:func:`express.statespace.point_lateral_row`) and their
+lateral acceleration amplitude is ``-w^2 u_y``.
+
+Examples
+--------
+>>> import numpy as np
+>>> from express.io import load_model
+>>> from express.statespace import vehicle_model
+>>> car = vehicle_model(load_model("examples/forced-steering.toml"))
+>>> frf = frequency_response(car, np.linspace(0.2, 20.0, 100))
+>>> frf.acceleration_of("floor_front").shape
+(100,)
+>>> bool(np.abs(frf.amplitude_of("W1.y")).max() < 0.01)   # metres, for Y = 1 mm
+True
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..statespace import VehicleModel, point_lateral_row
+
+__all__ = ["FrequencyResponse", "frequency_response", "irregularity_delays"]
+
+
+@dataclass(frozen=True)
+class FrequencyResponse:
+    """Complex amplitudes of every DOF and output point against frequency.
+
+    Attributes
+    ----------
+    frequencies : numpy.ndarray, shape (F,)
+        [Hz].
+    speed : float
+        [m/s].
+    amplitude : float
+        ``Y``, amplitude of the irregularity [m].
+    dofs : tuple of str
+        DOF names, length n.
+    X : numpy.ndarray, complex, shape (F, n)
+        Complex displacement amplitudes [m or rad] (module docstring for the phase).
+    outputs : dict of str to numpy.ndarray, complex, shape (F,)
+        Complex lateral displacement amplitude of each output point [m].
+    delays : numpy.ndarray, shape (n_wheelsets,)
+        ``t_n`` [s] of each wheelset, in the order of :attr:`wheelsets`.
+    wheelsets : tuple of str
+        Wheelset body ids.
+    irregularity : numpy.ndarray, complex, shape (F, n_wheelsets)
+        ``U_n = Y exp(-i w t_n)`` [m].
+    """
+
+    frequencies: np.ndarray
+    speed: float
+    amplitude: float
+    dofs: tuple[str, ...]
+    X: np.ndarray
+    outputs: dict[str, np.ndarray]
+    delays: np.ndarray
+    wheelsets: tuple[str, ...]
+    irregularity: np.ndarray = field(repr=False)
+
+    @property
+    def omega(self) -> np.ndarray:
+        """Circular frequencies ``2 pi f`` [rad/s], shape (F,)."""
+        return 2.0 * np.pi * self.frequencies
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        """Every name :meth:`amplitude_of` accepts: DOFs, then output points."""
+        return self.dofs + tuple(self.outputs)
+
+    def amplitude_of(self, name: str) -> np.ndarray:
+        """Complex displacement amplitude of a DOF or an output point, shape (F,).
+
+        ``abs()`` of it is the amplitude [m or rad], ``numpy.angle()`` the phase lead
+        over the irregularity at the leading wheelset [rad].
+
+        Raises
+        ------
+        KeyError
+            Naming what exists, for an unknown name.
+        """
+        if name in self.outputs:
+            return self.outputs[name]
+        if name in self.dofs:
+            return self.X[:, self.dofs.index(name)]
+        raise KeyError(f"unknown DOF or output {name!r}; known: {', '.join(self.names)}")
+
+    def velocity_of(self, name: str) -> np.ndarray:
+        """Complex velocity amplitude ``i w X`` of a DOF or output, shape (F,)."""
+        return 1j * self.omega * self.amplitude_of(name)
+
+    def acceleration_of(self, name: str) -> np.ndarray:
+        """Complex acceleration amplitude ``-w^2 X`` [m/s^2 or rad/s^2], shape (F,).
+
+        Meant for the output points (car-body floor acceleration, paper Fig. 10);
+        accepts DOFs too.
+        """
+        return -(self.omega**2) * self.amplitude_of(name)
+
+    def rows(self, names: Iterable[str] | None = None) -> list[dict[str, float]]:
+        """One dict per frequency for printing or CSV: ``f_hz`` and, for each name,
+        ``<name>_amp`` (|X|), ``<name>_phase_deg`` and, for outputs, ``<name>_acc``
+        (|acceleration| [m/s^2])."""
+        names = list(self.outputs) if names is None else list(names)
+        rows = []
+        for k, f in enumerate(self.frequencies):
+            row: dict[str, float] = {"f_hz": float(f)}
+            for name in names:
+                value = self.amplitude_of(name)[k]
+                row[f"{name}_amp"] = float(abs(value))
+                row[f"{name}_phase_deg"] = float(np.degrees(np.angle(value)))
+                if name in self.outputs:
+                    row[f"{name}_acc"] = float(abs(self.acceleration_of(name)[k]))
+            rows.append(row)
+        return rows
+
+
+def irregularity_delays(vehicle: VehicleModel, speed: float) -> np.ndarray:
+    """``t_n = (x_lead - x_n) / v`` [s] for every wheelset, the leading one (largest x)
+    at 0. Shape (n_wheelsets,)."""
+    stations = np.array([w.station for w in vehicle.wheelsets], dtype=float)
+    return (stations.max() - stations) / speed
+
+
+def frequency_response(
+    vehicle: VehicleModel,
+    frequencies: Iterable[float],
+    *,
+    amplitude: float = 1e-3,
+    speed: float | None = None,
+) -> FrequencyResponse:
+    """Steady response to a sinusoidal lateral alignment, the same at every wheelset
+    delayed by its distance behind the leading one.
+
+    Parameters
+    ----------
+    vehicle : VehicleModel
+        Numerical vehicle with rail data (wheelsets and irregularity inputs).
+    frequencies : sequence of float, shape (F,)
+        Excitation frequencies ``f`` [Hz], >= 0 (the track wavelength is ``v / f``).
+    amplitude : float
+        ``Y`` [m]; default 1 mm as in the paper. The response is linear in it.
+    speed : float, optional
+        [m/s]; the model's own speed by default.
+
+    Returns
+    -------
+    FrequencyResponse
+
+    Raises
+    ------
+    ValueError
+        For a model without wheelsets, a non-positive speed, or a frequency at which
+        the dynamic stiffness is singular.
+
+    Examples
+    --------
+    >>> from express.io import load_model
+    >>> from express.statespace import vehicle_model
+    >>> car = vehicle_model(load_model("examples/conventional.toml"))
+    >>> frf = frequency_response(car, [1.0, 2.0], speed=120 / 3.6)
+    >>> [round(t, 4) for t in frf.delays]         # 0, 2a/v, 2 lT/v, 2 (a + lT)/v
+    [0.0, 0.069, 0.432, 0.501]
+    >>> abs(frf.amplitude_of("floor_front")).shape
+    (2,)
+    """
+    if vehicle.layout is None or not vehicle.wheelsets:
+        raise ValueError("the model has no rail data (wheelsets): nothing excites it")
+    v = float(vehicle.speed if speed is None else speed)
+    if not v > 0:
+        raise ValueError(f"speed must be positive, got {v}")
+    f = np.atleast_1d(np.asarray(frequencies, dtype=float))
+    if f.ndim != 1 or not np.all(np.isfinite(f)) or np.any(f < 0):
+        raise ValueError("frequencies must be a 1-D sequence of finite values >= 0 [Hz]")
+    w = 2.0 * np.pi * f
+    inputs = list(vehicle.inputs)
+    columns = [inputs.index(name) for name in vehicle.layout.irregularity]
+    delays = irregularity_delays(vehicle, v)
+    irregularity = amplitude * np.exp(-1j * w[:, None] * delays[None, :])  # (F, nw)
+    p = vehicle.P(v)[:, columns]
+    pd = vehicle.Pd[:, columns]
+    # (F, n): (P + i w Pd) U
+    rhs = irregularity @ p.T + (1j * w[:, None]) * (irregularity @ pd.T)
+    stiffness = (
+        -(w**2)[:, None, None] * vehicle.M[None]
+        + (1j * w)[:, None, None] * vehicle.C(v)[None]
+        + vehicle.K[None].astype(complex)
+    )
+    try:
+        X = np.linalg.solve(stiffness, rhs[..., None])[..., 0]
+    except np.linalg.LinAlgError:
+        raise ValueError("the dynamic stiffness -w^2 M + i w C + K is singular at one of the frequencies") from None
+    outputs: dict[str, np.ndarray] = {}
+    model = vehicle.model
+    if model is not None and model.rail is not None:
+        for point in model.rail.outputs:
+            row = point_lateral_row(model, vehicle.equations, point.body, point.offset)
+            outputs[point.name] = X @ row
+    return FrequencyResponse(
+        frequencies=f,
+        speed=v,
+        amplitude=float(amplitude),
+        dofs=vehicle.dofs,
+        X=X,
+        outputs=outputs,
+        delays=delays,
+        wheelsets=tuple(w_.name for w_ in vehicle.wheelsets),
+        irregularity=irregularity,
+    )

@@ -1,0 +1,87 @@
+"""The curve module's terms against an exact integration of the track geometry."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import sympy as sp
+
+from express.io import load_model
+from express.rail.curve import cant_deficiency_forces, curvature_point_inputs, stations
+from express.rail.track import paper_curve
+
+MODEL = load_model("examples/forced-steering.toml")
+VALUES = {sp.Symbol(name): value for name, value in MODEL.values().items()}
+
+
+def _station_position(body: str) -> float:
+    """Position of the station holding ``body`` (inputs are named after a station's
+    first body)."""
+    for station in stations(MODEL):
+        if body in station.bodies:
+            return float(station.position.subs(VALUES))
+    raise KeyError(body)
+
+
+def _generated_offset(point: str, axis: int, track, s_body: np.ndarray) -> np.ndarray:
+    """The generated curvature term of a CP, evaluated along the track with its body's
+    station at ``s_body``."""
+    terms = curvature_point_inputs(MODEL)[(point, axis)]
+    body_station = _station_position(MODEL.point(point).host)
+    total = np.zeros_like(s_body)
+    for name, coefficient in terms.items():
+        station = _station_position(name.split(".")[0])
+        total += float(coefficient.subs(VALUES)) * track.curvature(s_body + station - body_station)
+    return total
+
+
+@pytest.mark.parametrize("shape, tolerance", [("sine", 0.004), ("linear", 0.012)])
+def test_lateral_term_above_the_bogie_matches_the_exact_geometry(shape, tolerance):
+    """The car-body CP above the front bogie centre (lx = lT = 7.2 m): its generated
+    lateral term (two-station form) against minus the exact offset of the track
+    centreline lT ahead of the car body's tangent, along the whole paper curve.
+    The error stays within ``tolerance`` of the steady-curve value lT^2 / (2 R), and
+    is several times smaller than the one-station form's."""
+    track = paper_curve(shape=shape)
+    lead = 7.2 + 1.15  # the leading wheelset is lT + a ahead of the car body
+    s = np.linspace(0.0, track.length, 4001) - lead
+    generated = _generated_offset("T1_sxL_S", 1, track, s)
+    exact = -np.asarray(track.lateral_offset_exact(s, 7.2))
+    steady = 7.2**2 / (2 * 400.0)
+    one_station = -track.curvature(s) * 7.2**2 / 2
+    error = np.max(np.abs(generated - exact)) / steady
+    error_one_station = np.max(np.abs(one_station - exact)) / steady
+    assert error < tolerance
+    assert error < error_one_station / 2
+    mid = np.argmin(np.abs(s - 250.0))  # steady curve: both forms agree with the geometry
+    assert generated[mid] == pytest.approx(-steady, rel=1e-3)
+
+
+def test_longitudinal_term_is_the_turn_of_the_track():
+    """The longitudinal term of the steering-beam CP (lx = lT, Y = bL) is Y times the
+    turn of the track between the car body and the bogie, ``Y (theta(s + lT) -
+    theta(s))``, to within 1 % of its steady value on the sine-ramp curve."""
+    track = paper_curve()
+    s = np.linspace(-20.0, track.length, 3001)
+    generated = _generated_offset("L1_upper_T", 0, track, s)
+    exact = 1.0 * (np.asarray(track.heading(s + 7.2)) - np.asarray(track.heading(s)))
+    steady = 1.0 * 7.2 / 400.0
+    assert np.max(np.abs(generated - exact)) < 0.01 * steady
+
+
+def test_cant_deficiency_of_the_whole_vehicle():
+    """Summed over the lateral DOFs, the cant-deficiency force at 120 km/h on
+    R = 400 m with 95 mm cant is m_total (v^2/R - g S/G) (towards the outside), with
+    m_total the masses that have a lateral DOF: car body, bogie frames, wheelsets."""
+    v, radius, cant = 120 / 3.6, 400.0, 0.095
+    forces = cant_deficiency_forces(MODEL, sp.Symbol("v"), sp.Symbol("g"), sp.Symbol("G"))
+    values = dict(VALUES)
+    values[sp.Symbol("v")] = v
+    total = 0.0
+    for _dof, name, coefficient in forces:
+        total += float(coefficient.subs(values)) * (1 / radius if name.endswith(".rho") else cant)
+    parameters = MODEL.values()
+    mass = parameters["mc"] + 2 * parameters["mt"] + 4 * parameters["mw"]
+    expected = -mass * (v**2 / radius - parameters["g"] * cant / parameters["G"])
+    assert total == pytest.approx(expected, rel=1e-12)
+    assert total < 0  # towards the outside of a left curve
