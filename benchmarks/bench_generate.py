@@ -410,8 +410,55 @@ def machine_info() -> str:
         f"date        {datetime.datetime.now().isoformat(timespec='seconds')}\n"
         f"python      {platform.python_version()} ({platform.python_implementation()}) on {platform.platform()}\n"
         f"sympy       {sp.__version__} (ground types: {GROUND_TYPES}), numpy {np.__version__}, scipy {scipy.__version__}\n"
-        f"cpu         {cpu}; cpu_count={os.cpu_count()}, usable={usable}"
+        f"cpu         {cpu}; cpu_count={os.cpu_count()}, usable={usable}\n"
+        f"load        {load_text()}"
     )
+
+
+def load_text() -> str:
+    """The 1/5/15-minute load averages, flagged when other work competes for the CPUs."""
+    try:
+        one, five, fifteen = os.getloadavg()
+    except OSError:
+        return "unknown"
+    return f"load average {one:.2f} {five:.2f} {fifteen:.2f}"
+
+
+def _busy_cpu_seconds():
+    """CPU seconds all processes spent busy since boot (Linux /proc/stat), or None."""
+    try:
+        with open("/proc/stat") as handle:
+            fields = [int(v) for v in handle.readline().split()[1:]]
+    except (OSError, ValueError):
+        return None
+    busy = sum(fields) - fields[3] - (fields[4] if len(fields) > 4 else 0)  # minus idle, iowait
+    return busy / os.sysconf("SC_CLK_TCK")
+
+
+def _own_cpu_seconds() -> float:
+    total = 0.0
+    for who in (resource.RUSAGE_SELF, resource.RUSAGE_CHILDREN):
+        usage = resource.getrusage(who)
+        total += usage.ru_utime + usage.ru_stime
+    return total
+
+
+class Contention:
+    """CPU used by OTHER processes while the benchmark runs (they inflate the timings)."""
+
+    def __init__(self):
+        self.wall, self.busy, self.own = time.perf_counter(), _busy_cpu_seconds(), _own_cpu_seconds()
+
+    def report(self) -> str:
+        busy = _busy_cpu_seconds()
+        if busy is None or self.busy is None:
+            return "CPU used by other processes: unknown"
+        wall = time.perf_counter() - self.wall
+        others = max(busy - self.busy - (_own_cpu_seconds() - self.own), 0.0) / wall
+        text = f"CPU used by other processes during the run: {others:.2f} cores on average"
+        if others > 0.25:
+            text += " (WARNING: other work competed for the CPUs; timings are inflated)"
+        return text
 
 
 # --------------------------------------------------------------------------- benchmark
@@ -646,6 +693,7 @@ def main(argv=None) -> int:
     print(f"medians of {args.runs} runs (lever, vehicle) / {args.train_runs} runs (trains of 3+ cars) "
           f"after one warm-up; SymPy cache cleared before every run; only generation is timed")
 
+    contention = Contention()
     bench = Bench(args)
     bench.small_model("lever", load_model(ROOT / "examples" / "lever.exp"), None, rail=False)
     bench.small_model("vehicle", load_model(ROOT / "examples" / "forced-steering.toml"), VEHICLE_TARGET_S,
@@ -655,6 +703,7 @@ def main(argv=None) -> int:
     print("\n== summary")
     for line in bench.lines:
         print(line)
+    print(contention.report())
     print(f"max RSS: benchmark process {_max_rss() / MB:.0f} MB, "
           f"largest child {_max_rss(resource.RUSAGE_CHILDREN) / MB:.0f} MB (whole processes)")
     if bench.missed:

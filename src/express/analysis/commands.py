@@ -388,7 +388,7 @@ def _command_frf(args, load) -> int:
     for dof in args.dof or []:
         if dof not in vehicle.dofs:
             raise _usage_error(f"--dof {dof}: unknown DOF; DOFs: {', '.join(vehicle.dofs)}")
-    points = [p.name for p in vehicle.model.rail.outputs] if vehicle.model.rail else []
+    points = [p.name for p in vehicle.model.rail.outputs] if vehicle.model and vehicle.model.rail else []
     if not points and not args.dof:
         raise _usage_error("frf: the model has no output points ([rail.outputs]); name a DOF with --dof W1.y")
     frequencies = np.geomspace(args.fmin, args.fmax, args.points)
@@ -399,9 +399,10 @@ def _command_frf(args, load) -> int:
         unit = "rad" if dof.split(".")[-1].startswith("r") else "m"
         series[dof] = (_dof_amplitude(response, vehicle, dof), unit)
     columns = {"frequency_hz": frequencies}
-    for name, (values, _) in series.items():
-        columns[f"{name}_amplitude"] = np.abs(values)
-        columns[f"{name}_phase_deg"] = np.degrees(np.angle(values))
+    for name, (values, unit) in series.items():
+        kind = "acc_" if unit == "m/s^2" else ""
+        columns[f"{name}_{kind}amplitude"] = np.abs(values)
+        columns[f"{name}_{kind}phase_deg"] = np.degrees(np.angle(values))
     if output is not None:
         from ..cli import write_output
 
@@ -464,14 +465,7 @@ def _acceleration(response, name: str) -> np.ndarray:
 
 
 def _dof_amplitude(response, vehicle, dof: str) -> np.ndarray:
-    for attribute in ("displacement_of", "dof", "of"):
-        method = getattr(response, attribute, None)
-        if callable(method):
-            return np.asarray(method(dof))
-    q = getattr(response, "q", None)
-    if q is None:
-        q = getattr(response, "amplitudes")
-    return np.asarray(q)[:, vehicle.dof_index(dof)]
+    return np.asarray(response.amplitude_of(dof))
 
 
 # --------------------------------------------------------------------------------------

@@ -38,6 +38,15 @@ def discretize(a: np.ndarray, dt: float) -> tuple[np.ndarray, np.ndarray, np.nda
         ``gamma1 = int_0^dt exp(A s) (dt - s) / dt ds`` (Van Loan's block exponential).
     """
     size = a.shape[0]
+    phi = expm(a * dt)
+    # Integrals in closed form when A is well conditioned (integration by parts):
+    # gamma0 = A^-1 (phi - I), gamma1 = A^-1 (gamma0 - dt I) / dt.  Otherwise (rigid
+    # modes make A singular) fall back to Van Loan's block exponential.
+    if np.linalg.cond(a) < 1e10:
+        identity = np.eye(size)
+        gamma0 = np.linalg.solve(a, phi - identity)
+        gamma1 = np.linalg.solve(a, gamma0 - dt * identity) / dt
+        return phi, gamma0, gamma1
     block = np.zeros((3 * size, 3 * size))
     block[:size, :size] = a * dt
     block[:size, size : 2 * size] = np.eye(size) * dt

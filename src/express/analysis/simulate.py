@@ -193,10 +193,7 @@ def track_inputs(vehicle: VehicleModel, track: Track, distance: np.ndarray, spee
     behind = lead - np.asarray(vehicle.station_positions, dtype=float)
     s = (distance[:, None] - behind[None, :]).ravel()
     shape = (count, behind.size)
-    curvature = np.asarray(track.curvature(s)).reshape(shape)
-    curvature_rate = np.asarray(track.curvature_rate(s)).reshape(shape)
-    cant = np.asarray(track.cant(s)).reshape(shape)
-    cant_rate = np.asarray(track.cant_rate(s)).reshape(shape)
+    curvature, curvature_rate, cant, cant_rate = (array.reshape(shape) for array in track.geometry(s))
     for k, station in enumerate(layout.stations):
         u[:, inputs.index(station.curvature_input)] = curvature[:, k]
         u_rate[:, inputs.index(station.curvature_input)] = speed * curvature_rate[:, k]

@@ -763,6 +763,26 @@ class Track:
         val = jump * df / self._lengths[k] if rate else start[k] + jump * f
         return _as_output(np.where(inside, val, 0.0), scalar)
 
+    def geometry(self, s: ArrayLike) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+        """Curvature, its rate, cant and its rate at ``s`` in one pass (arrays).
+
+        The same values as :meth:`curvature`, :meth:`curvature_rate`, :meth:`cant` and
+        :meth:`cant_rate`, locating each ``s`` in its segment once (for simulations).
+        """
+        arr = np.asarray(s, dtype=float)
+        if self._n == 0:
+            zeros = np.zeros_like(arr)
+            return zeros, zeros, zeros, zeros
+        k, u, inside = self._locate(arr)
+        f, df, _ = _ramp(self._shape[k], u)
+        length = self._lengths[k]
+        out = []
+        for start, end in ((self._rho0, self._rho1), (self._cant0, self._cant1)):
+            jump = end[k] - start[k]
+            out.append(np.where(inside, start[k] + jump * f, 0.0))
+            out.append(np.where(inside, jump * df / length, 0.0))
+        return out[0], out[1], out[2], out[3]
+
     def curvature(self, s: ArrayLike) -> FloatArray | float:
         """Signed curvature rho(s) [1/m], > 0 for a curve to the left."""
         return self._profile(s, self._rho0, self._rho1, rate=False)
