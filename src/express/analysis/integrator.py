@@ -88,7 +88,7 @@ def _feedback(x, n, k, iy, ipsi, y_rail, rho, speed, f1, f2, conicity, r0, b, cl
         z[count + j] = (factor - 1.0) * (-2.0 * b[j] * f1[j] * xi_x)
 
 
-@njit(cache=True, fastmath=False)
+@njit(cache=True, fastmath=True)
 def _march(phi, drive, g0, g1, x0, first, last, states, iy, ipsi, y_rail, rho, speed, f1, f2, conicity, r0, b, clearance, k_rail, limit, flange, saturation):
     size = x0.size
     n = size // 2
