@@ -552,9 +552,10 @@ class Bench:
         line, ok = summary_line(key, e_med, baseline, target_s)
         self.record(line + f" agree={agree}" + lagrange_part, ok, f"{key} generation >= {target_s} s")
         if rail_times:
-            line, ok = summary_line(f"{key}+rail", statistics.median(rail_times), baseline, target_s,
-                                    note="baseline_has_no_rail_terms")
-            self.record(line, ok, f"{key}+rail generation >= {target_s} s")
+            # the targets are for the core matrices; the rail terms are reported only
+            line, _ = summary_line(f"{key}+rail", statistics.median(rail_times), baseline, None,
+                                   note="baseline_has_no_rail_terms")
+            self.record(line, True, "")
 
     def trains(self) -> None:
         """Train of N cars (target, baseline in a child with a limit) and the scaling table."""
