@@ -135,7 +135,8 @@ class Bench:
                   f"{vehicle.speed * 3.6:.0f} km/h")
             print(f"{'':16s} {label}: {first:.3f} s -> compile/first-call overhead {first - median:.3f} s")
             print(f"{'':16s} simulate() median {median * 1e3:.2f} ms {_fmt_times(times)}; "
-                  f"realtime factor {factor:.0f} (target >= {REALTIME_TARGET:.0f})")
+                  f"realtime factor {factor:.0f} (target >= {REALTIME_TARGET:.0f}; "
+                  f"{travel / min(times):.0f} for the fastest run)")
             peaks = result.max_abs()
             print(f"{'':16s} peak |Q1| {peaks['Q1'] / 1e3:.2f} kN, |Q2| {peaks['Q2'] / 1e3:.2f} kN, "
                   + (f"theta_L1 {peaks['theta_L1']:.4f} rad, " if "theta_L1" in peaks else "")

@@ -207,24 +207,32 @@ def test_march_agrees_with_solve_ivp_on_the_same_equations(steered, track):
     assert np.max(np.abs(result.outputs["Q1"] - outputs["Q1"])) < 0.01 * peak
     scale = np.max(np.abs(states[:, :n]), axis=0)
     assert np.all(np.max(np.abs(result.q - states[:, :n]), axis=0) <= 3e-3 * scale + 1e-8)
+    # rates: the flange contact switching on and off is followed only to O(dt); measured
+    # at most 4 % of a DOF's peak rate (W4.y) at dt = 0.005 s, 0.4 % at dt = 0.00125 s
     rate_scale = np.max(np.abs(states[:, n:]), axis=0)
-    assert np.all(np.max(np.abs(result.q_dot - states[:, n:]), axis=0) <= 2e-2 * rate_scale + 1e-6)
+    assert np.all(np.max(np.abs(result.q_dot - states[:, n:]), axis=0) <= 0.08 * rate_scale + 1e-6)
 
 
 def test_continuous_rhs_is_the_simulated_system(steered, track):
-    """One cheap, exact check of ``continuous_rhs``: from rest on the straight it is 0,
-    and on the curve its derivative matches the march's own step over a tiny step."""
+    """A cheap check of ``continuous_rhs`` against the march: from rest on the straight
+    it is 0; at d1 = 140 m, with both front axles flanging and the creep saturated, its
+    value matches the march's own slope over a 3 microsecond step (and differs from the
+    right-hand side without flange contact or without saturation)."""
     rhs = continuous_rhs(steered, track)
     assert np.all(rhs(0.5, np.zeros(2 * steered.n)) == 0.0)
-    result = simulate(steered, track, start=0.0, end=120.0, progress=False)
-    k = result.time.size // 2
+    result = simulate(steered, track, end=150.0, progress=False)
+    k = int(np.argmin(np.abs(result.distance - 140.0)))
+    assert result.outputs["flange1"][k] > 0 and result.outputs["flange2"][k] > 0
     x = np.concatenate([result.q[k], result.q_dot[k]])
-    fine = simulate(steered, track, start=result.distance[k], end=result.distance[k] + 1e-3,
-                    dt=1e-6, initial_state=x, progress=False)
+    fine = simulate(steered, track, start=result.distance[k], end=result.distance[k] + 1e-4,
+                    dt=1e-7, initial_state=x, progress=False)
     slope = (np.concatenate([fine.q[-1], fine.q_dot[-1]]) - x) / fine.time[-1]
     expected = rhs(result.time[k], x)
     scale = np.abs(expected) + 1e-3 * np.max(np.abs(expected))
-    assert np.all(np.abs(slope - expected) <= 0.05 * scale)
+    assert np.max(np.abs(slope - expected) / scale) < 5e-3  # measured 5e-4
+    for options in ({"flange": False}, {"saturation": False}):
+        other = continuous_rhs(steered, track, **options)(result.time[k], x)
+        assert np.max(np.abs(other - expected) / scale) > 1.0
 
 
 def test_time_step_convergence(steered, track):

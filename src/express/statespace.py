@@ -355,16 +355,19 @@ def _evaluate_vehicle(model, equations, evaluator, speed_name, with_rail=True) -
 
 
 def _numeric(model: Model, values: dict[str, float]):
+    """A function turning a parameter expression into a float at ``values``."""
+
     def evaluate(expression) -> float:
         expression = sp.sympify(expression)
         if expression.is_Number:
             return float(expression)
-        missing = sorted(s.name for s in expression.free_symbols if s.name not in values)
+        names = sorted(symbol.name for symbol in expression.free_symbols)
+        missing = [name for name in names if name not in values]
         if missing:
-            raise ModelError(
-                [Problem(model.source, None, "parameters", f"no value for {', '.join(missing)}")]
-            )
-        return float(expression.subs({sp.Symbol(k): v for k, v in values.items() if sp.Symbol(k) in expression.free_symbols}))
+            raise ModelError([Problem(model.source, None, "parameters", f"no value for {', '.join(missing)}")])
+        if expression.is_Symbol:
+            return float(values[expression.name])
+        return float(expression.xreplace({sp.Symbol(name): values[name] for name in names}))
 
     return evaluate
 

@@ -201,10 +201,17 @@ def parse_range(text: str, what: str = "--conicities") -> np.ndarray:
     return values
 
 
-def _vehicle(args, load):
+def _vehicle(args, load, command: str):
+    """Load the model (``--set`` applied), check it has rail data, evaluate it."""
     from ..statespace import vehicle_model
 
-    return vehicle_model(load(args))
+    model = load(args)
+    if model.rail is None or not model.rail.wheelsets:
+        raise _usage_error(
+            f"{command}: {args.model}: the model has no rail data (no [rail] section with wheelsets); "
+            "only `express generate` applies to it"
+        )
+    return vehicle_model(model)
 
 
 def _model_speed(vehicle, override: float | None) -> float:
@@ -269,6 +276,13 @@ def _refuse_inputs(paths, inputs) -> None:
             raise _usage_error(f"{path}: refusing to overwrite the input file")
 
 
+def _is_terminal(stream) -> bool:
+    try:
+        return bool(stream.isatty())
+    except (AttributeError, ValueError):
+        return False
+
+
 def _note(message: str) -> None:
     print(message, file=sys.stderr)
 
@@ -295,13 +309,14 @@ def _command_simulate(args, load) -> int:
     if not (math.isfinite(args.dt) and args.dt > 0):
         raise _usage_error(f"--dt {args.dt}: the time step must be positive")
     track = _load_track(args.track) if args.track else paper_curve()
-    vehicle = _vehicle(args, load)
+    vehicle = _vehicle(args, load, "simulate")
     _require_rail(vehicle, "simulate")
     speed = _model_speed(vehicle, _speed(args.speed))
     steps = track.length / (speed * args.dt)
     if steps > 5e6:
         raise _usage_error(f"--dt {args.dt}: {steps:.3g} steps; use a larger time step")
-    result = simulate(vehicle, track, speed=speed, dt=args.dt, flange=not args.linear, saturation=not args.linear)
+    result = simulate(vehicle, track, speed=speed, dt=args.dt, flange=not args.linear, saturation=not args.linear,
+                      progress=_is_terminal(sys.stderr))
     for path in outputs:
         path.parent.mkdir(parents=True, exist_ok=True)
         result.save(path)
@@ -382,7 +397,7 @@ def _command_frf(args, load) -> int:
     figure_path = _check_figure_path(args.plot)
     output = Path(args.output) if args.output else None
     _refuse_inputs([output, figure_path], [Path(args.model)])
-    vehicle = _vehicle(args, load)
+    vehicle = _vehicle(args, load, "frf")
     _require_rail(vehicle, "frf")
     speed = _model_speed(vehicle, _speed(args.speed))
     for dof in args.dof or []:
@@ -477,7 +492,7 @@ def _command_eigen(args, load) -> int:
     """``express eigen``."""
     from .stability import eigen_analysis
 
-    vehicle = _vehicle(args, load)
+    vehicle = _vehicle(args, load, "eigen")
     _require_rail(vehicle, "eigen")
     speed = _model_speed(vehicle, _speed(args.speed))
     result = eigen_analysis(vehicle, speed)
@@ -536,7 +551,7 @@ def _command_critical_speed(args, load) -> int:
     if output is not None and conicities is None:
         raise _usage_error("-o is written only with --conicities")
     _refuse_inputs([output, figure_path], [Path(args.model)])
-    vehicle = _vehicle(args, load)
+    vehicle = _vehicle(args, load, "critical-speed")
     _require_rail(vehicle, "critical-speed")
     options = {"v_min": v_min, "v_max": v_max, "tolerance_kmh": args.tolerance}
     result = critical_speed(vehicle, **options)

@@ -191,7 +191,7 @@ def frequency_response(
     >>> from express.statespace import vehicle_model
     >>> car = vehicle_model(load_model("examples/conventional.toml"))
     >>> frf = frequency_response(car, [1.0, 2.0], speed=120 / 3.6)
-    >>> [round(t, 4) for t in frf.delays]         # 0, 2a/v, 2 lT/v, 2 (a + lT)/v
+    >>> [round(float(t), 4) for t in frf.delays]  # 0, 2a/v, 2 lT/v, 2 (a + lT)/v
     [0.0, 0.069, 0.432, 0.501]
     >>> abs(frf.amplitude_of("floor_front")).shape
     (2,)

@@ -71,25 +71,32 @@ def _new_figure(*args, **kwargs):
     return plt.subplots(*args, **kwargs)
 
 
-def save_figure(figure, path: str | Path) -> Path:
+def save_figure(figure, path: str | Path | Sequence[str | Path]) -> list[Path]:
     """Write ``figure`` to ``path`` (.png, .svg or .pdf by suffix), whole or not at all.
 
-    The figure is closed afterwards.  Raises ``ValueError`` for another suffix.
+    ``path`` may be a list of paths (one figure in several formats).  The figure is
+    closed afterwards.  Raises ``ValueError`` for another suffix (before writing any).
     """
-    path = Path(path)
-    suffix = path.suffix.lower()
-    if suffix not in FIGURE_SUFFIXES:
-        raise ValueError(f"{path}: unknown figure format {suffix or '(none)'!r}; use .png, .svg or .pdf")
+    paths = [Path(path)] if isinstance(path, (str, Path)) else [Path(p) for p in path]
+    for target in paths:
+        if target.suffix.lower() not in FIGURE_SUFFIXES:
+            raise ValueError(f"{target}: unknown figure format {target.suffix or '(none)'!r}; use .png, .svg or .pdf")
     plt = _pyplot()
-    metadata = {"Date": None, "Creator": None} if suffix == ".svg" else (
-        {"Software": None} if suffix == ".png" else {"CreationDate": None, "Creator": None, "Producer": None}
-    )
-    buffer = io.BytesIO()
-    with plt.rc_context({"svg.hashsalt": "express", "svg.fonttype": "path"}):
-        figure.savefig(buffer, format=suffix[1:], metadata=metadata)
-    plt.close(figure)
-    _write_bytes(path, buffer.getvalue())
-    return path
+    try:
+        for target in paths:
+            suffix = target.suffix.lower()
+            metadata = {
+                ".svg": {"Date": None, "Creator": None},
+                ".png": {"Software": None},
+                ".pdf": {"CreationDate": None, "Creator": None, "Producer": None},
+            }[suffix]
+            buffer = io.BytesIO()
+            with plt.rc_context({"svg.hashsalt": "express", "svg.fonttype": "path"}):
+                figure.savefig(buffer, format=suffix[1:], metadata=metadata)
+            _write_bytes(target, buffer.getvalue())
+    finally:
+        plt.close(figure)
+    return paths
 
 
 def _write_bytes(path: Path, data: bytes) -> None:
@@ -99,6 +106,9 @@ def _write_bytes(path: Path, data: bytes) -> None:
     try:
         with os.fdopen(handle, "wb") as stream:
             stream.write(data)
+        mask = os.umask(0)
+        os.umask(mask)
+        os.chmod(temporary, 0o666 & ~mask)
         os.replace(temporary, target)
     except BaseException:
         Path(temporary).unlink(missing_ok=True)
@@ -127,19 +137,25 @@ def figure_lever_step(
     ``cases``: one mapping per leverage case with ``label``, ``q2`` (array [rad]) and
     ``steady`` (the static value [rad]).
     """
-    figure, axis = _new_figure(figsize=(7.0, 4.4))
+    figure, axis = _new_figure(figsize=(7.2, 4.8))
     colours = (_BLUE, _RED, _GREEN, _PURPLE)
+    axis.axhline(0.0, color=_GREY, linewidth=0.6, zorder=1)
+    extent = 0.0
     for k, case in enumerate(cases):
         colour = colours[k % len(colours)]
-        axis.plot(time * 1e3, np.asarray(case["q2"]) * 1e3, color=colour, label=case["label"])
-        axis.axhline(case["steady"] * 1e3, color=colour, linestyle=":", linewidth=1.0)
-    axis.axhline(0.0, color="black", linewidth=0.6)
+        values = np.asarray(case["q2"]) * 1e3
+        extent = max(extent, float(np.max(np.abs(values))))
+        axis.plot(time * 1e3, values, color=colour, label=case["label"], zorder=3 + k,
+                  linewidth=2.2 if k == 2 else 1.5)
+        axis.axhline(case["steady"] * 1e3, color=colour, linestyle=":", linewidth=1.0, zorder=2)
     axis.set_xlabel("time t [ms] (step of q1 at t = 0)")
     axis.set_ylabel("lever angle q2 [mrad]")
     axis.set_title(f"Fig. 3 - lever angle q2 after a step q1 = {step * 1e3:g} mrad (dotted: static value)")
     axis.set_xlim(time[0] * 1e3, time[-1] * 1e3)
-    axis.legend(loc="center right", framealpha=0.9)
-    figure.tight_layout(rect=(0, 0.07 if caption else 0, 1, 1))
+    extent = extent or 1.0
+    axis.set_ylim(-1.15 * extent, 1.9 * extent)
+    axis.legend(loc="upper right", framealpha=0.95)
+    figure.tight_layout(rect=(0, 0.09 if caption else 0, 1, 1))
     _caption(figure, caption)
     return figure
 
@@ -169,26 +185,30 @@ def figure_curving(
     figure, (top, middle, bottom) = plt.subplots(3, 1, figsize=(7.6, 9.6), sharex=True)
     d = steered["d1"]
 
-    # (a) curvature and lever angle
+    # (a) curvature and lever angle, zero of both axes at the same height
+    rho_top = float(np.max(np.abs(steered["rho1"]))) or 1.0
+    low, high = -0.08, 1.45  # fractions of each axis' reference value
     top.plot(d, steered["rho1"] * 1e3, color=_GREY, label=r"curvature $\rho_1$ (left axis)")
-    top.set_ylabel(r"curvature $\rho_1$ [1/km]")
-    top.set_ylim(bottom=min(0.0, float(np.min(steered["rho1"]) * 1e3)) - 0.1, top=float(np.max(steered["rho1"]) * 1e3) * 1.35 + 1e-9)
+    top.set_ylabel(r"curvature $\rho_1$ [10$^{-3}$ 1/m]")
+    top.set_ylim(low * rho_top * 1e3, high * rho_top * 1e3)
     twin = top.twinx()
     twin.grid(False)
     handles = [top.get_lines()[0]]
     if "theta_L1" in steered:
         (line,) = twin.plot(d, steered["theta_L1"], color=_BLUE, label=r"lever angle $\theta_{L1}$ (right axis)")
         handles.append(line)
+        largest = float(np.max(np.abs(steered["theta_L1"])))
+        # with the geometric angle as reference, the geometric lever angle b_L l_T rho / l_LU
+        # would lie exactly on the curvature curve
+        reference = geometric_lever if geometric_lever and largest < 1.4 * geometric_lever else (largest or 1.0)
         if geometric_lever is not None:
             ref = twin.axhline(geometric_lever, color=_BLUE, linestyle="--", linewidth=1.0,
                                label=fr"geometric $b_L l_T/(R\,l_{{LU}})$ = {geometric_lever:.3f} rad")
             handles.append(ref)
-        high = max(float(np.max(steered["theta_L1"])), geometric_lever or 0.0)
-        low = min(float(np.min(steered["theta_L1"])), 0.0)
-        twin.set_ylim(low - 0.1 * (high - low), high * 1.35)
+        twin.set_ylim(low * reference, high * reference)
     twin.set_ylabel(r"lever angle $\theta_{L1}$ [rad]", color=_BLUE)
     twin.tick_params(axis="y", colors=_BLUE)
-    top.legend(handles=handles, loc="upper left", framealpha=0.9)
+    top.legend(handles=handles, loc="upper center", ncol=2, framealpha=0.9)
     top.set_title("(a) curvature at the leading wheelset and front steering-lever angle", loc="left")
 
     # (b) steering angles
@@ -218,7 +238,7 @@ def figure_curving(
     high = max(float(np.max(s[k])) for s in (steered, conventional) if s is not None for k in ("Q1", "Q2")) * 1e-3
     bottom.set_ylim(-0.05 * high, 1.35 * high)
     bottom.legend(loc="upper right", ncol=2, framealpha=0.9)
-    bottom.set_title("(c) lateral force on the outer (flanging) wheel", loc="left")
+    bottom.set_title("(c) lateral force Q from the rail on the outer wheel (flange + half the creep force)", loc="left")
     bottom.set_xlim(float(d[0]), float(d[-1]))
 
     figure.suptitle(title, fontsize=11.5)
@@ -251,7 +271,7 @@ def figure_frequency_response(
         style = CONVENTIONAL if curve.get("style") == "conventional" else STEERED
         axis.plot(frequencies, curve["values"], color=curve.get("color", palette[k % len(palette)]),
                   label=curve["label"], **style)
-    axis.set_xscale("log")
+    _log_frequency_axis(axis)
     axis.set_xlim(float(frequencies[0]), float(frequencies[-1]))
     axis.set_ylim(bottom=0.0)
     axis.set_xlabel("frequency f [Hz]")
@@ -262,6 +282,14 @@ def figure_frequency_response(
     figure.tight_layout(rect=(0, 0.06 if caption else 0, 1, 1))
     _caption(figure, caption)
     return figure
+
+
+def _log_frequency_axis(axis) -> None:
+    from matplotlib.ticker import FuncFormatter, LogLocator
+
+    axis.set_xscale("log")
+    axis.xaxis.set_major_locator(LogLocator(base=10.0, subs=(1.0, 2.0, 5.0)))
+    axis.xaxis.set_major_formatter(FuncFormatter(lambda x, _: f"{x:g}"))
 
 
 # --------------------------------------------------------------------------------------
@@ -288,8 +316,12 @@ def figure_critical_speed(
     for k, curve in enumerate(curves):
         style = CONVENTIONAL if curve.get("style") == "conventional" else STEERED
         speeds = np.asarray(curve["speed_kmh"], dtype=float)
-        axis.plot(curve["conicity"], speeds, color=curve.get("color", palette[k % len(palette)]),
-                  marker="o", markersize=2.8, label=curve["label"], **style)
+        colour = curve.get("color", palette[k % len(palette)])
+        axis.plot(curve["conicity"], speeds, color=colour, marker="o", markersize=2.8, label=curve["label"], **style)
+        flagged = np.asarray(curve.get("unstable_at_min", np.zeros(speeds.size, bool)), dtype=bool)
+        if flagged.any():
+            axis.plot(np.asarray(curve["conicity"])[flagged], speeds[flagged], linestyle="none", marker="X",
+                      markersize=8, color=colour, label=f"{curve['label']}: unstable from the lowest speed scanned")
         if np.isfinite(speeds).any():
             top = max(top, float(np.nanmax(speeds)))
     if running_speed_kmh is not None:
