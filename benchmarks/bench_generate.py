@@ -468,7 +468,8 @@ class Bench:
     def __init__(self, args):
         self.args = args
         self.lines: list[str] = []  # the summary lines
-        self.missed: list[str] = []
+        self.missed: list[str] = []  # targets missed
+        self.failed: list[str] = []  # agreement checks failed
 
     def record(self, line: str, ok: bool, what: str) -> None:
         print(line)
@@ -544,8 +545,9 @@ class Bench:
             detail = " ".join(f"{k}:{v:.1e}" for k, v in lagrange_errors.items())
             print(f"  agreement LagrangesMethod vs EXPRESS (rel. error {detail}): agree={l_agree}")
         if not agree:
-            self.missed.append(f"{key}: results disagree")
-            print(f"TARGET MISSED: {key} baseline and EXPRESS disagree")
+            self.failed.append(f"{key}: naive Hessian and EXPRESS disagree")
+        if lagrange_errors is not None and not all(e <= AGREE_RTOL for e in lagrange_errors.values()):
+            self.failed.append(f"{key}: LagrangesMethod and EXPRESS disagree")
         baseline = {"seconds": n_med}
         lagrange_part = (f" lagrange_s={statistics.median(lagrange_times):.3g}" if lagrange_times
                          else f" lagrange_s=n/a ({lagrange_note})")
@@ -630,8 +632,12 @@ class Bench:
             agree = all(e <= AGREE_RTOL for e in baseline["errors"].values())
             detail = " ".join(f"{k}:{v:.1e}" for k, v in baseline["errors"].items())
             print(f"  agreement naive Hessian vs EXPRESS (T^T X T, rel. error {detail}): agree={agree}")
+            if not agree:
+                self.failed.append(f"train{n_cars}: naive Hessian and EXPRESS disagree")
         target = TRAIN_TARGET_S * max(1.0, n_cars / 10.0)
         line, ok = summary_line(f"train{n_cars}", e_med, baseline, target)
+        if "errors" in baseline:
+            line += f" agree={all(e <= AGREE_RTOL for e in baseline['errors'].values())}"
         self.record(line, ok, f"train{n_cars} generation >= {target:g} s")
         line, _ = summary_line(f"train{n_cars}+rail", r_med, baseline, None, note="baseline_has_no_rail_terms")
         self.record(line, True, "")
@@ -648,7 +654,8 @@ class Bench:
                 b_text = "-"
             elif b.get("seconds") is not None:
                 b_text = fmt_s(b["seconds"])
-                base_points.append((entry["elements"], b["seconds"]))
+                if cars != n_cars:
+                    base_points.append((entry["elements"], b["seconds"]))
             elif b.get("timeout"):
                 b_text = f">{args.baseline_timeout:.0f}"
             else:
@@ -664,7 +671,7 @@ class Bench:
         print(f"  EXPRESS time ~ elements^{exponent:.2f} (least-squares fit over {len(sizes)} sizes); "
               f"ms/element {1000 * per_element[0]:.3g} at {sizes[0]} car(s) -> {1000 * per_element[-1]:.3g} "
               f"at {sizes[-1]} cars")
-        if len(base_points) >= 2:
+        if len(base_points) >= 2 and baseline.get("seconds") is None:
             b_exp, b_c = fit_exponent([p[0] for p in base_points], [p[1] for p in base_points])
             estimate = b_c * train["elements"] ** b_exp
             print(f"  naive Hessian time ~ elements^{b_exp:.2f}; EXTRAPOLATED (not measured) to {n_cars} cars: "
@@ -707,6 +714,8 @@ def main(argv=None) -> int:
     print(contention.report())
     print(f"max RSS: benchmark process {_max_rss() / MB:.0f} MB, "
           f"largest child {_max_rss(resource.RUSAGE_CHILDREN) / MB:.0f} MB (whole processes)")
+    if bench.failed:
+        print("CHECK FAILED: " + "; ".join(bench.failed))
     if bench.missed:
         print("TARGET MISSED: " + "; ".join(bench.missed))
     else:

@@ -8,6 +8,7 @@
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import sys
 import tempfile
@@ -46,6 +47,8 @@ def parse_assignments(items: Sequence[str]) -> dict[str, float]:
             if expression.free_symbols or not expression.is_number:
                 raise UsageError(f'--set "{item}": "{text}" is not a number')
             value = float(expression)
+        if not math.isfinite(value):
+            raise UsageError(f'--set "{item}": "{text}" is not a finite number')
         values[name] = value
     return values
 
@@ -56,8 +59,13 @@ def write_output(path: Path, text: str, inputs: Sequence[Path] = ()) -> None:
     for source in inputs:
         if Path(source).resolve() == target:
             raise UsageError(f"{path}: refusing to overwrite the input file")
-    target.parent.mkdir(parents=True, exist_ok=True)
-    handle, temporary = tempfile.mkstemp(dir=target.parent, prefix=f".{target.name}.", suffix=".tmp")
+    if target.is_dir():
+        raise UsageError(f"{path}: is a directory, not a file")
+    try:
+        target.parent.mkdir(parents=True, exist_ok=True)
+        handle, temporary = tempfile.mkstemp(dir=target.parent, prefix=f".{target.name}.", suffix=".tmp")
+    except OSError as error:
+        raise UsageError(f"{path}: cannot write ({error.strerror or error})") from None
     try:
         with os.fdopen(handle, "w", encoding="utf-8", newline="\n") as stream:
             stream.write(text)
@@ -65,6 +73,9 @@ def write_output(path: Path, text: str, inputs: Sequence[Path] = ()) -> None:
         os.umask(umask)
         os.chmod(temporary, 0o666 & ~umask)
         os.replace(temporary, target)
+    except OSError as error:
+        Path(temporary).unlink(missing_ok=True)
+        raise UsageError(f"{path}: cannot write ({error.strerror or error})") from None
     except BaseException:
         Path(temporary).unlink(missing_ok=True)
         raise

@@ -201,17 +201,43 @@ def parse_range(text: str, what: str = "--conicities") -> np.ndarray:
     return values
 
 
+#: Evaluated vehicles by model file (path, mtime, size), without ``--set``: generating the
+#: symbolic equations takes about a second, re-evaluating them with other values about a
+#: millisecond (:meth:`VehicleModel.with_values`), so repeated in-process calls (tests,
+#: scripts calling :func:`express.cli.main`) reuse the generation.
+_VEHICLES: dict[tuple, object] = {}
+_VEHICLE_CACHE_SIZE = 4
+
+
 def _vehicle(args, load, command: str):
     """Load the model (``--set`` applied), check it has rail data, evaluate it."""
+    from ..cli import parse_assignments
+    from ..diagnostics import ModelError
+    from ..io import load_model
     from ..statespace import vehicle_model
 
-    model = load(args)
+    model = load(args)  # reports a bad file or a bad --set like every command
     if model.rail is None or not model.rail.wheelsets:
         raise _usage_error(
             f"{command}: {args.model}: the model has no rail data (no [rail] section with wheelsets); "
             "only `express generate` applies to it"
         )
-    return vehicle_model(model)
+    overrides = parse_assignments(args.set or [])
+    path = Path(args.model).resolve()
+    stat = path.stat()
+    key = (str(path), stat.st_mtime_ns, stat.st_size)
+    base = _VEHICLES.get(key)
+    if base is None:
+        try:
+            base = vehicle_model(load_model(path))
+        except ModelError:
+            if not overrides:
+                raise
+            return vehicle_model(model)  # values only given with --set
+        if len(_VEHICLES) >= _VEHICLE_CACHE_SIZE:
+            _VEHICLES.pop(next(iter(_VEHICLES)))
+        _VEHICLES[key] = base
+    return base.with_values(overrides) if overrides else base
 
 
 def _model_speed(vehicle, override: float | None) -> float:

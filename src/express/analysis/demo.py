@@ -544,8 +544,8 @@ def _summary(results: dict, elapsed: float) -> tuple[str, dict]:
             f"{shape['steered_half_gamma']:.2f}; "
             + (f"unstable from the lowest speed scanned at Γ = {shape['gamma_first']:.2f}"
                if shape["steered_first_unstable_at_min"] else f"{shape['steered_first_kmh']:.0f} km/h at Γ = {shape['gamma_first']:.2f}"),
-            "Same shape as the paper." + low_fall + " Above the maximum the bogie's hunting limits V_cr, and the "
-            "curve follows the conventional one.",
+            "Same shape as the paper." + low_fall + " Towards large Γ, bogie hunting limits both cars and the two "
+            "curves merge.",
         ),
         (
             "Lever step response (Fig. 3, Table 1)",
