@@ -42,7 +42,7 @@ def test_demo_writes_the_matrices(demo):
         for suffix in (".m", ".tex", ".json"):
             path = outdir / "matrices" / f"{name}{suffix}"
             assert path.is_file() and path.stat().st_size > 0, path
-        assert f"function" in (outdir / "matrices" / f"{name}.m").read_text(encoding="utf-8")
+        assert "function" in (outdir / "matrices" / f"{name}.m").read_text(encoding="utf-8")
         data = json.loads((outdir / "matrices" / f"{name}.json").read_text(encoding="utf-8"))
         assert data  # parses
     lever = (outdir / "matrices" / "lever.tex").read_text(encoding="utf-8")

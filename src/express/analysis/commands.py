@@ -20,7 +20,6 @@ unreadable track) end with one ``error:`` line per problem and exit status 2.
 
 from __future__ import annotations
 
-import argparse
 import csv
 import io
 import json

@@ -197,6 +197,17 @@ def _check_id(reader: _Reader, identifier: str, path: tuple[str, ...], item: str
         reader.problem(path, item, "an id must start with a letter and hold only letters, digits and _")
 
 
+def _entries(reader: _Reader, table: Any, section: str, kind: str, allowed: tuple[str, ...]):
+    """``(id, path, item, spec)`` of every entry of a named-items section, checked."""
+    for identifier, raw in reader.table(table, (section,), section).items():
+        path = (section, identifier)
+        item = f"{kind} {identifier}"
+        _check_id(reader, identifier, path, item)
+        spec = reader.table(raw, path, item)
+        reader.unknown_keys(spec, allowed, path, item)
+        yield identifier, path, item, spec
+
+
 def _kind(value: Any) -> str:
     return {dict: "a table", list: "a list", str: "a string", bool: "a boolean"}.get(
         type(value), type(value).__name__
@@ -402,12 +413,7 @@ def parse_toml_model(text: str, source: str = "<string>") -> Model:
     parameters = _parameters(reader, reader.table(data.get("parameters", {}), ("parameters",), "parameters"))
 
     bodies = []
-    for body_id, raw in reader.table(data.get("bodies", {}), ("bodies",), "bodies").items():
-        path = ("bodies", body_id)
-        item = f"body {body_id}"
-        _check_id(reader, body_id, path, item)
-        spec = reader.table(raw, path, item)
-        reader.unknown_keys(spec, _BODY_KEYS, path, item)
+    for body_id, path, item, spec in _entries(reader, data.get("bodies", {}), "bodies", "body", _BODY_KEYS):
         dofs = spec.get("dofs", [])
         if not isinstance(dofs, list) or any(d not in DOF_NAMES for d in dofs):
             reader.problem(path + ("dofs",), item, f"dofs must be a list drawn from {list(DOF_NAMES)}, got {_show(dofs)}")
@@ -430,18 +436,10 @@ def parse_toml_model(text: str, source: str = "<string>") -> Model:
     if isinstance(grounds_raw, list):  # grounds = ["G1", "G2"]
         grounds_raw = {g: {} for g in grounds_raw if isinstance(g, str)}
     grounds = []
-    for ground_id, raw in reader.table(grounds_raw, ("grounds",), "grounds").items():
-        _check_id(reader, ground_id, ("grounds", ground_id), f"ground {ground_id}")
-        spec = reader.table(raw, ("grounds", ground_id), f"ground {ground_id}")
-        reader.unknown_keys(spec, ("label",), ("grounds", ground_id), f"ground {ground_id}")
-        grounds.append(Ground(ground_id, str(spec.get("label", "")), reader.line("grounds", ground_id)))
+    for ground_id, path, _, spec in _entries(reader, grounds_raw, "grounds", "ground", ("label",)):
+        grounds.append(Ground(ground_id, str(spec.get("label", "")), reader.line(*path)))
     points = []
-    for point_id, raw in reader.table(data.get("points", {}), ("points",), "points").items():
-        path = ("points", point_id)
-        item = f"CP {point_id}"
-        _check_id(reader, point_id, path, item)
-        spec = reader.table(raw, path, item)
-        reader.unknown_keys(spec, _POINT_KEYS, path, item)
+    for point_id, path, item, spec in _entries(reader, data.get("points", {}), "points", "CP", _POINT_KEYS):
         points.append(
             ConnectionPoint(
                 point_id,
@@ -451,12 +449,7 @@ def parse_toml_model(text: str, source: str = "<string>") -> Model:
             )
         )
     elements = []
-    for element_id, raw in reader.table(data.get("elements", {}), ("elements",), "elements").items():
-        path = ("elements", element_id)
-        item = f"TSD {element_id}"
-        _check_id(reader, element_id, path, item)
-        spec = reader.table(raw, path, item)
-        reader.unknown_keys(spec, _ELEMENT_KEYS, path, item)
+    for element_id, path, item, spec in _entries(reader, data.get("elements", {}), "elements", "TSD", _ELEMENT_KEYS):
         direction = spec.get("direction")
         axis = _DIRECTIONS.get(str(direction)) if not isinstance(direction, (bool, float)) else None
         if axis is None:
@@ -477,12 +470,7 @@ def parse_toml_model(text: str, source: str = "<string>") -> Model:
             )
         )
     pins = []
-    for pin_id, raw in reader.table(data.get("pins", {}), ("pins",), "pins").items():
-        path = ("pins", pin_id)
-        item = f"pin {pin_id}"
-        _check_id(reader, pin_id, path, item)
-        spec = reader.table(raw, path, item)
-        reader.unknown_keys(spec, _PIN_KEYS, path, item)
+    for pin_id, path, item, spec in _entries(reader, data.get("pins", {}), "pins", "pin", _PIN_KEYS):
         pins.append(
             PinnedJoint(
                 pin_id,
