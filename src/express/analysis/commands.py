@@ -622,9 +622,12 @@ def _command_critical_speed(args, load) -> int:
     elif figure_path is not None:
         from .plots import figure_eigen_locus, save_figure
 
-        speeds = np.linspace(v_min, v_max, 300)
-        figure = figure_eigen_locus(speeds / KMH, root_locus(vehicle, speeds),
-                                    title=f"{vehicle.equations.name}: real parts of the eigenvalues")
+        speeds = np.linspace(v_min, v_max, 400)
+        figure = figure_eigen_locus(
+            speeds / KMH, root_locus(vehicle, speeds),
+            title=f"{vehicle.equations.name}: real parts of the eigenvalues against speed",
+            critical_kmh=result.speed_kmh if result is not None and not result.unstable_at_min else None,
+        )
         save_figure(figure, figure_path)
         _note(f"wrote {figure_path}")
     if args.json:

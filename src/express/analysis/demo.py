@@ -657,7 +657,10 @@ def run_demo(outdir: str | Path = "demo-out", *, examples: Path | None = None,
     start = time.perf_counter()
     outdir = Path(outdir)
     examples = find_examples(examples)
-    outdir.mkdir(parents=True, exist_ok=True)
+    try:
+        outdir.mkdir(parents=True, exist_ok=True)
+    except OSError as error:
+        raise ValueError(f"{outdir}: cannot create the output directory ({error.strerror or error})") from None
     log(f"express demo: writing {outdir}/")
     results = {"matrices": _matrices(outdir, examples, log)}
     cars = _Cars(

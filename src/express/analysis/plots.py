@@ -381,19 +381,26 @@ def figure_simulation(distance: np.ndarray, outputs: Mapping[str, np.ndarray], *
     return figure
 
 
-def figure_eigen_locus(speeds_kmh: np.ndarray, eigenvalues: np.ndarray, *, title: str):
+def figure_eigen_locus(speeds_kmh: np.ndarray, eigenvalues: np.ndarray, *, title: str,
+                       critical_kmh: float | None = None):
     """Root locus: real part of every eigenvalue against speed (``critical-speed --plot``
-    without ``--conicities``)."""
+    without ``--conicities``), the largest one bold, the critical speed marked."""
     figure, axis = _new_figure(figsize=(7.0, 4.4))
     real = np.real(eigenvalues)
     for column in range(real.shape[1]):
-        axis.plot(speeds_kmh, real[:, column], color=_BLUE, linewidth=0.8, alpha=0.7)
+        axis.plot(speeds_kmh, real[:, column], color=_GREY, linewidth=0.6, alpha=0.6)
+    largest = real.max(axis=1)
+    axis.plot(speeds_kmh, largest, color=_RED, linewidth=2.0, label="largest real part")
     axis.axhline(0.0, color="black", linewidth=0.8)
+    if critical_kmh is not None:
+        axis.axvline(critical_kmh, color=_BLUE, linestyle="--", linewidth=1.2,
+                     label=f"critical speed {critical_kmh:.1f} km/h")
     axis.set_xlabel("speed V [km/h]")
     axis.set_ylabel("real part of eigenvalue [1/s]")
-    finite = real[np.isfinite(real)]
-    low = float(np.percentile(finite, 20)) if finite.size else -1.0
-    axis.set_ylim(min(low, -1.0), max(2.0, 0.2 * abs(low)))
+    top = max(1.0, 1.3 * float(np.nanmax(largest)))
+    axis.set_ylim(-max(10.0, 3 * top), top)
+    axis.set_xlim(float(speeds_kmh[0]), float(speeds_kmh[-1]))
     axis.set_title(title)
+    axis.legend(loc="lower left", framealpha=0.9)
     figure.tight_layout()
     return figure
