@@ -330,7 +330,7 @@ def _figure11(outdir: Path, cars: _Cars, log) -> dict:
     from .plots import figure_critical_speed
     from .stability import critical_speed, critical_speed_vs_conicity
 
-    options = {"v_min": 1.0, "v_max": V_MAX, "tolerance_kmh": 0.5}
+    options = {"v_min": 1.0, "v_max": V_MAX, "tolerance_kmh": 0.1}
     sweeps = {name: critical_speed_vs_conicity(vehicle, CONICITIES, **options)
               for name, vehicle in (("steered", cars.steered), ("conventional", cars.conventional))}
     columns: dict[str, object] = {"Gamma": CONICITIES}

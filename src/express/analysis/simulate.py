@@ -212,7 +212,8 @@ def track_inputs(vehicle: VehicleModel, track: Track, distance: np.ndarray, spee
     return TrackInputs(u, u_rate, y_rail, rho, curvature)
 
 
-def _terminal_progress(stream=sys.stderr):
+def _terminal_progress(stream=None):
+    stream = sys.stderr if stream is None else stream
     if not stream.isatty():
         return None
 
