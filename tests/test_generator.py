@@ -500,6 +500,26 @@ def test_random_pinned_models_match_the_constraints(seed):
     _check_pins(model)
 
 
+@pytest.mark.slow
+@pytest.mark.parametrize("seed", [1, 4, 14])
+def test_derivation_shortcut_is_the_literal_hessian(seed):
+    """The derivation above differentiates each element's exact 2-jet for speed; here
+    the literal ``sympy.hessian(U, q)`` of the whole exact U = 1/2 sum k delta^2 (and
+    of D for C), at q = 0, is checked to give the same K and C."""
+    model = random_model(seed, pins=False)
+    derivation = Derivation(model)
+    K, C, _, _ = derivation.stiffness_and_damping()
+    q = [derivation.q[name] for name in derivation.names]
+    qd = [derivation.qd[name] for name in derivation.names]
+    U = sum(e.stiffness * derivation.deflection(e) ** 2 / 2 for e in model.elements)
+    D = 0
+    for element in model.elements:
+        delta = derivation.deflection(element).xreplace({s: 0 for s in derivation.u.values()})
+        D += element.damping * sum(sp.diff(delta, v) * w for v, w in zip(q, qd)) ** 2 / 2
+    assert_same_matrix(sp.hessian(U, q).xreplace(derivation.zero), K, "K")
+    assert_same_matrix(sp.hessian(D, qd).xreplace(derivation.zero), C, "C")
+
+
 def test_random_pinned_models_cover_every_kind_of_pin():
     """The random pinned models include pins to bodies, to grounds, and chains (a pin
     whose non-virtual CP is on another pinned body), in every direction."""
@@ -790,3 +810,30 @@ def test_generation_is_deterministic_across_processes():
         assert done.returncode == 0, done.stderr
         digests.append(done.stdout.strip())
     assert digests[0] == digests[1]
+
+
+# --------------------------------------------------------------------------- resource use
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("value", ["(a+b+c)^64", "((a+1)^64)^64", "(a+b+c+d)^20"])
+def test_short_symbolic_powers_cannot_hang_generation(tmp_path, value):
+    """A short stiffness value must not tie up ``express generate``: the lever with
+    ``T1``'s stiffness replaced by a small power of a sum either generates or is refused
+    (status 0 or 2) within 30 s.  (The grammar bounds numeric powers; expanding and
+    factoring a symbolic one can be as costly.)"""
+    model = tmp_path / "power.exp"
+    model.write_text(LEVER.read_text().replace("T1,\tkLU,", f"T1,\t{value},"), encoding="utf-8")
+    env = dict(os.environ, PYTHONPATH=str(SRC))
+    try:
+        done = subprocess.run(
+            [sys.executable, "-m", "express", "generate", str(model)],
+            capture_output=True,
+            text=True,
+            env=env,
+            timeout=30,
+        )
+    except subprocess.TimeoutExpired:
+        pytest.fail(f"express generate with stiffness {value!r} did not finish within 30 s")
+    assert done.returncode in (0, 2), done.stderr
+    assert "Traceback" not in done.stderr

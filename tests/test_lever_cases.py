@@ -22,9 +22,9 @@ the *generated* equations give the same answer, by simulation as in Fig. 3.
 
 The paper drives q1 by a step.  B1 has no mass of its own (only J1), so q1 is modelled
 as prescribed, ``q1(t) = Q H(t - t0)``; the lever then obeys the second row of the
-generated equations, ``M22 q2'' + (C22 + c2) q2' + K22 q2 = -K21 q1`` (M, C, K
-diagonal-coupled only through K21), with a little damping ``c2`` added on q2 so that
-it settles.
+generated equations, ``M22 q2'' + (C22 + c2) q2' + K22 q2 = -K21 q1`` (M and C are
+diagonal, so q1 reaches q2 only through K21), with a little damping ``c2`` added on q2
+so that it settles.
 """
 
 from __future__ import annotations

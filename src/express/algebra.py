@@ -87,9 +87,22 @@ class ExactDomain:
         return result
 
 
+#: Polynomials with more terms are not fully factored (only their rational content and
+#: common monomial are pulled out): full factorization grows steeply with size.
+_FACTOR_TERMS = 40
+
+
 def _readable_polynomial(polynomial) -> sp.Expr:
     if len(polynomial.terms()) == 1:
         return polynomial.as_expr()
+    if len(polynomial.terms()) > _FACTOR_TERMS:
+        terms = polynomial.terms()
+        monomial = tuple(min(exponents) for exponents in zip(*(m for m, _ in terms)))
+        ring = polynomial.ring
+        rest = ring.from_dict({tuple(e - g for e, g in zip(m, monomial)): c for m, c in terms})
+        content, primitive = rest.primitive()
+        common = ring.from_dict({monomial: ring.domain.one})
+        return sp.Mul(ring.domain.to_sympy(content), common.as_expr(), primitive.as_expr())
     coefficient, factors = polynomial.factor_list()
     coefficient = polynomial.ring.domain.to_sympy(coefficient)
     if coefficient < 0:

@@ -24,6 +24,7 @@ express.expressions.ExpressionError: column 12: unexpected character "'"
 
 from __future__ import annotations
 
+import math
 import re
 from fractions import Fraction
 
@@ -38,6 +39,7 @@ _TOKEN = re.compile(
 )
 _NAME = re.compile(r"[A-Za-z][A-Za-z0-9_]*\Z")
 _MAX_LENGTH = 1000
+_MAX_TERMS = 200
 
 
 class ExpressionError(ValueError):
@@ -199,4 +201,26 @@ def parse_expression(text: str) -> sp.Expr:
     leftover = parser.peek()
     if leftover is not None:
         raise ExpressionError(f'column {leftover[2]}: unexpected "{leftover[1]}"')
+    if _expanded_terms(value) > _MAX_TERMS:
+        raise ExpressionError(f"the expression expands to more than {_MAX_TERMS} terms")
     return value
+
+
+def _expanded_terms(expression: sp.Expr) -> int:
+    """An upper bound of the number of terms of ``expression`` once expanded."""
+    if expression.is_Add:
+        return sum(_expanded_terms(arg) for arg in expression.args)
+    if expression.is_Mul:
+        total = 1
+        for arg in expression.args:
+            total *= _expanded_terms(arg)
+            if total > _MAX_TERMS:
+                return total
+        return total
+    if expression.is_Pow and expression.exp.is_Integer:
+        terms = _expanded_terms(expression.base)
+        power = abs(int(expression.exp))
+        if terms > 1:
+            return math.comb(power + terms - 1, terms - 1)
+        return 1
+    return 1

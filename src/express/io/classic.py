@@ -115,7 +115,9 @@ def parse_classic(text: str, source: str = "<string>") -> Model:
         With every problem found, each naming the file, line and item.
     """
     problems: list[Problem] = []
+    text = text.removeprefix("\ufeff")
     section: str | None = None
+    in_unknown_section = False
     seen_sections: set[str] = set()
     rows: dict[str, list] = {name: [] for name in SECTIONS.values()}
     for number, raw in enumerate(text.splitlines(), start=1):
@@ -131,12 +133,12 @@ def parse_classic(text: str, source: str = "<string>") -> Model:
                 problems.append(
                     Problem(source, number, f"section ({index}) {title}", f"unknown section; expected one of {known}")
                 )
-                section = None
+                section, in_unknown_section = None, True
                 continue
             if expected in seen_sections:
                 problems.append(Problem(source, number, f"section ({index}) {expected}", "section appears twice"))
             seen_sections.add(expected)
-            section = expected
+            section, in_unknown_section = expected, False
             continue
         fields = _fields(raw)
         if not fields:
@@ -144,6 +146,8 @@ def parse_classic(text: str, source: str = "<string>") -> Model:
         first = fields[0]
         if not _ID_LIKE.match(first):
             continue  # column headings and other text are not data
+        if in_unknown_section:
+            continue  # its header is already reported
         if section is None:
             problems.append(
                 Problem(source, number, first, "data row before any section header such as (1) Body")
