@@ -309,7 +309,7 @@ def _parameters(reader: _Reader, table: dict) -> dict[str, Parameter]:
     return numeric
 
 
-def _rail(reader: _Reader, table: dict) -> RailSpec | None:
+def _rail(reader: _Reader, table: dict, parameters: dict[str, Parameter]) -> RailSpec | None:
     reader.unknown_keys(table, _RAIL_KEYS, ("rail",), "rail")
     defaults = reader.table(table.get("wheel_rail", {}), ("rail", "wheel_rail"), "rail.wheel_rail")
     reader.unknown_keys(defaults, WHEELSET_KEYS, ("rail", "wheel_rail"), "rail.wheel_rail")
@@ -349,7 +349,8 @@ def _rail(reader: _Reader, table: dict) -> RailSpec | None:
             )
         )
     scalars = {}
-    for key, default in (("speed", "v"), ("cant_base", "G"), ("gravity", "g")):
+    gravity = "g" if "g" in parameters else "9.81"  # standard gravity unless the model names g
+    for key, default in (("speed", "v"), ("cant_base", "G"), ("gravity", gravity)):
         scalars[key] = reader.expression(table.get(key, default), ("rail", key), "rail", key)
     creep = None
     if "creep" in table:
@@ -481,7 +482,7 @@ def parse_toml_model(text: str, source: str = "<string>") -> Model:
         )
     rail = None
     if "rail" in data:
-        rail = _rail(reader, reader.table(data["rail"], ("rail",), "rail"))
+        rail = _rail(reader, reader.table(data["rail"], ("rail",), "rail"), parameters)
     model = Model(
         name=name,
         source=source,
