@@ -60,6 +60,7 @@ for _extra in (ROOT / "examples", ROOT / "src"):
 import numpy as np  # noqa: E402
 import scipy  # noqa: E402
 import sympy as sp  # noqa: E402
+import sympy.physics.mechanics  # noqa: E402,F401  (imported before any timing, also in child processes)
 from sympy.core.cache import clear_cache  # noqa: E402
 
 from express.generator import generate  # noqa: E402
@@ -293,20 +294,23 @@ def _child(channel, function, model, values):
 
 
 def run_in_child(function, model, values, timeout: float):
-    """Run ``function(model)`` in a forked process with a time limit.
+    """Run ``function(model)`` in a fresh (spawned) process with a time limit.
+
+    A spawned interpreter starts with an empty heap and a cold SymPy cache, so its peak
+    RSS minus its RSS once the model is unpickled is the memory the run needed.
 
     Returns a dict with ``seconds``, ``rss_growth`` (peak RSS minus RSS at start, bytes),
     and ``names``/``arrays`` (matrices evaluated at ``values``), or
     ``{"timeout": True, "rss_growth": peak so far}`` or ``{"error": message}``.
     """
-    context = mp.get_context("fork")
+    context = mp.get_context("spawn")
     channel = context.Queue()
     process = context.Process(target=_child, args=(channel, function, model, values), daemon=True)
     process.start()
     outcome: dict = {}
     rss_start = 0.0
     try:
-        message = channel.get(timeout=60)
+        message = channel.get(timeout=120)  # interpreter start-up and imports
         if message[0] == "start":
             rss_start = message[1]
             message = channel.get(timeout=timeout)
@@ -314,7 +318,7 @@ def run_in_child(function, model, values, timeout: float):
             outcome = {"error": message[1]}
         else:
             _, seconds, rss_start, rss_peak = message
-            outcome = {"seconds": seconds, "rss_growth": max(rss_peak - rss_start, 0.0)}
+            outcome = {"seconds": seconds, "rss_growth": max(rss_peak - rss_start, 0.0), "rss_peak": rss_peak}
             try:
                 message = channel.get(timeout=max(300.0, timeout))
                 if message[0] == "arrays":
@@ -326,6 +330,7 @@ def run_in_child(function, model, values, timeout: float):
         peak = _peak_rss_of(process.pid)
         if peak is not None:
             outcome["rss_growth"] = max(peak - rss_start, 0.0)
+            outcome["rss_peak"] = peak
     finally:
         if process.is_alive():
             process.terminate()
@@ -353,6 +358,17 @@ def fmt_runs(times) -> str:
 
 def fmt_mb(size) -> str:
     return "-" if size is None else f"{size / MB:.1f}"
+
+
+def fmt_rss(outcome, lower_bound: bool = False) -> str:
+    """``growth (peak N)`` of a child process, MB."""
+    if not outcome or outcome.get("rss_growth") is None:
+        return "-"
+    prefix = ">" if lower_bound else ""
+    text = f"{prefix}{outcome['rss_growth'] / MB:.1f}"
+    if outcome.get("rss_peak") is not None:
+        text += f" (peak {prefix}{outcome['rss_peak'] / MB:.0f})"
+    return text
 
 
 def table(headers, rows) -> str:
@@ -455,8 +471,13 @@ class Contention:
             return "CPU used by other processes: unknown"
         wall = time.perf_counter() - self.wall
         others = max(busy - self.busy - (_own_cpu_seconds() - self.own), 0.0) / wall
-        text = f"CPU used by other processes during the run: {others:.2f} cores on average"
-        if others > 0.25:
+        try:
+            usable = len(os.sched_getaffinity(0))
+        except AttributeError:
+            usable = os.cpu_count() or 1
+        text = f"CPU used by other processes during the run: {others:.2f} of {usable} cores on average"
+        # the benchmark needs one core (its children never run alongside it)
+        if others > max(0.25, usable - 1.0):
             text += " (WARNING: other work competed for the CPUs; timings are inflated)"
         return text
 
@@ -502,7 +523,7 @@ class Bench:
 
         lagrange_times: list[float] = []
         lagrange_note = "skipped (--quick)"
-        lagrange_rss = None
+        lagrange_rss: dict | None = None
         lagrange_errors = None
         if not self.args.quick:
             lagrange_note = ""
@@ -516,7 +537,8 @@ class Bench:
                     lagrange_note = f"failed: {outcome['error']}"
                     break
                 lagrange_times.append(outcome["seconds"])
-                lagrange_rss = outcome["rss_growth"] if lagrange_rss is None else max(lagrange_rss, outcome["rss_growth"])
+                if lagrange_rss is None or outcome["rss_peak"] > lagrange_rss["rss_peak"]:
+                    lagrange_rss = outcome
                 if outcome.get("arrays"):
                     lagrange_errors = compare(reference, outcome["names"], outcome["arrays"])
         e_med = statistics.median(express)
@@ -533,11 +555,11 @@ class Bench:
         if lagrange_times:
             l_med = statistics.median(lagrange_times)
             rows.append(["LagrangesMethod + linearize (M, K)", fmt_s(l_med), fmt_runs(lagrange_times),
-                         f"{l_med / e_med:.3g}", "-", fmt_mb(lagrange_rss)])
+                         f"{l_med / e_med:.3g}", "-", fmt_rss(lagrange_rss)])
         else:
             rows.append(["LagrangesMethod + linearize (M, K)", lagrange_note, "-", "-", "-", "-"])
         print(table(["method", "median_s", "runs (min..max)", "x EXPRESS", "tracemalloc_peak_MB",
-                     "rss_growth_MB"], rows))
+                     "child_rss_growth_MB"], rows))
         detail = " ".join(f"{k}:{v:.1e}" for k, v in errors.items())
         print(f"  agreement naive Hessian vs EXPRESS (T^T X T, rel. error {detail}): agree={agree}")
         if lagrange_errors is not None:
@@ -612,22 +634,22 @@ class Bench:
                         baseline["errors"] = compare(reference, outcome["names"], outcome["arrays"])
         e_med = train["median"]
         rows = [["EXPRESS generate(model)", fmt_s(e_med), fmt_runs(train["times"]), "1",
-                 fmt_mb(express_peak), fmt_mb(express_rss.get("rss_growth"))]]
+                 fmt_mb(express_peak), fmt_rss(express_rss)]]
         r_med = statistics.median(rail_times)
         rows.append(["EXPRESS generate_vehicle(model)", fmt_s(r_med), fmt_runs(rail_times),
                      f"{r_med / e_med:.3g}", "-", "-"])
         if baseline.get("seconds") is not None:
             rows.append(["naive SymPy Hessian (M, C, K)", fmt_s(baseline["seconds"]), "1 (child)",
-                         f"{baseline['seconds'] / e_med:.3g}", "-", fmt_mb(baseline.get("rss_growth"))])
+                         f"{baseline['seconds'] / e_med:.3g}", "-", fmt_rss(baseline)])
         elif baseline.get("timeout"):
             rows.append(["naive SymPy Hessian (M, C, K)", f">{args.baseline_timeout:.0f} (timed out)",
                          "1 (child)", f">{args.baseline_timeout / e_med:.3g}", "-",
-                         f">{fmt_mb(baseline['rss_growth'])}" if "rss_growth" in baseline else "-"])
+                         fmt_rss(baseline, lower_bound=True)])
         else:
             rows.append(["naive SymPy Hessian (M, C, K)", baseline.get("why", "-"), "-", "-", "-", "-"])
         rows.append(["LagrangesMethod", "not run (lever and vehicle only)", "-", "-", "-", "-"])
         print(table(["method", "median_s", "runs (min..max)", "x EXPRESS", "tracemalloc_peak_MB",
-                     "rss_growth_MB"], rows))
+                     "child_rss_growth_MB"], rows))
         if "errors" in baseline:
             agree = all(e <= AGREE_RTOL for e in baseline["errors"].values())
             detail = " ".join(f"{k}:{v:.1e}" for k, v in baseline["errors"].items())

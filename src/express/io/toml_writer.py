@@ -51,13 +51,9 @@ def value_text(value: sp.Expr) -> str:
 
 def value_to_toml(value: sp.Expr) -> str:
     """A TOML value for an exact expression: a number if possible, else a string."""
-    if value.is_Integer:
-        return str(int(value))
-    if value.is_Rational:
-        decimal = _decimal(value)
-        if decimal is not None:
-            return decimal
-    return json.dumps(sp.sstr(value))
+    text = value_text(value)
+    is_number = value.is_Rational and "/" not in text
+    return text if is_number else json.dumps(text)
 
 
 def _vector(values) -> str:
