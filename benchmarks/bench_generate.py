@@ -3,7 +3,7 @@
 
 Run from the repository root::
 
-    PYTHONPATH=src python3 benchmarks/bench_generate.py            # full run (~6-8 min)
+    PYTHONPATH=src python3 benchmarks/bench_generate.py            # full run (~6.5 min)
     PYTHONPATH=src python3 benchmarks/bench_generate.py --quick    # smoke test (~1 min)
     PYTHONPATH=src python3 benchmarks/bench_generate.py --cars 5   # another train size
 
@@ -686,6 +686,9 @@ class Bench:
                          f"{1000 * entry['median'] / entry['elements']:.3g}", b_text])
         print(table(["cars", "DOFs", "pins", "elements", "express_s", "express_ms_per_element", "naive_hessian_s"],
                     rows))
+        if len(sizes) < 2:
+            print("  (one size only: no scaling fit)")
+            return
         elements = [measured[c]["elements"] for c in sizes]
         exponent, _ = fit_exponent(elements, [measured[c]["median"] for c in sizes])
         per_element = [measured[c]["median"] / measured[c]["elements"] for c in sizes]
