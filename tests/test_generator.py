@@ -14,7 +14,6 @@ Three kinds of evidence that the generated M, C, K (and P, Pd) are right:
 
 from __future__ import annotations
 
-import hashlib
 import os
 import random
 import re

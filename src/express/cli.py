@@ -16,76 +16,17 @@ for _variable in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_variable, "1")
 
 import argparse  # noqa: E402
-import math  # noqa: E402
-import sys
-import tempfile
-from collections.abc import Sequence
-from pathlib import Path
+import sys  # noqa: E402
+from collections.abc import Sequence  # noqa: E402
+from pathlib import Path  # noqa: E402
 
-from . import __version__
-from .diagnostics import ModelError, Problem
-from .expressions import ExpressionError, is_valid_name, parse_expression
-from .units import UnitError, parse_quantity
+from . import __version__  # noqa: E402
+from .diagnostics import ModelError, Problem, UsageError  # noqa: E402
+from .io.output import parse_assignments, write_output  # noqa: E402
 
-__all__ = ["main", "write_output", "parse_assignments"]
+__all__ = ["main", "write_output", "parse_assignments", "UsageError"]
 
 EXIT_OK, EXIT_FAILURE, EXIT_USAGE = 0, 1, 2
-
-
-class UsageError(ValueError):
-    """A command-line mistake (bad --set, output over an input...)."""
-
-
-def parse_assignments(items: Sequence[str]) -> dict[str, float]:
-    """``["v=100 km/h", "Gamma=0.05"]`` -> ``{"v": 27.77..., "Gamma": 0.05}`` (SI)."""
-    values: dict[str, float] = {}
-    for item in items:
-        name, sep, text = item.partition("=")
-        name = name.strip()
-        if not sep or not is_valid_name(name):
-            raise UsageError(f'--set "{item}": expected NAME=VALUE, e.g. --set Gamma=0.05')
-        try:
-            value, _ = parse_quantity(text)
-        except UnitError:
-            try:
-                expression = parse_expression(text)
-            except ExpressionError as error:
-                raise UsageError(f'--set "{item}": "{text}" is not a number ({error})') from None
-            if expression.free_symbols or not expression.is_number:
-                raise UsageError(f'--set "{item}": "{text}" is not a number')
-            value = float(expression)
-        if not math.isfinite(value):
-            raise UsageError(f'--set "{item}": "{text}" is not a finite number')
-        values[name] = value
-    return values
-
-
-def write_output(path: Path, text: str, inputs: Sequence[Path] = ()) -> None:
-    """Write ``text`` to ``path`` whole or not at all; refuse to overwrite an input."""
-    target = path.resolve()
-    for source in inputs:
-        if Path(source).resolve() == target:
-            raise UsageError(f"{path}: refusing to overwrite the input file")
-    if target.is_dir():
-        raise UsageError(f"{path}: is a directory, not a file")
-    try:
-        target.parent.mkdir(parents=True, exist_ok=True)
-        handle, temporary = tempfile.mkstemp(dir=target.parent, prefix=f".{target.name}.", suffix=".tmp")
-    except OSError as error:
-        raise UsageError(f"{path}: cannot write ({error.strerror or error})") from None
-    try:
-        with os.fdopen(handle, "w", encoding="utf-8", newline="\n") as stream:
-            stream.write(text)
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(temporary, 0o666 & ~umask)
-        os.replace(temporary, target)
-    except OSError as error:
-        Path(temporary).unlink(missing_ok=True)
-        raise UsageError(f"{path}: cannot write ({error.strerror or error})") from None
-    except BaseException:
-        Path(temporary).unlink(missing_ok=True)
-        raise
 
 
 def _load(args: argparse.Namespace):
@@ -104,7 +45,7 @@ def _print_warnings(warnings: Sequence[Problem]) -> None:
 
 
 def _command_generate(args: argparse.Namespace) -> int:
-    from .export import FORMATS, SUFFIXES
+    from .export import FORMATS
     from .rail.build import generate_vehicle
 
     model = _load(args)

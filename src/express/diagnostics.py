@@ -42,3 +42,8 @@ class ModelError(ValueError):
     def __init__(self, problems: list[Problem] | tuple[Problem, ...]):
         self.problems = tuple(problems)
         super().__init__("\n".join(str(problem) for problem in self.problems))
+
+
+class UsageError(ValueError):
+    """A command-line mistake (a bad ``--set``, an output over an input, a bad option
+    value); the CLI prints it as one ``error:`` line and exits with status 2."""

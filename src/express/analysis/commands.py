@@ -30,6 +30,8 @@ from pathlib import Path
 
 import numpy as np
 
+from ..diagnostics import ModelError, UsageError
+
 __all__ = ["add_analysis_commands", "parse_range"]
 
 KMH = 1.0 / 3.6
@@ -130,9 +132,7 @@ def add_analysis_commands(commands, add_model_arguments) -> None:
 # --------------------------------------------------------------------------------------
 
 
-def _usage_error(message: str):
-    from ..cli import UsageError
-
+def _usage_error(message: str) -> UsageError:
     return UsageError(message)
 
 
@@ -141,9 +141,6 @@ def _guard(handler: Callable) -> Callable:
     file) into a clean usage error; model problems pass through unchanged."""
 
     def run(args, **kwargs):
-        from ..cli import UsageError
-        from ..diagnostics import ModelError
-
         try:
             return handler(args, **kwargs)
         except (ModelError, UsageError):
@@ -210,8 +207,7 @@ _VEHICLE_CACHE_SIZE = 4
 
 def _vehicle(args, load, command: str):
     """Load the model (``--set`` applied), check it has rail data, evaluate it."""
-    from ..cli import parse_assignments
-    from ..diagnostics import ModelError
+    from ..io.output import parse_assignments
     from ..io import load_model
     from ..statespace import vehicle_model
 
@@ -444,7 +440,7 @@ def _command_frf(args, load) -> int:
         columns[f"{name}_{kind}amplitude"] = np.abs(values)
         columns[f"{name}_{kind}phase_deg"] = np.degrees(np.angle(values))
     if output is not None:
-        from ..cli import write_output
+        from ..io.output import write_output
 
         write_output(output, _csv_text(columns), inputs=[Path(args.model)])
         _note(f"wrote {output}")
@@ -601,7 +597,7 @@ def _command_critical_speed(args, load) -> int:
             "modes": [c.mode.describe() if c is not None else None for c in sweep],
         }
         if output is not None:
-            from ..cli import write_output
+            from ..io.output import write_output
 
             text = _csv_text({args.parameter: conicities, "critical_speed_m_s": speeds,
                               "critical_speed_kmh": speeds / KMH,

@@ -92,7 +92,7 @@ def _csv(columns: dict[str, object]) -> str:
 
 
 def _write(path: Path, text: str) -> None:
-    from ..cli import write_output
+    from ..io.output import write_output
 
     write_output(path, text)
 

@@ -51,7 +51,6 @@ import sympy as sp
 from ..diagnostics import ModelError, Problem
 from ..expressions import ExpressionError, is_valid_name, parse_expression
 from ..model import (
-    AXES,
     DOF_NAMES,
     Body,
     ConnectionPoint,
