@@ -19,18 +19,28 @@ from sympy import QQ
 from sympy.polys.fields import field
 from sympy.polys.rings import ring
 
-__all__ = ["ExactDomain", "SparseVector", "needs_fractions"]
+__all__ = ["ExactDomain", "SparseVector", "needs_fractions", "inverted_symbols"]
 
 SparseVector = dict  # index -> domain element, zero entries omitted
 
 
 def needs_fractions(expressions: Iterable[sp.Expr]) -> bool:
     """Whether any expression divides by a parameter (needs the fraction field)."""
+    return inverted_symbols(expressions) != set()
+
+
+def inverted_symbols(expressions: Iterable[sp.Expr]) -> set[sp.Symbol] | None:
+    """The parameters that expressions divide by, when each divisor is a single
+    parameter (``f/v``, ``g/G``); ``None`` when some divisor is a sum or product
+    (``1/(a + b)``), which needs the fraction field."""
+    inverted: set[sp.Symbol] = set()
     for expression in expressions:
         for power in sp.sympify(expression).atoms(sp.Pow):
             if power.exp.is_negative and power.base.free_symbols:
-                return True
-    return False
+                if not power.base.is_Symbol:
+                    return None
+                inverted.add(power.base)
+    return inverted
 
 
 class ExactDomain:
@@ -42,12 +52,20 @@ class ExactDomain:
         Every parameter symbol that may appear (sorted by name for determinism).
     fractions : bool
         Use the fraction field ``QQ(parameters)`` instead of the ring.
+    inverses : iterable of sympy.Symbol
+        Parameters that are divided by (``v`` in ``f/v``): in the ring their inverses
+        are further generators (Laurent polynomials), which keeps ring speed for the
+        common case of single-parameter divisors.
     """
 
-    def __init__(self, symbols: Iterable[sp.Symbol], fractions: bool = False):
+    def __init__(self, symbols: Iterable[sp.Symbol], fractions: bool = False, inverses: Iterable[sp.Symbol] = ()):
         self.symbols = tuple(sorted(set(symbols), key=lambda s: s.name))
         self.fractions = fractions
-        gens = self.symbols or (sp.Symbol("_unused"),)
+        inverses = () if fractions else tuple(sorted(set(inverses), key=lambda s: s.name))
+        # parameter names start with a letter, so these cannot clash with one
+        self._inverse = {symbol: sp.Symbol(f"_inverse_{symbol.name}") for symbol in inverses}
+        self._restore = {inverse: 1 / symbol for symbol, inverse in self._inverse.items()}
+        gens = (self.symbols + tuple(self._inverse.values())) or (sp.Symbol("_unused"),)
         if fractions:
             self.domain, *_ = field(gens, QQ)
         else:
@@ -61,13 +79,19 @@ class ExactDomain:
         """Convert a SymPy expression of the parameters into the domain."""
         cached = self._from_cache.get(expression)
         if cached is None:
-            cached = self.domain.from_expr(sp.sympify(expression)) if expression != 0 else self.zero
+            value = sp.sympify(expression)
+            if self._inverse:
+                value = value.replace(
+                    lambda e: e.is_Pow and e.exp.is_negative and e.base in self._inverse,
+                    lambda e: self._inverse[e.base] ** (-e.exp),
+                )
+            cached = self.domain.from_expr(value) if value != 0 else self.zero
             self._from_cache[expression] = cached
         return cached
 
     def to_expr(self, element) -> sp.Expr:
         """Plain SymPy expression of a domain element (no factoring)."""
-        return element.as_expr()
+        return element.as_expr().xreplace(self._restore)
 
     def readable(self, element) -> sp.Expr:
         """A factored SymPy expression of a domain element, for people to read."""
@@ -82,7 +106,7 @@ class ExactDomain:
             denominator = _readable_polynomial(element.denom)
             result = numerator / denominator
         else:
-            result = _readable_polynomial(element)
+            result = _readable_polynomial(element).xreplace(self._restore)
         self._readable_cache[key] = result
         return result
 
@@ -103,6 +127,7 @@ def _readable_polynomial(polynomial) -> sp.Expr:
         content, primitive = rest.primitive()
         common = ring.from_dict({monomial: ring.domain.one})
         return sp.Mul(ring.domain.to_sympy(content), common.as_expr(), primitive.as_expr())
+    polynomial = _compact(polynomial)
     coefficient, factors = polynomial.factor_list()
     coefficient = polynomial.ring.domain.to_sympy(coefficient)
     if coefficient < 0:
@@ -115,3 +140,24 @@ def _readable_polynomial(polynomial) -> sp.Expr:
                 coefficient = -coefficient
                 break
     return sp.Mul(coefficient, *[factor.as_expr() ** power for factor, power in factors])
+
+
+_COMPACT_RINGS: dict[tuple, object] = {}
+
+
+def _compact(polynomial):
+    """The same polynomial in a ring of only the generators it uses.
+
+    Factorization works on a dense recursive representation whose cost grows with the
+    number of generators: a model has dozens of parameters, an entry uses a few.
+    """
+    terms = polynomial.terms()
+    used = tuple(i for i in range(polynomial.ring.ngens) if any(m[i] for m, _ in terms))
+    if len(used) == polynomial.ring.ngens:
+        return polynomial
+    symbols = tuple(polynomial.ring.symbols[i] for i in used)
+    small = _COMPACT_RINGS.get(symbols)
+    if small is None:
+        small, *_ = ring(symbols, polynomial.ring.domain)
+        _COMPACT_RINGS[symbols] = small
+    return small.from_dict({tuple(m[i] for i in used): c for m, c in terms})

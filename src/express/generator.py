@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
-from .algebra import ExactDomain, needs_fractions
+from .algebra import ExactDomain, inverted_symbols, needs_fractions
 from .diagnostics import ModelError, Problem
 from .equations import EquationsOfMotion
 from .kinematics import generalized_coordinates, point_motion
@@ -268,9 +268,10 @@ def generate(model: Model, *, keep_virtual: bool = False, added: AddedTerms | No
     added = added or AddedTerms()
     expressions = list(_model_expressions(model, added))
     symbols = set().union(*(sp.sympify(e).free_symbols for e in expressions)) if expressions else set()
-    fractions = needs_fractions(expressions)
+    inverses = inverted_symbols(expressions)
+    fractions = inverses is None
     try:
-        return _generate(model, keep_virtual, added, ExactDomain(symbols, fractions))
+        return _generate(model, keep_virtual, added, ExactDomain(symbols, fractions, inverses or ()))
     except _NeedsFractions:
         return _generate(model, keep_virtual, added, ExactDomain(symbols, True))
 
