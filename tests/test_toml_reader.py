@@ -16,6 +16,8 @@ from pathlib import Path
 
 import pytest
 import sympy as sp
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 from express.cli import main
 from express.diagnostics import ModelError
@@ -546,3 +548,58 @@ def test_ids_must_be_identifiers_or_survive_conversion(extra, odd_id):
     except ModelError as error:
         pytest.fail(f"accepted the id {odd_id!r} but the converted file does not read back:\n{error}")
     assert records(again) == records(model)
+
+
+# --------------------------------------------------------------------------- fuzzing
+
+_LEVER_TOML_LINES = model_to_toml(load_model("examples/lever.exp")).splitlines()
+_NASTY = st.sampled_from(
+    ['"__import__(\'os\').system(\'ls\')"', "[1, 2", "{", '"a(b)"', "inf", "nan", "1e999", '"1/0"', '"x^y"',
+     "true", '["x", "q"]', '"\u00e9\u6f22"', "-", "= =", "[[bodies]]", '"(a+b)^64"', "[]", "{}"]
+)
+
+
+@st.composite
+def _mutated_toml(draw):
+    lines = list(_LEVER_TOML_LINES)
+    for _ in range(draw(st.integers(1, 4))):
+        index = draw(st.integers(0, len(lines) - 1))
+        action = draw(st.sampled_from(["delete", "duplicate", "value", "text", "swap"]))
+        if action == "delete":
+            del lines[index]
+        elif action == "duplicate":
+            lines.insert(index, lines[index])
+        elif action == "value" and "=" in lines[index]:
+            key = lines[index].split("=", 1)[0]
+            lines[index] = f"{key}= {draw(_NASTY)}"
+        elif action == "text":
+            lines[index] = draw(st.text(max_size=40))
+        elif action == "swap":
+            other = draw(st.integers(0, len(lines) - 1))
+            lines[index], lines[other] = lines[other], lines[index]
+        if not lines:
+            break
+    return "\n".join(lines) + "\n"
+
+
+@settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(_mutated_toml())
+def test_mutated_toml_gives_a_model_or_the_clean_error(text):
+    """A damaged modern file either loads or raises ModelError, whose problems all name
+    the file: never another exception."""
+    try:
+        model = parse_toml_model(text, source="fuzz.toml")
+    except ModelError as error:
+        assert error.problems and all(problem.file == "fuzz.toml" for problem in error.problems)
+    else:
+        assert model.source == "fuzz.toml"
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.text(max_size=300))
+def test_random_text_as_toml_gives_the_clean_error(text):
+    """Random text is never anything but a model or a ModelError."""
+    try:
+        parse_toml_model(text, source="random.toml")
+    except ModelError:
+        pass
