@@ -60,6 +60,8 @@ for _extra in (ROOT / "examples", ROOT / "src"):
 import numpy as np  # noqa: E402
 import scipy  # noqa: E402
 import sympy as sp  # noqa: E402
+
+from machine import cpu_name, usable_cores  # noqa: E402  (benchmarks/machine.py)
 import sympy.physics.mechanics  # noqa: E402,F401  (imported before any timing, also in child processes)
 from sympy.core.cache import clear_cache  # noqa: E402
 
@@ -405,19 +407,8 @@ def fit_exponent(xs, ys):
 
 
 def machine_info() -> str:
-    cpu = platform.processor() or "?"
-    try:
-        with open("/proc/cpuinfo") as handle:
-            for line in handle:
-                if line.startswith("model name"):
-                    cpu = line.split(":", 1)[1].strip()
-                    break
-    except OSError:
-        pass
-    try:
-        usable = len(os.sched_getaffinity(0))
-    except AttributeError:
-        usable = os.cpu_count()
+    cpu = cpu_name()
+    usable = usable_cores()
     try:
         from sympy.external.gmpy import GROUND_TYPES
     except ImportError:  # pragma: no cover

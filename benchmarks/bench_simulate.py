@@ -64,6 +64,8 @@ from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402  (Numba and express are imported later, after NUMBA_CACHE_DIR is set)
 
+from machine import cpu_name, usable_cores  # noqa: E402  (benchmarks/machine.py)
+
 ROOT = Path(__file__).resolve().parents[1]
 if str(ROOT / "src") not in sys.path:
     sys.path.insert(0, str(ROOT / "src"))
@@ -381,19 +383,8 @@ def machine_info() -> str:
     import numba
     import scipy
 
-    cpu = platform.processor() or "?"
-    try:
-        with open("/proc/cpuinfo") as handle:
-            for line in handle:
-                if line.startswith("model name"):
-                    cpu = line.split(":", 1)[1].strip()
-                    break
-    except OSError:
-        pass
-    try:
-        usable = len(os.sched_getaffinity(0))
-    except AttributeError:
-        usable = os.cpu_count()
+    cpu = cpu_name()
+    usable = usable_cores()
     try:
         load = ", ".join(f"{x:.2f}" for x in os.getloadavg())
     except OSError:
