@@ -31,6 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from ..diagnostics import ModelError, UsageError
+from ..io.output import json_safe
 
 __all__ = ["add_analysis_commands", "parse_range"]
 
@@ -250,24 +251,8 @@ def _require_rail(vehicle, command: str) -> None:
         )
 
 
-def _clean(value):
-    """JSON-safe: nan/inf -> None, numpy scalars -> float."""
-    if isinstance(value, dict):
-        return {str(k): _clean(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_clean(v) for v in value]
-    if isinstance(value, np.ndarray):
-        return _clean(value.tolist())
-    if isinstance(value, (np.floating, float)):
-        number = float(value)
-        return number if math.isfinite(number) else None
-    if isinstance(value, (np.integer,)):
-        return int(value)
-    return value
-
-
 def _print_json(data: dict) -> None:
-    sys.stdout.write(json.dumps(_clean(data), indent=2, allow_nan=False) + "\n")
+    sys.stdout.write(json.dumps(json_safe(data), indent=2, allow_nan=False) + "\n")
 
 
 def _check_figure_path(path: str | None) -> Path | None:

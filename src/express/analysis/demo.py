@@ -21,13 +21,14 @@ from __future__ import annotations
 import csv
 import io
 import json
-import math
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+
+from ..io.output import json_safe
 
 __all__ = ["run_demo", "find_examples", "lever_step_response", "LEVER_CASES", "PAPER"]
 
@@ -616,22 +617,6 @@ def _summary(results: dict, elapsed: float) -> tuple[str, dict]:
     return "\n".join(lines), numbers
 
 
-def _json_safe(value):
-    if isinstance(value, dict):
-        return {str(k): _json_safe(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_json_safe(v) for v in value]
-    if isinstance(value, np.ndarray):
-        return _json_safe(value.tolist())
-    if isinstance(value, (float, np.floating)):
-        return float(value) if math.isfinite(value) else None
-    if isinstance(value, np.bool_):
-        return bool(value)
-    if isinstance(value, np.integer):
-        return int(value)
-    return value
-
-
 # --------------------------------------------------------------------------------------
 # entry point
 # --------------------------------------------------------------------------------------
@@ -672,7 +657,7 @@ def run_demo(outdir: str | Path = "demo-out", *, examples: Path | None = None,
     results["fig10"] = _figure10(outdir, cars, log)
     results["fig11"] = _figure11(outdir, cars, log)
     text, numbers = _summary(results, time.perf_counter() - start)
-    _write(outdir / "summary.json", json.dumps(_json_safe(numbers), indent=2) + "\n")
+    _write(outdir / "summary.json", json.dumps(json_safe(numbers), indent=2) + "\n")
     summary = outdir / "summary.md"
     _write(summary, text)
     log(f"  done in {time.perf_counter() - start:.1f} s")

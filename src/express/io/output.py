@@ -17,7 +17,7 @@ from ..diagnostics import UsageError
 from ..expressions import ExpressionError, is_valid_name, parse_expression
 from ..units import UnitError, parse_quantity
 
-__all__ = ["parse_assignments", "write_output"]
+__all__ = ["json_safe", "parse_assignments", "write_output"]
 
 
 def parse_assignments(items: Sequence[str]) -> dict[str, float]:
@@ -70,3 +70,24 @@ def write_output(path: Path, text: str, inputs: Sequence[Path] = ()) -> None:
     except BaseException:
         Path(temporary).unlink(missing_ok=True)
         raise
+
+
+def json_safe(value):
+    """A copy of ``value`` that :func:`json.dumps` accepts with ``allow_nan=False``:
+    NumPy arrays and scalars become lists and Python numbers, nan/inf become None."""
+    import numpy as np
+
+    if isinstance(value, dict):
+        return {str(k): json_safe(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [json_safe(v) for v in value]
+    if isinstance(value, np.ndarray):
+        return json_safe(value.tolist())
+    if isinstance(value, (float, np.floating)):
+        number = float(value)
+        return number if math.isfinite(number) else None
+    if isinstance(value, np.bool_):
+        return bool(value)
+    if isinstance(value, np.integer):
+        return int(value)
+    return value
