@@ -150,7 +150,7 @@ class Bench:
                                   f"(target >= {REALTIME_TARGET:.0f}: {status})")
                 # where the time goes (informative)
                 v = vehicle.speed
-                a = vehicle.A(v)
+                a = vehicle.state_matrix(v)
                 t_exp, _, _ = _median_time(lambda: discretize(a, 0.005), args.runs)
                 t_inp, _, _ = _median_time(lambda: track_inputs(vehicle, track, result.distance, v), args.runs)
                 print(f"{'':16s} of which discretize (expm, {2 * vehicle.n}x{2 * vehicle.n} -> "
@@ -291,7 +291,7 @@ class Bench:
               f"(target < {ROOT_LOCUS_TARGET_S:g} s)")
 
         n = vehicle.n
-        mass, stiffness, c0, c1 = vehicle.M, vehicle.K, vehicle.C0, vehicle.C1
+        mass, stiffness, c0, c1 = vehicle.mass, vehicle.stiffness, vehicle.damping_base, vehicle.damping_creep
 
         def naive(v):
             m_inv = np.linalg.inv(mass)
@@ -327,7 +327,7 @@ class Bench:
 def _scan_critical(vehicle, speeds) -> float:
     """Lowest speed of the scan at which the largest real part is positive (nan: none)."""
     for v in speeds:
-        if np.linalg.eigvals(vehicle.A(v)).real.max() > 0.0:
+        if np.linalg.eigvals(vehicle.state_matrix(v)).real.max() > 0.0:
             return float(v)
     return float("nan")
 

@@ -63,7 +63,7 @@ def test_no_kinf_in_any_output(steered_equations, steered):
         assert "kinf" not in export(steered_equations), name
     # the numerical model does not depend on it either
     changed = steered.with_values({"kinf": 1.0e3})
-    for attribute in ("M", "K", "C0", "C1", "P0", "P2", "Pd"):
+    for attribute in ("mass", "stiffness", "damping_base", "damping_creep", "forcing_base", "forcing_speed2", "forcing_rate_matrix"):
         np.testing.assert_array_equal(getattr(changed, attribute), getattr(steered, attribute))
 
 
@@ -99,9 +99,9 @@ def test_mass_damping_stiffness_symmetry(name, steered_equations):
 @pytest.mark.parametrize("name", ["forced-steering", "conventional"])
 def test_mass_positive_definite(name, steered):
     vehicle = steered if name == "forced-steering" else vehicle_model(load_model(EXAMPLES / f"{name}.toml"))
-    np.testing.assert_array_equal(vehicle.M, vehicle.M.T)
-    assert np.linalg.eigvalsh(vehicle.M).min() > 0
-    np.testing.assert_allclose(vehicle.C(30.0), vehicle.C(30.0).T, atol=1e-9 * np.abs(vehicle.C(30.0)).max())
+    np.testing.assert_array_equal(vehicle.mass, vehicle.mass.T)
+    assert np.linalg.eigvalsh(vehicle.mass).min() > 0
+    np.testing.assert_allclose(vehicle.damping(30.0), vehicle.damping(30.0).T, atol=1e-9 * np.abs(vehicle.damping(30.0)).max())
 
 
 # --- curvature terms: the steering levers ---------------------------------------------------
@@ -129,8 +129,8 @@ def test_geometric_lever_angle_in_a_steady_curve(steered, direction):
     vehicle = steered.with_values({"kLU": 1.0e12, "kLL": 1.0})
     levers = [vehicle.dof_index(name) for name in LEVERS]
     u = _curve_inputs(vehicle, direction / 400.0)
-    k_ll = vehicle.K[np.ix_(levers, levers)]
-    force = (vehicle.P(120 / 3.6) @ u)[levers]
+    k_ll = vehicle.stiffness[np.ix_(levers, levers)]
+    force = (vehicle.forcing(120 / 3.6) @ u)[levers]
     theta = np.linalg.solve(k_ll, force)
     geometric = 1.0 * 7.2 / (400.0 * 0.3)
     assert geometric == pytest.approx(0.06)
@@ -155,7 +155,7 @@ def test_cant_deficiency_force_on_the_whole_vehicle(steered, direction):
     """
     speed, rho, cant = 120 / 3.6, direction / 400.0, direction * 0.095
     u = _curve_inputs(steered, rho, cant)
-    force = steered.P(speed) @ u
+    force = steered.forcing(speed) @ u
     lateral = [i for i, dof in enumerate(steered.dofs) if dof.endswith(".y")]
     longitudinal = [i for i, dof in enumerate(steered.dofs) if dof.endswith(".x")]
     m_total = 30000.0 + 2 * 2600.0 + 4 * 1400.0
@@ -165,12 +165,12 @@ def test_cant_deficiency_force_on_the_whole_vehicle(steered, direction):
     assert abs(force[longitudinal].sum()) < 1e-9 * abs(expected)
     for bogie in ("T1", "T2"):
         i, j = steered.dof_index(f"{bogie}.x"), steered.dof_index(f"{bogie}.y")
-        assert steered.M[i, i] == pytest.approx(2600.0 + 2 * 20.0)
-        assert steered.M[j, j] == pytest.approx(2600.0)
+        assert steered.mass[i, i] == pytest.approx(2600.0 + 2 * 20.0)
+        assert steered.mass[j, j] == pytest.approx(2600.0)
     # the force on each body alone, seen without the connections: P2 v^2 + cant column
     for body, mass in (("CB", 30000.0), ("T1", 2600.0), ("W1", 1400.0)):
         row = steered.dof_index(f"{body}.y")
         station = next(s for s in steered.layout.stations if body in s.bodies)
-        own = (steered.P2[row, steered.inputs.index(station.curvature_input)] * speed**2 * rho
-               + steered.P0[row, steered.inputs.index(station.cant_input)] * cant)
+        own = (steered.forcing_speed2[row, steered.inputs.index(station.curvature_input)] * speed**2 * rho
+               + steered.forcing_base[row, steered.inputs.index(station.cant_input)] * cant)
         assert own == pytest.approx(-mass * (speed**2 * rho - 9.81 * cant / 1.067), rel=1e-9)

@@ -293,8 +293,8 @@ def test_linear_run_reproduces_the_frequency_response(steered):
     u = np.zeros(len(inputs), dtype=complex)
     for wheelset, name in zip(steered.wheelsets, steered.layout.irregularity):
         u[inputs.index(name)] = amplitude * np.exp(-1j * k * (lead - wheelset.station))
-    a = steered.A(v)
-    response = np.linalg.solve(1j * omega * np.eye(a.shape[0]) - a, steered.B(v) @ u + 1j * omega * (steered.Bd() @ u))
+    a = steered.state_matrix(v)
+    response = np.linalg.solve(1j * omega * np.eye(a.shape[0]) - a, steered.input_matrix(v) @ u + 1j * omega * (steered.input_rate_matrix(v) @ u))
     result = simulate(steered, _straight(amplitude, wavelength), end=300.0, flange=False, saturation=False,
                       initial_state=response.imag, progress=False)
     expected = np.imag(response[None, :] * np.exp(1j * omega * result.time)[:, None])

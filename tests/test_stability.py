@@ -260,9 +260,9 @@ def test_restrained_wheelset_critical_speed_routh_hurwitz():
     wheelset = vehicle_model(model)
     kpsi = 2 * KX * D**2
     # nothing in the model that the quartic leaves out
-    np.testing.assert_allclose(wheelset.M, np.diag([MW, IWZ]))
-    np.testing.assert_allclose(wheelset.K, [[KY, -2 * F2], [2 * B * F1 * GAMMA / R0, kpsi]])
-    np.testing.assert_allclose(wheelset.C(10.0), np.diag([2 * F2 / 10.0, 2 * B**2 * F1 / 10.0]))
+    np.testing.assert_allclose(wheelset.mass, np.diag([MW, IWZ]))
+    np.testing.assert_allclose(wheelset.stiffness, [[KY, -2 * F2], [2 * B * F1 * GAMMA / R0, kpsi]])
+    np.testing.assert_allclose(wheelset.damping(10.0), np.diag([2 * F2 / 10.0, 2 * B**2 * F1 / 10.0]))
     expected = _hurwitz_critical_speed(MW, IWZ, F1, F2, GAMMA, R0, B, KY, kpsi)
     result = critical_speed(wheelset, v_max=500.0)
     assert isinstance(result, CriticalSpeed) and not result.unstable_at_min
@@ -345,7 +345,7 @@ def test_root_locus_matches_eigenvalues(steered):
     locus = root_locus(steered, speeds)
     assert locus.shape == (4, 2 * steered.n) and locus.dtype == complex
     for row, speed in zip(locus, speeds):
-        reference = np.linalg.eigvals(steered.A(speed))
+        reference = np.linalg.eigvals(steered.state_matrix(speed))
         scale = 1e-8 * np.abs(reference).max()
         for value in reference:
             assert np.min(np.abs(row - value)) < scale

@@ -48,7 +48,7 @@ def vehicle():
 def test_speed_split_matches_direct_evaluation(vehicle, speed):
     """C0 + C1/v and P0 + P2 v^2 equal the symbolic matrices evaluated at v."""
     values = {sp.Symbol(k): v for k, v in {**vehicle.values, "v": speed}.items()}
-    for key, numeric in (("C", vehicle.C(speed)), ("P", vehicle.P(speed)), ("K", vehicle.K)):
+    for key, numeric in (("C", vehicle.damping(speed)), ("P", vehicle.forcing(speed)), ("K", vehicle.stiffness)):
         direct = np.array(vehicle.equations.matrices[key].xreplace(values), dtype=float)
         assert np.allclose(numeric, direct, rtol=1e-12, atol=1e-9 * np.abs(direct).max())
 
@@ -57,12 +57,12 @@ def test_state_matrices_are_the_papers_eqs_15_and_16(vehicle):
     """A = [[0, I], [-M^-1 K, -M^-1 C]], B = [[0], [M^-1 P]] (eqs. 15-16)."""
     v = 30.0
     n = vehicle.n
-    a, b = vehicle.A(v), vehicle.B(v)
-    minv = np.linalg.inv(vehicle.M)
+    a, b = vehicle.state_matrix(v), vehicle.input_matrix(v)
+    minv = np.linalg.inv(vehicle.mass)
     assert np.array_equal(a[:n, :n], np.zeros((n, n))) and np.array_equal(a[:n, n:], np.eye(n))
-    assert np.allclose(a[n:, :n], -minv @ vehicle.K)
-    assert np.allclose(a[n:, n:], -minv @ vehicle.C(v))
-    assert np.allclose(b[n:], minv @ vehicle.P(v)) and not b[:n].any()
+    assert np.allclose(a[n:, :n], -minv @ vehicle.stiffness)
+    assert np.allclose(a[n:, n:], -minv @ vehicle.damping(v))
+    assert np.allclose(b[n:], minv @ vehicle.forcing(v)) and not b[:n].any()
     assert a.shape == (48, 48) and b.shape == (48, 22)
 
 

@@ -57,10 +57,10 @@ def test_mass_matrix_is_symmetric_positive_definite_and_k_asymmetry_is_creep_onl
     """M is SPD; C is symmetric; K - K^T is non-zero only where the creep couples a
     wheelset's lateral and yaw DOFs."""
     vehicle = vehicle_model(load_model(STEERED))
-    np.linalg.cholesky(vehicle.M)
-    for c in (vehicle.C0, vehicle.C1):
+    np.linalg.cholesky(vehicle.mass)
+    for c in (vehicle.damping_base, vehicle.damping_creep):
         assert np.allclose(c, c.T)
-    asymmetric = np.argwhere(np.abs(vehicle.K - vehicle.K.T) > 1e-6 * np.abs(vehicle.K).max())
+    asymmetric = np.argwhere(np.abs(vehicle.stiffness - vehicle.stiffness.T) > 1e-6 * np.abs(vehicle.stiffness).max())
     wheelset_dofs = {i for w in vehicle.wheelsets for i in (w.y, w.psi)}
     assert len(asymmetric) > 0
     assert {int(i) for pair in asymmetric for i in pair} <= wheelset_dofs

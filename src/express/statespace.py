@@ -10,13 +10,15 @@ Examples
 --------
 >>> from express.io import load_model
 >>> vehicle = vehicle_model(load_model("examples/forced-steering.toml"))
->>> vehicle.A(30.0).shape, vehicle.B(30.0).shape
+>>> vehicle.state_matrix(30.0).shape, vehicle.input_matrix(30.0).shape
 ((48, 48), (48, 22))
 """
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 import sympy as sp
@@ -26,7 +28,14 @@ from .equations import EquationsOfMotion
 from .model import Model
 from .rail.build import RailLayout, generate_vehicle, rail_layout
 
-__all__ = ["WheelsetData", "VehicleModel", "vehicle_model", "evaluate_matrices", "SingularMassError"]
+__all__ = [
+    "WheelsetData",
+    "VehicleModel",
+    "vehicle_model",
+    "load_vehicle",
+    "evaluate_matrices",
+    "SingularMassError",
+]
 
 
 class SingularMassError(ModelError):
@@ -68,9 +77,16 @@ class VehicleModel:
         Parameter values used (SI).
     speed : float
         The model's own speed ``v`` [m/s] (nan when it has none).
-    M, K, C0, C1, P0, P2, Pd : numpy.ndarray
-        ``M`` (n, n); ``C(v) = C0 + C1 / v``; ``K`` (n, n); ``P(v) = P0 + P2 v**2``
-        (n, m); ``Pd`` (n, m).
+    mass, stiffness : numpy.ndarray
+        The vehicle's M and K, shape (n, n).
+    damping_base, damping_creep : numpy.ndarray
+        Damping ``C(v) = damping_base + damping_creep / v`` (creep damping falls with
+        speed), shape (n, n); see :meth:`damping`.
+    forcing_base, forcing_speed2 : numpy.ndarray
+        Forcing ``P(v) = forcing_base + forcing_speed2 v**2`` (cant deficiency),
+        shape (n, m); see :meth:`forcing`.
+    forcing_rate_matrix : numpy.ndarray
+        ``Pd``, multiplying the input rates ``u'``, shape (n, m); see :meth:`forcing_rate`.
     layout : RailLayout or None
         Meaning of the rail inputs.
     wheelsets : tuple of WheelsetData
@@ -81,26 +97,26 @@ class VehicleModel:
     equations: EquationsOfMotion
     values: dict[str, float]
     speed: float
-    M: np.ndarray
-    K: np.ndarray
-    C0: np.ndarray
-    C1: np.ndarray
-    P0: np.ndarray
-    P2: np.ndarray
-    Pd: np.ndarray
+    mass: np.ndarray
+    stiffness: np.ndarray
+    damping_base: np.ndarray
+    damping_creep: np.ndarray
+    forcing_base: np.ndarray
+    forcing_speed2: np.ndarray
+    forcing_rate_matrix: np.ndarray
     layout: RailLayout | None = None
     wheelsets: tuple[WheelsetData, ...] = ()
     station_positions: np.ndarray = field(default_factory=lambda: np.zeros(0))
     model: Model | None = None
 
     def __post_init__(self) -> None:
-        self.M_inv = _invert_mass(self.M, self.equations, self.model)
-        self._minv_k = self.M_inv @ self.K
-        self._minv_c0 = self.M_inv @ self.C0
-        self._minv_c1 = self.M_inv @ self.C1
-        self._minv_p0 = self.M_inv @ self.P0
-        self._minv_p2 = self.M_inv @ self.P2
-        self._minv_pd = self.M_inv @ self.Pd
+        self.mass_inverse = _invert_mass(self.mass, self.equations, self.model)
+        self._minv_k = self.mass_inverse @ self.stiffness
+        self._minv_c0 = self.mass_inverse @ self.damping_base
+        self._minv_c1 = self.mass_inverse @ self.damping_creep
+        self._minv_p0 = self.mass_inverse @ self.forcing_base
+        self._minv_p2 = self.mass_inverse @ self.forcing_speed2
+        self._minv_pd = self.mass_inverse @ self.forcing_rate_matrix
 
     @property
     def dofs(self) -> tuple[str, ...]:
@@ -122,16 +138,22 @@ class VehicleModel:
         except ValueError:
             raise ValueError(f"unknown DOF {name!r}; DOFs: {', '.join(self.equations.dofs)}") from None
 
-    def C(self, v: float) -> np.ndarray:  # noqa: N802
-        """Damping matrix at speed ``v`` [m/s], shape (n, n)."""
-        return self.C0 + self.C1 / v
+    def damping(self, v: float) -> np.ndarray:
+        """The vehicle's damping matrix ``C(v)`` at speed ``v`` [m/s], shape (n, n)."""
+        return self.damping_base + self.damping_creep / v
 
-    def P(self, v: float) -> np.ndarray:  # noqa: N802
-        """Input matrix at speed ``v`` [m/s], shape (n, m)."""
-        return self.P0 + self.P2 * v**2
+    def forcing(self, v: float) -> np.ndarray:
+        """The vehicle's input matrix ``P(v)`` at speed ``v`` [m/s], shape (n, m)."""
+        return self.forcing_base + self.forcing_speed2 * v**2
 
-    def A(self, v: float) -> np.ndarray:  # noqa: N802
-        """State matrix at speed ``v`` [m/s], shape (2n, 2n), state ``[q; q']``."""
+    def forcing_rate(self, v: float) -> np.ndarray:
+        """The matrix ``Pd`` of the input rates ``u'`` at speed ``v`` [m/s], shape (n, m).
+
+        Independent of the speed in the paper's models; takes it like the others."""
+        return self.forcing_rate_matrix
+
+    def state_matrix(self, v: float) -> np.ndarray:
+        """State-space ``A(v)`` at speed ``v`` [m/s], shape (2n, 2n), state ``[q; q']``."""
         n = self.n
         a = np.zeros((2 * n, 2 * n))
         a[:n, n:] = np.eye(n)
@@ -139,15 +161,15 @@ class VehicleModel:
         a[n:, n:] = -(self._minv_c0 + self._minv_c1 / v)
         return a
 
-    def B(self, v: float) -> np.ndarray:  # noqa: N802
-        """Input matrix of ``u`` at speed ``v``, shape (2n, m)."""
-        b = np.zeros((2 * self.n, self.P0.shape[1]))
+    def input_matrix(self, v: float) -> np.ndarray:
+        """State-space ``B(v)`` of the inputs ``u`` at speed ``v`` [m/s], shape (2n, m)."""
+        b = np.zeros((2 * self.n, self.forcing_base.shape[1]))
         b[self.n :] = self._minv_p0 + self._minv_p2 * v**2
         return b
 
-    def Bd(self) -> np.ndarray:  # noqa: N802
-        """Input matrix of the input rates ``u'``, shape (2n, m)."""
-        b = np.zeros((2 * self.n, self.Pd.shape[1]))
+    def input_rate_matrix(self, v: float) -> np.ndarray:
+        """State-space ``Bd`` of the input rates ``u'`` at speed ``v`` [m/s], shape (2n, m)."""
+        b = np.zeros((2 * self.n, self.forcing_rate_matrix.shape[1]))
         b[self.n :] = self._minv_pd
         return b
 
@@ -174,7 +196,7 @@ class VehicleModel:
 
     def eigenvalues(self, v: float) -> np.ndarray:
         """Eigenvalues of ``A(v)`` [1/s], shape (2n,)."""
-        return np.linalg.eigvals(self.A(v))
+        return np.linalg.eigvals(self.state_matrix(v))
 
 
 def _invert_mass(mass: np.ndarray, equations: EquationsOfMotion, model: Model | None) -> np.ndarray:
@@ -337,13 +359,13 @@ def _evaluate_vehicle(model, equations, evaluator, speed_name, with_rail=True) -
         equations=equations,
         values=values,
         speed=speed,
-        M=base["M"],
-        K=base["K"],
-        C0=base["C"],
-        C1=c1,
-        P0=base.get("P", np.zeros((n, m))),
-        P2=p2,
-        Pd=base.get("Pd", np.zeros((n, m))),
+        mass=base["M"],
+        stiffness=base["K"],
+        damping_base=base["C"],
+        damping_creep=c1,
+        forcing_base=base.get("P", np.zeros((n, m))),
+        forcing_speed2=p2,
+        forcing_rate_matrix=base.get("Pd", np.zeros((n, m))),
         layout=layout,
         wheelsets=wheelsets,
         station_positions=stations,
@@ -389,3 +411,75 @@ def point_lateral_row(model: Model, equations: EquationsOfMotion, body_id: str, 
     return row
 
 
+
+
+#: Generated vehicles by (model file, mtime, size, with_rail): generation takes about a
+#: second, re-evaluation with other values about a millisecond, so repeated in-process
+#: calls (scripts, tests, studies) reuse the generation.
+_GENERATED: dict[tuple, VehicleModel] = {}
+_GENERATED_CACHE_SIZE = 4
+
+
+def load_vehicle(
+    path: str | Path, overrides: Mapping[str, float | str] | None = None, *, with_rail: bool = True
+) -> VehicleModel:
+    """Read a model file once and return its numerical vehicle with ``overrides`` applied.
+
+    Parameters
+    ----------
+    path : str or Path
+        Model file (classic ``.exp`` or modern ``.toml``).
+    overrides : mapping of str to float or str, optional
+        Parameter values: numbers in SI, or strings with a unit (``"100 km/h"``).
+    with_rail : bool
+        Include the wheel/rail and curve terms when the model has rail data.
+
+    Raises
+    ------
+    ModelError
+        For a bad file, an unknown parameter name or a bad value (every problem at once).
+
+    Examples
+    --------
+    >>> vehicle = load_vehicle("examples/conventional.toml", {"Gamma": 0.2})
+    >>> vehicle.wheelsets[0].conicity
+    0.2
+    """
+    from .io import load_model
+    from .units import UnitError, parse_quantity
+
+    path = Path(path)
+    model = load_model(path)
+    values: dict[str, float] = {}
+    problems = []
+    for name, value in (overrides or {}).items():
+        if name not in model.parameters:
+            import difflib
+
+            close = difflib.get_close_matches(name, list(model.parameters), n=1)
+            hint = f"; did you mean {close[0]}?" if close else ""
+            problems.append(Problem(str(path), None, f"parameter {name}", f"the model has no such parameter{hint}"))
+            continue
+        try:
+            values[name] = parse_quantity(value)[0] if isinstance(value, str) else float(value)
+        except UnitError as error:
+            problems.append(Problem(str(path), None, f"parameter {name}", str(error)))
+    if problems:
+        raise ModelError(problems)
+    stat = path.resolve().stat()
+    key = (str(path.resolve()), stat.st_mtime_ns, stat.st_size, with_rail)
+    base = _GENERATED.get(key)
+    if base is None:
+        try:
+            base = vehicle_model(model, with_rail=with_rail)
+        except ModelError:
+            if not values:
+                raise
+            from .model import with_values
+            from .rail.build import with_creep_coefficients
+
+            return vehicle_model(with_creep_coefficients(with_values(model, values)), with_rail=with_rail)
+        if len(_GENERATED) >= _GENERATED_CACHE_SIZE:
+            _GENERATED.pop(next(iter(_GENERATED)))
+        _GENERATED[key] = base
+    return base.with_values(values) if values else base

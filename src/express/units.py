@@ -17,7 +17,10 @@ from __future__ import annotations
 
 import re
 
-__all__ = ["UnitError", "unit_factor", "to_si", "parse_quantity"]
+__all__ = ["KMH", "UnitError", "unit_factor", "to_si", "parse_quantity"]
+
+#: One km/h in m/s.
+KMH = 1.0 / 3.6
 
 _BASE = {
     "1": 1.0,

@@ -502,7 +502,7 @@ def _command_eigen(args, load) -> int:
     _require_rail(vehicle, "eigen")
     speed = _model_speed(vehicle, _speed(args.speed))
     result = eigen_analysis(vehicle, speed)
-    eigenvalues = np.linalg.eigvals(vehicle.A(speed))
+    eigenvalues = np.linalg.eigvals(vehicle.state_matrix(speed))
     eigenvalues = eigenvalues[np.lexsort((-eigenvalues.imag, -eigenvalues.real))]
     if args.json:
         _print_json({

@@ -209,14 +209,14 @@ def frequency_response(
     columns = [inputs.index(name) for name in vehicle.layout.irregularity]
     delays = irregularity_delays(vehicle, v)
     irregularity = amplitude * np.exp(-1j * w[:, None] * delays[None, :])  # (F, nw)
-    p = vehicle.P(v)[:, columns]
-    pd = vehicle.Pd[:, columns]
+    p = vehicle.forcing(v)[:, columns]
+    pd = vehicle.forcing_rate(v)[:, columns]
     # (F, n): (P + i w Pd) U
     rhs = irregularity @ p.T + (1j * w[:, None]) * (irregularity @ pd.T)
     stiffness = (
-        -(w**2)[:, None, None] * vehicle.M[None]
-        + (1j * w)[:, None, None] * vehicle.C(v)[None]
-        + vehicle.K[None].astype(complex)
+        -(w**2)[:, None, None] * vehicle.mass[None]
+        + (1j * w)[:, None, None] * vehicle.damping(v)[None]
+        + vehicle.stiffness[None].astype(complex)
     )
     try:
         X = np.linalg.solve(stiffness, rhs[..., None])[..., 0]

@@ -278,9 +278,9 @@ def simulate(
     time = np.arange(steps + 1) * dt
     distance = start + v * time
     inputs = track_inputs(vehicle, track, distance, v)
-    phi, gamma0, gamma1 = discretize(vehicle.A(v), dt)
+    phi, gamma0, gamma1 = discretize(vehicle.state_matrix(v), dt)
     # drive[k] = gamma0 e[k] + gamma1 (e[k+1] - e[k]) with e = B u + Bd u'
-    b, bd = vehicle.B(v), vehicle.Bd()
+    b, bd = vehicle.input_matrix(v), vehicle.input_rate_matrix(v)
     early, late = (gamma0 - gamma1), gamma1
     drive = (
         inputs.u[:-1] @ (early @ b).T
@@ -292,8 +292,8 @@ def simulate(
     count = len(vehicle.wheelsets)
     selector = np.zeros((2 * n, 2 * count))
     for j, wheelset in enumerate(vehicle.wheelsets):
-        selector[n:, j] = vehicle.M_inv[:, wheelset.y]
-        selector[n:, count + j] = vehicle.M_inv[:, wheelset.psi]
+        selector[n:, j] = vehicle.mass_inverse[:, wheelset.y]
+        selector[n:, count + j] = vehicle.mass_inverse[:, wheelset.psi]
     g0, g1 = gamma0 @ selector, gamma1 @ selector
     wheel_rail = _wheel_rail_arrays(vehicle, inputs, v)
     x0 = np.zeros(2 * n) if initial_state is None else np.asarray(initial_state, dtype=float)
@@ -384,14 +384,14 @@ def continuous_rhs(
     simulation benchmark's baseline): no discretization, inputs evaluated at ``t``.
     """
     v = float(vehicle.speed if speed is None else speed)
-    a, b, bd = vehicle.A(v), vehicle.B(v), vehicle.Bd()
+    a, b, bd = vehicle.state_matrix(v), vehicle.input_matrix(v), vehicle.input_rate_matrix(v)
     n = vehicle.n
     ws = vehicle.wheelsets
     count = len(ws)
     selector = np.zeros((2 * n, 2 * count))
     for j, wheelset in enumerate(ws):
-        selector[n:, j] = vehicle.M_inv[:, wheelset.y]
-        selector[n:, count + j] = vehicle.M_inv[:, wheelset.psi]
+        selector[n:, j] = vehicle.mass_inverse[:, wheelset.y]
+        selector[n:, count + j] = vehicle.mass_inverse[:, wheelset.psi]
     iy = [w.y for w in ws]
     ipsi = [w.psi for w in ws]
 

@@ -501,7 +501,7 @@ def _check_speed_dependent(vehicle: VehicleModel) -> None:
 
 
 def _least_stable_mode(vehicle: VehicleModel, speed: float) -> Mode:
-    values, vectors = np.linalg.eig(vehicle.A(float(speed)))
+    values, vectors = np.linalg.eig(vehicle.state_matrix(float(speed)))
     return modes_of(vehicle, values, vectors, limit=1)[0]
 
 
@@ -553,7 +553,7 @@ def eigen_analysis(vehicle: VehicleModel, speed: float) -> EigenResult:
     if not speed > 0:
         raise ValueError(f"speed must be positive, got {speed}")
     _check_speed_dependent(vehicle)
-    values, vectors = np.linalg.eig(vehicle.A(float(speed)))
+    values, vectors = np.linalg.eig(vehicle.state_matrix(float(speed)))
     return EigenResult(float(speed), modes_of(vehicle, values, vectors))
 
 
@@ -563,12 +563,12 @@ class _Pieces:
     def __init__(self, vehicle: VehicleModel):
         n = vehicle.n
         self.n = n
-        m_inv = vehicle.M_inv
+        m_inv = vehicle.mass_inverse
         self.template = np.zeros((2 * n, 2 * n))
         self.template[:n, n:] = np.eye(n)
-        self.template[n:, :n] = -(m_inv @ vehicle.K)
-        self.c0 = -(m_inv @ vehicle.C0)
-        self.c1 = -(m_inv @ vehicle.C1)
+        self.template[n:, :n] = -(m_inv @ vehicle.stiffness)
+        self.c0 = -(m_inv @ vehicle.damping_base)
+        self.c1 = -(m_inv @ vehicle.damping_creep)
 
     def stack(self, speeds: np.ndarray) -> np.ndarray:
         n = self.n
