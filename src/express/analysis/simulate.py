@@ -35,6 +35,7 @@ import numpy as np
 
 from ..rail.nonlinear import wheelset_forces
 from ..rail.track import Track
+from ..topology import classify_bodies
 from ..statespace import VehicleModel
 from .integrator import discretize, march
 
@@ -123,16 +124,8 @@ def _safe_keys(columns: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
 
 
 def lever_bodies(vehicle: VehicleModel) -> list[str]:
-    """Bodies that carry a pin's virtual DOF and a rotation DOF (the steering levers)."""
-    model = vehicle.model
-    if model is None:
-        return []
-    levers = []
-    for pin in model.pins:
-        body = model.point(pin.virtual).host
-        if body not in levers and any(f"{body}.{r}" in vehicle.dofs for r in ("rx", "ry", "rz")):
-            levers.append(body)
-    return levers
+    """The steering levers (:func:`express.topology.classify_bodies`), in pin order."""
+    return list(classify_bodies(vehicle.model).levers) if vehicle.model is not None else []
 
 
 def _lever_rotation(vehicle: VehicleModel, body: str) -> str:
@@ -143,24 +136,8 @@ def _lever_rotation(vehicle: VehicleModel, body: str) -> str:
 
 
 def bogie_of_wheelsets(vehicle: VehicleModel) -> dict[str, str]:
-    """The body each wheelset is suspended from: the one with a yaw DOF sharing the most
-    elements with it."""
-    model = vehicle.model
-    result = {}
-    if model is None:
-        return result
-    host = {point.id: point.host for point in model.points}
-    for wheelset in vehicle.wheelsets:
-        counts: dict[str, int] = {}
-        for element in model.elements:
-            ends = {host[element.s_end], host[element.t_end]}
-            if wheelset.name in ends and len(ends) == 2:
-                (other,) = ends - {wheelset.name}
-                if f"{other}.rz" in vehicle.dofs and other not in {w.name for w in vehicle.wheelsets}:
-                    counts[other] = counts.get(other, 0) + 1
-        if counts:
-            result[wheelset.name] = max(sorted(counts), key=lambda body: counts[body])
-    return result
+    """The bogie each wheelset is suspended from (:func:`express.topology.classify_bodies`)."""
+    return dict(classify_bodies(vehicle.model).bogie_of) if vehicle.model is not None else {}
 
 
 @dataclass(frozen=True)

@@ -44,6 +44,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import sympy as sp
 
+from ..topology import Topology, classify_bodies
 from ..statespace import VehicleModel
 
 __all__ = [
@@ -271,63 +272,18 @@ class CriticalSpeed:
 # ---------------------------------------------------------------------------------------
 
 
-@dataclass(frozen=True)
-class _Roles:
-    role: dict[str, str]  # body -> "wheelset", "lever", "bogie", "body"
-    group: dict[str, str]  # running-gear body -> its bogie ("" without one)
-    bogie_label: dict[str, str]  # bogie -> "front bogie" / "rear bogie" / "bogie T1"
-
-
-def _roles(vehicle: VehicleModel) -> _Roles:
-    """Classify the bodies: wheelsets (rail data), levers (host of a pin's virtual CP),
-    bogies (the non-wheelset, non-lever body sharing most elements with a wheelset) and
-    the rest (car body)."""
+def _roles(vehicle: VehicleModel) -> Topology:
+    """The role of every body (:func:`express.topology.classify_bodies`); without a
+    model, the wheelsets are known from the rail data and every other body is a car body."""
     model = vehicle.model
-    wheelsets = [w.name for w in vehicle.wheelsets]
-    role: dict[str, str] = {}
-    group: dict[str, str] = {}
-    bogie_label: dict[str, str] = {}
     if model is None:
+        wheelsets = {w.name for w in vehicle.wheelsets}
+        role = {}
         for dof in vehicle.dofs:
             body = dof.split(".")[0]
             role.setdefault(body, "wheelset" if body in wheelsets else "body")
-        return _Roles(role, group, bogie_label)
-    body_ids = {body.id for body in model.bodies}
-    host = {point.id: point.host for point in model.points}
-    levers: dict[str, str] = {}
-    for pin in model.pins:
-        lever, other = host.get(pin.virtual), host.get(pin.non_virtual)
-        if lever in body_ids:
-            levers[lever] = other if other in body_ids else ""
-    bogie_of: dict[str, str] = {}
-    for wheelset in wheelsets:
-        counts: dict[str, int] = {}
-        for element in model.elements:
-            ends = {host.get(element.s_end), host.get(element.t_end)}
-            if wheelset in ends and len(ends) == 2:
-                (other,) = ends - {wheelset}
-                if other in body_ids and other not in wheelsets and other not in levers:
-                    counts[other] = counts.get(other, 0) + 1
-        if counts:
-            bogie_of[wheelset] = max(sorted(counts), key=lambda body: counts[body])
-    bogies = sorted(set(bogie_of.values()), key=lambda b: -_station(model, b))
-    for body in model.bodies:
-        if body.id in wheelsets:
-            role[body.id] = "wheelset"
-            group[body.id] = bogie_of.get(body.id, "")
-        elif body.id in levers:
-            role[body.id] = "lever"
-            group[body.id] = levers[body.id] if levers[body.id] in bogies else ""
-        elif body.id in bogies:
-            role[body.id] = "bogie"
-            group[body.id] = body.id
-        else:
-            role[body.id] = "body"
-    if len(bogies) == 2:
-        bogie_label = {bogies[0]: "front bogie", bogies[1]: "rear bogie"}
-    else:
-        bogie_label = {b: f"bogie {b}" for b in bogies}
-    return _Roles(role, group, bogie_label)
+        return Topology(role, {}, {}, ())
+    return classify_bodies(model, lambda body: _station(model, body))
 
 
 def _number(expression, values: dict[str, float]) -> float:
@@ -345,7 +301,7 @@ def _station(model, body_id: str) -> float:
         return 0.0
 
 
-def _classify(shares: np.ndarray, dofs: Sequence[str], frequency: float, damping_ratio: float, roles: _Roles) -> str:
+def _classify(shares: np.ndarray, dofs: Sequence[str], frequency: float, damping_ratio: float, roles: Topology) -> str:
     """Label a mode from the share of each DOF (heuristics of :func:`eigen_analysis`)."""
     by_role: dict[str, float] = {}
     by_group: dict[str, float] = {}
@@ -359,7 +315,7 @@ def _classify(shares: np.ndarray, dofs: Sequence[str], frequency: float, damping
         if r == "body":
             body_dofs[motion] = body_dofs.get(motion, 0.0) + share
         else:
-            g = roles.group.get(body, "")
+            g = roles.group(body)
             by_group[g] = by_group.get(g, 0.0) + share
             if r == "bogie":
                 frame_dofs[motion] = frame_dofs.get(motion, 0.0) + share
@@ -373,9 +329,9 @@ def _classify(shares: np.ndarray, dofs: Sequence[str], frequency: float, damping
             return ""
         top = max(sorted(by_group), key=lambda g: by_group[g])
         if top and by_group[top] >= 0.75 * gear:
-            return roles.bogie_label.get(top, f"bogie {top}")
+            return roles.bogie_label(top)
         if len([g for g in by_group if g]) >= 2:
-            return "both bogies" if len(roles.bogie_label) == 2 else "all bogies"
+            return "both bogies" if len(roles.bogies) == 2 else "all bogies"
         return ""
 
     def words(parts: dict[str, float], vocabulary: dict[str, str]) -> str:
