@@ -1,0 +1,134 @@
+"""The numerical linear model at one speed, and its hand-off to other tools.
+
+A vehicle's equations ``M q'' + C(v) q' + K q = P(v) u + Pd u'`` become the state space
+``x' = A x + B u + Bd u'`` (``x = [q; q']``).  Tools such as python-control and
+``scipy.signal`` have no input-rate term, so :func:`linear_system` removes it exactly
+with the usual change of state ``z = x - Bd u``::
+
+    z' = A z + (B + A Bd) u,        x = z + Bd u
+
+(``Bd`` only acts on the velocity rows, so the outputs ``x`` are the physical
+displacements and velocities).  The result is a standard ``(A, B, C, D)`` with
+``C = I`` and ``D = Bd``; its poles are the vehicle's eigenvalues.
+
+Examples
+--------
+>>> from express.statespace import load_vehicle
+>>> system = linear_system(load_vehicle("examples/conventional.toml"), 30.0)
+>>> system.A.shape, system.B.shape, system.D.shape
+((40, 40), (40, 22), (40, 22))
+>>> system.outputs[:2]
+('CB.x', 'CB.y')
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from ..statespace import VehicleModel
+
+__all__ = ["LinearSystem", "linear_system", "to_control", "to_scipy", "numeric_matrices"]
+
+
+@dataclass(frozen=True)
+class LinearSystem:
+    """A standard state space ``z' = A z + B u``, ``y = C z + D u`` with names.
+
+    Attributes
+    ----------
+    A, B, C, D : numpy.ndarray
+        Shapes (2n, 2n), (2n, m), (2n, 2n), (2n, m).
+    states, inputs, outputs : tuple of str
+        Names: outputs are the DOFs then their rates (``W1.y``, ..., ``W1.y_dot``);
+        the states carry the same names (the state equals the output when ``u = 0``).
+    speed : float
+        Speed the matrices were evaluated at [m/s].
+    """
+
+    A: np.ndarray
+    B: np.ndarray
+    C: np.ndarray
+    D: np.ndarray
+    states: tuple[str, ...]
+    inputs: tuple[str, ...]
+    outputs: tuple[str, ...]
+    speed: float
+
+
+def linear_system(vehicle: VehicleModel, speed: float) -> LinearSystem:
+    """The vehicle's linear model at ``speed`` [m/s] with the input rates removed.
+
+    Raises
+    ------
+    ValueError
+        If ``speed`` is not a positive finite number.
+    """
+    if not (np.isfinite(speed) and speed > 0):
+        raise ValueError(f"speed {speed!r}: must be a positive number of m/s")
+    a = vehicle.state_matrix(speed)
+    b = vehicle.input_matrix(speed)
+    bd = vehicle.input_rate_matrix(speed)
+    names = tuple(vehicle.dofs) + tuple(f"{dof}_dot" for dof in vehicle.dofs)
+    return LinearSystem(
+        A=a,
+        B=b + a @ bd,
+        C=np.eye(a.shape[0]),
+        D=bd.copy(),
+        states=names,
+        inputs=tuple(vehicle.inputs),
+        outputs=names,
+        speed=float(speed),
+    )
+
+
+def to_control(vehicle: VehicleModel, speed: float) -> Any:
+    """A python-control ``StateSpace`` of the vehicle at ``speed`` [m/s], with named
+    states, inputs and outputs (needs python-control).
+
+    python-control does not allow ``.`` in signal names, so ``W1.yR`` becomes ``W1_yR``.
+    """
+    import control
+
+    system = linear_system(vehicle, speed)
+
+    def names(items: tuple[str, ...]) -> list[str]:
+        return [item.replace(".", "_") for item in items]
+
+    return control.ss(
+        system.A, system.B, system.C, system.D,
+        states=names(system.states), inputs=names(system.inputs), outputs=names(system.outputs),
+    )
+
+
+def to_scipy(vehicle: VehicleModel, speed: float) -> Any:
+    """A ``scipy.signal.StateSpace`` of the vehicle at ``speed`` [m/s] (names in
+    :func:`linear_system`)."""
+    from scipy import signal
+
+    system = linear_system(vehicle, speed)
+    return signal.StateSpace(system.A, system.B, system.C, system.D)
+
+
+def numeric_matrices(vehicle: VehicleModel, speed: float) -> dict[str, Any]:
+    """Every numerical matrix at ``speed`` [m/s], for ``.mat``/``.npz`` files.
+
+    Keys: ``M, C, K, P, Pd`` (the vehicle's equations), ``A, B, Bd`` (state space with
+    input rates), ``speed`` [m/s], ``dofs`` and ``inputs`` (names).
+    """
+    system = linear_system(vehicle, speed)
+    return {
+        "M": vehicle.mass,
+        "C": vehicle.damping(speed),
+        "K": vehicle.stiffness,
+        "P": vehicle.forcing(speed),
+        "Pd": vehicle.forcing_rate(speed),
+        "A": system.A,
+        "B": vehicle.input_matrix(speed),
+        "Bd": vehicle.input_rate_matrix(speed),
+        "speed": np.array(float(speed)),
+        "dofs": np.array(vehicle.dofs, dtype=str),
+        "inputs": np.array(vehicle.inputs, dtype=str),
+    }
