@@ -1,0 +1,165 @@
+"""Numerical geometry of a model for drawings: where bodies, points and elements are.
+
+A body's centre is its ``position`` (station x, lateral y, height z, in the vehicle
+frame); a connection point sits at its ``offset`` from the centre of its host; a point on
+a ground is at its offset from the vehicle frame's origin.  Everything here is numbers
+in metres: the caller turns parameter expressions into numbers (``value``).
+
+:func:`displaced_geometry` moves the same geometry by a set of DOF values with the
+small-motion kinematics of ``docs/conventions.md`` (``u = t + theta x r``), which is
+what a mode-shape drawing needs.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from ..diagnostics import ModelError, Problem
+from ..model import Model
+
+__all__ = ["DrawnBody", "DrawnElement", "ModelGeometry", "model_geometry", "displaced_geometry", "point_displacement"]
+
+Vector = tuple[float, float, float]
+
+
+@dataclass(frozen=True)
+class DrawnBody:
+    """A body to draw: its centre and the box spanned by its centre and points [m]."""
+
+    id: str
+    role: str
+    centre: Vector
+    low: Vector
+    high: Vector
+
+
+@dataclass(frozen=True)
+class DrawnElement:
+    """An element between the points ``s_point`` and ``t_point``; ``axis`` 0-2 for x, y,
+    z (3-5 rotations); ``kind`` is ``"spring"``, ``"damper"``, ``"spring-damper"``
+    (parallel) or ``"series"``."""
+
+    id: str
+    s_point: str
+    t_point: str
+    axis: int
+    kind: str
+
+
+@dataclass(frozen=True)
+class ModelGeometry:
+    """Bodies, points, elements and pins of a model in metres.
+
+    ``points`` maps a point id to its position; ``hosts`` a point id to its body or
+    ground; ``pins`` lists each pinned joint with its virtual point.
+    """
+
+    name: str
+    bodies: tuple[DrawnBody, ...]
+    points: dict[str, Vector]
+    hosts: dict[str, str]
+    elements: tuple[DrawnElement, ...]
+    pins: tuple[tuple[str, str], ...]
+
+    def ends(self, element: DrawnElement) -> tuple[Vector, Vector]:
+        """Positions of an element's two points [m]."""
+        return self.points[element.s_point], self.points[element.t_point]
+
+    def span(self, axes: tuple[int, ...] = (0, 1, 2)) -> float:
+        """The largest extent of the drawing along ``axes`` [m] (at least 1 mm)."""
+        coordinates = np.array(list(self.points.values()) + [b.centre for b in self.bodies] or [(0.0, 0.0, 0.0)])
+        return float(max(np.ptp(coordinates[:, list(axes)], axis=0).max(), 1e-3))
+
+
+def _kind(stiffness_zero: bool, damping_zero: bool, series: bool) -> str:
+    if series:
+        return "series"
+    if damping_zero:
+        return "spring"
+    return "damper" if stiffness_zero else "spring-damper"
+
+
+def model_geometry(model: Model, value: Callable[[object], float], roles: Mapping[str, str] | None = None) -> ModelGeometry:
+    """The numerical geometry of ``model``.
+
+    Parameters
+    ----------
+    model : Model
+    value : callable
+        Turns a parameter expression into a float [SI]; raises ``ModelError`` (or
+        ``KeyError``/``ValueError``) for an expression it cannot evaluate.
+    roles : mapping of str to str, optional
+        Body id -> role (``express.topology``), drawn in the body's style.
+
+    Raises
+    ------
+    ModelError
+        Naming every body or point whose position cannot be evaluated.
+    """
+    problems: list[Problem] = []
+
+    def vector(expressions, item: str, line) -> Vector:
+        try:
+            x, y, z = (float(value(e)) for e in expressions)
+        except (ModelError, KeyError, ValueError, TypeError) as error:
+            problems.append(Problem(model.source, line, item, f"cannot be drawn: its position has no value ({error})"))
+            return (0.0, 0.0, 0.0)
+        if not all(np.isfinite((x, y, z))):
+            problems.append(Problem(model.source, line, item, "cannot be drawn: its position is not finite"))
+        return (x, y, z)
+
+    centres = {body.id: vector(body.position, f"body {body.id}", body.line) for body in model.bodies}
+    centres.update({ground.id: (0.0, 0.0, 0.0) for ground in model.grounds})
+    points, hosts = {}, {}
+    for point in model.points:
+        offset = vector(point.offset, f"CP {point.id}", point.line)
+        base = centres.get(point.host, (0.0, 0.0, 0.0))
+        points[point.id] = (base[0] + offset[0], base[1] + offset[1], base[2] + offset[2])
+        hosts[point.id] = point.host
+    if problems:
+        raise ModelError(problems)
+    bodies = []
+    for body in model.bodies:
+        own = np.array([centres[body.id]] + [points[p] for p, host in hosts.items() if host == body.id])
+        bodies.append(DrawnBody(body.id, (roles or {}).get(body.id, "body"), centres[body.id],
+                                tuple(own.min(axis=0)), tuple(own.max(axis=0))))
+    elements = tuple(
+        DrawnElement(
+            element.id, element.s_end, element.t_end, int(element.direction),
+            _kind(element.stiffness == 0, element.damping == 0, bool(getattr(element, "series", False))),
+        )
+        for element in model.elements
+        if element.s_end in points and element.t_end in points
+    )
+    pins = tuple((pin.id, pin.virtual) for pin in model.pins if pin.virtual in points)
+    return ModelGeometry(model.name, tuple(bodies), points, hosts, elements, pins)
+
+
+def point_displacement(offset: Vector, dofs: Mapping[str, float], body: str) -> np.ndarray:
+    """``u = t + theta x r`` of a point at ``offset`` from ``body``'s centre [m], from the
+    body's DOF values (``<body>.<dof>`` -> m or rad; missing DOFs are zero)."""
+    t = np.array([dofs.get(f"{body}.{axis}", 0.0) for axis in ("x", "y", "z")])
+    theta = np.array([dofs.get(f"{body}.{axis}", 0.0) for axis in ("rx", "ry", "rz")])
+    return t + np.cross(theta, np.asarray(offset, dtype=float))
+
+
+def displaced_geometry(geometry: ModelGeometry, dofs: Mapping[str, float]) -> ModelGeometry:
+    """``geometry`` with every body moved by its DOF values (small motion)."""
+    centres = {body.id: np.asarray(body.centre) for body in geometry.bodies}
+    points = {}
+    for point, position in geometry.points.items():
+        host = geometry.hosts[point]
+        if host in centres:
+            offset = tuple(np.asarray(position) - centres[host])
+            points[point] = tuple(np.asarray(position) + point_displacement(offset, dofs, host))
+        else:
+            points[point] = position
+    bodies = []
+    for body in geometry.bodies:
+        moved = np.asarray(body.centre) + point_displacement((0.0, 0.0, 0.0), dofs, body.id)
+        own = np.array([moved] + [points[p] for p, host in geometry.hosts.items() if host == body.id])
+        bodies.append(replace(body, centre=tuple(moved), low=tuple(own.min(axis=0)), high=tuple(own.max(axis=0))))
+    return replace(geometry, bodies=tuple(bodies), points=points)

@@ -1,0 +1,116 @@
+"""Model drawings and mode shapes: geometry in numbers, views, modes, animations."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import sympy as sp
+
+from express.diagnostics import ModelError
+from express.drawing.geometry import displaced_geometry, model_geometry, point_displacement
+from express.drawing.modes import animate_mode_shape, figure_mode_shape, mode_shape
+from express.drawing.views import figure_model
+from express.io import load_model
+from express.statespace import load_vehicle
+from express.topology import classify_bodies
+
+
+def _evaluator(values):
+    def value(expression):
+        expression = sp.sympify(expression)
+        missing = sorted(s.name for s in expression.free_symbols if s.name not in values)
+        if missing:
+            raise KeyError(", ".join(missing))
+        return float(expression.xreplace({sp.Symbol(k): v for k, v in values.items()}))
+
+    return value
+
+
+@pytest.fixture(scope="module")
+def conventional():
+    model = load_model("examples/conventional.toml")
+    return model, model_geometry(model, _evaluator(model.values()), classify_bodies(model).role)
+
+
+def test_points_sit_at_body_position_plus_offset(conventional):
+    model, geometry = conventional
+    values = model.values()
+    for point in model.points[:20]:
+        host = model.body(point.host)
+        expected = [float(sp.sympify(p + o).subs(values)) for p, o in zip(host.position, point.offset)]
+        np.testing.assert_allclose(geometry.points[point.id], expected, atol=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("dofs", "offset", "expected"),
+    [
+        ({"B.rz": 0.01}, (2.0, 1.0, 0.0), (-0.01, 0.02, 0.0)),  # theta x r
+        ({"B.rx": 0.02}, (0.0, 1.0, 0.5), (0.0, -0.01, 0.02)),
+        ({"B.y": 0.003, "B.ry": 0.01}, (1.0, 0.0, 0.5), (0.005, 0.003, -0.01)),
+    ],
+)
+def test_point_displacement_is_t_plus_theta_cross_r(dofs, offset, expected):
+    np.testing.assert_allclose(point_displacement(offset, dofs, "B"), expected, atol=1e-15)
+
+
+def test_displaced_geometry_moves_points_with_their_body(conventional):
+    _, geometry = conventional
+    moved = displaced_geometry(geometry, {"CB.y": 0.1})
+    for point, host in geometry.hosts.items():
+        shift = np.subtract(moved.points[point], geometry.points[point])
+        np.testing.assert_allclose(shift, (0.0, 0.1, 0.0) if host == "CB" else (0.0, 0.0, 0.0), atol=1e-15)
+
+
+def test_a_model_without_values_cannot_be_drawn_and_every_point_is_named():
+    lever = load_model("examples/lever.exp")  # symbolic only: lLU, lLL, b have no value
+    with pytest.raises(ModelError) as error:
+        model_geometry(lever, _evaluator(lever.values()))
+    lines = [str(p) for p in error.value.problems]
+    assert len(lines) == 4 and all("cannot be drawn" in line for line in lines)
+    assert any(line.startswith("examples/lever.exp:16: CP C1:") and "lLU" in line for line in lines)
+
+
+def test_the_lever_draws_with_values():
+    lever = load_model("examples/lever.exp")
+    geometry = model_geometry(lever, _evaluator({"lLU": 0.3, "lLL": 0.06, "b": 0.5}), classify_bodies(lever).role)
+    assert geometry.points["C1"] == (0.0, 0.0, 0.3) and geometry.points["C6"] == (0.0, -0.5, 0.0)
+    figure = figure_model(geometry)
+    assert [axis.get_title() for axis in figure.axes][:3] == ["plan (x forward, y left)", "side (x forward, z up)", "end (y left, z up)"]
+
+
+def test_views_draw_every_element_and_body(conventional):
+    model, geometry = conventional
+    figure = figure_model(geometry)
+    plan = figure.axes[0]
+    (collection,) = plan.collections
+    assert len(collection.get_segments()) >= len(model.elements)  # several polylines per symbol
+    boxes = [patch for patch in plan.patches]
+    assert len(boxes) == len(model.bodies)  # no levers in this car: every body is a box
+    labels = {text.get_text() for text in plan.texts}
+    assert {body.id for body in model.bodies} <= labels
+
+
+def test_mode_shape_matches_the_eigen_analysis():
+    from express.analysis.stability import eigen_analysis
+
+    vehicle = load_vehicle("examples/conventional.toml")
+    result = eigen_analysis(vehicle, vehicle.speed)
+    for number in (1, 2, 5):
+        mode = mode_shape(vehicle, vehicle.speed, number)
+        assert mode.eigenvalue == pytest.approx(result.modes[number - 1].eigenvalue, rel=1e-9)
+        assert max(abs(v) for v in mode.phi.values()) == pytest.approx(1.0)
+    with pytest.raises(ValueError, match="modes 1 to"):
+        mode_shape(vehicle, vehicle.speed, 0)
+
+
+@pytest.mark.slow
+def test_mode_figure_and_animations(conventional):
+    _, geometry = conventional
+    vehicle = load_vehicle("examples/conventional.toml")
+    mode = mode_shape(vehicle, vehicle.speed, 1)
+    figure = figure_mode_shape(geometry, mode, "car body lateral")
+    assert "mode 1: car body lateral" in figure._suptitle.get_text()
+    gif = animate_mode_shape(geometry, mode, ".gif", frames=4)
+    assert gif[:4] == b"GIF8"
+    html = animate_mode_shape(geometry, mode, ".html", frames=4).decode()
+    assert html.startswith("<!DOCTYPE html>") and html.count("data:image/png;base64,") == 5 and "http" not in html
