@@ -67,6 +67,7 @@ from ..model import (
 )
 from ..units import UnitError, parse_quantity, unit_factor
 from .classic import model_name_from_path
+from .toml_lines import line_index as _line_index
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -103,27 +104,6 @@ _CREEP_KEYS = (
     "poisson",
 )
 _DIRECTIONS = {"x": 0, "y": 1, "z": 2, "1": 0, "2": 1, "3": 2}
-_HEADER = re.compile(r"\s*\[\[?\s*([^\]]+?)\s*\]\]?\s*(?:#.*)?$")
-_KEY = re.compile(r"\s*([A-Za-z0-9_\-\"'.]+)\s*=")
-
-
-def _line_index(text: str) -> dict[tuple[str, ...], int]:
-    """Map TOML key paths to the line defining them (headers and ``key =`` lines)."""
-    index: dict[tuple[str, ...], int] = {}
-    table: tuple[str, ...] = ()
-    for number, line in enumerate(text.splitlines(), start=1):
-        header = _HEADER.match(line)
-        if header:
-            table = tuple(part.strip().strip("\"'") for part in header.group(1).split("."))
-            for end in range(1, len(table) + 1):
-                index.setdefault(table[:end], number)
-            continue
-        key = _KEY.match(line)
-        if key:
-            path = table + tuple(part.strip().strip("\"'") for part in key.group(1).split("."))
-            index.setdefault(path, number)
-            # inline tables: `B1 = { mass = ... }` also define (table, B1)
-    return index
 
 
 class _Reader:
