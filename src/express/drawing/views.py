@@ -138,6 +138,7 @@ def draw_view(axis, geometry: ModelGeometry, view: str, *, alpha: float = 1.0, l
         position = np.asarray(geometry.points[point])[[h, v]]
         axis.plot(*position, marker="o", ms=4, mfc="white", mec="black", mew=0.8, alpha=alpha, zorder=5)
     axis.set_title(title, fontsize=8)
+    axis.grid(False)  # whatever the global style: a drawing has no grid
     if limits is None:
         axis.autoscale_view()
         axis.set_aspect("equal", adjustable="datalim")

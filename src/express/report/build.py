@@ -1,0 +1,200 @@
+"""The sections of ``express report``: model, parameters, equations, modes, stability,
+curving and frequency response, built from one numerical vehicle.
+
+Rail sections (stability, curving, frequency response) appear only for a model with
+rail data; a model without rail data reports its drawing, parameters, equations and
+modes.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from pathlib import Path
+
+import numpy as np
+import sympy as sp
+
+from ..drawing.geometry import model_geometry
+from ..drawing.views import figure_model
+from ..statespace import VehicleModel
+from ..topology import classify_bodies
+from ..units import KMH
+from .page import Figure, Math, Section, Table, render_page, svg_of
+
+__all__ = ["report_html", "MAX_EQUATION_ENTRIES"]
+
+#: Matrix entries shown in the equations section (the rest is counted, not shown).
+MAX_EQUATION_ENTRIES = 300
+
+
+def _value_of(vehicle: VehicleModel) -> Callable[[object], float]:
+    values = vehicle.values
+
+    def value(expression) -> float:
+        expression = sp.sympify(expression)
+        missing = sorted(s.name for s in expression.free_symbols if s.name not in values)
+        if missing:
+            raise KeyError(f"no value for {', '.join(missing)}")
+        return float(expression.xreplace({sp.Symbol(n): sp.Float(values[n]) for n in values if sp.Symbol(n) in expression.free_symbols}))
+
+    return value
+
+
+def _source_comment(source: str, line: int | None) -> str:
+    """The comment at the end of a parameter's line in its file (its documented source)."""
+    if line is None:
+        return ""
+    try:
+        text = Path(source).read_text(encoding="utf-8").splitlines()[line - 1]
+    except (OSError, IndexError, UnicodeDecodeError):
+        return ""
+    quote = None
+    for i, character in enumerate(text):
+        if character in "\"'" and quote in (None, character):
+            quote = None if quote == character else character
+        elif character == "#" and quote is None:
+            return text[i + 1:].strip()[:300]
+    return ""
+
+
+def _model_section(vehicle: VehicleModel) -> Section:
+    model = vehicle.model
+    equations = vehicle.equations
+    topology = classify_bodies(model)
+    geometry = model_geometry(model, _value_of(vehicle), topology.role)
+    counts = {role: sum(1 for r in topology.role.values() if r == role) for role in ("wheelset", "bogie", "lever", "body")}
+    summary = (
+        f"{len(model.bodies)} bodies ({counts['wheelset']} wheelsets, {counts['bogie']} bogies, "
+        f"{counts['lever']} levers, {counts['body']} other), {len(model.points)} connection points, "
+        f"{len(model.elements)} elements, {len(model.pins)} pinned joints; {len(equations.dofs)} DOFs after "
+        f"eliminating {len(equations.eliminated)} virtual DOFs; {len(equations.inputs)} inputs."
+    )
+    figure = figure_model(geometry)
+    return Section("Model", (summary, Figure(svg_of(figure), "Plan, side and end views of the model.")))
+
+
+def _parameters_section(vehicle: VehicleModel) -> Section:
+    model = vehicle.model
+    rows = []
+    for name, parameter in sorted(model.parameters.items(), key=lambda item: item[0].lower()):
+        shown = f"{parameter.value:.6g} SI" if not parameter.unit else f"{parameter.value:.6g} (SI) [{parameter.unit}]"
+        try:
+            from ..units import format_quantity
+
+            shown = format_quantity(parameter.value, parameter.unit) if parameter.unit else f"{parameter.value:.6g}"
+        except (ImportError, ValueError):
+            pass
+        rows.append((name, shown, float(parameter.value), _source_comment(model.source, parameter.line)))
+    return Section("Parameters", (Table(("name", "value", "SI value", "source"), rows),))
+
+
+def _equations_section(vehicle: VehicleModel) -> Section:
+    equations = vehicle.equations
+    entries = []
+    total = 0
+    for key in ("M", "C", "K"):
+        matrix = equations.matrices.get(key)
+        if matrix is None:
+            continue
+        for (i, j), value in sorted(matrix.todok().items()):
+            total += 1
+            if len(entries) < MAX_EQUATION_ENTRIES:
+                label = f"{key}[{equations.dofs[i]}, {equations.dofs[j]}]"
+                entries.append((label, sp.mathml(value, printer="presentation")))
+    parts: list = [
+        "M q'' + C q' + K q = P u + Pd u' with q the DOFs below; the non-zero entries of M, C and K "
+        "(exact, virtual DOFs eliminated):",
+        Math(entries),
+    ]
+    if total > len(entries):
+        parts.append(f"{total - len(entries)} more non-zero entries are in `express generate` outputs.")
+    parts.append("DOFs: " + ", ".join(equations.dofs))
+    return Section("Equations", tuple(parts))
+
+
+def _modes_section(vehicle: VehicleModel, speed: float) -> Section:
+    from ..analysis.stability import eigen_analysis
+
+    result = eigen_analysis(vehicle, speed)
+    rows = [(k + 1, m.real, m.imag, m.frequency_hz, m.damping_ratio, m.describe()) for k, m in enumerate(result.modes)]
+    at = f" at {speed / KMH:.1f} km/h" if vehicle.layout is not None else ""
+    return Section("Modes", (
+        f"{len(rows)} modes{at}, least stable first; {'stable' if result.stable else 'UNSTABLE'}.",
+        Table(("mode", "Re [1/s]", "Im [rad/s]", "f [Hz]", "damping ratio", "description"), rows),
+    ))
+
+
+def _stability_section(vehicle: VehicleModel) -> Section:
+    from ..analysis.plots import figure_eigen_locus
+    from ..analysis.stability import critical_speed, root_locus
+
+    v_min, v_max = 1.0, 150.0
+    result = critical_speed(vehicle, v_min=v_min, v_max=v_max)
+    text = result.describe() if result is not None else f"stable up to {v_max / KMH:.0f} km/h"
+    speeds = np.linspace(v_min, v_max, 200)
+    figure = figure_eigen_locus(speeds / KMH, root_locus(vehicle, speeds), title="real parts of the eigenvalues",
+                                critical_kmh=result.speed_kmh if result is not None and not result.unstable_at_min else None)
+    return Section("Stability", (f"Hunting: {text}.", Figure(svg_of(figure), "Real parts of the eigenvalues against speed.")))
+
+
+def _curving_section(vehicle: VehicleModel) -> Section:
+    from ..analysis.simulate import simulate
+    from ..rail.track import paper_curve
+
+    track = paper_curve()
+    run = simulate(vehicle, track, progress=False)
+    rows = [(name, value) for name, value in run.max_abs().items()]
+    return Section("Curving", (
+        f"Run along the paper's curve ({track.length:.0f} m) at {vehicle.speed / KMH:.0f} km/h with flange "
+        "contact and creep saturation; largest absolute values (SI: N, rad, m, 1/m):",
+        Table(("output", "max |value|"), rows),
+    ))
+
+
+def _frequency_section(vehicle: VehicleModel) -> Section | None:
+    from ..analysis.frequency import frequency_response
+    from ..analysis.plots import figure_frequency_response
+
+    points = [p.name for p in vehicle.model.rail.outputs]
+    if not points:
+        return None
+    frequencies = np.geomspace(0.1, 20.0, 200)
+    response = frequency_response(vehicle, frequencies)
+    curves, rows = [], []
+    for name in points:
+        amplitude = np.abs(np.asarray(response.acceleration_of(name)))
+        k = int(np.argmax(amplitude))
+        rows.append((name, float(amplitude[k]), float(frequencies[k])))
+        curves.append({"label": name, "values": amplitude})
+    figure = figure_frequency_response(frequencies, curves, title="response to a 1 mm lateral irregularity")
+    return Section("Frequency response", (
+        Table(("output point", "peak acceleration [m/s²]", "at f [Hz]"), rows),
+        Figure(svg_of(figure), "Acceleration amplitude against frequency (1 mm sinusoidal alignment)."),
+    ))
+
+
+def report_html(vehicle: VehicleModel, *, speed: float | None = None) -> str:
+    """The whole report of ``vehicle`` as an HTML document (see the module docstring).
+
+    Parameters
+    ----------
+    vehicle : VehicleModel
+        Numerical vehicle with its model (``express.statespace.load_vehicle``).
+    speed : float, optional
+        Speed of the modes table [m/s]; the model's speed by default (1 m/s for a model
+        without rail data, whose matrices do not depend on it).
+    """
+    if vehicle.model is None:
+        raise ValueError("the vehicle has no model to report on")
+    rail = vehicle.layout is not None and bool(vehicle.wheelsets)
+    if speed is None:
+        speed = vehicle.speed if rail and np.isfinite(vehicle.speed) else 1.0
+    sections = [_model_section(vehicle), _parameters_section(vehicle), _equations_section(vehicle),
+                _modes_section(vehicle, speed)]
+    if rail:
+        sections += [_stability_section(vehicle), _curving_section(vehicle)]
+        frequency = _frequency_section(vehicle)
+        if frequency is not None:
+            sections.append(frequency)
+    title = f"EXPRESS report: {vehicle.equations.name}"
+    return render_page(title, sections, note=f"Model file {vehicle.model.source}.")

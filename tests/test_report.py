@@ -1,0 +1,47 @@
+"""``express report``: one self-contained HTML page, checked in a real browser."""
+
+from __future__ import annotations
+
+import pytest
+
+from express.report.build import report_html
+from express.report.page import Figure, Section, Table, render_page
+from express.statespace import load_vehicle
+
+from browser import artifact_dir, inspect_page
+
+
+@pytest.fixture(scope="module")
+def steered_report():
+    return report_html(load_vehicle("examples/forced-steering.toml"))
+
+
+def test_page_escapes_model_text():
+    page = render_page("<script>alert(1)</script>", [Section("A & B", ("x < y", Table(("<b>",), [("<i>",)])))])
+    assert "<script>" not in page and "&lt;script&gt;" in page and "&lt;i&gt;" in page and "A &amp; B" in page
+
+
+def test_figure_is_inline_svg_and_page_needs_no_network():
+    page = render_page("t", [Section("s", (Figure("<svg></svg>", "caption"),))])
+    assert "<figure><svg></svg><figcaption>caption</figcaption></figure>" in page
+    assert "http" not in page.replace("http://www.w3.org", "")
+
+
+@pytest.mark.slow
+def test_report_has_every_section_and_is_deterministic(steered_report):
+    for title in ("Model", "Parameters", "Equations", "Modes", "Stability", "Curving", "Frequency response"):
+        assert f"<h2>{title}</h2>" in steered_report
+    assert steered_report.count("<svg") >= 3 and "<math" in steered_report
+    assert "MB 32 t scaled" in steered_report or "est:" in steered_report  # parameter sources from the file
+    assert report_html(load_vehicle("examples/forced-steering.toml")) == steered_report
+
+
+@pytest.mark.slow
+def test_report_renders_in_chromium(tmp_path, steered_report):
+    page = tmp_path / "report.html"
+    page.write_text(steered_report, encoding="utf-8")
+    seen = inspect_page(page, artifact_dir() / "report-forced-steering.png")
+    assert seen["errors"] == [] and seen["requests"] == []
+    assert seen["sections"] == ["Model", "Parameters", "Equations", "Modes", "Stability", "Curving", "Frequency response"]
+    assert len(seen["figures"]) == 3 and all(w > 300 and h > 200 for w, h in seen["figures"])
+    assert seen["formulas"] and all(w > 5 and h > 5 for w, h in seen["formulas"][:50])
