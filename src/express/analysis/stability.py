@@ -30,9 +30,9 @@ Examples
 >>> result.modes[0].real < 0          # stable at 30 m/s
 True
 >>> cs = critical_speed(car)
->>> round(cs.speed_kmh)                                     # doctest: +SKIP
+>>> round(cs.speed_kmh)
 421
->>> cs.mode.describe()                                      # doctest: +SKIP
+>>> cs.mode.describe()
 'hunting, both bogies (W1.y, T1.y, W3.y)'
 """
 
@@ -500,10 +500,10 @@ def eigen_analysis(vehicle: VehicleModel, speed: float) -> EigenResult:
     >>> from express.statespace import vehicle_model
     >>> car = vehicle_model(load_model("examples/forced-steering.toml"))
     >>> result = eigen_analysis(car, 120 / 3.6)
-    >>> print(result.table())                                    # doctest: +SKIP
+    >>> print(result.table())                                    # doctest: +ELLIPSIS
     eigenvalues at 33.333 m/s (120.0 km/h)
         Re [1/s]   Im [rad/s]    f [Hz]     zeta  mode
-         -0.2957    1023.3335   162.869   0.0003  steering lever, both bogies (L3.ry, L4.ry, L2.ry)
+         -0.2957    1023.3335   162.869   0.0003  steering lever, both bogies (L...
     ...
     """
     if not speed > 0:
@@ -723,7 +723,7 @@ def critical_speed_vs_conicity(
     >>> from express.io import load_model
     >>> from express.statespace import vehicle_model
     >>> car = vehicle_model(load_model("examples/conventional.toml"))
-    >>> [round(c.speed_kmh) for c in critical_speed_vs_conicity(car, [0.1, 0.2])]  # doctest: +SKIP
+    >>> [round(c.speed_kmh) for c in critical_speed_vs_conicity(car, [0.1, 0.2])]
     [421, 361]
     """
     if vehicle.model is None or parameter not in vehicle.model.parameters:
