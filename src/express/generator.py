@@ -24,8 +24,8 @@ import sympy as sp
 from .algebra import ExactDomain, inverted_symbols, needs_fractions
 from .diagnostics import ModelError, Problem
 from .equations import EquationsOfMotion
-from .kinematics import generalized_coordinates, point_motion
-from .model import AXES, Model, check_model
+from .kinematics import end_motion, generalized_coordinates
+from .model import AXES, DOF_NAMES, Model, check_model
 
 __all__ = ["AddedTerms", "GenerationResult", "generate", "generate_equations", "pin_transformation"]
 
@@ -297,15 +297,16 @@ def _generate(model: Model, keep_virtual: bool, added: AddedTerms, domain: Exact
     gradients: dict[str, dict[str, object]] = {}
     input_gradients: dict[str, dict[str, object]] = {}
     pin_element_ids = {element.id for _, element in _pin_elements(model)}
-    motion_cache: dict[tuple[str, int], tuple[dict, dict]] = {}
+    motion_cache: dict[tuple[str, int, bool], tuple[dict, dict]] = {}
 
-    def motion(point_id: str, axis: int):
-        key = (point_id, axis)
+    def motion(point_id: str, axis: int, rotational: bool = False):
+        key = (point_id, axis, rotational)
         if key not in motion_cache:
-            dofs, inputs = point_motion(model, point_id, axis)
+            dofs, inputs = end_motion(model, point_id, axis, rotational)
             inputs = dict(inputs)
-            for name, value in added.point_inputs.get(key, {}).items():
-                inputs[name] = inputs.get(name, 0) + value
+            if not rotational:
+                for name, value in added.point_inputs.get((point_id, axis), {}).items():
+                    inputs[name] = inputs.get(name, 0) + value
             motion_cache[key] = (
                 {d: conv(v) for d, v in dofs.items()},
                 {u: conv(v) for u, v in inputs.items()},
@@ -313,8 +314,8 @@ def _generate(model: Model, keep_virtual: bool, added: AddedTerms, domain: Exact
         return motion_cache[key]
 
     for element in model.elements:
-        s_dofs, s_inputs = motion(element.s_end, element.direction)
-        t_dofs, t_inputs = motion(element.t_end, element.direction)
+        s_dofs, s_inputs = motion(element.s_end, element.direction, element.rotational)
+        t_dofs, t_inputs = motion(element.t_end, element.direction, element.rotational)
         g = dict(s_dofs)
         for dof, value in t_dofs.items():
             g[dof] = g.get(dof, domain.zero) - value
@@ -329,7 +330,7 @@ def _generate(model: Model, keep_virtual: bool, added: AddedTerms, domain: Exact
             if name not in ground_inputs and name not in added.inputs:
                 ground_inputs.append(name)
 
-    ground_order = {f"{g.id}.{axis}": (i, a) for i, g in enumerate(model.grounds) for a, axis in enumerate(AXES)}
+    ground_order = {f"{g.id}.{axis}": (i, a) for i, g in enumerate(model.grounds) for a, axis in enumerate(DOF_NAMES)}
     ground_inputs.sort(key=lambda name: ground_order[name])
     inputs = ground_inputs + [name for name in added.inputs if name not in ground_inputs]
 

@@ -9,6 +9,10 @@ A CP at offset ``r = (lx, ly, lz)`` on a body moves by ``u = t + theta x r``
 
 DOFs the body does not have are zero.  A CP on a ground moves with the ground's
 translation, named as an input ``<ground>.<axis>``.
+
+A rotational element sees the rotation of the body holding each of its CPs about its
+axis (``point_rotation``): the CP's position does not matter; a ground's rotation is
+the input ``<ground>.r<axis>``.
 """
 
 from __future__ import annotations
@@ -17,7 +21,7 @@ import sympy as sp
 
 from .model import AXES, Model
 
-__all__ = ["generalized_coordinates", "point_motion"]
+__all__ = ["generalized_coordinates", "point_motion", "point_rotation", "end_motion"]
 
 # (translation, [(rotation, sign, offset component)]) per axis, from theta x r.
 _ROTATION_TERMS = {
@@ -74,3 +78,30 @@ def point_motion(model: Model, point_id: str, axis: int) -> tuple[dict[str, sp.E
         if rotation in body.dofs and lever_arm != 0:
             coefficients[f"{body.id}.{rotation}"] = sign * lever_arm
     return coefficients, {}
+
+
+def point_rotation(model: Model, point_id: str, axis: int) -> tuple[dict[str, sp.Expr], dict[str, sp.Expr]]:
+    """Rotation about ``axis`` of the body (or ground) holding a CP, as linear forms.
+
+    Returns ``({"<body>.r<axis>": 1}, {})`` for a body that has that rotation DOF,
+    ``({}, {})`` for one that has not, and ``({}, {"<ground>.r<axis>": 1})`` for a ground.
+
+    Examples
+    --------
+    >>> from express.io.classic import read_classic
+    >>> point_rotation(read_classic("examples/lever.exp"), "C1", 1)
+    ({'B2.ry': 1}, {})
+    """
+    point = model.point(point_id)
+    name = f"r{AXES[axis]}"
+    body_ids = {body.id for body in model.bodies}
+    if point.host not in body_ids:
+        return {}, {f"{point.host}.{name}": sp.S.One}
+    if name in model.body(point.host).dofs:
+        return {f"{point.host}.{name}": sp.S.One}, {}
+    return {}, {}
+
+
+def end_motion(model: Model, point_id: str, axis: int, rotational: bool):
+    """:func:`point_rotation` for a rotational element, else :func:`point_motion`."""
+    return (point_rotation if rotational else point_motion)(model, point_id, axis)

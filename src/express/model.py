@@ -110,6 +110,14 @@ class Element:
 
     Its deflection is ``u_S[d] - u_T[d]`` along axis ``direction`` (0 = x, 1 = y, 2 = z).
     ``stiffness`` [N/m] and ``damping`` [N s/m] may be zero (not both, usefully).
+
+    ``rotational``: the element acts on the relative rotation ``theta_S[d] - theta_T[d]``
+    of its two ends' bodies about axis ``d`` (stiffness [N m/rad], damping
+    [N m s/rad]). ``series``: stiffness and damping in series (a Maxwell element, with
+    an internal coordinate, the damper stroke). ``gap`` (not None): a clearance element
+    (bump stop) that pushes back only beyond ``|deflection| > gap`` with
+    ``stiffness * e + progressive * e**3`` (``e`` the penetration); used by the
+    nonlinear simulation only (``docs/model-format.md``).
     """
 
     id: str
@@ -120,6 +128,15 @@ class Element:
     direction: int
     label: str = ""
     line: int | None = None
+    rotational: bool = False
+    series: bool = False
+    gap: sp.Expr | None = None
+    progressive: sp.Expr = sp.S.Zero
+
+    @property
+    def axis_name(self) -> str:
+        """``x``, ``y``, ``z`` or, for a rotational element, ``rx``, ``ry``, ``rz``."""
+        return ("r" if self.rotational else "") + AXES[self.direction]
 
 
 @dataclass(frozen=True)
@@ -222,6 +239,7 @@ class Model:
     parameters: dict[str, Parameter] = field(default_factory=dict)
     rail: RailSpec | None = None
     title: str = ""
+    gravity: sp.Expr | None = None  # [gravity] acceleration: every body's weight (docs/model-format.md)
 
     def body(self, body_id: str) -> Body:
         """The body with id ``body_id`` (KeyError if none)."""
@@ -297,6 +315,7 @@ def check_model(model: Model) -> list[Problem]:
                 Problem(source, element.line, f"TSD {element.id}", "S_End and T_End are the same CP")
             )
     bodies = {body.id: body for body in model.bodies}
+    _check_element_kinds(model, hosts, bodies, problems)
     for pin in model.pins:
         item = f"pin {pin.id}"
         known = True
@@ -366,6 +385,56 @@ def check_model(model: Model) -> list[Problem]:
                     Problem(source, output.line, f"output {output.name}", f'unknown body "{output.body}"')
                 )
     return problems
+
+
+def _numeric_value(expression, parameters: dict[str, Parameter]) -> float | None:
+    """Value of a parameter expression, or None when a name has no value."""
+    expression = sp.sympify(expression)
+    names = {symbol.name for symbol in expression.free_symbols}
+    if not names <= set(parameters):
+        return None
+    value = expression.xreplace({sp.Symbol(name): sp.Float(parameters[name].value) for name in names})
+    return float(value) if value.is_real else None
+
+
+def _check_element_kinds(model: Model, hosts: dict[str, str], bodies: dict[str, Body], problems: list[Problem]) -> None:
+    """Rotational, series and clearance elements: ends, values, and no pins on them."""
+    pinned = {frozenset((pin.virtual, pin.non_virtual)) for pin in model.pins}
+    for element in model.elements:
+        item = f"TSD {element.id}"
+        if element.rotational:
+            for end_name, end in (("S_End", element.s_end), ("T_End", element.t_end)):
+                body = bodies.get(hosts.get(end, ""))
+                if body is not None and element.axis_name not in body.dofs:
+                    problems.append(Problem(
+                        model.source, element.line, item,
+                        f"rotational element about {element.axis_name}: its {end_name} {end} is on body "
+                        f"{body.id}, which has no {element.axis_name} DOF",
+                    ))
+        if element.series:
+            for what, value in (("stiffness", element.stiffness), ("damping", element.damping)):
+                if sp.sympify(value) == 0:
+                    problems.append(Problem(
+                        model.source, element.line, item,
+                        f"a series (Maxwell) element needs a nonzero {what}",
+                    ))
+        if element.gap is not None:
+            if element.series:
+                problems.append(Problem(model.source, element.line, item, "a clearance element cannot be a series element"))
+            gap = _numeric_value(element.gap, model.parameters)
+            if gap is not None and not gap >= 0:
+                problems.append(Problem(model.source, element.line, item, f"gap must be >= 0, got {gap:g}"))
+        elif sp.sympify(element.progressive) != 0:
+            problems.append(Problem(
+                model.source, element.line, item, "progressive stiffness needs a gap (a clearance element)"
+            ))
+        if frozenset((element.s_end, element.t_end)) in pinned and (
+            element.rotational or element.series or element.gap is not None
+        ):
+            problems.append(Problem(
+                model.source, element.line, item,
+                "the element of a pinned joint must be a plain translational element",
+            ))
 
 
 def model_warnings(model: Model) -> list[Problem]:

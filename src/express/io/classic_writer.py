@@ -16,6 +16,12 @@ __all__ = ["model_to_classic"]
 def model_to_classic(model: Model) -> tuple[str, dict[str, str]]:
     """Classic-format text of ``model`` and the renaming of its bodies and grounds
     ``{old id: classic id}`` (CPs, elements and pins are renumbered too; see the header)."""
+    special = [e.id for e in model.elements if e.rotational or e.series or e.gap is not None]
+    if special or model.gravity is not None:
+        raise ValueError(
+            f"{model.source}: the classic format has no rotational, series or clearance elements "
+            f"and no gravity ({', '.join(special) or '[gravity]'}): keep the model in TOML"
+        )
     kinds = (("B", model.bodies), ("G", model.grounds), ("C", model.points), ("T", model.elements), ("P", model.pins))
     names = {prefix: {item.id: f"{prefix}{n}" for n, item in enumerate(items, start=1)} for prefix, items in kinds}
     hosts = {**names["B"], **names["G"]}

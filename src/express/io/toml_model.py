@@ -79,7 +79,7 @@ __all__ = ["parse_toml_model", "read_toml_model", "WHEELSET_KEYS"]
 _TOP_KEYS = ("model", "parameters", "bodies", "grounds", "points", "elements", "pins", "rail")
 _BODY_KEYS = ("mass", "inertia", "dofs", "position", "label")
 _POINT_KEYS = ("body", "offset")
-_ELEMENT_KEYS = ("from", "to", "direction", "stiffness", "damping", "label")
+_ELEMENT_KEYS = ("from", "to", "direction", "stiffness", "damping", "label", "series", "gap", "progressive")
 _PIN_KEYS = ("virtual", "non_virtual")
 WHEELSET_KEYS = (
     "f1",
@@ -104,6 +104,7 @@ _CREEP_KEYS = (
     "poisson",
 )
 _DIRECTIONS = {"x": 0, "y": 1, "z": 2, "1": 0, "2": 1, "3": 2}
+_ROTATIONS = {"rx": 0, "ry": 1, "rz": 2}
 
 
 class _Reader:
@@ -176,10 +177,10 @@ def _check_id(reader: _Reader, identifier: str, path: tuple[str, ...], item: str
         reader.problem(path, item, "an id must start with a letter and hold only letters, digits and _")
 
 
-def _entries(reader: _Reader, table: Any, section: str, kind: str, allowed: tuple[str, ...]):
+def _entries(reader: _Reader, table: Any, section: str, kind: str, allowed: tuple[str, ...], base: tuple[str, ...] = ()):
     """``(id, path, item, spec)`` of every entry of a named-items section, checked."""
-    for identifier, raw in reader.table(table, (section,), section).items():
-        path = (section, identifier)
+    for identifier, raw in reader.table(table, base + (section,), section).items():
+        path = base + (section, identifier)
         item = f"{kind} {identifier}"
         _check_id(reader, identifier, path, item)
         spec = reader.table(raw, path, item)
@@ -353,6 +354,97 @@ def _rail(reader: _Reader, table: dict, parameters: dict[str, Parameter]) -> Rai
     return RailSpec(tuple(wheelsets), outputs=tuple(outputs), line=reader.line("rail"), creep=creep, **scalars)
 
 
+def _items(reader: _Reader, data: dict, base: tuple[str, ...] = ()):
+    """Bodies, grounds, points, elements and pins of a model (or of a substructure
+    at key path ``base``), as lists of records."""
+    bodies = []
+    for body_id, path, item, spec in _entries(reader, data.get("bodies", {}), "bodies", "body", _BODY_KEYS, base):
+        dofs = spec.get("dofs", [])
+        if not isinstance(dofs, list) or any(d not in DOF_NAMES for d in dofs):
+            reader.problem(path + ("dofs",), item, f"dofs must be a list drawn from {list(DOF_NAMES)}, got {_show(dofs)}")
+            dofs = []
+        elif len(set(dofs)) != len(dofs):
+            reader.problem(path + ("dofs",), item, "a DOF is listed twice")
+        inertia = reader.vector(spec.get("inertia", [0, 0, 0]), path + ("inertia",), item, "inertia")
+        bodies.append(
+            Body(
+                body_id,
+                reader.expression(spec.get("mass", 0), path + ("mass",), item, "mass"),
+                inertia,
+                tuple(d for d in DOF_NAMES if d in dofs),
+                reader.vector(spec.get("position", [0, 0, 0]), path + ("position",), item, "position"),
+                str(spec.get("label", "")),
+                reader.line(*path),
+            )
+        )
+    grounds_raw = data.get("grounds", {})
+    if isinstance(grounds_raw, list):  # grounds = ["G1", "G2"]
+        grounds_raw = {g: {} for g in grounds_raw if isinstance(g, str)}
+    grounds = []
+    for ground_id, path, _, spec in _entries(reader, grounds_raw, "grounds", "ground", ("label",), base):
+        grounds.append(Ground(ground_id, str(spec.get("label", "")), reader.line(*path)))
+    points = []
+    for point_id, path, item, spec in _entries(reader, data.get("points", {}), "points", "CP", _POINT_KEYS, base):
+        points.append(
+            ConnectionPoint(
+                point_id,
+                reader.name(spec.get("body"), path + ("body",), item, "body"),
+                reader.vector(spec.get("offset", [0, 0, 0]), path + ("offset",), item, "offset"),
+                reader.line(*path),
+            )
+        )
+    elements = []
+    for element_id, path, item, spec in _entries(reader, data.get("elements", {}), "elements", "TSD", _ELEMENT_KEYS, base):
+        elements.append(_element(reader, element_id, path, item, spec))
+    pins = []
+    for pin_id, path, item, spec in _entries(reader, data.get("pins", {}), "pins", "pin", _PIN_KEYS, base):
+        pins.append(
+            PinnedJoint(
+                pin_id,
+                reader.name(spec.get("virtual"), path + ("virtual",), item, "virtual"),
+                reader.name(spec.get("non_virtual"), path + ("non_virtual",), item, "non_virtual"),
+                reader.line(*path),
+            )
+        )
+    return bodies, grounds, points, elements, pins
+
+
+def _element(reader: _Reader, element_id: str, path: tuple[str, ...], item: str, spec: dict) -> Element:
+    """One element: translational or rotational, plain, series or clearance."""
+    direction = spec.get("direction")
+    name = str(direction) if not isinstance(direction, (bool, float)) else ""
+    rotational = name in _ROTATIONS
+    axis = _ROTATIONS.get(name, _DIRECTIONS.get(name))
+    if axis is None:
+        reader.problem(
+            path + ("direction",), item, f"direction must be x, y, z (or 1, 2, 3), rx, ry or rz, got {_show(direction)}"
+        )
+        axis = 0
+    series = spec.get("series", False)
+    if not isinstance(series, bool):
+        reader.problem(path + ("series",), item, f"series must be true or false, got {_show(series)}")
+        series = False
+    gap = None
+    if "gap" in spec:
+        gap = reader.expression(spec["gap"], path + ("gap",), item, "gap")
+        if gap.is_Number and gap < 0:
+            reader.problem(path + ("gap",), item, f"gap must be >= 0, got {_show(spec['gap'])}")
+    return Element(
+        element_id,
+        reader.expression(spec.get("stiffness", 0), path + ("stiffness",), item, "stiffness"),
+        reader.expression(spec.get("damping", 0), path + ("damping",), item, "damping"),
+        reader.name(spec.get("from"), path + ("from",), item, "from"),
+        reader.name(spec.get("to"), path + ("to",), item, "to"),
+        axis,
+        str(spec.get("label", "")),
+        reader.line(*path),
+        rotational=rotational,
+        series=series,
+        gap=gap,
+        progressive=reader.expression(spec.get("progressive", 0), path + ("progressive",), item, "progressive"),
+    )
+
+
 def parse_toml_model(text: str, source: str = "<string>") -> Model:
     """Parse the text of a modern (TOML) model file.
 
@@ -392,73 +484,7 @@ def parse_toml_model(text: str, source: str = "<string>") -> Model:
 
     parameters = _parameters(reader, reader.table(data.get("parameters", {}), ("parameters",), "parameters"))
 
-    bodies = []
-    for body_id, path, item, spec in _entries(reader, data.get("bodies", {}), "bodies", "body", _BODY_KEYS):
-        dofs = spec.get("dofs", [])
-        if not isinstance(dofs, list) or any(d not in DOF_NAMES for d in dofs):
-            reader.problem(path + ("dofs",), item, f"dofs must be a list drawn from {list(DOF_NAMES)}, got {_show(dofs)}")
-            dofs = []
-        elif len(set(dofs)) != len(dofs):
-            reader.problem(path + ("dofs",), item, "a DOF is listed twice")
-        inertia = reader.vector(spec.get("inertia", [0, 0, 0]), path + ("inertia",), item, "inertia")
-        bodies.append(
-            Body(
-                body_id,
-                reader.expression(spec.get("mass", 0), path + ("mass",), item, "mass"),
-                inertia,
-                tuple(d for d in DOF_NAMES if d in dofs),
-                reader.vector(spec.get("position", [0, 0, 0]), path + ("position",), item, "position"),
-                str(spec.get("label", "")),
-                reader.line(*path),
-            )
-        )
-    grounds_raw = data.get("grounds", {})
-    if isinstance(grounds_raw, list):  # grounds = ["G1", "G2"]
-        grounds_raw = {g: {} for g in grounds_raw if isinstance(g, str)}
-    grounds = []
-    for ground_id, path, _, spec in _entries(reader, grounds_raw, "grounds", "ground", ("label",)):
-        grounds.append(Ground(ground_id, str(spec.get("label", "")), reader.line(*path)))
-    points = []
-    for point_id, path, item, spec in _entries(reader, data.get("points", {}), "points", "CP", _POINT_KEYS):
-        points.append(
-            ConnectionPoint(
-                point_id,
-                reader.name(spec.get("body"), path + ("body",), item, "body"),
-                reader.vector(spec.get("offset", [0, 0, 0]), path + ("offset",), item, "offset"),
-                reader.line(*path),
-            )
-        )
-    elements = []
-    for element_id, path, item, spec in _entries(reader, data.get("elements", {}), "elements", "TSD", _ELEMENT_KEYS):
-        direction = spec.get("direction")
-        axis = _DIRECTIONS.get(str(direction)) if not isinstance(direction, (bool, float)) else None
-        if axis is None:
-            reader.problem(path + ("direction",), item, f"direction must be x, y, z or 1, 2, 3, got {_show(direction)}")
-            axis = 0
-        stiffness = reader.expression(spec.get("stiffness", 0), path + ("stiffness",), item, "stiffness")
-        damping = reader.expression(spec.get("damping", 0), path + ("damping",), item, "damping")
-        elements.append(
-            Element(
-                element_id,
-                stiffness,
-                damping,
-                reader.name(spec.get("from"), path + ("from",), item, "from"),
-                reader.name(spec.get("to"), path + ("to",), item, "to"),
-                axis,
-                str(spec.get("label", "")),
-                reader.line(*path),
-            )
-        )
-    pins = []
-    for pin_id, path, item, spec in _entries(reader, data.get("pins", {}), "pins", "pin", _PIN_KEYS):
-        pins.append(
-            PinnedJoint(
-                pin_id,
-                reader.name(spec.get("virtual"), path + ("virtual",), item, "virtual"),
-                reader.name(spec.get("non_virtual"), path + ("non_virtual",), item, "non_virtual"),
-                reader.line(*path),
-            )
-        )
+    bodies, grounds, points, elements, pins = _items(reader, data)
     rail = None
     if "rail" in data:
         rail = _rail(reader, reader.table(data["rail"], ("rail",), "rail"), parameters)

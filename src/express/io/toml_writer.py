@@ -12,7 +12,7 @@ import json
 
 import sympy as sp
 
-from ..model import AXES, Model
+from ..model import Model
 
 __all__ = ["model_to_toml", "value_to_toml", "value_text"]
 
@@ -114,10 +114,16 @@ def model_to_toml(model: Model) -> str:
         lines += [
             f"from = {_string(element.s_end)}",
             f"to = {_string(element.t_end)}",
-            f"direction = {_string(AXES[element.direction])}",
+            f"direction = {_string(element.axis_name)}",
             f"stiffness = {value_to_toml(element.stiffness)}",
             f"damping = {value_to_toml(element.damping)}",
         ]
+        if element.series:
+            lines.append("series = true")
+        if element.gap is not None:
+            lines.append(f"gap = {value_to_toml(element.gap)}")
+        if element.progressive != 0:
+            lines.append(f"progressive = {value_to_toml(element.progressive)}")
     for pin in model.pins:
         lines += [
             "",
