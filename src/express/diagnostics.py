@@ -1,13 +1,45 @@
-"""Problems found in input files, reported all at once.
+"""Errors the library raises on purpose, and the problems found in input files.
 
 Readers and validators collect :class:`Problem` records instead of stopping at the
-first one; :class:`ModelError` carries them all, and the CLI prints one line each,
-``file:line: item: message``, and exits with status 2.
+first one; :class:`ModelError` carries them all.  Every error a user can cause is an
+:class:`InputError`; an analysis that ran on good input but could not give a valid
+result raises :class:`AnalysisError`.  The command line maps them to exit statuses:
+
+==================  ======  ===========================================================
+exception           status  meaning
+==================  ======  ===========================================================
+(none)              0       success
+``AnalysisError``   1       no valid result (diverged run, no critical speed in range)
+``InputError``      2       bad input: ``ModelError`` (one line per problem),
+                            ``UsageError`` (command line), ``OutputError`` (a
+                            destination that cannot be written)
+anything else       70      an internal error (a bug): one line, traceback on ``--debug``
+==================  ======  ===========================================================
+
+``InputError`` derives from :class:`ValueError` so that callers written against the
+older API (``except ValueError``) still catch bad input.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+
+__all__ = [
+    "EXIT_ANALYSIS",
+    "EXIT_INPUT",
+    "EXIT_INTERNAL",
+    "EXIT_OK",
+    "AnalysisError",
+    "ExpressError",
+    "InputError",
+    "ModelError",
+    "OutputError",
+    "Problem",
+    "UsageError",
+]
+
+#: Exit statuses of the command line (``docs/cli.md``); 70 is ``EX_SOFTWARE`` of sysexits.h.
+EXIT_OK, EXIT_ANALYSIS, EXIT_INPUT, EXIT_INTERNAL = 0, 1, 2, 70
 
 
 @dataclass(frozen=True)
@@ -36,14 +68,46 @@ class Problem:
         return f"{where}: {self.item}: {self.message}" if self.item else f"{where}: {self.message}"
 
 
-class ModelError(ValueError):
-    """A model that cannot be used; :attr:`problems` lists every reason."""
+class ExpressError(Exception):
+    """Base of the errors EXPRESS raises on purpose (anything else is a bug)."""
+
+
+class InputError(ExpressError, ValueError):
+    """Bad input of any kind: a model or track file, a command-line value, a destination.
+
+    The command line prints ``error: <message>`` and exits with status 2.
+    """
+
+    def lines(self) -> list[str]:
+        """The message as the lines the command line prints (one per problem)."""
+        return str(self).splitlines() or [type(self).__name__]
+
+
+class ModelError(InputError):
+    """A model (or track, or other input file) that cannot be used; :attr:`problems`
+    lists every reason, one :class:`Problem` each."""
 
     def __init__(self, problems: list[Problem] | tuple[Problem, ...]):
         self.problems = tuple(problems)
         super().__init__("\n".join(str(problem) for problem in self.problems))
 
+    def lines(self) -> list[str]:
+        return [str(problem) for problem in self.problems]
 
-class UsageError(ValueError):
-    """A command-line mistake (a bad ``--set``, an output over an input, a bad option
-    value); the CLI prints it as one ``error:`` line and exits with status 2."""
+
+class UsageError(InputError):
+    """A command-line mistake (a bad ``--set``, an option out of its range, an output
+    over an input); the CLI prints it as one ``error:`` line and exits with status 2."""
+
+
+class OutputError(InputError):
+    """A destination that cannot be written (a directory, a path below a file, no
+    permission, an input file); nothing was replaced."""
+
+
+class AnalysisError(ExpressError, RuntimeError):
+    """An analysis ran on valid input but could not give a valid result (a diverged
+    simulation, a singular response, no critical speed where one was required).
+
+    The command line prints ``error: <message>`` and exits with status 1.
+    """

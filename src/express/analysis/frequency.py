@@ -182,8 +182,9 @@ def frequency_response(
     Raises
     ------
     ValueError
-        For a model without wheelsets, a non-positive speed, or a frequency at which
-        the dynamic stiffness is singular.
+        For a model without wheelsets or a non-positive speed.
+    AnalysisError
+        For a frequency at which the dynamic stiffness is singular.
 
     Examples
     --------
@@ -221,7 +222,9 @@ def frequency_response(
     try:
         X = np.linalg.solve(stiffness, rhs[..., None])[..., 0]
     except np.linalg.LinAlgError:
-        raise ValueError("the dynamic stiffness -w^2 M + i w C + K is singular at one of the frequencies") from None
+        from ..diagnostics import AnalysisError
+
+        raise AnalysisError("the dynamic stiffness -w^2 M + i w C + K is singular at one of the frequencies") from None
     outputs: dict[str, np.ndarray] = {}
     model = vehicle.model
     if model is not None and model.rail is not None:

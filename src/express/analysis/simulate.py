@@ -25,8 +25,6 @@ Derived quantities (``rail.md``):
 
 from __future__ import annotations
 
-import csv
-import io
 import sys
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -87,36 +85,45 @@ class SimulationResult:
         """Largest absolute value of every derived output (SI units)."""
         return {name: float(np.max(np.abs(values))) for name, values in self.outputs.items()}
 
+    def units(self) -> dict[str, str]:
+        """SI unit of every column of :meth:`series` (``""`` for dimensionless ones)."""
+        units = {"time": "s", "d1": "m"}
+        for dof in self.dofs:
+            units[dof] = "rad" if dof.rsplit(".", 1)[-1].startswith("r") else "m"
+        for dof in self.dofs:
+            units[f"{dof}_dot"] = f"{units[dof]}/s"
+        for name in self.outputs:
+            units[name] = next((unit for prefix, unit in _OUTPUT_UNITS if name.startswith(prefix)), "")
+        return units
+
     def to_csv(self) -> str:
-        """CSV text (header row of column names, SI units)."""
-        columns = self.series()
-        buffer = io.StringIO()
-        writer = csv.writer(buffer, lineterminator="\n")
-        writer.writerow(columns)
-        data = np.column_stack(list(columns.values()))
-        for row in data:
-            writer.writerow([f"{value:.9g}" for value in row])
-        return buffer.getvalue()
+        """CSV text: a header of column names with their SI units (``time_s``, ``Q1_N``,
+        :func:`express.io.output.column_name`), then one row per time step."""
+        from ..io.output import csv_text
+
+        return csv_text(self.series(), self.units())
 
     def save(self, path: str | Path) -> None:
-        """Save as ``.csv``, ``.npz`` or ``.mat`` (by suffix), written whole."""
-        path = Path(path)
-        suffix = path.suffix.lower()
-        temporary = path.with_name(f".{path.name}.tmp{suffix}")
-        try:
-            if suffix == ".csv":
-                temporary.write_text(self.to_csv(), encoding="utf-8")
-            elif suffix == ".npz":
-                np.savez_compressed(temporary, **_safe_keys(self.series()))
-            elif suffix == ".mat":
-                from scipy.io import savemat
+        """Save as ``.csv``, ``.npz`` or ``.mat`` (by suffix), written whole or not at
+        all through :mod:`express.io.output` (``"-"``: CSV on standard output)."""
+        from ..io.output import mat_bytes, npz_bytes, write_bytes, write_text
 
-                savemat(temporary, _safe_keys(self.series()), do_compression=True)
-            else:
-                raise ValueError(f"{path}: unknown result format {suffix!r} (use .csv, .npz or .mat)")
-            temporary.replace(path)
-        finally:
-            temporary.unlink(missing_ok=True)
+        suffix = "" if str(path) == "-" else Path(path).suffix.lower()
+        if suffix not in ("", ".csv", ".npz", ".mat") or (suffix == "" and str(path) != "-"):
+            raise ValueError(f"{path}: unknown result format {suffix!r} (use .csv, .npz or .mat)")
+        if suffix in ("", ".csv"):
+            write_text(path, self.to_csv())
+        elif suffix == ".npz":
+            write_bytes(path, npz_bytes(_safe_keys(self.series()), compress=True))
+        else:
+            write_bytes(path, mat_bytes(_safe_keys(self.series()), compress=True))
+
+
+#: Units of the derived outputs by name prefix (longest prefixes first).
+_OUTPUT_UNITS = (
+    ("QP", ""), ("Qtot", "N"), ("Q", "N"), ("flange", "N"), ("psi_TW", "rad"), ("theta_", "rad"),
+    ("dy", "m"), ("rho", "1/m"), ("S", "m"),
+)
 
 
 def _safe_keys(columns: dict[str, np.ndarray]) -> dict[str, np.ndarray]:

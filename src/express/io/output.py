@@ -1,78 +1,516 @@
-"""Writing outputs whole, and reading ``--set NAME=VALUE`` overrides.
+"""The output layer: every file EXPRESS writes goes through here.
 
-Shared by the command line and the analyses' commands: an output file is written to a
-temporary file beside it and renamed into place, so it is complete or absent; an input
-file is never overwritten.
+Guarantees (``docs/cli.md``, "Outputs"):
+
+- **Whole or not at all.** A regular file is written to a unique temporary file in the
+  target directory (:func:`tempfile.mkstemp`), flushed to disk (``fsync``) and renamed
+  over the target (:func:`os.replace`, atomic on POSIX).  Readers see the old file or the
+  new one, never a part; concurrent writers of one path end with one complete file (the
+  last rename wins).
+- **Special files are written into, never replaced.**  A FIFO, a character device
+  (``/dev/null``, a terminal) or ``/dev/stdout`` receives the bytes; it is not turned
+  into a regular file.  ``-`` is standard output (text formats only).  Block devices and
+  sockets are refused.
+- **Inputs are never overwritten** (compared by file identity, so hard and symbolic links
+  count).
+- **Several outputs are a transaction** (:func:`output_transaction`): every destination
+  is checked before any work (:meth:`Transaction.declare`), every temporary file is
+  written before any rename, and nothing is replaced unless all were written.  The one
+  window left is the sequence of renames itself: if a rename fails (the directory
+  vanished, the machine stopped) the outputs renamed before it are new and the rest old;
+  the error names them.
+- Outputs are deterministic: :func:`csv_text`, :func:`npz_bytes` and :func:`mat_bytes`
+  give the same bytes for the same data (no dates, fixed zip timestamps).
+
+:func:`write_bytes` / :func:`write_text` join the active transaction when there is one,
+so library code (figures, the demo) takes part in a command's all-or-nothing without
+knowing about it.  Errors are :class:`express.diagnostics.OutputError` (exit status 2).
 """
 
 from __future__ import annotations
 
+import contextlib
+import contextvars
+import csv
+import io
 import math
 import os
+import stat
+import sys
 import tempfile
-from collections.abc import Sequence
+import zipfile
+from collections.abc import Iterable, Iterator, Mapping, Sequence
+from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
-from ..diagnostics import UsageError
-from ..expressions import ExpressionError, is_valid_name, parse_expression
-from ..units import UnitError, parse_quantity
+from ..diagnostics import OutputError
 
-__all__ = ["json_safe", "parse_assignments", "write_output"]
+__all__ = [
+    "STDOUT",
+    "Destination",
+    "Transaction",
+    "check_destination",
+    "column_name",
+    "csv_text",
+    "json_safe",
+    "json_text",
+    "mat_bytes",
+    "npz_bytes",
+    "output_transaction",
+    "write_bytes",
+    "write_csv",
+    "write_output",
+    "write_text",
+]
+
+#: The destination name meaning standard output.
+STDOUT = "-"
+
+#: The descriptive text of a MAT-file's 128-byte header (116 bytes, space padded).
+MAT_HEADER = b"MATLAB 5.0 MAT-file, written by EXPRESS (express export)"
+_FIXED_DATE = (1980, 1, 1, 0, 0, 0)
+
+_ACTIVE: contextvars.ContextVar[Transaction | None] = contextvars.ContextVar("express_output_transaction", default=None)
 
 
-def parse_assignments(items: Sequence[str]) -> dict[str, float]:
-    """``["v=100 km/h", "Gamma=0.05"]`` -> ``{"v": 27.77..., "Gamma": 0.05}`` (SI)."""
-    values: dict[str, float] = {}
-    for item in items:
-        name, sep, text = item.partition("=")
-        name = name.strip()
-        if not sep or not is_valid_name(name):
-            raise UsageError(f'--set "{item}": expected NAME=VALUE, e.g. --set Gamma=0.05')
-        try:
-            value, _ = parse_quantity(text)
-        except UnitError:
-            try:
-                expression = parse_expression(text)
-            except ExpressionError as error:
-                raise UsageError(f'--set "{item}": "{text}" is not a number ({error})') from None
-            if expression.free_symbols or not expression.is_number:
-                raise UsageError(f'--set "{item}": "{text}" is not a number')
-            value = float(expression)
-        if not math.isfinite(value):
-            raise UsageError(f'--set "{item}": "{text}" is not a finite number')
-        values[name] = value
-    return values
+# --------------------------------------------------------------------------------------
+# destinations
+# --------------------------------------------------------------------------------------
 
 
-def write_output(path: Path, text: str, inputs: Sequence[Path] = ()) -> None:
-    """Write ``text`` to ``path`` whole or not at all; refuse to overwrite an input."""
-    target = path.resolve()
+@dataclass(frozen=True)
+class Destination:
+    """A checked place to write.
+
+    Attributes
+    ----------
+    given : str
+        The name as the user gave it (used in messages).
+    kind : str
+        ``"file"`` (replaced atomically), ``"special"`` (a FIFO or character device,
+        written into) or ``"stdout"``.
+    path : Path or None
+        The real path written (symbolic links resolved); None for ``"stdout"``.
+    """
+
+    given: str
+    kind: str
+    path: Path | None
+
+
+def _is_stdout_alias(given: str, status: os.stat_result) -> bool:
+    """``/dev/stdout``, ``/dev/fd/1``, ``/proc/self/fd/1`` when they lead to our stdout."""
+    if not os.path.abspath(given).startswith(("/dev/", "/proc/")):
+        return False
+    try:
+        return os.path.samestat(status, os.fstat(sys.stdout.fileno()))
+    except (AttributeError, OSError, ValueError):  # no real stdout (e.g. under a test runner)
+        return False
+
+
+def check_destination(given: str | os.PathLike, *, inputs: Iterable[str | os.PathLike] = (), binary: bool = False) -> Destination:
+    """Check that ``given`` can receive an output, before any work is done.
+
+    Parameters
+    ----------
+    given : str or path-like
+        Output name; ``"-"`` is standard output.
+    inputs : iterable of path-like
+        Files read by the command; none of them may be the destination.
+    binary : bool
+        The format is binary (refused on standard output).
+
+    Returns
+    -------
+    Destination
+
+    Raises
+    ------
+    OutputError
+        The destination is an input, a directory, below a regular file, a block device
+        or socket, or not writable; the message names it.
+    """
+    name = os.fspath(given)
+    if name == STDOUT:
+        if binary:
+            raise OutputError("-: this format is binary; give a file name instead of standard output")
+        return Destination(name, "stdout", None)
+    if not name or name.endswith(os.sep):
+        raise OutputError(f"{name or '(empty name)'}: not a file name")
+    try:
+        status: os.stat_result | None = os.stat(name)
+    except FileNotFoundError:
+        status = None
+    except OSError as error:  # e.g. a path component that is a regular file
+        raise OutputError(f"{name}: cannot write ({error.strerror or error})") from None
+    if status is not None:
+        _refuse_input(name, status, inputs)
+        return _existing(name, status, binary)
+    real = Path(os.path.realpath(name))
+    _check_new_file_place(name, real)
+    return Destination(name, "file", real)
+
+
+def _refuse_input(name: str, status: os.stat_result, inputs: Iterable[str | os.PathLike]) -> None:
     for source in inputs:
-        if Path(source).resolve() == target:
-            raise UsageError(f"{path}: refusing to overwrite the input file")
-    if target.is_dir():
-        raise UsageError(f"{path}: is a directory, not a file")
+        try:
+            if os.path.samestat(status, os.stat(source)):
+                raise OutputError(f"{name}: refusing to overwrite the input file {os.fspath(source)}")
+        except FileNotFoundError:
+            continue
+
+
+def _existing(name: str, status: os.stat_result, binary: bool) -> Destination:
+    mode = status.st_mode
+    if stat.S_ISDIR(mode):
+        raise OutputError(f"{name}: is a directory, not a file")
+    if _is_stdout_alias(name, status):
+        if binary:
+            raise OutputError(f"{name}: this format is binary; give a file name instead of standard output")
+        return Destination(name, "stdout", None)
+    if stat.S_ISFIFO(mode) or stat.S_ISCHR(mode):
+        if not os.access(name, os.W_OK):
+            raise OutputError(f"{name}: cannot write (permission denied)")
+        return Destination(name, "special", Path(name))
+    if not stat.S_ISREG(mode):
+        raise OutputError(f"{name}: is a block device or socket; refusing to write to it")
+    real = Path(os.path.realpath(name))
+    if not os.access(real, os.W_OK):
+        raise OutputError(f"{name}: cannot write (the file is read-only)")
+    if not os.access(real.parent, os.W_OK | os.X_OK):
+        raise OutputError(f"{name}: cannot write (no permission in {real.parent})")
+    return Destination(name, "file", real)
+
+
+def _check_new_file_place(name: str, real: Path) -> None:
+    """The first existing ancestor of a new file must be a writable directory."""
+    ancestor = real.parent
+    while not ancestor.exists():
+        if ancestor.is_symlink():
+            raise OutputError(f"{name}: cannot write ({ancestor} is a dangling symbolic link)")
+        ancestor = ancestor.parent
+    if not ancestor.is_dir():
+        raise OutputError(f"{name}: cannot write ({ancestor} is a file, not a directory)")
+    if not os.access(ancestor, os.W_OK | os.X_OK):
+        raise OutputError(f"{name}: cannot write (no permission in {ancestor})")
+
+
+# --------------------------------------------------------------------------------------
+# the transaction
+# --------------------------------------------------------------------------------------
+
+
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
+@dataclass
+class _Staged:
+    destination: Destination
+    temporary: Path | None = None  # for files
+    data: bytes = b""  # for stdout and special files
+
+
+@dataclass
+class Transaction:
+    """Outputs of one command, replaced all together or not at all.
+
+    Use :func:`output_transaction`; :meth:`declare` every destination before computing,
+    then :func:`write_bytes` / :func:`write_text` (or :meth:`stage`) stage the contents;
+    leaving the ``with`` block normally commits, an exception discards everything.
+    """
+
+    inputs: tuple[str, ...] = ()
+    _declared: dict[str, Destination] = field(default_factory=dict)
+    _staged: dict[str, _Staged] = field(default_factory=dict)
+    _created_dirs: list[Path] = field(default_factory=list)
+
+    @staticmethod
+    def _key(destination: Destination) -> str:
+        return "<stdout>" if destination.kind == "stdout" else str(destination.path)
+
+    def declare(self, given: str | os.PathLike, *, binary: bool = False) -> Destination:
+        """Check a destination now (see :func:`check_destination`); the same file may not
+        be declared twice."""
+        destination = check_destination(given, inputs=self.inputs, binary=binary)
+        key = self._key(destination)
+        earlier = self._declared.get(key)
+        if earlier is not None:
+            raise OutputError(f"{destination.given}: given twice as an output (also as {earlier.given})")
+        self._declared[key] = destination
+        return destination
+
+    def _destination(self, given: str | os.PathLike) -> Destination:
+        destination = check_destination(given, inputs=self.inputs)
+        return self._declared.setdefault(self._key(destination), destination)
+
+    def stage(self, given: str | os.PathLike, data: bytes) -> None:
+        """Stage ``data`` for ``given``: a regular file is written to its temporary now."""
+        destination = self._destination(given)
+        key = self._key(destination)
+        previous = self._staged.pop(key, None)
+        if previous is not None and previous.temporary is not None:
+            previous.temporary.unlink(missing_ok=True)
+        if destination.kind != "file":
+            self._staged[key] = _Staged(destination, data=bytes(data))
+            return
+        self._staged[key] = _Staged(destination, temporary=self._write_temporary(destination, data))
+
+    def _write_temporary(self, destination: Destination, data: bytes) -> Path:
+        assert destination.path is not None
+        target = destination.path
+        try:
+            self._make_parents(target.parent)
+            handle, name = tempfile.mkstemp(dir=target.parent, prefix=f".{target.name}.", suffix=".tmp")
+        except OSError as error:
+            raise OutputError(f"{destination.given}: cannot write ({error.strerror or error})") from None
+        temporary = Path(name)
+        try:
+            with os.fdopen(handle, "wb") as stream:
+                stream.write(data)
+                stream.flush()
+                os.fsync(stream.fileno())
+            try:
+                mode = stat.S_IMODE(os.stat(target).st_mode)  # keep an existing file's mode
+            except FileNotFoundError:
+                mode = 0o666 & ~_umask()
+            os.chmod(temporary, mode)
+        except OSError as error:
+            temporary.unlink(missing_ok=True)
+            raise OutputError(f"{destination.given}: cannot write ({error.strerror or error})") from None
+        except BaseException:
+            temporary.unlink(missing_ok=True)
+            raise
+        return temporary
+
+    def _make_parents(self, directory: Path) -> None:
+        missing = []
+        while not directory.exists():
+            missing.append(directory)
+            directory = directory.parent
+        for path in reversed(missing):
+            path.mkdir()
+            self._created_dirs.append(path)
+
+    def discard(self) -> None:
+        """Remove every temporary file (and the directories made for them)."""
+        for staged in self._staged.values():
+            if staged.temporary is not None:
+                staged.temporary.unlink(missing_ok=True)
+        self._staged.clear()
+        for directory in reversed(self._created_dirs):
+            with contextlib.suppress(OSError):
+                directory.rmdir()
+        self._created_dirs.clear()
+
+    def commit(self) -> list[Destination]:
+        """Write standard output and special files, then rename every temporary file
+        over its target.  Returns the destinations written, in declaration order."""
+        order = [key for key in self._declared if key in self._staged]
+        try:
+            for key in order:
+                staged = self._staged[key]
+                if staged.destination.kind != "file":
+                    _write_stream(staged.destination, staged.data)
+        except BaseException:
+            self.discard()
+            raise
+        renamed: list[str] = []
+        for key in order:
+            staged = self._staged[key]
+            if staged.temporary is None:
+                continue
+            try:
+                os.replace(staged.temporary, staged.destination.path)  # type: ignore[arg-type]
+            except OSError as error:
+                self.discard()
+                done = f"; already replaced: {', '.join(renamed)}" if renamed else "; nothing was replaced"
+                raise OutputError(f"{staged.destination.given}: cannot write ({error.strerror or error}){done}") from None
+            staged.temporary = None
+            renamed.append(staged.destination.given)
+        for directory in {self._staged[key].destination.path.parent for key in order  # type: ignore[union-attr]
+                          if self._staged[key].destination.kind == "file"}:
+            _fsync_directory(directory)
+        written = [self._staged[key].destination for key in order]
+        self._staged.clear()
+        self._created_dirs.clear()
+        return written
+
+
+def _write_stream(destination: Destination, data: bytes) -> None:
+    if destination.kind == "stdout":
+        stream = sys.stdout
+        stream.flush()
+        buffer = getattr(stream, "buffer", None)
+        if buffer is not None:
+            buffer.write(data)
+            buffer.flush()
+        else:
+            stream.write(data.decode("utf-8"))
+            stream.flush()
+        return
+    assert destination.path is not None
     try:
-        target.parent.mkdir(parents=True, exist_ok=True)
-        handle, temporary = tempfile.mkstemp(dir=target.parent, prefix=f".{target.name}.", suffix=".tmp")
+        handle = os.open(destination.path, os.O_WRONLY | getattr(os, "O_NOCTTY", 0))
+        with os.fdopen(handle, "wb") as stream:
+            stream.write(data)
     except OSError as error:
-        raise UsageError(f"{path}: cannot write ({error.strerror or error})") from None
+        raise OutputError(f"{destination.given}: cannot write ({error.strerror or error})") from None
+
+
+def _fsync_directory(directory: Path) -> None:
+    """Make the renames durable (best effort: not every file system allows it)."""
+    with contextlib.suppress(OSError):
+        handle = os.open(directory, os.O_RDONLY)
+        try:
+            os.fsync(handle)
+        finally:
+            os.close(handle)
+
+
+@contextlib.contextmanager
+def output_transaction(inputs: Iterable[str | os.PathLike] = ()) -> Iterator[Transaction]:
+    """All outputs written inside the block are replaced together, or none is.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> with output_transaction() as outputs:
+    ...     _ = outputs.declare(folder / "a.csv")  # checked before the work
+    ...     write_text(folder / "a.csv", "x_m\\n1\\n")
+    ...     write_text(folder / "b.txt", "done\\n")
+    >>> sorted(p.name for p in folder.iterdir())
+    ['a.csv', 'b.txt']
+    """
+    transaction = Transaction(tuple(os.fspath(p) for p in inputs))
+    token = _ACTIVE.set(transaction)
     try:
-        with os.fdopen(handle, "w", encoding="utf-8", newline="\n") as stream:
-            stream.write(text)
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(temporary, 0o666 & ~umask)
-        os.replace(temporary, target)
-    except OSError as error:
-        Path(temporary).unlink(missing_ok=True)
-        raise UsageError(f"{path}: cannot write ({error.strerror or error})") from None
+        yield transaction
     except BaseException:
-        Path(temporary).unlink(missing_ok=True)
+        transaction.discard()
         raise
+    finally:
+        _ACTIVE.reset(token)
+    transaction.commit()
 
 
-def json_safe(value):
+# --------------------------------------------------------------------------------------
+# writers
+# --------------------------------------------------------------------------------------
+
+
+def write_bytes(path: str | os.PathLike, data: bytes, *, inputs: Iterable[str | os.PathLike] = ()) -> None:
+    """Write ``data`` to ``path`` whole or not at all (see the module docstring).
+
+    Inside :func:`output_transaction` the data is staged and replaced with the other
+    outputs when the block ends; otherwise it is written now.
+
+    Raises
+    ------
+    OutputError
+        If ``path`` cannot receive it (nothing was replaced).
+    """
+    active = _ACTIVE.get()
+    if active is not None:
+        if inputs:
+            check_destination(path, inputs=inputs)
+        active.stage(path, data)
+        return
+    transaction = Transaction(tuple(os.fspath(p) for p in inputs))
+    try:
+        transaction.stage(path, data)
+    except BaseException:
+        transaction.discard()
+        raise
+    transaction.commit()
+
+
+def write_text(path: str | os.PathLike, text: str, *, inputs: Iterable[str | os.PathLike] = ()) -> None:
+    """Write ``text`` (UTF-8, ``\\n`` line ends) whole or not at all; see :func:`write_bytes`."""
+    write_bytes(path, text.encode("utf-8"), inputs=inputs)
+
+
+def write_output(path: str | os.PathLike, text: str, inputs: Sequence[str | os.PathLike] = ()) -> None:
+    """Write ``text`` to ``path`` whole or not at all; refuse to overwrite an input
+    (the name the project's brief uses for :func:`write_text`)."""
+    write_text(path, text, inputs=inputs)
+
+
+# --------------------------------------------------------------------------------------
+# formats: CSV with units in the header, JSON, NPZ, MAT
+# --------------------------------------------------------------------------------------
+
+_UNIT_TOKENS = {"Hz": "hz", "km/h": "kmh", "m/s": "m_s", "m/s^2": "m_s2", "rad/s": "rad_s", "1/m": "1_m", "1/s": "1_s"}
+
+
+def column_name(name: str, unit: str | None) -> str:
+    """A CSV header with its unit: ``("Q1", "N") -> "Q1_N"``, ``("frequency", "Hz") ->
+    "frequency_hz"``, ``("d1", "m") -> "d1_m"``; dimensionless (``""``, ``"1"``,
+    ``None``) keeps the bare name.
+
+    Examples
+    --------
+    >>> column_name("acc", "m/s^2"), column_name("QP1", "")
+    ('acc_m_s2', 'QP1')
+    """
+    if not unit or unit in ("1", "-"):
+        return name
+    token = _UNIT_TOKENS.get(unit)
+    if token is None:
+        token = unit.replace("^", "").replace("*", "").replace("/", "_").replace(" ", "")
+    return f"{name}_{token}"
+
+
+def csv_text(columns: Mapping[str, Any], units: Mapping[str, str | None] | None = None) -> str:
+    """CSV text of equally long ``columns`` (name -> values, SI); the header carries each
+    column's unit (:func:`column_name`).  Numbers are written with 9 significant digits,
+    non-finite ones as ``nan``/``inf``; text values as they are.
+
+    Examples
+    --------
+    >>> print(csv_text({"t": [0.0, 0.5], "Q1": [1.0, float("nan")]}, {"t": "s", "Q1": "N"}), end="")
+    t_s,Q1_N
+    0,1
+    0.5,nan
+    """
+    units = units or {}
+    names = list(columns)
+    cells = [_cells(columns[name]) for name in names]
+    lengths = {len(column) for column in cells}
+    if len(lengths) > 1:
+        raise ValueError(f"columns of different lengths: {dict(zip(names, map(len, cells)))}")
+    buffer = io.StringIO()
+    writer = csv.writer(buffer, lineterminator="\n")
+    writer.writerow([column_name(name, units.get(name)) for name in names])
+    writer.writerows(zip(*cells))
+    return buffer.getvalue()
+
+
+def _cells(values: Any) -> list[str]:
+    import numpy as np
+
+    array = np.asarray(values)
+    if array.dtype.kind in "biuf":
+        return [f"{float(value):.9g}" for value in array.astype(float).ravel()]
+    return ["" if value is None else str(value) for value in array.ravel()]
+
+
+def write_csv(
+    path: str | os.PathLike,
+    columns: Mapping[str, Any],
+    units: Mapping[str, str | None] | None = None,
+    *,
+    inputs: Iterable[str | os.PathLike] = (),
+) -> None:
+    """Write :func:`csv_text` of ``columns`` to ``path`` (``"-"``: standard output)."""
+    write_text(path, csv_text(columns, units), inputs=inputs)
+
+
+def json_safe(value: Any) -> Any:
     """A copy of ``value`` that :func:`json.dumps` accepts with ``allow_nan=False``:
     NumPy arrays and scalars become lists and Python numbers, nan/inf become None."""
     import numpy as np
@@ -91,3 +529,45 @@ def json_safe(value):
     if isinstance(value, np.integer):
         return int(value)
     return value
+
+
+def json_text(value: Any) -> str:
+    """Indented JSON of :func:`json_safe` ``(value)``, ending in a newline."""
+    import json
+
+    return json.dumps(json_safe(value), indent=2, allow_nan=False) + "\n"
+
+
+def npz_bytes(arrays: Mapping[str, Any], *, compress: bool = False) -> bytes:
+    """A NumPy ``.npz`` archive of ``arrays`` (name -> array), byte-identical run to run
+    (fixed zip dates), readable by ``numpy.load`` without pickles; ``compress`` deflates
+    the members (as :func:`numpy.savez_compressed`)."""
+    import numpy as np
+
+    buffer = io.BytesIO()
+    method = zipfile.ZIP_DEFLATED if compress else zipfile.ZIP_STORED
+    with zipfile.ZipFile(buffer, "w", compression=method) as archive:
+        for name, value in arrays.items():
+            array = np.asarray(value)
+            if array.dtype == object:
+                raise TypeError(f"{name}: object arrays are not exported")
+            member = io.BytesIO()
+            np.lib.format.write_array(member, array, allow_pickle=False)
+            info = zipfile.ZipInfo(f"{name}.npy", date_time=_FIXED_DATE)
+            info.external_attr = 0o644 << 16
+            archive.writestr(info, member.getvalue())
+    return buffer.getvalue()
+
+
+def mat_bytes(arrays: Mapping[str, Any], *, compress: bool = False) -> bytes:
+    """A MATLAB 5 ``.mat`` file of ``arrays`` (vectors as columns), byte-identical run
+    to run (the creation date in the header is replaced by :data:`MAT_HEADER`)."""
+    import numpy as np
+    from scipy.io import savemat
+
+    buffer = io.BytesIO()
+    savemat(buffer, {name: np.asarray(value) for name, value in arrays.items()}, oned_as="column",
+            do_compression=compress)
+    data = bytearray(buffer.getvalue())
+    data[:116] = MAT_HEADER.ljust(116, b" ")
+    return bytes(data)

@@ -1,0 +1,149 @@
+"""The ``express`` command line: a thin layer over the library.
+
+``main(argv) -> int`` assembles the parser from one module per command (each with
+``add_parser(subparsers)`` and a handler that receives the parsed values as keyword
+arguments), runs the handler and maps what it raises to an exit status
+(``docs/cli.md``):
+
+=====  =================================================================================
+0      success
+1      the analysis could not give a valid result (:class:`~express.diagnostics.AnalysisError`)
+2      bad input (:class:`~express.diagnostics.InputError`: a model, a value, a destination);
+       one ``error:`` line per problem
+70     an unexpected internal error: one line; the traceback with ``--debug``
+=====  =================================================================================
+
+Only the standard library is imported here, so ``express --help`` and ``--version``
+start quickly; numerical commands run with BLAS limited to one thread (the matrices are
+small, and threads only add start-up and contention).
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import importlib
+import os
+import sys
+import traceback
+from collections.abc import Iterator, Sequence
+from typing import Any, NoReturn
+
+from .. import __version__
+from ..diagnostics import EXIT_ANALYSIS, EXIT_INPUT, EXIT_INTERNAL, EXIT_OK, AnalysisError, InputError
+from . import convert, critical_speed, demo, eigen, frf, generate, simulate
+
+__all__ = ["build_parser", "main"]
+
+COMMANDS = (generate, convert, simulate, frf, eigen, critical_speed, demo)
+_META = ("handler", "numeric", "debug", "command")
+
+
+class _Parser(argparse.ArgumentParser):
+    """An argument parser whose mistakes are one ``error:`` line and status 2."""
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(EXIT_INPUT, f"error: {self.prog}: {message} (see {self.prog} --help)\n")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser of the ``express`` command."""
+    parser = _Parser(
+        prog="express",
+        description="Exact symbolic equations of motion and dynamics of rail vehicles.",
+        epilog="A bare number is SI, except speeds (km/h) and --amplitude (mm); any quantity may carry "
+        "a unit ('30 m/s', '2 mm'). Exit status: 0 success, 1 no valid result, 2 bad input, "
+        "70 internal error. See docs/cli.md.",
+    )
+    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
+    parser.add_argument("--debug", action="store_true", help="show the traceback of an internal error")
+    commands = parser.add_subparsers(dest="command", metavar="COMMAND")
+    commands.required = True
+    for command in COMMANDS:
+        command.add_parser(commands)
+    for sub in commands.choices.values():
+        sub.add_argument("--debug", action="store_true", default=argparse.SUPPRESS, help=argparse.SUPPRESS)
+    return parser
+
+
+@contextlib.contextmanager
+def _one_blas_thread(numeric: bool) -> Iterator[None]:
+    """BLAS on one thread while a numerical command runs (restored afterwards).
+
+    threadpoolctl acts on the libraries already loaded, so NumPy's and SciPy's BLAS are
+    loaded first; commands that compute nothing numerical skip all of it.
+    """
+    if not numeric:
+        yield
+        return
+    for module in ("numpy", "scipy.linalg"):  # each loads its own BLAS
+        importlib.import_module(module)
+    from threadpoolctl import threadpool_limits
+
+    with threadpool_limits(limits=1, user_api="blas"):
+        yield
+
+
+def _print_error_lines(lines: Sequence[str]) -> None:
+    for line in lines:
+        print(f"error: {line}", file=sys.stderr)
+
+
+def _internal_error(error: BaseException, debug: bool) -> int:
+    if debug:
+        traceback.print_exception(type(error), error, error.__traceback__, file=sys.stderr)
+    message = (str(error).splitlines() or [""])[0][:200]
+    hint = "" if debug else " (run with --debug for the traceback)"
+    print(f"error: internal error: {type(error).__name__}: {message}{hint}", file=sys.stderr)
+    return EXIT_INTERNAL
+
+
+def _quiet_stdout() -> None:
+    """After a broken pipe, point stdout at /dev/null so that the interpreter's final
+    flush does not complain (the reader has gone: nothing more is wanted)."""
+    with contextlib.suppress(AttributeError, OSError, ValueError):
+        null = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(null, sys.stdout.fileno())
+        os.close(null)
+
+
+def _run(parser: argparse.ArgumentParser, argv: Sequence[str] | None) -> int:
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exit_:  # --help, --version, a usage mistake
+        return exit_.code if isinstance(exit_.code, int) else (EXIT_OK if exit_.code is None else EXIT_INPUT)
+    values: dict[str, Any] = vars(args)
+    handler = values["handler"]
+    numeric = bool(values.get("numeric", False))
+    for key in _META:
+        values.pop(key, None)
+    with _one_blas_thread(numeric):
+        return int(handler(**values))
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the ``express`` command with ``argv`` (default: ``sys.argv[1:]``); return the
+    exit status (0, 1, 2 or 70; see the module docstring)."""
+    arguments = list(sys.argv[1:] if argv is None else argv)
+    debug = "--debug" in arguments
+    if not arguments:
+        parser = build_parser()
+        parser.print_usage(sys.stderr)
+        print("error: express: give a COMMAND (see express --help)", file=sys.stderr)
+        return EXIT_INPUT
+    try:
+        return _run(build_parser(), arguments)
+    except InputError as error:
+        _print_error_lines(error.lines())
+        return EXIT_INPUT
+    except AnalysisError as error:
+        _print_error_lines(str(error).splitlines() or [type(error).__name__])
+        return EXIT_ANALYSIS
+    except BrokenPipeError:  # e.g. `express generate ... | head`
+        _quiet_stdout()
+        return EXIT_OK
+    except KeyboardInterrupt:
+        print("error: interrupted", file=sys.stderr)
+        return 130
+    except Exception as error:
+        return _internal_error(error, debug)

@@ -1,0 +1,274 @@
+"""Options shared by the commands: the model and ``--set``, quantities with units and
+their valid ranges, output paths, and the loaders that turn them into library objects.
+
+The quantity rule (``docs/cli.md``): a number with a unit is checked against the
+option's dimension; a bare number is SI, except speeds (km/h, rail usage) and the
+irregularity amplitude (mm, as documented since the first release).  Every numeric
+option has a valid range, checked while the command line is parsed, before any work;
+the message names the option and the range.
+
+Nothing heavy is imported here at module level: ``express --help`` stays quick.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import re
+import sys
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from ..diagnostics import UsageError
+
+__all__ = [
+    "AMPLITUDE",
+    "DT",
+    "FMAX",
+    "FMIN",
+    "SPEED",
+    "TOLERANCE",
+    "VMAX",
+    "VMIN",
+    "Quantity",
+    "add_json_option",
+    "add_model_arguments",
+    "count",
+    "figure_path",
+    "load_rail_vehicle",
+    "note",
+    "print_json",
+    "running_speed",
+]
+
+KMH = 1.0 / 3.6
+_BARE_NUMBER = re.compile(r"\s*[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?\s*\Z")
+_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
+
+
+@dataclass(frozen=True)
+class Quantity:
+    """A command-line quantity: its dimension, the unit of a bare number and its range.
+
+    Calling it converts the text of the option to SI (the ``type=`` of argparse).
+
+    Attributes
+    ----------
+    option : str
+        The option's name, for messages (``--speed``).
+    dimension : str
+        Expected dimension (a name of :mod:`express.units`, e.g. ``"speed"``).
+    bare_unit : str
+        Unit of a number given without one (``"km/h"``, ``"s"``).
+    low, high : float
+        Valid range in ``bare_unit``; ``low`` is excluded when ``open_low``.
+    open_low : bool
+        The range is ``low < x <= high`` rather than ``low <= x <= high``.
+    """
+
+    option: str
+    dimension: str
+    bare_unit: str
+    low: float
+    high: float
+    open_low: bool = False
+
+    @property
+    def range_text(self) -> str:
+        sign = "<" if self.open_low else "<="
+        return f"{self.low:g} {sign} {self.option} <= {self.high:g} {self.bare_unit}"
+
+    def help(self, what: str, default: str | None = None) -> str:
+        """Help text: what it is, the unit of a bare number, the range and the default."""
+        tail = f"; default {default}" if default else ""
+        return f"{what} [bare number: {self.bare_unit}; or with a unit]; {self.range_text}{tail}"
+
+    def __call__(self, text: str) -> float:
+        from ..units import to_si, unit_factor
+
+        try:
+            if _BARE_NUMBER.match(text):
+                value = to_si(float(text), self.bare_unit)
+            else:
+                value = _parse_with_unit(text, self.dimension)
+        except (ValueError, OverflowError, ArithmeticError) as error:
+            raise argparse.ArgumentTypeError(f'"{text}": {error}') from None
+        low = self.low * unit_factor(self.bare_unit)
+        high = self.high * unit_factor(self.bare_unit)
+        inside = (low < value if self.open_low else low <= value) and value <= high
+        if not (math.isfinite(value) and inside):
+            raise argparse.ArgumentTypeError(f'"{text}" is outside the valid range {self.range_text}')
+        return value
+
+
+def _parse_with_unit(text: str, dimension: str) -> float:
+    """``"30 m/s"`` -> 30.0, refusing a unit of another dimension."""
+    from ..units import parse_quantity
+
+    value, _unit = parse_quantity(text, dimension)
+    return float(value)
+
+
+SPEED = Quantity("--speed", "speed", "km/h", 0.0, 1000.0, open_low=True)
+VMIN = Quantity("--vmin", "speed", "km/h", 0.0, 1000.0, open_low=True)
+VMAX = Quantity("--vmax", "speed", "km/h", 0.0, 1000.0, open_low=True)
+TOLERANCE = Quantity("--tolerance", "speed", "km/h", 1e-3, 100.0)
+FMIN = Quantity("--fmin", "frequency", "Hz", 1e-4, 1000.0)
+FMAX = Quantity("--fmax", "frequency", "Hz", 1e-4, 1000.0)
+AMPLITUDE = Quantity("--amplitude", "length", "mm", 0.0, 100.0, open_low=True)
+DT = Quantity("--dt", "time", "s", 1e-5, 0.1)
+
+
+def count(option: str, low: int, high: int) -> Callable[[str], int]:
+    """An integer option with its range (the ``type=`` of argparse)."""
+
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f'"{text}" is not a whole number') from None
+        if not low <= value <= high:
+            raise argparse.ArgumentTypeError(f"{value} is outside the valid range {low} <= {option} <= {high}")
+        return value
+
+    parse.__name__ = option.lstrip("-")  # argparse names the type in some messages
+    return parse
+
+
+# --------------------------------------------------------------------------------------
+# the model and --set
+# --------------------------------------------------------------------------------------
+
+
+class _Assignments(argparse.Action):
+    """``--set NAME=TEXT`` (repeatable) -> ``{NAME: TEXT}``, the last one winning.
+
+    The text is kept as written: the library converts it with the parameter's dimension
+    (a bare speed is km/h, everything else SI).
+    """
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        item = str(values)
+        name, sep, text = item.partition("=")
+        name, text = name.strip(), text.strip()
+        if not sep or not _NAME.match(name) or not text:
+            raise argparse.ArgumentError(self, f'"{item}": expected NAME=VALUE, e.g. --set Gamma=0.05 or --set "v=100 km/h"')
+        assignments = dict(getattr(namespace, self.dest, None) or {})
+        assignments[name] = text
+        setattr(namespace, self.dest, assignments)
+
+
+def add_model_arguments(parser: argparse.ArgumentParser) -> None:
+    """The model file and ``--set NAME=VALUE`` (handlers receive ``model`` and ``overrides``)."""
+    parser.add_argument("model", type=Path, help="model file: classic (.exp) or modern (.toml)")
+    parser.add_argument(
+        "--set", dest="overrides", action=_Assignments, default={}, metavar="NAME=VALUE",
+        help="override a parameter, e.g. --set Gamma=0.05 --set 'mc=35 t' (repeatable); "
+        "a bare number is SI, except a speed (km/h: --set v=100)",
+    )
+
+
+def add_json_option(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--json", dest="as_json", action="store_true", help="print a JSON summary (SI units)")
+
+
+def figure_path(text: str) -> Path:
+    """``--plot FILE``: a figure file by suffix (the ``type=`` of argparse)."""
+    from ..analysis.plots import FIGURE_SUFFIXES
+
+    path = Path(text)
+    if path.suffix.lower() not in FIGURE_SUFFIXES:
+        raise argparse.ArgumentTypeError(f"{text}: unknown figure format; use {', '.join(FIGURE_SUFFIXES)}")
+    return path
+
+
+def load_rail_vehicle(model: Path, overrides: dict[str, str], command: str) -> Any:
+    """The numerical vehicle of ``model`` with ``overrides`` (read once), which must
+    have rail data.
+
+    Raises
+    ------
+    ModelError
+        A bad file or override.
+    UsageError
+        The model has no rail data.
+    """
+    from ..statespace import load_vehicle
+
+    vehicle = load_vehicle(model, overrides)
+    if vehicle.layout is None or not vehicle.wheelsets:
+        raise UsageError(
+            f"{command}: {model}: the model has no rail data (no [rail] section with wheelsets); "
+            "only `express generate` applies to it"
+        )
+    return vehicle
+
+
+def running_speed(vehicle: Any, speed: float | None) -> float:
+    """``--speed`` if given, else the model's own speed, checked against :data:`SPEED`'s range [m/s]."""
+    if speed is not None:
+        return speed
+    own = float(vehicle.speed)
+    if not math.isfinite(own):
+        raise UsageError("the model has no speed: give one with --speed KMH (or --set v=...)")
+    if not 0 < own <= SPEED.high * KMH:
+        raise UsageError(
+            f"the model's speed {own / KMH:g} km/h is outside the valid range {SPEED.range_text}; give --speed"
+        )
+    return own
+
+
+def load_track(path: Path | None) -> Any:
+    """The track of ``--track`` (default: the paper's curve)."""
+    from ..rail.track import load_track as read_track
+    from ..rail.track import paper_curve
+
+    if path is None:
+        return paper_curve()
+    return read_track(path)
+
+
+# --------------------------------------------------------------------------------------
+# printing
+# --------------------------------------------------------------------------------------
+
+
+def note(message: str) -> None:
+    """A progress or ``wrote FILE`` line on standard error."""
+    print(message, file=sys.stderr)
+
+
+def print_json(data: dict) -> None:
+    """``data`` as indented JSON on standard output (NumPy values converted, nan -> null)."""
+    from ..io.output import json_text
+
+    sys.stdout.write(json_text(data))
+
+
+def is_terminal(stream: Any) -> bool:
+    try:
+        return bool(stream.isatty())
+    except (AttributeError, ValueError):
+        return False
+
+
+def load_model_with(model: Path, overrides: dict[str, str]) -> Any:
+    """The model read once with ``overrides`` applied (``generate``, ``convert``).
+
+    Raises
+    ------
+    ModelError
+        A bad file or override (every problem at once).
+    """
+    from ..io import load_model
+    from ..model import with_values
+
+    loaded = load_model(model)
+    return with_values(loaded, overrides) if overrides else loaded
+
+
+def print_warnings(warnings: Any) -> None:
+    for warning in warnings:
+        print(f"warning: {warning}", file=sys.stderr)

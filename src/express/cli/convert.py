@@ -1,0 +1,34 @@
+"""``express convert``: a model (classic or modern) written in the modern TOML format."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from . import common
+
+__all__ = ["add_parser", "run"]
+
+
+def add_parser(subparsers) -> None:
+    parser = subparsers.add_parser(
+        "convert", help="convert a classic model file to the modern TOML format",
+        description="Read a model (classic .exp or modern .toml, with --set overrides) and write it "
+        "in the modern TOML format (docs/model-format.md).",
+    )
+    common.add_model_arguments(parser)
+    parser.add_argument("-o", "--output", help="output .toml file; '-' or none: standard output")
+    parser.set_defaults(handler=run)
+
+
+def run(model: Path, overrides: dict[str, str], *, output: str | None = None) -> int:
+    """Convert and write; returns the exit status."""
+    from ..io import model_to_toml
+    from ..io.output import STDOUT, output_transaction, write_text
+
+    output = output or STDOUT
+    with output_transaction(inputs=[model]) as outputs:
+        outputs.declare(output)
+        write_text(output, model_to_toml(common.load_model_with(model, overrides)))
+    if output != STDOUT:
+        common.note(f"wrote {output}")
+    return 0

@@ -1,0 +1,206 @@
+"""``express critical-speed``: the hunting critical speed, optionally against the
+conicity (paper Fig. 11), :func:`express.analysis.stability.critical_speed`."""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+from pathlib import Path
+from typing import Any
+
+from ..diagnostics import UsageError
+from . import common
+
+__all__ = ["MAX_SWEEP", "add_parser", "parse_range", "run"]
+
+#: Most values of one ``--conicities`` sweep.
+MAX_SWEEP = 10_000
+
+
+def parse_range(text: str, option: str = "--conicities") -> list[float]:
+    """``"0.02:0.4:40"`` -> 40 values from 0.02 to 0.4 (ends included); ``"0.05,0.1"``
+    -> those values.  Each value positive and finite, at most :data:`MAX_SWEEP` of them.
+
+    Raises
+    ------
+    argparse.ArgumentTypeError
+        Naming the expected form or the range.
+
+    Examples
+    --------
+    >>> parse_range("0.1:0.3:3")
+    [0.1, 0.2, 0.3]
+    """
+    usage = f'"{text}": expected START:STOP:COUNT (e.g. 0.02:0.4:40) or a list 0.05,0.1'
+    parts = text.strip().split(":")
+    try:
+        if len(parts) == 3:
+            start, stop, count = float(parts[0]), float(parts[1]), int(parts[2])
+        elif len(parts) == 1:
+            values = [float(part) for part in text.split(",") if part.strip()]
+            start, stop, count = 0.0, 0.0, len(values)
+        else:
+            raise ValueError
+    except ValueError:
+        raise argparse.ArgumentTypeError(usage) from None
+    if not 1 <= count <= MAX_SWEEP:
+        raise argparse.ArgumentTypeError(f'"{text}": {count} values; give 1 <= COUNT <= {MAX_SWEEP}')
+    if len(parts) == 3:
+        import numpy as np
+
+        values = np.linspace(start, stop, count).tolist()
+    if not all(math.isfinite(value) and value > 0 for value in values):
+        raise argparse.ArgumentTypeError(f'"{text}": every value must be positive and finite')
+    return values
+
+
+def add_parser(subparsers) -> None:
+    parser = subparsers.add_parser(
+        "critical-speed", help="hunting critical speed (optionally against the conicity, paper Fig. 11)",
+        description="Lowest speed at which an eigenvalue of A(v) gets a positive real part. With "
+        "--conicities START:STOP:COUNT, the critical speed for each tread conicity.",
+    )
+    common.add_model_arguments(parser)
+    parser.add_argument("--vmin", type=common.VMIN, default=3.6 * common.KMH, metavar="SPEED",
+                        help=common.VMIN.help("lowest speed scanned", "3.6 km/h"))
+    parser.add_argument("--vmax", type=common.VMAX, default=540 * common.KMH, metavar="SPEED",
+                        help=common.VMAX.help("highest speed scanned, above --vmin", "540 km/h"))
+    parser.add_argument("--tolerance", type=common.TOLERANCE, default=0.1 * common.KMH, metavar="SPEED",
+                        help=common.TOLERANCE.help("width of the final bisection bracket", "0.1 km/h"))
+    parser.add_argument("--conicities", type=parse_range, metavar="START:STOP:COUNT",
+                        help=f"sweep the conicity, e.g. 0.02:0.4:40 (COUNT values, ends included; "
+                        f"1 <= COUNT <= {MAX_SWEEP}), or a list 0.05,0.1")
+    parser.add_argument("--parameter", default="Gamma", help="parameter swept by --conicities (default Gamma)")
+    parser.add_argument("-o", "--output", metavar="FILE", help="with --conicities: the sweep as CSV (- for standard output)")
+    parser.add_argument("--plot", type=common.figure_path, metavar="FILE",
+                        help="figure (.png/.svg/.pdf): V_cr against the conicity with --conicities, else the root locus")
+    common.add_json_option(parser)
+    parser.set_defaults(handler=run, numeric=True)
+
+
+def run(
+    model: Path, overrides: dict[str, str], *, vmin: float = 1.0, vmax: float = 150.0, tolerance: float = 0.1 / 3.6,
+    conicities: list[float] | None = None, parameter: str = "Gamma", output: str | None = None,
+    plot: Path | None = None, as_json: bool = False,
+) -> int:
+    """Find the critical speed (and the sweep) and write the outputs all together."""
+    from ..io.output import output_transaction
+
+    if not vmax > vmin:
+        raise UsageError(f"--vmax {vmax / common.KMH:g} km/h: must be above --vmin {vmin / common.KMH:g} km/h")
+    if output is not None and conicities is None:
+        raise UsageError("-o is written only with --conicities")
+    if output == "-" and as_json:
+        raise UsageError("-o - and --json both write to standard output; choose one")
+    options = {"v_min": vmin, "v_max": vmax, "tolerance_kmh": tolerance / common.KMH}
+    with output_transaction([model]) as transaction:
+        if output is not None:
+            transaction.declare(output)
+        if plot is not None:
+            transaction.declare(plot, binary=True)
+        vehicle = common.load_rail_vehicle(model, overrides, "critical-speed")
+        if conicities is not None and (vehicle.model is None or parameter not in vehicle.model.parameters):
+            raise UsageError(f"--parameter {parameter}: the model has no such parameter")
+        result, sweep = _compute(vehicle, options, conicities, parameter)
+        if output is not None:
+            _write_sweep(output, parameter, conicities, sweep)
+        if plot is not None:
+            _figure(vehicle, plot, vmin, vmax, result, conicities, parameter, sweep)
+    for path in [p for p in (output, plot) if p is not None and str(p) != "-"]:
+        common.note(f"wrote {path}")
+    summary = {"model": str(model), "v_min": vmin, "v_max": vmax, **_fields(result)}
+    if conicities is not None:
+        summary["sweep"] = _sweep_summary(parameter, conicities, sweep)
+    if as_json:
+        common.print_json(summary)
+    else:
+        _print(vehicle.equations.name, result, vmax, conicities, parameter, sweep, sys.stderr if output == "-" else sys.stdout)
+    return 0
+
+
+def _compute(vehicle: Any, options: dict, conicities: list[float] | None, parameter: str) -> tuple[Any, list | None]:
+    from ..analysis.stability import critical_speed, critical_speed_vs_conicity
+
+    result = critical_speed(vehicle, **options)
+    sweep = None
+    if conicities is not None:
+        sweep = critical_speed_vs_conicity(vehicle, conicities, parameter=parameter, **options)
+    return result, sweep
+
+
+def _speeds(sweep: list) -> Any:
+    import numpy as np
+
+    return np.array([c.speed if c is not None else np.nan for c in sweep])
+
+
+def _write_sweep(output: str, parameter: str, conicities: list[float], sweep: list) -> None:
+    from ..io.output import write_csv
+
+    speeds = _speeds(sweep)
+    columns = {parameter: conicities, "critical_speed": speeds, "critical_speed_kmh": speeds / common.KMH,
+               "unstable_at_min": [int(c is not None and c.unstable_at_min) for c in sweep]}
+    write_csv(output, columns, {"critical_speed": "m/s"})
+
+
+def _sweep_summary(parameter: str, conicities: list[float], sweep: list) -> dict:
+    speeds = _speeds(sweep)
+    return {
+        "parameter": parameter, "values": conicities, "critical_speeds": speeds,
+        "critical_speeds_kmh": speeds / common.KMH,
+        "unstable_at_min": [bool(c is not None and c.unstable_at_min) for c in sweep],
+        "modes": [c.mode.describe() if c is not None else None for c in sweep],
+    }
+
+
+def _fields(result: Any) -> dict:
+    if result is None:
+        return {"critical_speed": None, "critical_speed_kmh": None, "mode": None, "frequency_hz": None,
+                "unstable_at_min": False}
+    return {"critical_speed": result.speed, "critical_speed_kmh": result.speed_kmh, "mode": result.mode.describe(),
+            "frequency_hz": result.mode.frequency_hz, "unstable_at_min": bool(result.unstable_at_min)}
+
+
+def _figure(vehicle: Any, plot: Path, vmin: float, vmax: float, result: Any, conicities: list[float] | None,
+            parameter: str, sweep: list | None) -> None:
+    import numpy as np
+
+    from ..analysis import plots
+    from ..analysis.stability import root_locus
+
+    name = vehicle.equations.name
+    if conicities is not None and sweep is not None:
+        figure = plots.figure_critical_speed(
+            [{"label": name, "conicity": np.asarray(conicities), "speed_kmh": _speeds(sweep) / common.KMH}],
+            nominal_conicity=vehicle.values.get(parameter),
+            running_speed_kmh=vehicle.speed / common.KMH if math.isfinite(vehicle.speed) else None,
+            title=f"{name}: critical speed against {parameter}",
+        )
+    else:
+        speeds = np.linspace(vmin, vmax, 400)
+        figure = plots.figure_eigen_locus(
+            speeds / common.KMH, root_locus(vehicle, speeds),
+            title=f"{name}: real parts of the eigenvalues against speed",
+            critical_kmh=result.speed_kmh if result is not None and not result.unstable_at_min else None,
+        )
+    plots.save_figure(figure, plot)
+
+
+def _print(name: str, result: Any, vmax: float, conicities: list[float] | None, parameter: str, sweep: list | None,
+           stream: Any) -> None:
+    if result is None:
+        print(f"{name}: stable up to {vmax / common.KMH:.1f} km/h (no critical speed below --vmax)", file=stream)
+    else:
+        print(f"{name}: {result.describe()}", file=stream)
+    if conicities is None or sweep is None:
+        return
+    print(f"  {parameter:>8} {'V_cr [km/h]':>12}  mode", file=stream)
+    for value, c in zip(conicities, sweep):
+        if c is None:
+            print(f"  {value:8.4f} {'> ' + format(vmax / common.KMH, '.0f'):>12}  stable over the range", file=stream)
+        elif c.unstable_at_min:
+            print(f"  {value:8.4f} {'< ' + format(c.speed_kmh, '.1f'):>12}  unstable at the lowest speed: "
+                  f"{c.mode.describe()}", file=stream)
+        else:
+            print(f"  {value:8.4f} {c.speed_kmh:12.1f}  {c.mode.describe()}", file=stream)

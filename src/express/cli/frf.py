@@ -1,0 +1,153 @@
+"""``express frf``: response to a sinusoidal lateral irregularity (paper Fig. 10),
+:func:`express.analysis.frequency.frequency_response`."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+from typing import Any
+
+from ..diagnostics import AnalysisError, UsageError
+from . import common
+
+__all__ = ["MAX_POINTS", "add_parser", "run"]
+
+#: Most frequencies one run computes.
+MAX_POINTS = 100_000
+
+_LABELS = {"floor_front": "floor above the front bogie centre", "floor_rear": "floor above the rear bogie centre"}
+
+
+def add_parser(subparsers) -> None:
+    parser = subparsers.add_parser(
+        "frf", help="frequency response to a sinusoidal lateral irregularity (paper Fig. 10)",
+        description="Steady-state response to yR = Y sin(2 pi f t) at the leading wheelset, delayed at "
+        "the others. Reports the acceleration amplitude of the model's output points (e.g. the car-body "
+        "floor above the bogie centres) and the displacement amplitude of any --dof.",
+    )
+    common.add_model_arguments(parser)
+    parser.add_argument("--fmin", type=common.FMIN, default=0.1, metavar="F",
+                        help=common.FMIN.help("lowest frequency", "0.1 Hz"))
+    parser.add_argument("--fmax", type=common.FMAX, default=20.0, metavar="F",
+                        help=common.FMAX.help("highest frequency, above --fmin", "20 Hz"))
+    parser.add_argument("--points", type=common.count("--points", 2, MAX_POINTS), default=200,
+                        help=f"number of frequencies, log-spaced; 2 <= --points <= {MAX_POINTS}; default 200")
+    parser.add_argument("--amplitude", type=common.AMPLITUDE, default=1e-3, metavar="Y",
+                        help=common.AMPLITUDE.help("irregularity amplitude Y", "1 mm"))
+    parser.add_argument("--speed", type=common.SPEED, metavar="SPEED", help=common.SPEED.help("running speed", "the model's speed"))
+    parser.add_argument("--dof", dest="dofs", action="append", default=[], metavar="DOF",
+                        help="also report this DOF's displacement amplitude, e.g. --dof W1.y (repeatable)")
+    parser.add_argument("-o", "--output", metavar="FILE", help="amplitudes and phases as CSV (- for standard output)")
+    parser.add_argument("--plot", type=common.figure_path, metavar="FILE", help="figure (.png, .svg or .pdf)")
+    common.add_json_option(parser)
+    parser.set_defaults(handler=run, numeric=True)
+
+
+def run(
+    model: Path, overrides: dict[str, str], *, fmin: float = 0.1, fmax: float = 20.0, points: int = 200,
+    amplitude: float = 1e-3, speed: float | None = None, dofs: list[str] | None = None,
+    output: str | None = None, plot: Path | None = None, as_json: bool = False,
+) -> int:
+    """Compute the response and write the outputs all together; returns the exit status."""
+    import numpy as np
+
+    from ..io.output import output_transaction, write_csv
+
+    dofs = list(dofs or [])
+    if not fmax > fmin:
+        raise UsageError(f"--fmax {fmax:g} Hz: must be above --fmin {fmin:g} Hz")
+    if output == "-" and as_json:
+        raise UsageError("-o - and --json both write to standard output; choose one")
+    with output_transaction([model]) as transaction:
+        if output is not None:
+            transaction.declare(output)
+        if plot is not None:
+            transaction.declare(plot, binary=True)
+        vehicle = common.load_rail_vehicle(model, overrides, "frf")
+        v = common.running_speed(vehicle, speed)
+        frequencies = np.geomspace(fmin, fmax, points)
+        series = _series(vehicle, dofs, frequencies, amplitude, v)
+        if output is not None:
+            columns, units = _columns(frequencies, series)
+            write_csv(output, columns, units)
+        if plot is not None:
+            _figure(vehicle, frequencies, series, amplitude, v, plot)
+    for path in [p for p in (output, plot) if p is not None and str(p) != "-"]:
+        common.note(f"wrote {path}")
+    peaks = {}
+    for name, (values, unit) in series.items():
+        k = int(np.argmax(np.abs(values)))
+        peaks[name] = {"amplitude": float(np.abs(values[k])), "frequency_hz": float(frequencies[k]), "unit": unit}
+    if as_json:
+        common.print_json({
+            "model": str(model), "speed": v, "speed_kmh": v / common.KMH, "amplitude": amplitude,
+            "frequencies": frequencies,
+            "outputs": {name: {"unit": unit, "amplitude": np.abs(values), "phase_deg": np.degrees(np.angle(values))}
+                        for name, (values, unit) in series.items()},
+            "peaks": peaks,
+        })
+        return 0
+    stream = sys.stderr if output == "-" else sys.stdout
+    print(f"{vehicle.equations.name}: sinusoidal irregularity Y = {amplitude * 1e3:g} mm at {v / common.KMH:.1f} km/h, "
+          f"{fmin:g}-{fmax:g} Hz ({points} points)", file=stream)
+    print(f"  {'output':<14} {'peak amplitude':>18} {'at f [Hz]':>10}", file=stream)
+    for name, peak in peaks.items():
+        print(f"  {name:<14} {peak['amplitude']:12.4g} {peak['unit']:<5} {peak['frequency_hz']:10.3f}", file=stream)
+    if output is None:
+        common.note("(-o FILE.csv writes every frequency; --json prints them)")
+    return 0
+
+
+def _series(vehicle: Any, dofs: list[str], frequencies: Any, amplitude: float, speed: float) -> dict:
+    """name -> (complex amplitudes, unit): output points' accelerations, then the DOFs."""
+    import numpy as np
+
+    from ..analysis.frequency import frequency_response
+
+    for dof in dofs:
+        if dof not in vehicle.dofs:
+            raise UsageError(f"--dof {dof}: unknown DOF; DOFs: {', '.join(vehicle.dofs)}")
+    model = vehicle.model
+    points = [p.name for p in model.rail.outputs] if model is not None and model.rail is not None else []
+    if not points and not dofs:
+        raise UsageError("frf: the model has no output points ([rail.outputs]); name a DOF with --dof W1.y")
+    response = frequency_response(vehicle, frequencies, amplitude=amplitude, speed=speed)
+    series: dict[str, tuple[Any, str]] = {name: (np.asarray(response.acceleration_of(name)), "m/s^2") for name in points}
+    for dof in dofs:
+        series[dof] = (np.asarray(response.amplitude_of(dof)), "rad" if dof.split(".")[-1].startswith("r") else "m")
+    for name, (values, _unit) in series.items():
+        if not np.all(np.isfinite(values)):
+            raise AnalysisError(f"frf: the response of {name} is not finite at some frequency (a resonance "
+                                "without damping, or values out of range)")
+    return series
+
+
+def _columns(frequencies: Any, series: dict) -> tuple[dict, dict]:
+    """CSV columns (SI, units in the header): frequency, then amplitude and phase of each."""
+    import numpy as np
+
+    columns: dict[str, Any] = {"frequency": frequencies}
+    units = {"frequency": "Hz"}
+    for name, (values, unit) in series.items():
+        kind = "acc_" if unit == "m/s^2" else ""
+        columns[f"{name}_{kind}amplitude"] = np.abs(values)
+        units[f"{name}_{kind}amplitude"] = unit
+        columns[f"{name}_{kind}phase"] = np.degrees(np.angle(values))
+        units[f"{name}_{kind}phase"] = "deg"
+    return columns, units
+
+
+def _figure(vehicle: Any, frequencies: Any, series: dict, amplitude: float, speed: float, plot: Path) -> None:
+    import numpy as np
+
+    from ..analysis.plots import figure_frequency_response, save_figure
+
+    accelerations = [n for n in series if series[n][1] == "m/s^2"]
+    if accelerations:
+        curves = [{"label": _LABELS.get(n, n), "values": np.abs(series[n][0])} for n in accelerations]
+        ylabel = "acceleration amplitude [m/s²]"
+    else:
+        curves = [{"label": f"{n} [{series[n][1]}]", "values": np.abs(series[n][0])} for n in series]
+        ylabel = "displacement amplitude"
+    title = f"{vehicle.equations.name}: response to Y = {amplitude * 1e3:g} mm at {speed / common.KMH:.0f} km/h"
+    save_figure(figure_frequency_response(frequencies, curves, ylabel=ylabel, title=title), plot)

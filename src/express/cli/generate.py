@@ -1,0 +1,63 @@
+"""``express generate``: the symbolic M, C, K (and P, Pd) of a model, exported."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from ..diagnostics import UsageError
+from . import common
+
+__all__ = ["add_parser", "run"]
+
+FORMATS = ("json", "matlab", "python", "latex", "text")
+
+
+def add_parser(subparsers) -> None:
+    parser = subparsers.add_parser(
+        "generate", help="symbolic M, C, K (and P, Pd) of a model",
+        description="Exact symbolic equations of motion of a model, with its rail terms when it has "
+        "rail data, as text, JSON (docs/conventions.md), MATLAB/Octave, Python or LaTeX.",
+    )
+    common.add_model_arguments(parser)
+    parser.add_argument("--format", dest="fmt", choices=FORMATS, default="text", help="export format (default text)")
+    parser.add_argument("-o", "--output", help="output file; '-' or none: standard output")
+    parser.add_argument("--keep-virtual", action="store_true", help="keep the virtual DOFs (the paper's eq. 6)")
+    parser.add_argument("--no-rail", action="store_true", help="ignore the model's rail data (core matrices only)")
+    parser.set_defaults(handler=run)
+
+
+def run(
+    model: Path, overrides: dict[str, str], *, fmt: str = "text", output: str | None = None,
+    keep_virtual: bool = False, no_rail: bool = False,
+) -> int:
+    """Generate and write the equations; returns the exit status."""
+    from ..io.output import STDOUT, output_transaction, write_text
+
+    output = output or STDOUT
+    if fmt == "matlab" and output != STDOUT and Path(output).suffix != ".m":
+        raise UsageError(f"{output}: a MATLAB function file must end in .m")
+    with output_transaction(inputs=[model]) as outputs:
+        outputs.declare(output)
+        text, dofs = _export(model, overrides, fmt, output, keep_virtual=keep_virtual, with_rail=not no_rail)
+        write_text(output, text)
+    if output != STDOUT:
+        common.note(f"wrote {output} ({dofs} DOFs)")
+    return 0
+
+
+def _export(model: Path, overrides: dict[str, str], fmt: str, output: str, *, keep_virtual: bool,
+            with_rail: bool) -> tuple[str, int]:
+    from ..export import FORMATS as EXPORTERS
+    from ..export import to_matlab
+    from ..io.output import STDOUT
+    from ..rail.build import generate_vehicle
+
+    loaded = common.load_model_with(model, overrides)
+    result = generate_vehicle(loaded, keep_virtual=keep_virtual, with_rail=with_rail)
+    common.print_warnings(result.warnings)
+    equations = result.equations
+    if fmt == "matlab":
+        name = Path(output).stem if output != STDOUT else equations.name
+        return to_matlab(equations, name), len(equations.dofs)
+    return EXPORTERS[fmt](equations), len(equations.dofs)
+

@@ -1,0 +1,220 @@
+"""``express simulate``: a vehicle run along a track (:func:`express.analysis.simulate.simulate`).
+
+A run that leaves the model's range of validity is not a result: when a state becomes
+non-finite, or a wheelset moves more than :data:`DIVERGED_CLEARANCES` flange clearances
+from its rail, the command exits with status 1, names the time, the track position and
+the least-damped eigenvalue at the speed, leaves the requested outputs untouched and
+keeps the history up to that point in ``<name>.diverged<suffix>`` beside each of them.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+from dataclasses import dataclass, replace
+from pathlib import Path
+from typing import Any
+
+from ..diagnostics import AnalysisError, UsageError
+from . import common
+
+__all__ = ["DIVERGED_CLEARANCES", "MAX_STEPS", "add_parser", "run"]
+
+TABLE_SUFFIXES = (".csv", ".npz", ".mat")
+#: A run is refused beyond this many time steps (track length / (speed * dt)).
+MAX_STEPS = 5_000_000
+#: A wheelset this many flange clearances from its rail has left the model's range.
+DIVERGED_CLEARANCES = 10.0
+_MIN_DIVERGED_DISTANCE = 0.05  # m, for models with a tiny or zero clearance
+
+
+def table_path(text: str) -> str:
+    """``-o FILE``: .csv, .npz or .mat by suffix; ``-`` is CSV on standard output."""
+    if text != "-" and Path(text).suffix.lower() not in TABLE_SUFFIXES:
+        raise argparse.ArgumentTypeError(f"{text}: unknown result format; use .csv, .npz or .mat (or - for CSV on standard output)")
+    return text
+
+
+def add_parser(subparsers) -> None:
+    parser = subparsers.add_parser(
+        "simulate", help="run a vehicle along a track (default: the paper's R = 400 m curve, Fig. 9)",
+        description="Time-domain run along a track with flange contact and creep saturation. Without "
+        "--track the paper's curve is used (straight, 95 m transition, R = 400 m with 95 mm cant for "
+        "170 m, transition, straight) at the model's speed. Exit status 1 when the run diverges.",
+    )
+    common.add_model_arguments(parser)
+    parser.add_argument("--track", type=Path, metavar="FILE", help="track file (.toml, docs/track.md); default: the paper's curve")
+    parser.add_argument("--speed", type=common.SPEED, metavar="SPEED", help=common.SPEED.help("running speed", "the model's speed"))
+    parser.add_argument("--dt", type=common.DT, default=0.005, metavar="DT",
+                        help=common.DT.help("time step", f"0.005 s; at most {MAX_STEPS:,} steps"))
+    parser.add_argument("--linear", action="store_true", help="no flange contact and no creep saturation")
+    parser.add_argument("-o", "--output", dest="outputs", action="append", default=[], type=table_path, metavar="FILE",
+                        help="time histories: .csv (units in the header), .npz or .mat by suffix, - for CSV on "
+                        "standard output (repeatable)")
+    parser.add_argument("--plot", type=common.figure_path, metavar="FILE", help="figure of the run (.png, .svg or .pdf)")
+    common.add_json_option(parser)
+    parser.set_defaults(handler=run, numeric=True)
+
+
+@dataclass(frozen=True)
+class Divergence:
+    """Where a run left the model's range of validity."""
+
+    index: int
+    reason: str
+
+
+def run(
+    model: Path, overrides: dict[str, str], *, track: Path | None = None, speed: float | None = None,
+    dt: float = 0.005, linear: bool = False, outputs: list[str] | None = None, plot: Path | None = None,
+    as_json: bool = False,
+) -> int:
+    """Simulate and write the outputs all together; returns the exit status."""
+    from ..io.output import output_transaction
+
+    outputs = list(outputs or [])
+    if "-" in outputs and as_json:
+        raise UsageError("-o - and --json both write to standard output; choose one")
+    inputs = [model] + ([track] if track is not None else [])
+    failure = None
+    with output_transaction(inputs) as transaction:
+        for path in outputs:
+            transaction.declare(path, binary=Path(path).suffix.lower() in (".npz", ".mat"))
+        if plot is not None:
+            transaction.declare(plot, binary=True)
+        road = common.load_track(track)
+        vehicle = common.load_rail_vehicle(model, overrides, "simulate")
+        v = common.running_speed(vehicle, speed)
+        steps = road.length / (v * dt)
+        if steps > MAX_STEPS:
+            raise UsageError(f"--dt {dt:g} s: {steps:,.0f} steps for {road.length:g} m at {v / common.KMH:g} km/h; "
+                             f"at most {MAX_STEPS:,} (give a larger --dt)")
+        result = _simulate(vehicle, road, v, dt, linear)
+        divergence = find_divergence(result, vehicle)
+        if divergence is None:
+            _write(result, outputs, plot, f"{vehicle.equations.name}: {v / common.KMH:.0f} km/h, {_track_name(track)}")
+        else:
+            failure = _diverged(result, vehicle, divergence, [p for p in outputs if p != "-"])
+    if failure is not None:
+        raise AnalysisError(failure)
+    for path in [p for p in outputs if p != "-"] + ([str(plot)] if plot is not None else []):
+        common.note(f"wrote {path}")
+    summary = {
+        "model": str(model), "track": str(track) if track is not None else "paper_curve", "speed": v,
+        "speed_kmh": v / common.KMH, "track_length": road.length, "dt": dt, "linear": bool(linear),
+        "steps": int(result.time.size), "max_abs": result.max_abs(),
+        "outputs_written": [p for p in outputs if p != "-"] + ([str(plot)] if plot is not None else []),
+    }
+    if as_json:
+        common.print_json(summary)
+    else:
+        _print_summary(vehicle.equations.name, summary, track, sys.stderr if "-" in outputs else sys.stdout)
+    return 0
+
+
+def _simulate(vehicle: Any, road: Any, speed: float, dt: float, linear: bool) -> Any:
+    from ..analysis.simulate import simulate
+
+    return simulate(vehicle, road, speed=speed, dt=dt, flange=not linear, saturation=not linear,
+                    progress=common.is_terminal(sys.stderr))
+
+
+def _write(result: Any, outputs: list[str], plot: Path | None, title: str) -> None:
+    for path in outputs:
+        result.save(path)
+    if plot is not None:
+        from ..analysis.plots import figure_simulation, save_figure
+
+        save_figure(figure_simulation(result.distance, result.outputs, title=title), plot)
+
+
+def find_divergence(result: Any, vehicle: Any) -> Divergence | None:
+    """The first time step at which ``result`` left the model's range of validity.
+
+    A non-finite state or output, or a wheelset's lateral displacement beyond
+    :data:`DIVERGED_CLEARANCES` times its flange clearance (the flange would have
+    climbed the rail long before: the model no longer describes the vehicle).
+    """
+    import numpy as np
+
+    bad = ~np.all(np.isfinite(result.q), axis=1) | ~np.all(np.isfinite(result.q_dot), axis=1)
+    for values in result.outputs.values():
+        bad |= ~np.isfinite(values)
+    reasons = ["a state or output is not finite"] * len(bad)
+    for wheelset in vehicle.wheelsets:
+        limit = max(DIVERGED_CLEARANCES * wheelset.flange_clearance, _MIN_DIVERGED_DISTANCE)
+        with np.errstate(invalid="ignore"):
+            far = np.abs(result.q[:, wheelset.y]) > limit
+        for index in np.flatnonzero(far & ~bad)[:1]:
+            reasons[index] = (f"wheelset {wheelset.name} is {abs(result.q[index, wheelset.y]):.3g} m from the track "
+                              f"centre line, beyond {limit:g} m ({DIVERGED_CLEARANCES:g} flange clearances)")
+        bad |= far
+    hits = np.flatnonzero(bad)
+    return Divergence(int(hits[0]), reasons[int(hits[0])]) if hits.size else None
+
+
+def _diverged(result: Any, vehicle: Any, divergence: Divergence, outputs: list[str]) -> str:
+    """Keep the history before ``divergence`` beside each output; return the message."""
+    import numpy as np
+
+    from ..analysis.stability import eigen_analysis
+
+    k = divergence.index
+    message = (f"simulate: the run diverged at t = {result.time[k]:.4g} s, d1 = {result.distance[k]:.1f} m: "
+               f"{divergence.reason}")
+    try:
+        mode = eigen_analysis(vehicle, result.speed).modes[0]
+        message += (f"; least-damped eigenvalue at {result.speed / common.KMH:.1f} km/h: "
+                    f"{mode.real:.4g} {'+' if mode.imag >= 0 else '-'} {abs(mode.imag):.4g}j 1/s ({mode.describe()})")
+    except (ArithmeticError, ValueError, np.linalg.LinAlgError):
+        message += "; the eigenvalues at this speed could not be computed"
+    if k > 0 and outputs:
+        kept = truncate(result, k)
+        names = []
+        for path in outputs:
+            marked = _marked(path)
+            kept.save(marked)
+            names.append(marked)
+        message += f"; the history up to t = {result.time[k - 1]:.4g} s is in {', '.join(names)}"
+    return message + "; no output was replaced"
+
+
+def truncate(result: Any, count: int) -> Any:
+    """The first ``count`` time steps of a :class:`~express.analysis.simulate.SimulationResult`."""
+    return replace(
+        result, time=result.time[:count], distance=result.distance[:count], q=result.q[:count],
+        q_dot=result.q_dot[:count], outputs={name: values[:count] for name, values in result.outputs.items()},
+        options={**result.options, "diverged": True},
+    )
+
+
+def _marked(path: str) -> str:
+    target = Path(path)
+    return str(target.with_name(f"{target.stem}.diverged{target.suffix}"))
+
+
+def _track_name(path: Path | None) -> str:
+    return path.name if path is not None else "paper's curve (R = 400 m, 95 mm cant)"
+
+
+def _print_summary(name: str, summary: dict, track: Path | None, stream: Any) -> None:
+    v = summary["speed"]
+    print(f"{name}: {_track_name(track)}, {summary['track_length']:.1f} m at {v / common.KMH:.1f} km/h "
+          f"({v:.2f} m/s), dt = {summary['dt']:g} s"
+          f"{', linear' if summary['linear'] else ', flange contact and creep saturation'}", file=stream)
+    print("largest absolute values:", file=stream)
+    for key, value in summary["max_abs"].items():
+        print(f"  {key:<10} {_with_unit(key, value)}", file=stream)
+
+
+def _with_unit(name: str, value: float) -> str:
+    if name.startswith(("Q", "flange")) and not name.startswith("QP"):
+        return f"{value / 1e3:10.3f} kN"
+    if name.startswith(("psi", "theta")):
+        return f"{value * 1e3:10.3f} mrad"
+    if name.startswith(("dy", "S")):
+        return f"{value * 1e3:10.3f} mm"
+    if name.startswith("rho"):
+        return f"{value:10.5f} 1/m"
+    return f"{value:10.4f}" if math.isfinite(value) else f"{value:>10}"
