@@ -1,0 +1,390 @@
+"""Fast critical speed: the crossing located exactly, the reported value unchanged.
+
+:func:`express.analysis.stability.critical_speed` scans the largest real part
+``sigma(v)`` of the eigenvalues of ``A(v)`` on a geometric grid of speeds and bisects
+the first stable-to-unstable grid cell to a tolerance; it reports the midpoint of the
+final bracket and solves about 50 eigenvalue problems of ``A`` (2n x 2n) per call.
+This module gives **the same reported value** with fewer of them, and the **exact
+crossing** (a Hopf point) besides, which the sensitivities need:
+
+1. the crossing ``(v*, omega*)`` where the eigenvalue ``threshold + j omega*`` lies on
+   ``Re lambda = threshold`` is solved by Newton's method on the Hopf system
+   ``(A(v) - (threshold + j omega) I) x = 0``, ``c^H x = 1`` (unknowns ``x``, ``omega``
+   and ``s = 1/v``; ``A`` is affine in ``s``), a few LU factorizations of a
+   (4n + 2)-square real matrix instead of eigenvalue problems;
+2. the bisection of the stability code is then *replayed*: each midpoint is stable
+   exactly when it lies below ``v*`` (one crossing inside a grid cell, the same
+   assumption the bisection makes), so the midpoint it would have reported follows
+   without solving an eigenvalue problem (a midpoint within ``1e-9 v*`` of ``v*`` is
+   decided by an eigenvalue problem, as the stability code does);
+3. which grid cell holds the first crossing is decided by the grid check:
+
+   ``check = "grid"`` (default)
+       every grid speed below the crossing is checked, as the stability code does: the
+       value is that of :func:`~express.analysis.stability.critical_speed` (and of
+       ``express critical-speed``) with the same options, bit for bit in practice.
+   ``check = "local"``
+       with a starting guess (the crossing of a similar vehicle, e.g. the previous point
+       of a study), Newton's method starts from it and only ``v_min``, the grid speed
+       below the crossing and the speed just below it (``v* - tolerance / 4``) are
+       checked, with the direction of the crossing: three eigenvalue problems instead of
+       tens. An instability confined to lower speeds that the guess does not lead to
+       (a window that opens between two study points below the tracked crossing) is
+       then not seen; without a guess, or when Newton's method fails or a check fails,
+       the grid check runs.
+
+A vehicle already unstable at ``v_min`` or stable over the whole range is reported as
+the stability code reports it (``unstable_at_min``; ``speed`` None).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ...statespace import VehicleModel
+
+__all__ = ["CriticalOptions", "HopfPoint", "CriticalResult", "StateBlocks", "fast_critical_speed", "hopf_point"]
+
+#: Relative distance of a bisection midpoint from the crossing below which the midpoint
+#: is decided by solving the eigenvalue problem rather than by comparison.
+_REPLAY_GUARD = 1e-9
+
+
+@dataclass(frozen=True)
+class CriticalOptions:
+    """Options of the critical-speed search, in SI (those of ``express critical-speed``).
+
+    Attributes
+    ----------
+    v_min, v_max : float
+        Speed range [m/s] (defaults 3.6 and 540 km/h).
+    tolerance : float
+        Width of the final bisection bracket [m/s] (default 0.1 km/h); 0 reports the
+        exact crossing instead of the bracket midpoint.
+    threshold : float
+        A real part counts as positive only above this [1/s].
+    points : int
+        Speeds of the geometric grid (>= 2).
+    check : str
+        ``"grid"`` or ``"local"`` (module docstring).
+    """
+
+    v_min: float = 1.0
+    v_max: float = 150.0
+    tolerance: float = 0.1 / 3.6
+    threshold: float = 1e-6
+    points: int = 40
+    check: str = "grid"
+
+    def __post_init__(self) -> None:
+        if not (0 < self.v_min < self.v_max and math.isfinite(self.v_max)):
+            raise ValueError(f"need 0 < v_min < v_max, got v_min={self.v_min}, v_max={self.v_max}")
+        if not (self.tolerance >= 0 and math.isfinite(self.tolerance)):
+            raise ValueError(f"tolerance must be >= 0, got {self.tolerance}")
+        if self.points < 2:
+            raise ValueError(f"points must be at least 2, got {self.points}")
+        if self.check not in ("grid", "local"):
+            raise ValueError(f'check must be "grid" or "local", got {self.check!r}')
+
+    @property
+    def grid(self) -> np.ndarray:
+        """The scanned speeds [m/s], as in the stability code."""
+        return np.geomspace(self.v_min, self.v_max, self.points)
+
+
+@dataclass(frozen=True)
+class HopfPoint:
+    """An eigenvalue of ``A(v)`` on the line ``Re lambda = threshold``.
+
+    Attributes
+    ----------
+    speed : float
+        ``v*`` [m/s].
+    omega : float
+        Imaginary part of the eigenvalue [rad/s] (>= 0).
+    threshold : float
+        Its real part [1/s].
+    vector : numpy.ndarray, complex, shape (2n,)
+        Right eigenvector of ``A(v*)`` (state ``[q; q']``).
+    """
+
+    speed: float
+    omega: float
+    threshold: float
+    vector: np.ndarray = field(repr=False)
+
+    @property
+    def eigenvalue(self) -> complex:
+        return complex(self.threshold, self.omega)
+
+    @property
+    def frequency(self) -> float:
+        """``omega / 2 pi`` [Hz]."""
+        return self.omega / (2.0 * np.pi)
+
+
+@dataclass(frozen=True)
+class CriticalResult:
+    """Result of :func:`fast_critical_speed`.
+
+    Attributes
+    ----------
+    speed : float or None
+        The value :func:`~express.analysis.stability.critical_speed` reports [m/s]
+        (bracket midpoint; the exact crossing when ``tolerance`` is 0); ``v_min`` when
+        :attr:`unstable_at_min`; None when stable over the whole range.
+    unstable_at_min : bool
+    crossing : HopfPoint or None
+        The exact crossing (None when unstable at ``v_min``, stable over the range, or
+        when Newton's method failed and plain bisection gave the value).
+    evaluations : int
+        Eigenvalue problems solved.
+    method : str
+        ``"local"``, ``"grid"`` or ``"bisection"`` (how the value was found).
+    """
+
+    speed: float | None
+    unstable_at_min: bool
+    crossing: HopfPoint | None
+    evaluations: int
+    method: str
+
+    @property
+    def frequency(self) -> float:
+        """Frequency of the crossing mode [Hz] (nan without a crossing)."""
+        return self.crossing.frequency if self.crossing is not None else float("nan")
+
+
+class StateBlocks:
+    """``A(v) = T + [[0, 0], [0, C0' + C1' / v]]`` from blocks computed once
+    (``T = [[0, I], [-M^-1 K, 0]]``, ``C0' = -M^-1 C0``, ``C1' = -M^-1 C1``), as the
+    stability code assembles it."""
+
+    def __init__(self, vehicle: VehicleModel):
+        if vehicle.layout is None or not vehicle.wheelsets:
+            raise ValueError("the model has no rail data (wheelsets): its eigenvalues do not depend on the speed")
+        n = vehicle.n
+        self.n = n
+        m_inv = vehicle.mass_inverse
+        self.template = np.zeros((2 * n, 2 * n))
+        self.template[:n, n:] = np.eye(n)
+        self.template[n:, :n] = -(m_inv @ vehicle.stiffness)
+        self.c0 = -(m_inv @ vehicle.damping_base)
+        self.c1 = -(m_inv @ vehicle.damping_creep)
+        self.evaluations = 0
+
+    def matrix(self, speed: float) -> np.ndarray:
+        """``A(v)``, shape (2n, 2n)."""
+        n = self.n
+        a = self.template.copy()
+        a[n:, n:] = self.c0 + self.c1 / speed
+        return a
+
+    def sigma(self, speed: float) -> float:
+        """Largest real part of the eigenvalues of ``A(v)`` [1/s]."""
+        self.evaluations += 1
+        return float(np.linalg.eigvals(self.matrix(speed)).real.max())
+
+
+def hopf_point(
+    blocks: StateBlocks, speed: float, omega: float, vector: np.ndarray, threshold: float, *, iterations: int = 30
+) -> HopfPoint | None:
+    """Newton's method on the Hopf system from a guess; None if it does not converge.
+
+    Unknowns ``x = xr + j xi`` (2n complex), ``omega`` and ``s = 1/v``; equations
+    ``(A(s) - threshold I) xr + omega xi = 0``, ``(A(s) - threshold I) xi - omega xr = 0``,
+    ``Re(c^H x) = 1``, ``Im(c^H x) = 0`` with ``c`` the guess (scaled so that
+    ``c^H x_guess = 1``). ``dA/ds = [[0, 0], [0, C1']]``.
+    """
+    n2 = 2 * blocks.n
+    x = np.asarray(vector, dtype=complex)
+    scale = np.vdot(x, x).real
+    if not (scale > 0 and math.isfinite(scale) and speed > 0):
+        return None
+    c = x / scale
+    cr, ci = c.real, c.imag
+    xr, xi = x.real.copy(), x.imag.copy()
+    s = 1.0 / speed
+    w = float(omega)
+    identity = np.eye(n2)
+    jacobian = np.zeros((2 * n2 + 2, 2 * n2 + 2))
+    jacobian[n2 * 2, :n2], jacobian[n2 * 2, n2 : 2 * n2] = cr, ci
+    jacobian[n2 * 2 + 1, :n2], jacobian[n2 * 2 + 1, n2 : 2 * n2] = -ci, cr
+    d = np.zeros((n2, n2))
+    d[blocks.n :, blocks.n :] = blocks.c1
+    for _ in range(iterations):
+        b = blocks.template.copy()
+        b[blocks.n :, blocks.n :] = blocks.c0 + blocks.c1 * s
+        b -= threshold * identity
+        residual = np.concatenate([
+            b @ xr + w * xi, b @ xi - w * xr, [cr @ xr + ci @ xi - 1.0, cr @ xi - ci @ xr]
+        ])
+        jacobian[:n2, :n2], jacobian[:n2, n2 : 2 * n2] = b, w * identity
+        jacobian[n2 : 2 * n2, :n2], jacobian[n2 : 2 * n2, n2 : 2 * n2] = -w * identity, b
+        jacobian[:n2, 2 * n2], jacobian[n2 : 2 * n2, 2 * n2] = xi, -xr
+        jacobian[:n2, 2 * n2 + 1], jacobian[n2 : 2 * n2, 2 * n2 + 1] = d @ xr, d @ xi
+        try:
+            step = np.linalg.solve(jacobian, -residual)
+        except np.linalg.LinAlgError:
+            return None
+        if not np.all(np.isfinite(step)):
+            return None
+        xr += step[:n2]
+        xi += step[n2 : 2 * n2]
+        w += step[2 * n2]
+        s += step[2 * n2 + 1]
+        if not s > 0:
+            return None
+        if abs(step[2 * n2 + 1]) <= 1e-14 * s and abs(step[2 * n2]) <= 1e-12 * max(1.0, abs(w)):
+            vector = xr + 1j * xi
+            if w < 0:  # the conjugate member: keep Im >= 0
+                w, vector = -w, vector.conj()
+            return HopfPoint(1.0 / s, w, threshold, vector)
+    return None
+
+
+def _replay_bisection(blocks: StateBlocks, lo: float, hi: float, crossing: float, options: CriticalOptions) -> float:
+    """The midpoint the stability code's bisection of ``(lo, hi)`` ends with, given the
+    crossing inside it (module docstring, step 2)."""
+    if options.tolerance == 0:
+        return crossing
+    threshold = options.threshold
+    while hi - lo > options.tolerance:
+        mid = 0.5 * (lo + hi)
+        if abs(mid - crossing) <= _REPLAY_GUARD * crossing:
+            unstable = blocks.sigma(mid) > threshold
+        else:
+            unstable = mid > crossing
+        if unstable:
+            hi = mid
+        else:
+            lo = mid
+    return 0.5 * (lo + hi)
+
+
+def _bisect(blocks: StateBlocks, lo: float, hi: float, options: CriticalOptions) -> float:
+    """Plain bisection, as the stability code does it."""
+    while hi - lo > max(options.tolerance, 1e-12 * hi):
+        mid = 0.5 * (lo + hi)
+        if blocks.sigma(mid) > options.threshold:
+            hi = mid
+        else:
+            lo = mid
+    return 0.5 * (lo + hi)
+
+
+def _cell(grid: np.ndarray, speed: float) -> int:
+    """Index ``i`` of the grid cell ``(grid[i-1], grid[i]]`` holding ``speed``."""
+    return int(np.searchsorted(grid, speed, side="left"))
+
+
+def _locally_first(blocks: StateBlocks, crossing: HopfPoint, options: CriticalOptions) -> bool:
+    """Stable just below the crossing and the crossing mode's real part rising with v."""
+    below = crossing.speed - max(options.tolerance / 4, 1e-7 * crossing.speed)
+    if not below > options.v_min or blocks.sigma(below) > options.threshold:
+        return False
+    return _real_part_rate(blocks, crossing) > 0
+
+
+def _real_part_rate(blocks: StateBlocks, crossing: HopfPoint) -> float:
+    """``d Re(lambda) / dv`` at the crossing, from the left eigenvector (1 LU)."""
+    a = blocks.matrix(crossing.speed)
+    lam = crossing.eigenvalue
+    x = crossing.vector
+    left = left_vector(a, lam, x)
+    n = blocks.n
+    da_dv = np.zeros_like(a)
+    da_dv[n:, n:] = -blocks.c1 / crossing.speed**2
+    rate = (left.conj() @ da_dv @ x) / (left.conj() @ x)
+    return float(rate.real)
+
+
+def left_vector(a: np.ndarray, eigenvalue: complex, right: np.ndarray) -> np.ndarray:
+    """Left eigenvector ``y`` (``y^H A = lambda y^H``) of a simple eigenvalue whose right
+    eigenvector is known: the bordered system ``[[A - lambda I, x], [x^H, 0]]^H`` gives
+    it without a second eigenvalue problem."""
+    n2 = a.shape[0]
+    bordered = np.zeros((n2 + 1, n2 + 1), dtype=complex)
+    bordered[:n2, :n2] = a - eigenvalue * np.eye(n2)
+    bordered[:n2, n2] = right
+    bordered[n2, :n2] = right.conj()
+    rhs = np.zeros(n2 + 1, dtype=complex)
+    rhs[n2] = 1.0
+    solution = np.linalg.solve(bordered.conj().T, rhs)
+    return solution[:n2]
+
+
+def _crossing_in_cell(blocks: StateBlocks, lo: float, hi: float, options: CriticalOptions) -> HopfPoint | None:
+    """Newton's method from each unstable eigenpair at ``hi``; the lowest crossing inside
+    ``(lo, hi]`` that is stable just below it."""
+    blocks.evaluations += 1
+    values, vectors = np.linalg.eig(blocks.matrix(hi))
+    found: list[HopfPoint] = []
+    for k in np.flatnonzero((values.real > options.threshold) & (values.imag >= 0)):
+        point = hopf_point(blocks, hi, float(values[k].imag), vectors[:, k], options.threshold)
+        if point is not None and lo < point.speed <= hi:
+            found.append(point)
+    for point in sorted(found, key=lambda p: p.speed):
+        if _locally_first(blocks, point, options):
+            return point
+    return None
+
+
+def fast_critical_speed(
+    vehicle: VehicleModel | StateBlocks, options: CriticalOptions = CriticalOptions(), guess: HopfPoint | None = None
+) -> CriticalResult:
+    """Critical speed as :func:`~express.analysis.stability.critical_speed` reports it,
+    with the exact crossing (module docstring).
+
+    Parameters
+    ----------
+    vehicle : VehicleModel or StateBlocks
+    options : CriticalOptions
+    guess : HopfPoint, optional
+        The crossing of a similar vehicle (used with ``options.check == "local"``).
+
+    Returns
+    -------
+    CriticalResult
+    """
+    blocks = vehicle if isinstance(vehicle, StateBlocks) else StateBlocks(vehicle)
+    blocks.evaluations = 0
+    grid = options.grid
+    if blocks.sigma(grid[0]) > options.threshold:
+        return CriticalResult(float(grid[0]), True, None, blocks.evaluations, "grid")
+    if options.check == "local" and guess is not None:
+        result = _local(blocks, grid, guess, options)
+        if result is not None:
+            return result
+    first = None
+    for i in range(1, grid.size):
+        if blocks.sigma(grid[i]) > options.threshold:
+            first = i
+            break
+    if first is None:
+        return CriticalResult(None, False, None, blocks.evaluations, "grid")
+    lo, hi = float(grid[first - 1]), float(grid[first])
+    crossing = _crossing_in_cell(blocks, lo, hi, options)
+    if crossing is None:
+        speed = _bisect(blocks, lo, hi, options)
+        return CriticalResult(speed, False, None, blocks.evaluations, "bisection")
+    speed = _replay_bisection(blocks, lo, hi, crossing.speed, options)
+    return CriticalResult(speed, False, crossing, blocks.evaluations, "grid")
+
+
+def _local(blocks: StateBlocks, grid: np.ndarray, guess: HopfPoint, options: CriticalOptions) -> CriticalResult | None:
+    """Newton's method from ``guess``, checked locally; None to fall back to the grid."""
+    crossing = hopf_point(blocks, guess.speed, guess.omega, guess.vector, options.threshold)
+    if crossing is None or not (grid[0] < crossing.speed <= grid[-1]):
+        return None
+    i = _cell(grid, crossing.speed)
+    lo, hi = float(grid[i - 1]), float(grid[i])
+    if i > 1 and blocks.sigma(lo) > options.threshold:
+        return None
+    if not _locally_first(blocks, crossing, options):
+        return None
+    speed = _replay_bisection(blocks, lo, hi, crossing.speed, options)
+    return CriticalResult(speed, False, crossing, blocks.evaluations, "local")

@@ -1,0 +1,316 @@
+"""Exact derivatives of eigenvalues and of the critical speed with respect to parameters.
+
+For a simple eigenvalue ``lambda`` of ``A`` with right and left eigenvectors ``x``,
+``y`` (``A x = lambda x``, ``y^H A = lambda y^H``)::
+
+    d lambda / dp = y^H (dA/dp) x / (y^H x)
+
+``dA/dp`` comes from the symbolic matrices: every entry of ``M``, ``C`` and ``K`` is
+differentiated (SymPy) with respect to every parameter symbol it holds, and with
+``A = [[0, I], [-M^-1 K, -M^-1 C]]`` and ``x = [x_q; lambda x_q]`` the product reduces to
+the derivative of the quadratic eigenproblem::
+
+    y^H (dA/dp) x = z^H (lambda^2 dM/dp + lambda dC/dp + dK/dp) x_q,   z^H = -y_q'^H M^-1
+
+with ``y_q'`` the lower half of ``y``. A parameter enters the matrices directly or through
+parameters derived from it (the creep coefficients ``f1``, ``f2`` from the wheel load,
+radii and elastic constants through Hertz and Kalker's table): the chain rule
+``dA/dp = sum_q (dA/dq) (dq/dp)`` takes ``dq/dp`` of each derived ``q`` as a central
+difference of the parameter evaluation itself (:meth:`VehicleModel.with_values`, a
+scalar function of ``p``; step ``1e-4 |p|``), never of an eigenvalue.
+
+At the critical speed the crossing eigenvalue satisfies ``Re lambda(v*, p) = threshold``;
+the implicit function theorem gives::
+
+    dv*/dp = - (d Re lambda / dp) / (d Re lambda / dv)
+
+with ``dA/dv = [[0, 0], [0, M^-1 C1 / v^2]]``. The derivatives are of the exact crossing
+(:class:`~express.analysis.study.critical.HopfPoint`), not of the bisection midpoint that
+``express critical-speed`` prints.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.linalg
+import sympy as sp
+
+from ...statespace import VehicleModel
+from .critical import CriticalOptions, StateBlocks, fast_critical_speed, left_vector
+
+__all__ = [
+    "ParameterSensitivity",
+    "CriticalSpeedSensitivity",
+    "MatrixDerivatives",
+    "critical_speed_sensitivity",
+    "eigenvalue_derivatives",
+    "sensitivity_parameters",
+]
+
+#: Relative step of the central difference of a derived parameter's value.
+DERIVED_STEP = 1e-4
+
+
+@dataclass(frozen=True)
+class ParameterSensitivity:
+    """Derivative of an output with respect to one parameter.
+
+    Attributes
+    ----------
+    name : str
+    value : float
+        The parameter's value (SI).
+    derivative : float
+        d output / d parameter (SI units of both).
+    elasticity : float
+        ``(value / output) * derivative`` [-]: the relative change of the output per
+        relative change of the parameter (0 for a parameter whose value is 0).
+    """
+
+    name: str
+    value: float
+    derivative: float
+    elasticity: float
+
+
+@dataclass(frozen=True)
+class CriticalSpeedSensitivity:
+    """Result of :func:`critical_speed_sensitivity`.
+
+    Attributes
+    ----------
+    critical_speed : float
+        The exact crossing ``v*`` [m/s].
+    frequency : float
+        Frequency of the crossing mode [Hz].
+    sensitivities : tuple of ParameterSensitivity
+        One per parameter, in the order asked for.
+    """
+
+    critical_speed: float
+    frequency: float
+    sensitivities: tuple[ParameterSensitivity, ...]
+
+    def ranked(self) -> list[ParameterSensitivity]:
+        """Largest absolute elasticity first (ties by name)."""
+        return sorted(self.sensitivities, key=lambda s: (-abs(s.elasticity), s.name))
+
+    def as_dict(self) -> dict:
+        """``{"critical_speed": v*, "sensitivities": {name: dv*/dp}, ...}`` (SI)."""
+        return {
+            "critical_speed": self.critical_speed,
+            "frequency_hz": self.frequency,
+            "sensitivities": {s.name: s.derivative for s in self.sensitivities},
+            "elasticities": {s.name: s.elasticity for s in self.sensitivities},
+        }
+
+
+class MatrixDerivatives:
+    """Numerical ``dM/dq``, ``dC/dq``, ``dK/dq`` for every parameter symbol ``q`` of a
+    set of equations, from their symbolic entries differentiated once (SymPy) and
+    compiled into one function.
+
+    Parameters
+    ----------
+    equations : EquationsOfMotion
+    """
+
+    def __init__(self, equations):
+        self.equations = equations
+        self.n = len(equations.dofs)
+        symbols = [sp.Symbol(name) for name in equations.parameters]
+        self.slots: list[tuple[str, str, int, int]] = []  # (parameter, matrix, i, j)
+        expressions = []
+        for key in ("M", "C", "K"):
+            for (i, j), entry in equations.matrices[key].todok().items():
+                entry = sp.sympify(entry)
+                for symbol in sorted(entry.free_symbols, key=lambda s: s.name):
+                    derivative = sp.diff(entry, symbol)
+                    if derivative != 0:
+                        self.slots.append((symbol.name, key, i, j))
+                        expressions.append(derivative)
+        self.parameters = tuple(sorted({slot[0] for slot in self.slots}))
+        self._function = sp.lambdify(symbols, expressions, modules="math") if expressions else None
+
+    def __call__(self, values: dict[str, float]) -> dict[str, dict[str, np.ndarray]]:
+        """``{q: {"M": dM/dq, "C": dC/dq, "K": dK/dq}}`` at ``values`` (SI; the speed
+        parameter gives the speed of ``C``), each shape (n, n)."""
+        result: dict[str, dict[str, np.ndarray]] = {}
+        if self._function is None:
+            return result
+        numbers = self._function(*[float(values[name]) for name in self.equations.parameters])
+        for (name, key, i, j), number in zip(self.slots, numbers):
+            blocks = result.setdefault(name, {k: np.zeros((self.n, self.n)) for k in ("M", "C", "K")})
+            blocks[key][i, j] = number
+        return result
+
+
+_DERIVATIVES: dict[int, MatrixDerivatives] = {}
+
+
+def _matrix_derivatives(equations) -> MatrixDerivatives:
+    cached = _DERIVATIVES.get(id(equations))
+    if cached is None or cached.equations is not equations:
+        if len(_DERIVATIVES) >= 4:
+            _DERIVATIVES.pop(next(iter(_DERIVATIVES)))
+        cached = _DERIVATIVES[id(equations)] = MatrixDerivatives(equations)
+    return cached
+
+
+def _speed_name(vehicle: VehicleModel) -> str | None:
+    model = vehicle.model
+    if model is None or model.rail is None or not isinstance(model.rail.speed, sp.Symbol):
+        return None
+    return model.rail.speed.name
+
+
+def _derived_names(vehicle: VehicleModel) -> set[str]:
+    """Parameters computed from others (the creep coefficients of ``[rail.creep]``)."""
+    model = vehicle.model
+    names: set[str] = set()
+    creep = model.rail.creep if model is not None and model.rail is not None else None
+    if creep is not None:
+        names |= {creep.longitudinal, creep.lateral}
+    for name, parameter in (model.parameters.items() if model is not None else ()):
+        if getattr(parameter, "expression", None) is not None:  # a live derived parameter
+            names.add(name)
+    return names
+
+
+def sensitivity_parameters(vehicle: VehicleModel) -> list[str]:
+    """The parameters a sensitivity can be taken with respect to: every model parameter
+    except the speed and the derived ones, sorted by name."""
+    model = vehicle.model
+    if model is None:
+        return [name for name in vehicle.equations.parameters]
+    excluded = _derived_names(vehicle) | {_speed_name(vehicle)}
+    return sorted(name for name in model.parameters if name not in excluded)
+
+
+def _value_derivatives(vehicle: VehicleModel, name: str, targets: tuple[str, ...]) -> dict[str, float]:
+    """``dq/dp`` for ``p = name`` and every ``q`` of ``targets`` that depends on it:
+    1 for ``q = p``; a central difference of the parameter evaluation for derived ones."""
+    values = vehicle.values
+    rates = {name: 1.0} if name in targets else {}
+    derived = [q for q in targets if q in _derived_names(vehicle)]
+    if not derived:
+        return rates
+    value = float(values[name])
+    step = DERIVED_STEP * abs(value) if value != 0 else DERIVED_STEP
+    plus = vehicle.with_values({name: value + step}).values
+    minus = vehicle.with_values({name: value - step}).values
+    for q in derived:
+        rate = (plus[q] - minus[q]) / (2.0 * step)
+        if rate != 0.0:
+            rates[q] = rate
+    return rates
+
+
+def _quadratic_derivatives(vehicle, speed, eigenvalue, right, left, names):
+    """``d lambda / dp`` for every name in ``names`` (module docstring)."""
+    n = vehicle.n
+    values = dict(vehicle.values)
+    speed_name = _speed_name(vehicle)
+    if speed_name is not None:
+        values[speed_name] = float(speed)
+    derivatives = _matrix_derivatives(vehicle.equations)
+    blocks = derivatives(values)
+    x_q, x_v = right[:n], right[n:]
+    z = -(left[n:].conj() @ vehicle.mass_inverse)
+    scale = left.conj() @ right
+    per_symbol = {}
+    for q, d in blocks.items():
+        per_symbol[q] = z @ (d["K"] @ x_q + d["C"] @ x_v + eigenvalue * (d["M"] @ x_v)) / scale
+    result = {}
+    for name in names:
+        total = 0.0 + 0.0j
+        for q, rate in _value_derivatives(vehicle, name, tuple(per_symbol)).items():
+            total += rate * per_symbol[q]
+        result[name] = complex(total)
+    return result
+
+
+def eigenvalue_derivatives(
+    vehicle: VehicleModel, speed: float, parameters: list[str] | None = None
+) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+    """Eigenvalues of ``A(v)`` and their exact derivatives with respect to parameters.
+
+    Parameters
+    ----------
+    vehicle : VehicleModel
+    speed : float
+        [m/s].
+    parameters : list of str, optional
+        Default :func:`sensitivity_parameters`.
+
+    Returns
+    -------
+    eigenvalues : numpy.ndarray, complex, shape (2n,)
+        Sorted by descending real part (ties by descending imaginary part).
+    derivatives : dict of str to numpy.ndarray, complex, shape (2n,)
+        ``d lambda_k / dp`` [1/s per SI unit of p], in the order of ``eigenvalues``.
+    """
+    names = parameters if parameters is not None else sensitivity_parameters(vehicle)
+    values, left, right = scipy.linalg.eig(vehicle.state_matrix(float(speed)), left=True, right=True)
+    order = np.lexsort((-values.imag, -values.real))
+    result = {name: np.zeros(values.size, dtype=complex) for name in names}
+    for position, k in enumerate(order):
+        rates = _quadratic_derivatives(vehicle, speed, values[k], right[:, k], left[:, k], names)
+        for name in names:
+            result[name][position] = rates[name]
+    return values[order], result
+
+
+def critical_speed_sensitivity(
+    vehicle: VehicleModel, parameters: list[str] | None = None, options: CriticalOptions | None = None
+) -> CriticalSpeedSensitivity:
+    """Critical speed and its exact derivatives (implicit function theorem).
+
+    Parameters
+    ----------
+    vehicle : VehicleModel
+    parameters : list of str, optional
+        Default :func:`sensitivity_parameters`.
+    options : CriticalOptions, optional
+        Search options (the tolerance is ignored: the exact crossing is used).
+
+    Returns
+    -------
+    CriticalSpeedSensitivity
+
+    Raises
+    ------
+    ValueError
+        When the vehicle has no crossing in the range (stable throughout, already
+        unstable at ``v_min``, or a crossing Newton's method could not locate).
+    """
+    options = options or CriticalOptions()
+    names = parameters if parameters is not None else sensitivity_parameters(vehicle)
+    unknown = [name for name in names if vehicle.model is not None and name not in vehicle.model.parameters]
+    if unknown:
+        raise ValueError(f"unknown parameter{'s' if len(unknown) > 1 else ''}: {', '.join(unknown)}")
+    blocks = StateBlocks(vehicle)
+    result = fast_critical_speed(blocks, options)
+    crossing = result.crossing
+    if crossing is None:
+        if result.unstable_at_min:
+            raise ValueError(f"already unstable at the lowest speed {options.v_min:g} m/s: no crossing to differentiate")
+        if result.speed is None:
+            raise ValueError(f"stable up to {options.v_max:g} m/s: no critical speed to differentiate")
+        raise ValueError("the crossing could not be located exactly (not a simple oscillatory mode)")
+    a = blocks.matrix(crossing.speed)
+    left = left_vector(a, crossing.eigenvalue, crossing.vector)
+    x = crossing.vector
+    n = vehicle.n
+    rate_v = (left.conj()[n:] @ (-blocks.c1 / crossing.speed**2) @ x[n:]) / (left.conj() @ x)
+    rates = _quadratic_derivatives(vehicle, crossing.speed, crossing.eigenvalue, x, left, names)
+    records = []
+    for name in names:
+        value = float(vehicle.values[name]) if name in vehicle.values else float("nan")
+        derivative = -rates[name].real / rate_v.real + 0.0  # no "-0"
+        elasticity = value / crossing.speed * derivative if value != 0 and math.isfinite(value) else 0.0
+        records.append(ParameterSensitivity(name, value, float(derivative), float(elasticity)))
+    return CriticalSpeedSensitivity(crossing.speed, crossing.frequency, tuple(records))
