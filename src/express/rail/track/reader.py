@@ -1,0 +1,487 @@
+"""Track files (TOML) and measured irregularity profiles (CSV), read into a Track.
+
+This module owns the file formats of ``docs/track.md``: :func:`load_track` reads a
+TOML track file, :func:`track_from_dict` builds a :class:`~express.rail.track.geometry.Track`
+from its parsed content, :func:`read_profile_csv` reads a measured alignment.
+
+Bad input raises :class:`express.diagnostics.ModelError` listing EVERY problem, one
+:class:`~express.diagnostics.Problem` each, printed ``file:line: item: message``:
+lines come from the shared TOML line index (:mod:`express.io.toml_lines`), quantities
+with units are parsed by :func:`express.units.parse_quantity` against the dimension
+each field needs, and the ranges are those of the records themselves (their
+``field_problems``), so a file and the Python API refuse the same values.
+
+Limits, checked before anything is read or computed: a track file is at most
+:data:`MAX_TRACK_FILE_BYTES`, a CSV profile at most :data:`MAX_PROFILE_BYTES`; both must
+be regular files. A CSV that does not parse is reported by line, the first
+:data:`MAX_ROW_PROBLEMS` bad rows listed, and only the first bad row quoted (at most
+:data:`EXCERPT_CHARS` characters), since the file may not be the user's own. Nothing is
+evaluated as code; TOML is parsed with :mod:`tomllib` (``tomli`` on Python 3.10).
+"""
+
+from __future__ import annotations
+
+import math
+import re
+import sys
+from collections.abc import Iterable, Mapping
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ...diagnostics import ModelError, Problem
+from ...io.toml_lines import KeyPath, find_line, line_index
+from ...units import KMH, UnitError, parse_quantity
+from ._common import FieldProblem, is_number
+from .geometry import DIRECTIONS, TRANSITION_SHAPES, Curve, Segment, Straight, Track, Transition
+from .irregularity import (
+    Irregularity,
+    NoIrregularity,
+    ProfileIrregularity,
+    SinusoidIrregularity,
+    SpectrumIrregularity,
+)
+from .spectra import SPECTRA, get_spectrum
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover - exercised on Python 3.10 only
+    import tomli as tomllib
+
+__all__ = [
+    "EXCERPT_CHARS",
+    "MAX_PROFILE_BYTES",
+    "MAX_ROW_PROBLEMS",
+    "MAX_TRACK_FILE_BYTES",
+    "MAX_TRACK_SPEED",
+    "load_track",
+    "read_profile_csv",
+    "track_from_dict",
+]
+
+#: Largest track file [bytes]: 1 MB holds some 20 000 segments.
+MAX_TRACK_FILE_BYTES = 1_000_000
+#: Largest CSV profile [bytes]: 100 MB, some four million rows (1000 km every 0.25 m).
+MAX_PROFILE_BYTES = 100_000_000
+#: Bad rows of a CSV profile listed one by one; the rest are counted.
+MAX_ROW_PROBLEMS = 20
+#: Longest excerpt of a CSV line quoted in a message [characters].
+EXCERPT_CHARS = 60
+#: Highest nominal speed of a track file [m/s]: 1000 km/h, the command line's limit.
+MAX_TRACK_SPEED = 1000.0 * KMH
+
+_REQUIRED = object()
+_TOP_KEYS = ("name", "description", "speed", "segment", "irregularity")
+#: Fields of each segment type: key -> (dimension, default); dimension None for a word.
+_SEGMENT_FIELDS: dict[str, dict[str, tuple[str | None, Any]]] = {
+    "straight": {"length": ("length", _REQUIRED)},
+    "transition": {"length": ("length", _REQUIRED), "shape": (None, "linear")},
+    "curve": {"length": ("length", _REQUIRED), "radius": ("length", _REQUIRED),
+              "direction": (None, _REQUIRED), "cant": ("length", 0.0)},
+}
+_SEGMENT_CLASSES: dict[str, type[Straight] | type[Transition] | type[Curve]] = {
+    "straight": Straight, "transition": Transition, "curve": Curve,
+}
+_CHOICES = {"shape": TRANSITION_SHAPES, "direction": DIRECTIONS, "spectrum": tuple(SPECTRA)}
+#: Fields of each irregularity type, as for the segments; ``file`` and ``seed`` are raw.
+_IRREGULARITY_FIELDS: dict[str, dict[str, tuple[str | None, Any]]] = {
+    "none": {},
+    "sinusoid": {"amplitude": ("length", _REQUIRED), "wavelength": ("length", _REQUIRED),
+                 "phase": ("angle", 0.0)},
+    "csv": {"file": (None, _REQUIRED)},
+    "spectrum": {"spectrum": (None, _REQUIRED), "seed": (None, 0), "wavelength_min": ("length", 3.0),
+                 "wavelength_max": ("length", 120.0), "period": ("length", 10_000.0)},
+}
+
+
+class _Report:
+    """Problems of one file; lines looked up in the TOML line index by key path."""
+
+    def __init__(self, source: str, text: str | None):
+        self.source = source
+        self.index = line_index(text, number_arrays=True) if text else {}
+        self.problems: list[Problem] = []
+
+    def add(self, path: KeyPath, item: str, message: str) -> None:
+        self.problems.append(Problem(self.source, find_line(self.index, path), item, message))
+
+    def extend(self, problems: Iterable[Problem]) -> None:
+        self.problems.extend(problems)
+
+    def raise_if_any(self) -> None:
+        """Raise them all, those without a line first, then by line (stable)."""
+        if self.problems:
+            order = sorted(range(len(self.problems)),
+                           key=lambda i: (self.problems[i].line or 0, i))
+            raise ModelError([self.problems[i] for i in order])
+
+
+def _quantity(value: Any, key: str, dimension: str) -> tuple[float | None, str | None]:
+    """``(value in SI, None)`` or ``(None, what is wrong)`` for a number or ``"95 mm"``."""
+    if is_number(value):
+        if not math.isfinite(float(value)):
+            return None, f"'{key}' must be finite, got {value!r}"
+        return float(value), None
+    if isinstance(value, str):
+        try:
+            return parse_quantity(value, dimension=dimension)[0], None
+        except UnitError as exc:
+            return None, f"'{key}': {exc}"
+    return None, f"'{key}' must be a number or a string with a unit, got {type(value).__name__} {value!r}"
+
+
+def _read_fields(table: Mapping[str, Any], fields: Mapping[str, tuple[str | None, Any]], report: _Report,
+                 path: KeyPath, item: str) -> tuple[dict[str, Any], set[str]]:
+    """The values of ``fields`` (SI for quantities) and the keys that had a problem."""
+    values: dict[str, Any] = {}
+    bad: set[str] = set()
+    for key, (dimension, default) in fields.items():
+        if key not in table:
+            if default is _REQUIRED:
+                choices = f" (one of {', '.join(_CHOICES[key])})" if key in _CHOICES else ""
+                report.add(path, item, f"missing '{key}'{choices}")
+                bad.add(key)
+            values[key] = None if default is _REQUIRED else default
+            continue
+        if dimension is None:
+            values[key] = table[key]
+            continue
+        values[key], message = _quantity(table[key], key, dimension)
+        if message is not None:
+            report.add((*path, key), item, message)
+            bad.add(key)
+    for key in table:
+        if key not in fields and key != "type":
+            allowed = ", ".join(sorted(["type", *fields]))
+            report.add((*path, key), item, f"unknown key '{key}' (allowed: {allowed})")
+    return values, bad
+
+
+def _report_field_problems(problems: list[FieldProblem], bad: set[str], report: _Report, path: KeyPath,
+                           item: str) -> bool:
+    """Report the record's own problems for the keys read well; True if there were any."""
+    found = bool(bad)
+    for key, message in problems:
+        if key not in bad:
+            report.add((*path, key), item, message)
+            found = True
+    return found
+
+
+def _kind(table: Any, kinds: Iterable[str], report: _Report, path: KeyPath, item: str) -> str | None:
+    """The ``type`` of a table, or None (reported) if it is not a table or has no known type."""
+    kinds = tuple(kinds)
+    if not isinstance(table, Mapping):
+        report.add(path, item, f"must be a table, got {table!r}")
+        return None
+    if "type" not in table:
+        report.add(path, item, f"missing 'type' (one of {', '.join(kinds)})")
+        return None
+    if table["type"] not in kinds:
+        report.add((*path, "type"), item, f"'type' must be one of {', '.join(kinds)}, got {table['type']!r}")
+        return None
+    return str(table["type"])
+
+
+def _segment(i: int, table: Any, report: _Report) -> tuple[str | None, Segment | None]:
+    """Segment ``i`` (from 1): its type if known and the segment if valid."""
+    path: KeyPath = ("segment", i)
+    kind = _kind(table, _SEGMENT_FIELDS, report, path, f"segment {i}")
+    if kind is None:
+        return None, None
+    item = f"segment {i} ({kind})"
+    values, bad = _read_fields(table, _SEGMENT_FIELDS[kind], report, path, item)
+    cls = _SEGMENT_CLASSES[kind]
+    if _report_field_problems(cls.field_problems(**values), bad, report, path, item):
+        return kind, None
+    return kind, cls(**values)
+
+
+def _segments(raw: Any, report: _Report) -> list[Segment] | None:
+    """All segments, or None if any is bad (every problem reported)."""
+    if raw is None:
+        report.add((), "track", "no [[segment]] given")
+        return None
+    if not isinstance(raw, list):
+        report.add(("segment",), "track", "'segment' must be an array of tables ([[segment]])")
+        return None
+    parsed = [_segment(i, table, report) for i, table in enumerate(raw, 1)]
+    for i in range(1, len(parsed)):
+        if parsed[i - 1][0] == parsed[i][0] == "transition":
+            report.add(("segment", i + 1), f"segment {i + 1} (transition)",
+                       f"follows another transition (segment {i}); a transition ramps between its "
+                       "neighbours, so put a straight or a curve between them")
+    segments = [segment for _, segment in parsed]
+    if any(segment is None for _, segment in parsed):
+        return None
+    return [segment for segment in segments if segment is not None]
+
+
+def _irregularity(table: Any, report: _Report, base_dir: Path) -> Irregularity | None:
+    path: KeyPath = ("irregularity",)
+    kind = _kind(table, _IRREGULARITY_FIELDS, report, path, "irregularity")
+    if kind is None:
+        return None
+    item = f"irregularity ({kind})"
+    values, bad = _read_fields(table, _IRREGULARITY_FIELDS[kind], report, path, item)
+    if kind == "none":
+        return NoIrregularity()
+    if kind == "sinusoid":
+        if _report_field_problems(SinusoidIrregularity.field_problems(**values), bad, report, path, item):
+            return None
+        return SinusoidIrregularity(**values)
+    if kind == "csv":
+        return _csv_irregularity(values["file"], "file" in bad, report, base_dir, item)
+    if _report_field_problems(SpectrumIrregularity.field_problems(**values), bad, report, path, item):
+        return None
+    return SpectrumIrregularity(get_spectrum(values.pop("spectrum")), **values)
+
+
+def _csv_irregularity(name: Any, missing: bool, report: _Report, base_dir: Path,
+                      item: str) -> ProfileIrregularity | None:
+    if missing:
+        return None
+    if not isinstance(name, str) or not name:
+        report.add(("irregularity", "file"), item, f"'file' must be the path of a CSV file, got {name!r}")
+        return None
+    path = Path(name)
+    try:
+        return read_profile_csv(path if path.is_absolute() else base_dir / path, item=item)
+    except ModelError as exc:
+        report.extend(exc.problems)
+        return None
+
+
+def track_from_dict(
+    d: Mapping[str, Any],
+    source: str = "<dict>",
+    *,
+    text: str | None = None,
+    base_dir: str | Path | None = None,
+) -> Track:
+    """Build a :class:`~express.rail.track.geometry.Track` from a parsed track file.
+
+    Parameters
+    ----------
+    d : mapping
+        Parsed TOML: optional ``speed``, ``name``, ``description``; an array of
+        ``segment`` tables; an optional ``irregularity`` table (``docs/track.md``).
+        Quantities are numbers in SI units or strings with a unit (``"95 mm"``,
+        ``"400 m"``, ``"120 km/h"``, ``"90 deg"``), checked against the dimension
+        of the field (length, speed, angle).
+    source : str
+        Name of the file, used in messages.
+    text : str, optional
+        The TOML text ``d`` was parsed from; only used to give line numbers.
+    base_dir : path, optional
+        Directory against which a relative CSV ``file`` is resolved; default the
+        directory of ``source``.
+
+    Returns
+    -------
+    Track
+
+    Raises
+    ------
+    ModelError
+        Listing every problem, each ``<file>:<line>: <item>: <what is wrong>``, the
+        item being ``track``, ``segment <i> (<type>)`` (numbered from 1 in file order)
+        or ``irregularity (<type>)``; a CSV profile's problems carry its own file and line.
+    """
+    report = _Report(source, text)
+    base = Path(base_dir) if base_dir is not None else Path(source).parent
+    if not isinstance(d, Mapping):
+        raise ModelError([Problem(source, None, "track", f"the track must be a table, got {type(d).__name__}")])
+    for key in d:
+        if key not in _TOP_KEYS:
+            report.add((key,), "track", f"unknown key '{key}' (allowed: {', '.join(sorted(_TOP_KEYS))})")
+    for key in ("name", "description"):
+        if key in d and not isinstance(d[key], str):
+            report.add((key,), "track", f"'{key}' must be a string")
+    speed = _track_speed(d, report)
+    segments = _segments(d.get("segment"), report)
+    irregularity: Irregularity | None = NoIrregularity()
+    if "irregularity" in d:
+        irregularity = _irregularity(d["irregularity"], report, base)
+    if segments is not None:
+        for _, message in Track.field_problems(segments):
+            report.add(("segment",), "track", message)
+    report.raise_if_any()
+    assert segments is not None and irregularity is not None  # else a problem was raised
+    return Track(tuple(segments), irregularity, speed)
+
+
+def _track_speed(d: Mapping[str, Any], report: _Report) -> float | None:
+    if "speed" not in d:
+        return None
+    speed, message = _quantity(d["speed"], "speed", "speed")
+    if message is None and speed is not None and not 0 < speed <= MAX_TRACK_SPEED:
+        message = (f"'speed' must be > 0 and at most 1000 km/h ({MAX_TRACK_SPEED:.4g} m/s), "
+                   f"got {d['speed']!r}")
+    if message is not None:
+        report.add(("speed",), "track", message)
+        return None
+    return speed
+
+
+# ---------------------------------------------------------------------------------------
+# Files
+# ---------------------------------------------------------------------------------------
+
+
+def _read_text(path: Path, limit: int, item: str, encoding: str) -> str:
+    """The text of a regular file of at most ``limit`` bytes, or a ModelError saying why not."""
+    source = str(path)
+
+    def refuse(message: str) -> ModelError:
+        return ModelError([Problem(source, None, item, message)])
+
+    try:
+        info = path.stat()
+        if not path.is_file():
+            raise refuse("not a regular file")
+        if info.st_size > limit:
+            raise refuse(f"the file has {info.st_size} bytes, more than the limit {limit}")
+        data = path.read_bytes()
+    except OSError as exc:
+        raise refuse(f"cannot read the file: {exc.strerror or exc}") from None
+    if b"\0" in data:
+        raise refuse("not a text file (it holds NUL bytes)")
+    try:
+        return data.decode(encoding)
+    except UnicodeDecodeError as exc:
+        raise refuse(f"not a UTF-8 text file (byte {exc.start + 1} cannot be decoded)") from None
+
+
+def load_track(path: str | Path) -> Track:
+    """Read a TOML track file (format in ``docs/track.md``).
+
+    Parameters
+    ----------
+    path : str or Path
+        The track file, a regular file of at most :data:`MAX_TRACK_FILE_BYTES`.
+
+    Returns
+    -------
+    Track
+
+    Raises
+    ------
+    ModelError
+        If the file cannot be read or parsed, or describes a bad track; one problem per
+        line, ``<file>:<line>: <item>: <what is wrong>``, every problem at once.
+    """
+    path = Path(path)
+    source = str(path)
+    text = _read_text(path, MAX_TRACK_FILE_BYTES, "track", "utf-8")
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        match = re.search(r"line (\d+)", str(exc))
+        line = int(match.group(1)) if match else None
+        message = re.sub(r"\s*\(at line \d+, column \d+\)", "", str(exc))
+        raise ModelError([Problem(source, line, "TOML", f"not valid TOML: {message}")]) from None
+    return track_from_dict(data, source, text=text, base_dir=path.parent)
+
+
+_CELLS = re.compile(r"[,;\s]+")
+
+
+def _excerpt(line: str) -> str:
+    """A short, printable quotation of ``line`` (at most :data:`EXCERPT_CHARS` characters)."""
+    shown = "".join(ch if ch.isprintable() else "?" for ch in line[: EXCERPT_CHARS + 1])
+    if len(shown) > EXCERPT_CHARS:
+        shown = shown[: EXCERPT_CHARS - 3] + "..."
+    return repr(shown)
+
+
+def _floats(cells: list[str]) -> list[float] | None:
+    try:
+        return [float(cell) for cell in cells]
+    except ValueError:
+        return None
+
+
+def _row_problem(cells: list[str], numbers: list[float] | None, previous: tuple[int, float, float] | None) -> str | None:
+    """What is wrong with one data row of a CSV profile (None if it is good)."""
+    if len(cells) != 2:
+        return f"expected 2 columns (distance, yR), got {len(cells)}"
+    if numbers is None:
+        return "not a number"
+    if not all(math.isfinite(x) for x in numbers):
+        return "values must be finite"
+    if previous is not None and numbers[0] <= previous[1]:
+        return f"distance {numbers[0]} is not greater than {previous[1]} on line {previous[0]}"
+    return None
+
+
+def _profile_rows(text: str, source: str, item: str) -> tuple[list[tuple[int, float, float]], list[Problem]]:
+    """Rows ``(line, distance, yR)`` of a CSV profile, and the problems of the bad rows."""
+    rows: list[tuple[int, float, float]] = []
+    problems: list[Problem] = []
+    bad = 0
+    header_allowed = True
+    for lineno, raw in enumerate(text.splitlines(), 1):
+        line = raw.strip()
+        if not line or line.startswith("#"):
+            continue
+        cells = [cell for cell in _CELLS.split(line) if cell]
+        numbers = _floats(cells)
+        if header_allowed and numbers is None:
+            header_allowed = False
+            continue  # a header line
+        header_allowed = False
+        message = _row_problem(cells, numbers, rows[-1] if rows else None)
+        if message is None and numbers is not None:
+            rows.append((lineno, numbers[0], numbers[1]))
+            continue
+        bad += 1
+        if bad == 1:  # the file may not be the user's own: quote one short excerpt only
+            message = f"{message}: {_excerpt(line)}"
+        if bad <= MAX_ROW_PROBLEMS:
+            problems.append(Problem(source, lineno, item, str(message)))
+    if bad > MAX_ROW_PROBLEMS:
+        problems.append(Problem(source, None, item, f"{bad} bad rows in all, the first {MAX_ROW_PROBLEMS} listed"))
+    return rows, problems
+
+
+def read_profile_csv(path: str | Path, *, item: str = "profile") -> ProfileIrregularity:
+    """Read a measured alignment from a CSV file.
+
+    Two columns: distance s [m], yR [m]; separated by commas (or semicolons, tabs,
+    spaces). Blank lines and lines starting with ``#`` are skipped; the first other
+    line may be a header (any non-numeric first line). Distances must be strictly
+    increasing. Values are linearly interpolated
+    (:class:`~express.rail.track.irregularity.ProfileIrregularity`).
+
+    Parameters
+    ----------
+    path : str or Path
+        The CSV file, a regular UTF-8 text file of at most :data:`MAX_PROFILE_BYTES`.
+    item : str
+        The item named in messages; default ``"profile"``.
+
+    Raises
+    ------
+    ModelError
+        One problem per bad row, ``<file>:<line>: <item>: <what is wrong>`` (the first
+        :data:`MAX_ROW_PROBLEMS` rows, then a count; only the first quotes the row, at
+        most :data:`EXCERPT_CHARS` characters), or one if the file cannot be read.
+    """
+    path = Path(path)
+    source = str(path)
+    text = _read_text(path, MAX_PROFILE_BYTES, item, "utf-8-sig")
+    rows, problems = _profile_rows(text, source, item)
+    if not problems and len(rows) < 2:
+        problems.append(Problem(source, None, item, f"need at least two data rows, found {len(rows)}"))
+    if not problems:
+        distance = np.array([row[1] for row in rows])
+        yr = np.array([row[2] for row in rows])
+        field_problems = ProfileIrregularity.field_problems(distance, yr)
+        problems += [Problem(source, None, item, message) for _, message in field_problems]
+    if problems:
+        raise ModelError(problems)
+    for arr in (distance, yr):
+        arr.setflags(write=False)
+    return ProfileIrregularity(distance, yr, source=source)
