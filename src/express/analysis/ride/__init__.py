@@ -1,0 +1,86 @@
+"""Ride: comfort weightings (EN 12299, Sperling), comfort indices and spectral response tools.
+
+- :mod:`.weighting`: the frequency weightings Wb, Wc, Wd (Wk) as transfer functions,
+  Sperling's B(f), weighting of time histories;
+- :mod:`.comfort`: Sperling's Wz and EN 12299 N_MV from spectra and time histories;
+- :mod:`.spectral`: output spectra ``H G_u H^H``, RMS, wheelbase delays and filters,
+  seeded random realisations.  PSDs are one-sided in Hz throughout (``docs/ride.md``).
+"""
+
+from .comfort import (
+    EN12299_WINDOW,
+    SPERLING_BAND,
+    SPERLING_CONSTANT,
+    MeanComfort,
+    mean_comfort,
+    mean_comfort_spectral,
+    p95_from_spectrum,
+    sperling_index,
+    sperling_index_harmonics,
+    sperling_index_time,
+    window_rms,
+)
+from .spectral import (
+    delay_factors,
+    frequency_response,
+    harmonic_realisation,
+    output_autospectra,
+    output_spectra,
+    spatial_to_temporal,
+    spectral_rms,
+    spectral_variance,
+    track_input_spectrum,
+    two_point_filter,
+    two_point_filter_zeros,
+    wheelbase_filter,
+    wheelset_delays,
+)
+from .weighting import (
+    WB,
+    WC,
+    WD,
+    WEIGHTINGS,
+    WK,
+    FrequencyWeighting,
+    get_weighting,
+    sperling_transfer,
+    sperling_weighting,
+    weigh_time_history,
+)
+
+__all__ = [
+    "EN12299_WINDOW",
+    "SPERLING_BAND",
+    "SPERLING_CONSTANT",
+    "WB",
+    "WC",
+    "WD",
+    "WEIGHTINGS",
+    "WK",
+    "FrequencyWeighting",
+    "MeanComfort",
+    "delay_factors",
+    "frequency_response",
+    "get_weighting",
+    "harmonic_realisation",
+    "mean_comfort",
+    "mean_comfort_spectral",
+    "output_autospectra",
+    "output_spectra",
+    "p95_from_spectrum",
+    "spatial_to_temporal",
+    "spectral_rms",
+    "spectral_variance",
+    "sperling_index",
+    "sperling_index_harmonics",
+    "sperling_index_time",
+    "sperling_transfer",
+    "sperling_weighting",
+    "track_input_spectrum",
+    "two_point_filter",
+    "two_point_filter_zeros",
+    "weigh_time_history",
+    "wheelbase_filter",
+    "wheelset_delays",
+    "window_rms",
+]
