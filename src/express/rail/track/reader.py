@@ -89,7 +89,7 @@ _IRREGULARITY_FIELDS: dict[str, dict[str, tuple[str | None, Any]]] = {
     "none": {},
     "sinusoid": {"amplitude": ("length", _REQUIRED), "wavelength": ("length", _REQUIRED),
                  "phase": ("angle", 0.0)},
-    "csv": {"file": (None, _REQUIRED)},
+    "csv": {"file": (None, None)},
     "spectrum": {"spectrum": (None, _REQUIRED), "seed": (None, 0), "wavelength_min": ("length", 3.0),
                  "wavelength_max": ("length", 120.0), "period": ("length", 10_000.0)},
 }
@@ -232,16 +232,13 @@ def _irregularity(table: Any, report: _Report, base_dir: Path) -> Irregularity |
             return None
         return SinusoidIrregularity(**values)
     if kind == "csv":
-        return _csv_irregularity(values["file"], "file" in bad, report, base_dir, item)
+        return _csv_irregularity(values["file"], report, base_dir, item)
     if _report_field_problems(SpectrumIrregularity.field_problems(**values), bad, report, path, item):
         return None
     return SpectrumIrregularity(get_spectrum(values.pop("spectrum")), **values)
 
 
-def _csv_irregularity(name: Any, missing: bool, report: _Report, base_dir: Path,
-                      item: str) -> ProfileIrregularity | None:
-    if missing:
-        return None
+def _csv_irregularity(name: Any, report: _Report, base_dir: Path, item: str) -> ProfileIrregularity | None:
     if not isinstance(name, str) or not name:
         report.add(("irregularity", "file"), item, f"'file' must be the path of a CSV file, got {name!r}")
         return None
