@@ -172,7 +172,9 @@ def test_delayed_inputs_cancel_at_the_filter_zeros() -> None:
     mean = output_autospectra(np.broadcast_to([[[0.5, 0.5]]], (f.size, 1, 2)), gu)[:, 0]
     assert np.all(mean < 1e-24)
     f_pitch = np.sort(v / two_point_filter_zeros(b, "pitch", 4))
-    diff = output_autospectra(np.broadcast_to([[[0.5, -0.5]]], (4, 1, 2)), track_input_spectrum(f_pitch, [np.ones(4)], tau))
+    diff = output_autospectra(
+        np.broadcast_to([[[0.5, -0.5]]], (4, 1, 2)), track_input_spectrum(f_pitch, [np.ones(4)], tau)
+    )
     assert np.all(diff[:, 0] < 1e-24)
     np.testing.assert_allclose(np.abs(wheelbase_filter(f, tau)), 0.0, atol=1e-12)
     np.testing.assert_allclose(np.abs(wheelbase_filter(f_pitch, tau, [0.5, -0.5])), 0.0, atol=1e-12)

@@ -44,7 +44,10 @@ def iso8041_response(name: str, f: np.ndarray) -> np.ndarray:
     out = out * signal.freqs([1 / w3, 1], [1 / w4**2, 1 / (q4 * w4), 1], w)[1]
     if f5 is not None:
         w5, w6 = 2 * np.pi * f5, 2 * np.pi * f6
-        out = out * signal.freqs(np.array([1 / w5**2, 1 / (q5 * w5), 1]) * w5**2 / w6**2, [1 / w6**2, 1 / (q6 * w6), 1], w)[1]
+        out = (
+            out
+            * signal.freqs(np.array([1 / w5**2, 1 / (q5 * w5), 1]) * w5**2 / w6**2, [1 / w6**2, 1 / (q6 * w6), 1], w)[1]
+        )
     return k * out
 
 
@@ -114,7 +117,7 @@ def test_wb_equals_the_bs6841_form() -> None:
 
 def test_get_weighting_and_errors() -> None:
     assert get_weighting("wd") is WD and get_weighting(" Wb ") is WB
-    with pytest.raises(InputError, match="unknown weighting 'Wp'.*Wb, Wc, Wd, Wk"):
+    with pytest.raises(InputError, match=r"unknown weighting 'Wp'.*Wb, Wc, Wd, Wk"):
         get_weighting("Wp")
     with pytest.raises(InputError) as err:
         FrequencyWeighting("bad", f1=-1.0, f2=100.0, f5=2.0, Q4=0.0)
@@ -129,7 +132,9 @@ def test_get_weighting_and_errors() -> None:
 
 def test_sperling_weighting_formula() -> None:
     f = np.linspace(0.1, 40.0, 300)
-    expected = 0.588 * np.sqrt((1.911 * f**2 + 0.0625 * f**4) / ((1 - 0.277 * f**2) ** 2 + (1.563 * f - 0.0368 * f**3) ** 2))
+    expected = 0.588 * np.sqrt(
+        (1.911 * f**2 + 0.0625 * f**4) / ((1 - 0.277 * f**2) ** 2 + (1.563 * f - 0.0368 * f**3) ** 2)
+    )
     np.testing.assert_allclose(sperling_weighting(f, "vertical"), expected, rtol=1e-13)
     np.testing.assert_allclose(sperling_weighting(f, "lateral"), 1.25 * expected, rtol=1e-13)
     np.testing.assert_allclose(np.abs(sperling_transfer(f, "z")), expected, rtol=1e-12)
@@ -170,7 +175,9 @@ def test_weigh_time_history_matches_lsim_from_rest() -> None:
     fs = 400.0
     t = np.arange(int(20 * fs)) / fs
     rng = np.random.default_rng(3)
-    x = sum(a * np.sin(2 * np.pi * f * t) ** 2 for a, f in zip(rng.uniform(0.5, 1, 6), rng.uniform(0.2, 8, 6)))
+    x = sum(
+        a * np.sin(2 * np.pi * f * t) ** 2 for a, f in zip(rng.uniform(0.5, 1, 6), rng.uniform(0.2, 8, 6), strict=True)
+    )
     num, den = WB.polynomials()
     _, expected, _ = signal.lsim((num, den), x, t)
     y = weigh_time_history(np.c_[x, 2 * x], fs, WB)

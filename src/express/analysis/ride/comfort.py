@@ -138,7 +138,9 @@ def sperling_index_harmonics(frequencies: ArrayLike, amplitudes: ArrayLike, dire
     f = np.asarray(frequencies, dtype=float)
     a = np.abs(np.asarray(amplitudes, dtype=float))
     if f.shape != a.shape or f.ndim != 1 or not (np.all(np.isfinite(f)) and np.all(np.isfinite(a))) or np.any(f <= 0):
-        raise InputError("sperling_index_harmonics: frequencies (> 0 Hz) and amplitudes must be finite, 1-D, same length")
+        raise InputError(
+            "sperling_index_harmonics: frequencies (> 0 Hz) and amplitudes must be finite, 1-D, same length"
+        )
     return float(np.sum((100.0 * a * sperling_weighting(f, direction)) ** 3) ** 0.1)
 
 
@@ -159,7 +161,7 @@ def _periodogram(signal: ArrayLike, sampling_rate: float, where: str) -> tuple[F
     power[0] /= 2.0
     if n % 2 == 0:
         power[-1] /= 2.0
-    return np.fft.rfftfreq(n, d=1.0 / sampling_rate), power, sampling_rate / n
+    return np.asarray(np.fft.rfftfreq(n, d=1.0 / sampling_rate), dtype=float), power, sampling_rate / n
 
 
 def sperling_index_time(
@@ -205,7 +207,8 @@ class MeanComfort:
     method: str
 
 
-def _n_mv(ax: float, ay: float, az: float, method: str) -> MeanComfort:
+def _n_mv(p95: list[float], method: str) -> MeanComfort:
+    ax, ay, az = p95
     return MeanComfort(6.0 * math.sqrt(ax**2 + ay**2 + az**2), ax, ay, az, method)
 
 
@@ -245,7 +248,7 @@ def mean_comfort(
     for signal, weighting in ((ax, WD), (ay, WD), (az, WB)):
         weighted = weigh_time_history(signal, sampling_rate, weighting)
         p95.append(float(np.percentile(window_rms(weighted, sampling_rate, window), 95.0)))
-    return _n_mv(*p95, method="time")
+    return _n_mv(p95, method="time")
 
 
 def p95_from_spectrum(
@@ -311,7 +314,7 @@ def mean_comfort_spectral(
     for name, psd, weighting in (("x", psd_x, WD), ("y", psd_y, WD), ("z", psd_z, WB)):
         g = _check_psd(psd, f.size, f"mean_comfort_spectral (psd_{name})")
         p95.append(p95_from_spectrum(f, _weighted(weighting, f, g), window, method))
-    return _n_mv(*p95, method=method)
+    return _n_mv(p95, method=method)
 
 
 def _weighted(weighting: FrequencyWeighting, f: FloatArray, g: FloatArray) -> FloatArray:

@@ -44,6 +44,7 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+from scipy.integrate import trapezoid
 
 from ...diagnostics import InputError
 
@@ -217,7 +218,7 @@ def spectral_variance(
         edges = np.array([[np.interp(x, f, col) for col in flat.T] for x in (lo, hi)])
         f = np.concatenate([[lo], f[inside], [hi]])
         g = np.concatenate([edges[:1], flat[inside], edges[1:]]).reshape(f.size, *g.shape[1:])
-    out = np.trapezoid(g, f, axis=0) if hasattr(np, "trapezoid") else np.trapz(g, f, axis=0)
+    out = trapezoid(g, f, axis=0)
     return float(out) if np.ndim(out) == 0 else out
 
 

@@ -48,6 +48,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -126,7 +127,7 @@ class FrequencyWeighting:
         if problems:
             raise InputError("\n".join(f"weighting {self.name}: {p}" for p in problems))
 
-    def blocks(self, s: ArrayLike) -> dict[str, ComplexArray]:
+    def blocks(self, s: ArrayLike) -> dict[str, NDArray[Any]]:
         """The four blocks H_h, H_l, H_t, H_s at the Laplace values ``s`` [rad/s].
 
         Returns
@@ -135,7 +136,11 @@ class FrequencyWeighting:
             Keys ``"high_pass"``, ``"low_pass"``, ``"transition"``, ``"step"``.
         """
         s = np.asarray(s, dtype=complex)
-        one = np.ones_like(s)
+        one: NDArray[Any] = np.ones(s.shape, dtype=complex)
+        high: NDArray[Any]
+        low: NDArray[Any]
+        den: NDArray[Any]
+        step: NDArray[Any]
         two_pi = 2.0 * math.pi
         if self.f1 > 0:
             w1 = two_pi * self.f1
@@ -156,7 +161,9 @@ class FrequencyWeighting:
         transition = num / den
         if math.isfinite(self.f5):
             w5, w6 = two_pi * self.f5, two_pi * self.f6
-            step = (w5 / w6) ** 2 * (one + s / (self.Q5 * w5) + (s / w5) ** 2) / (one + s / (self.Q6 * w6) + (s / w6) ** 2)
+            step = (
+                (w5 / w6) ** 2 * (one + s / (self.Q5 * w5) + (s / w5) ** 2) / (one + s / (self.Q6 * w6) + (s / w6) ** 2)
+            )
         else:
             step = one
         return {"high_pass": high, "low_pass": low, "transition": transition, "step": step}
@@ -324,4 +331,3 @@ def weigh_time_history(signal: ArrayLike, sampling_rate: float, weighting: Frequ
     if x.ndim == 2:
         h = h[:, None]
     return np.fft.irfft(spectrum * h, n=n_fft, axis=0)[:n]
-
