@@ -391,11 +391,13 @@ def test_csv_in_millimetres_is_caught(tmp_path):
 def test_csv_problems_from_a_track_file_point_into_the_csv(tmp_path):
     (tmp_path / "p.csv").write_text("s,y\n0,0\n10,zz\n20,0.001,3\n")
     f = tmp_path / "t.toml"
-    f.write_text('[[segment]]\ntype = "straight"\nlength = 30\n\n[irregularity]\ntype = "csv"\nfile = "p.csv"\n')
+    f.write_text('[[segment]]\ntype = "straight"\nlength = 30\n\n[irregularity]\ntype = "csv"\nfile = "p.csv"\n'
+                 'colour = "red"\n')
     with pytest.raises(ModelError) as info:
         load_track(f)
     csv_path = str(tmp_path / "p.csv")
-    assert info.value.lines() == [
+    assert info.value.lines() == [  # the track file's problems first, then the CSV's in its order
+        f"{f}:8: irregularity (csv): unknown key 'colour' (allowed: file, type)",
         f"{csv_path}:3: irregularity (csv): not a number: '10,zz'",
         f"{csv_path}:4: irregularity (csv): expected 2 columns (distance, yR), got 3",
     ]

@@ -110,10 +110,11 @@ class _Report:
         self.problems.extend(problems)
 
     def raise_if_any(self) -> None:
-        """Raise them all, those without a line first, then by line (stable)."""
+        """Raise them all: this file's first, those without a line first, then by line
+        (stable); then those of other files (a CSV profile) in their own order."""
         if self.problems:
             order = sorted(range(len(self.problems)),
-                           key=lambda i: (self.problems[i].line or 0, i))
+                           key=lambda i: (self.problems[i].file != self.source, self.problems[i].line or 0, i))
             raise ModelError([self.problems[i] for i in order])
 
 
