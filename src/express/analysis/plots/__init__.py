@@ -1,0 +1,40 @@
+"""Figures of the analyses: the paper's Figs. 3, 9, 10 and 11, runs and stability maps.
+
+Every ``figure_*`` function takes plain arrays (SI units unless the name says km/h) and
+returns a :class:`matplotlib.figure.Figure` built without pyplot: no global state, no
+backend switch, so a notebook user's backend is left alone and figures are garbage
+collected like any object.  The house style (:data:`STYLE`) is applied while a figure is
+built and while :func:`save_figure` renders it.
+
+:func:`save_figure` writes PNG, SVG or PDF through the project's whole-file writer
+(:func:`express.io.output.write_bytes`).  Output is deterministic: fixed
+``svg.hashsalt``, no date or software name in the metadata, text kept as paths.
+
+Modules: ``_base`` (style, figure creation, saving), ``paper_figures`` (Figs. 3, 9, 10,
+11 and a simulation run), ``stability_maps`` (root locus, damping ratios).
+"""
+
+from ._base import FIGURE_SUFFIXES, STYLE, save_figure
+from .paper_figures import (
+    figure_critical_speed,
+    figure_curving,
+    figure_frequency_response,
+    figure_lever_step,
+    figure_simulation,
+)
+from .stability_maps import figure_damping_vs_speed, figure_eigen_locus, figure_root_locus_complex, mode_branches
+
+__all__ = [
+    "FIGURE_SUFFIXES",
+    "STYLE",
+    "figure_critical_speed",
+    "figure_curving",
+    "figure_damping_vs_speed",
+    "figure_eigen_locus",
+    "figure_frequency_response",
+    "figure_lever_step",
+    "figure_root_locus_complex",
+    "figure_simulation",
+    "mode_branches",
+    "save_figure",
+]
