@@ -13,11 +13,14 @@ the derivative of the quadratic eigenproblem::
     y^H (dA/dp) x = z^H (lambda^2 dM/dp + lambda dC/dp + dK/dp) x_q,   z^H = -y_q'^H M^-1
 
 with ``y_q'`` the lower half of ``y``. A parameter enters the matrices directly or through
-parameters derived from it (the creep coefficients ``f1``, ``f2`` from the wheel load,
-radii and elastic constants through Hertz and Kalker's table): the chain rule
-``dA/dp = sum_q (dA/dq) (dq/dp)`` takes ``dq/dp`` of each derived ``q`` as a central
-difference of the parameter evaluation itself (:meth:`VehicleModel.with_values`, a
-scalar function of ``p``; step ``1e-4 |p|``), never of an eigenvalue.
+the parameters derived from it (the live graph of :mod:`express.parameters`): the chain
+rule ``dA/dp = sum_q (dA/dq) (dq/dp)`` takes ``dq/dp`` forward through the graph in its
+evaluation order, **exactly** for a derived parameter given by an expression (its
+SymPy derivative), and for the outputs of a derivation function without a closed form
+(``[rail.creep]``: the creep coefficients from the wheel load, radii and elastic
+constants through the Hertz ellipse and Kalker's table) as a central difference of that
+one function along the direction its arguments move (relative step ``1e-4`` of the
+argument that moves most). No eigenvalue is ever differenced.
 
 At the critical speed the crossing eigenvalue satisfies ``Re lambda(v*, p) = threshold``;
 the implicit function theorem gives::
@@ -47,10 +50,11 @@ __all__ = [
     "MatrixDerivatives",
     "critical_speed_sensitivity",
     "eigenvalue_derivatives",
+    "parameter_rates",
     "sensitivity_parameters",
 ]
 
-#: Relative step of the central difference of a derived parameter's value.
+#: Relative step of the central difference of a derivation function.
 DERIVED_STEP = 1e-4
 
 
@@ -167,45 +171,76 @@ def _speed_name(vehicle: VehicleModel) -> str | None:
     return model.rail.speed.name
 
 
-def _derived_names(vehicle: VehicleModel) -> set[str]:
-    """Parameters computed from others (the creep coefficients of ``[rail.creep]``)."""
-    model = vehicle.model
-    names: set[str] = set()
-    creep = model.rail.creep if model is not None and model.rail is not None else None
-    if creep is not None:
-        names |= {creep.longitudinal, creep.lateral}
-    for name, parameter in (model.parameters.items() if model is not None else ()):
-        if getattr(parameter, "expression", None) is not None:  # a live derived parameter
-            names.add(name)
-    return names
-
-
 def sensitivity_parameters(vehicle: VehicleModel) -> list[str]:
-    """The parameters a sensitivity can be taken with respect to: every model parameter
-    except the speed and the derived ones, sorted by name."""
+    """The parameters a sensitivity can be taken with respect to: every primary (given)
+    parameter of the model except the speed, sorted by name."""
     model = vehicle.model
     if model is None:
-        return [name for name in vehicle.equations.parameters]
-    excluded = _derived_names(vehicle) | {_speed_name(vehicle)}
-    return sorted(name for name in model.parameters if name not in excluded)
+        return list(vehicle.equations.parameters)
+    speed = _speed_name(vehicle)
+    return sorted(name for name, p in model.parameters.items()
+                  if name != speed and getattr(p, "expression", None) is None and not getattr(p, "derived_by", None))
 
 
-def _value_derivatives(vehicle: VehicleModel, name: str, targets: tuple[str, ...]) -> dict[str, float]:
-    """``dq/dp`` for ``p = name`` and every ``q`` of ``targets`` that depends on it:
-    1 for ``q = p``; a central difference of the parameter evaluation for derived ones."""
-    values = vehicle.values
-    rates = {name: 1.0} if name in targets else {}
-    derived = [q for q in targets if q in _derived_names(vehicle)]
-    if not derived:
+def _number(expression, values: dict[str, float]) -> float:
+    from ...parameters import expression_value
+
+    try:
+        return expression_value(expression, values)
+    except ValueError:  # a function the float walk does not know: let SymPy evaluate it
+        return float(sp.sympify(expression).xreplace({sp.Symbol(k): v for k, v in values.items()}))
+
+
+def _expression_rate(expression, values: dict[str, float], rates: dict[str, float]) -> float:
+    """``d expression / dp`` from the rates of its symbols (exact: SymPy derivative)."""
+    expression = sp.sympify(expression)
+    total = 0.0
+    for symbol in expression.free_symbols:
+        rate = rates.get(symbol.name, 0.0)
+        if rate:
+            total += _number(sp.diff(expression, symbol), values) * rate
+    return total
+
+
+def _derivation_rates(node, values: dict[str, float], rates: dict[str, float]) -> dict[str, float]:
+    """Rates of a derivation's outputs: central difference of its function along the
+    direction in which its arguments move."""
+    from ... import parameters as graph
+
+    arguments = {name: _number(expression, values) for name, expression, _ in node.inputs}
+    direction = {name: _expression_rate(expression, values, rates) for name, expression, _ in node.inputs}
+    moving = {name: d for name, d in direction.items() if d}
+    if not moving:
+        return {}
+    step = DERIVED_STEP * min(abs(arguments[name]) / abs(d) if arguments[name] else 1.0 / abs(d)
+                              for name, d in moving.items())
+    function = graph._function(node.kind)  # the node's registered function (rail layer)
+    plus = function(**{k: a + step * direction[k] for k, a in arguments.items()})
+    minus = function(**{k: a - step * direction[k] for k, a in arguments.items()})
+    return {name: (plus[key] - minus[key]) / (2.0 * step) for key, name, _ in node.outputs}
+
+
+def parameter_rates(vehicle: VehicleModel, name: str) -> dict[str, float]:
+    """``dq/dp`` of every parameter ``q`` that depends on ``p = name`` (``p`` itself: 1),
+    forward through the live parameter graph (module docstring)."""
+    from ...model import Derivation
+    from ...parameters import evaluation_order
+
+    model = vehicle.model
+    rates = {name: 1.0}
+    if model is None:
         return rates
-    value = float(values[name])
-    step = DERIVED_STEP * abs(value) if value != 0 else DERIVED_STEP
-    plus = vehicle.with_values({name: value + step}).values
-    minus = vehicle.with_values({name: value - step}).values
-    for q in derived:
-        rate = (plus[q] - minus[q]) / (2.0 * step)
-        if rate != 0.0:
-            rates[q] = rate
+    values = dict(vehicle.values)
+    for node in evaluation_order(model):
+        if isinstance(node, Derivation):
+            for target, rate in _derivation_rates(node, values, rates).items():
+                parameter = model.parameters.get(target)
+                if rate and parameter is not None and parameter.derived_by == node.item:
+                    rates[target] = rate
+        elif node.expression is not None:
+            rate = _expression_rate(node.expression, values, rates)
+            if rate:
+                rates[node.name] = rate
     return rates
 
 
@@ -227,8 +262,9 @@ def _quadratic_derivatives(vehicle, speed, eigenvalue, right, left, names):
     result = {}
     for name in names:
         total = 0.0 + 0.0j
-        for q, rate in _value_derivatives(vehicle, name, tuple(per_symbol)).items():
-            total += rate * per_symbol[q]
+        for q, rate in parameter_rates(vehicle, name).items():
+            if q in per_symbol:
+                total += rate * per_symbol[q]
         result[name] = complex(total)
     return result
 

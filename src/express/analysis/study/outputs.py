@@ -1,0 +1,242 @@
+"""The quantities a study computes at every point, and their options.
+
+=========================  ======  =================================================================
+output                     unit    what
+=========================  ======  =================================================================
+``critical_speed``         m/s     as ``express critical-speed`` reports it (``critical`` module);
+                                   ``v_min`` when already unstable there, nan when stable up to
+                                   ``v_max`` (with a message)
+``critical_frequency``     Hz      frequency of the mode that goes unstable (exact crossing)
+``least_damping_ratio``    --      smallest damping ratio ``-Re/|lambda|`` of the modes at ``speed``
+``least_damping_frequency`` Hz     frequency of that mode
+``max_Q``                  N       largest lateral wheel/rail force ``|Q|`` of any wheelset on the
+                                   track (time-domain run, flange contact and creep saturation)
+``max_QP``                 --      largest derailment quotient ``|Q/P|`` on the track
+``max_lever_angle``        rad     largest steering-lever rotation ``|theta|`` on the track
+``frf_peak_acceleration``  m/s^2   peak acceleration amplitude of an output point (``frf_output``)
+                                   in the response to a sinusoidal lateral irregularity
+``frf_peak_frequency``     Hz      frequency of that peak
+=========================  ======  =================================================================
+
+The options (``[study.options]``) are those of the matching commands: ``v_min``,
+``v_max``, ``tolerance``, ``points``, ``threshold``, ``check`` (critical speed);
+``speed`` (eigenvalues, track and FRF; default the model's speed); ``track`` (a track
+file, default the paper's R = 400 m curve), ``dt``; ``frf_output``, ``frf_fmin``,
+``frf_fmax``, ``frf_points``, ``frf_amplitude``. Quantities are numbers in SI or strings
+with a unit (``"540 km/h"``).
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .critical import CriticalOptions, HopfPoint, StateBlocks, fast_critical_speed
+
+__all__ = ["OUTPUTS", "OutputSettings", "PointOutputs"]
+
+KMH = 1.0 / 3.6
+
+#: Output name -> (SI unit, group). The group decides which analysis runs.
+OUTPUTS: dict[str, tuple[str, str]] = {
+    "critical_speed": ("m/s", "critical"),
+    "critical_frequency": ("Hz", "critical"),
+    "least_damping_ratio": ("", "eigen"),
+    "least_damping_frequency": ("Hz", "eigen"),
+    "max_Q": ("N", "track"),
+    "max_QP": ("", "track"),
+    "max_lever_angle": ("rad", "track"),
+    "frf_peak_acceleration": ("m/s^2", "frf"),
+    "frf_peak_frequency": ("Hz", "frf"),
+}
+
+#: Option -> (dimension, default in SI, low, high); None dimension: not a quantity.
+_QUANTITIES = {
+    "v_min": ("speed", 3.6 * KMH, 1e-6, 1000.0),
+    "v_max": ("speed", 540 * KMH, 1e-6, 1000.0),
+    "tolerance": ("speed", 0.1 * KMH, 0.0, 100.0),
+    "threshold": ("frequency", 1e-6, 0.0, 1.0),
+    "speed": ("speed", None, 1e-6, 1000.0),
+    "dt": ("time", 0.005, 1e-5, 0.1),
+    "frf_fmin": ("frequency", 0.1, 1e-4, 1000.0),
+    "frf_fmax": ("frequency", 20.0, 1e-4, 1000.0),
+    "frf_amplitude": ("length", 1e-3, 1e-9, 0.1),
+}
+_OTHERS = ("points", "check", "track", "frf_output", "frf_points")
+
+
+@dataclass(frozen=True)
+class OutputSettings:
+    """``[study.options]`` in SI (module docstring)."""
+
+    v_min: float = 3.6 * KMH
+    v_max: float = 540 * KMH
+    tolerance: float = 0.1 * KMH
+    threshold: float = 1e-6
+    points: int = 40
+    check: str = "grid"
+    speed: float | None = None
+    track: Path | None = None
+    dt: float = 0.005
+    frf_output: str | None = None
+    frf_fmin: float = 0.1
+    frf_fmax: float = 20.0
+    frf_points: int = 200
+    frf_amplitude: float = 1e-3
+
+    @property
+    def critical(self) -> CriticalOptions:
+        return CriticalOptions(self.v_min, self.v_max, self.tolerance, self.threshold, self.points, self.check)
+
+    @classmethod
+    def from_table(cls, table: dict, base: Path, problems: list[tuple[str, str]]) -> OutputSettings:
+        """Parse ``[study.options]``; ``problems`` receives ``(key, message)`` pairs."""
+        from ...units import UnitError, parse_quantity
+
+        values: dict[str, Any] = {}
+        for key, raw in table.items():
+            if key in _QUANTITIES:
+                dimension, _default, low, high = _QUANTITIES[key]
+                try:
+                    if isinstance(raw, bool) or not isinstance(raw, (int, float, str)):
+                        raise UnitError(f"expected a number (SI) or a quantity such as \"540 km/h\", got {raw!r}")
+                    number = parse_quantity(raw, dimension)[0] if isinstance(raw, str) else float(raw)
+                except UnitError as error:
+                    problems.append((key, f"bad unit: {error}" if isinstance(raw, str) else str(error)))
+                    continue
+                if not (math.isfinite(number) and low <= number <= high):
+                    problems.append((key, f"{raw!r} is outside {low:g} .. {high:g} (SI)"))
+                    continue
+                values[key] = float(number)
+            elif key in ("points", "frf_points"):
+                if isinstance(raw, bool) or not isinstance(raw, int) or not 2 <= raw <= 100_000:
+                    problems.append((key, f"must be a whole number from 2 to 100000, got {raw!r}"))
+                else:
+                    values[key] = raw
+            elif key == "check":
+                if raw not in ("grid", "local"):
+                    problems.append((key, f'must be "grid" or "local", got {raw!r}'))
+                else:
+                    values[key] = raw
+            elif key == "track":
+                track = base / str(raw) if isinstance(raw, str) else None
+                if track is None or not track.is_file():
+                    problems.append((key, f"no such track file: {track if track is not None else raw!r}"))
+                else:
+                    values[key] = track
+            elif key == "frf_output":
+                if not isinstance(raw, str):
+                    problems.append((key, "must be the name of an output point"))
+                else:
+                    values[key] = raw
+            else:
+                import difflib
+
+                close = difflib.get_close_matches(key, list(_QUANTITIES) + list(_OTHERS), n=1)
+                problems.append((key, "unknown option" + (f"; did you mean {close[0]}?" if close else "")))
+        settings = cls(**values)
+        if not settings.v_max > settings.v_min:
+            problems.append(("v_max", "must be above v_min"))
+        if not settings.frf_fmax > settings.frf_fmin:
+            problems.append(("frf_fmax", "must be above frf_fmin"))
+        return settings
+
+
+class PointOutputs:
+    """Computes the outputs of one point from a vehicle evaluated at its values.
+
+    One instance per worker: it keeps the track (read once) and, for ``check =
+    "local"``, the last crossing as the starting guess of the next critical speed.
+
+    Parameters
+    ----------
+    outputs : sequence of str
+        Names of :data:`OUTPUTS`.
+    settings : OutputSettings
+    """
+
+    def __init__(self, outputs, settings: OutputSettings):
+        self.outputs = tuple(outputs)
+        self.settings = settings
+        self.groups = {OUTPUTS[name][1] for name in self.outputs}
+        self.guess: HopfPoint | None = None
+        self._track = None
+
+    def __call__(self, vehicle) -> tuple[dict[str, float], list[str]]:
+        """Output values (SI; nan when not available) and messages for this point."""
+        values: dict[str, float] = {}
+        notes: list[str] = []
+        if "critical" in self.groups:
+            values.update(self._critical(vehicle, notes))
+        if "eigen" in self.groups:
+            values.update(self._eigen(vehicle))
+        if "track" in self.groups:
+            values.update(self._track_run(vehicle))
+        if "frf" in self.groups:
+            values.update(self._frf(vehicle))
+        return {name: float(values[name]) for name in self.outputs}, notes
+
+    def _speed(self, vehicle) -> float:
+        speed = self.settings.speed if self.settings.speed is not None else float(vehicle.speed)
+        if not (math.isfinite(speed) and speed > 0):
+            raise ValueError("the model has no speed: give options.speed")
+        return speed
+
+    def _critical(self, vehicle, notes: list[str]) -> dict[str, float]:
+        options = self.settings.critical
+        result = fast_critical_speed(StateBlocks(vehicle), options, self.guess)
+        if result.crossing is not None:
+            self.guess = result.crossing
+        if result.unstable_at_min:
+            notes.append(f"already unstable at the lowest speed {options.v_min:.6g} m/s")
+        elif result.speed is None:
+            notes.append(f"no critical speed: stable up to {options.v_max:.6g} m/s")
+        speed = result.speed if result.speed is not None else math.nan
+        return {"critical_speed": speed, "critical_frequency": result.frequency}
+
+    def _eigen(self, vehicle) -> dict[str, float]:
+        eigenvalues = np.linalg.eigvals(vehicle.state_matrix(self._speed(vehicle)))
+        magnitude = np.abs(eigenvalues)
+        keep = magnitude > 1e-9  # rigid-body (zero) eigenvalues have no damping ratio
+        if not keep.any():
+            return {"least_damping_ratio": math.nan, "least_damping_frequency": math.nan}
+        ratios = -eigenvalues.real[keep] / magnitude[keep]
+        k = int(np.argmin(ratios))
+        return {"least_damping_ratio": float(ratios[k]),
+                "least_damping_frequency": float(abs(eigenvalues[keep][k].imag) / (2 * np.pi))}
+
+    def _track_run(self, vehicle) -> dict[str, float]:
+        from ..simulate import simulate
+
+        if self._track is None:
+            from ...rail.track import load_track, paper_curve
+
+            self._track = load_track(self.settings.track) if self.settings.track is not None else paper_curve()
+        result = simulate(vehicle, self._track, speed=self._speed(vehicle), dt=self.settings.dt, progress=False)
+        maxima = result.max_abs()
+
+        def largest(pattern: str) -> float:
+            found = [value for name, value in maxima.items() if re.fullmatch(pattern, name)]
+            return max(found) if found else math.nan
+
+        return {"max_Q": largest(r"Q\d+"), "max_QP": largest(r"QP\d+"), "max_lever_angle": largest(r"theta_.+")}
+
+    def _frf(self, vehicle) -> dict[str, float]:
+        from ..frequency import frequency_response
+
+        s = self.settings
+        model = vehicle.model
+        points = [p.name for p in model.rail.outputs] if model is not None and model.rail is not None else []
+        name = s.frf_output or (points[0] if points else None)
+        if name is None or name not in points:
+            raise ValueError(f"no output point {name!r} for the FRF; the model has: {', '.join(points) or 'none'}")
+        frequencies = np.geomspace(s.frf_fmin, s.frf_fmax, s.frf_points)
+        response = frequency_response(vehicle, frequencies, amplitude=s.frf_amplitude, speed=self._speed(vehicle))
+        amplitude = np.abs(np.asarray(response.acceleration_of(name)))
+        k = int(np.argmax(amplitude))
+        return {"frf_peak_acceleration": float(amplitude[k]), "frf_peak_frequency": float(frequencies[k])}

@@ -1,0 +1,263 @@
+"""The results of a study: the checkpoint written as points arrive, and the final file.
+
+**Checkpoint.** Beside the output, ``RESULTS.checkpoint.jsonl``: a header line naming
+the study (a hash of the model, the outputs, the options and the points), then one JSON
+line per evaluated point, appended and flushed to disk (``fsync``) as chunks finish.
+A line cut short by a crash is ignored. ``--resume`` reads it and evaluates only the
+points it lacks; a checkpoint of another study is refused. It is removed once the
+final file is written.
+
+**Final file**, by suffix, written whole (:mod:`express.io.output`), rows in point
+order, so that it is the same whatever the order in which the points finished:
+
+``.csv``
+    a header of names with their SI units (``kx1_N_m``, ``critical_speed_m_s``), then one
+    row per point: the varied parameters (SI), each output (SI) and ``error`` (empty, or
+    the point's message). Numbers are written with the shortest text that reads back as
+    the same double (Python's ``repr``), so that nothing is lost; ``nan`` for none.
+``.parquet``
+    the same columns (pyarrow), the units and the study file in the schema metadata.
+``.nc``
+    netCDF (xarray, netCDF-3 through SciPy): for a grid, the outputs on the grid's axes
+    (one dimension per parameter, the values as coordinates); otherwise a ``point``
+    dimension. Every variable carries its ``units``; the study file is the global
+    attribute ``study``.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+import os
+from collections.abc import Iterable, Iterator, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ...diagnostics import UsageError
+from .outputs import OUTPUTS
+
+__all__ = ["FORMATS", "Checkpoint", "ResultTable", "checkpoint_path", "result_bytes"]
+
+FORMATS = (".csv", ".parquet", ".nc")
+_HEADER = "express-study-checkpoint"
+
+
+def checkpoint_path(output: str | Path) -> Path:
+    """``RESULTS.checkpoint.jsonl`` beside ``output``."""
+    output = Path(output)
+    return output.with_name(output.name + ".checkpoint.jsonl")
+
+
+class Checkpoint:
+    """Append-only JSON-lines record of the evaluated points (module docstring).
+
+    Parameters
+    ----------
+    path : Path
+    identity : dict
+        What the study is (JSON-serialisable); the header line.
+    """
+
+    def __init__(self, path: Path, identity: dict):
+        self.path = path
+        self.identity = {"format": _HEADER, **identity}
+        self._stream = None
+
+    def open(self, resume: bool) -> None:
+        """Start (or, with ``resume``, continue) the checkpoint.
+
+        Raises
+        ------
+        UsageError
+            A checkpoint exists without ``resume`` (or belongs to another study).
+        """
+        exists = self.path.exists()
+        if exists and not resume:
+            raise UsageError(
+                f"{self.path}: a checkpoint of an unfinished run exists; continue it with --resume "
+                "or delete it to start again"
+            )
+        if exists:
+            header = self._header()
+            if header != self.identity:
+                raise UsageError(
+                    f"{self.path}: the checkpoint belongs to another study (or the study, its model "
+                    "or its options changed); delete it to start again"
+                )
+            self._truncate_torn_line()
+            self._stream = open(self.path, "a", encoding="utf-8")
+        else:
+            self.path.parent.mkdir(parents=True, exist_ok=True)
+            self._stream = open(self.path, "w", encoding="utf-8")
+            self._write([self.identity])
+
+    def _header(self) -> dict | None:
+        with open(self.path, encoding="utf-8") as stream:
+            first = stream.readline()
+        try:
+            header = json.loads(first)
+        except json.JSONDecodeError:
+            return None
+        return header if isinstance(header, dict) else None
+
+    def _truncate_torn_line(self) -> None:
+        """Drop a last line cut short by a crash, so that appends start on a new line."""
+        with open(self.path, "rb+") as stream:
+            data = stream.read()
+            if data and not data.endswith(b"\n"):
+                stream.truncate(data.rfind(b"\n") + 1)
+
+    def _write(self, items: Iterable[dict]) -> None:
+        assert self._stream is not None
+        self._stream.write("".join(json.dumps(item, allow_nan=False) + "\n" for item in items))
+        self._stream.flush()
+        os.fsync(self._stream.fileno())
+
+    def append(self, records: Sequence[dict]) -> None:
+        """Write records now (flushed and synced to disk)."""
+        self._write(records)
+
+    def records(self) -> Iterator[dict]:
+        """Every complete record in the file (a torn last line is skipped)."""
+        if not self.path.exists():
+            return
+        with open(self.path, encoding="utf-8") as stream:
+            stream.readline()
+            for line in stream:
+                if not line.endswith("\n"):
+                    break
+                try:
+                    record = json.loads(line)
+                except json.JSONDecodeError:
+                    continue
+                if isinstance(record, dict) and isinstance(record.get("point"), int):
+                    yield record
+
+    def close(self) -> None:
+        if self._stream is not None:
+            self._stream.close()
+            self._stream = None
+
+    def remove(self) -> None:
+        self.close()
+        self.path.unlink(missing_ok=True)
+
+
+@dataclass
+class ResultTable:
+    """The results in point order.
+
+    Attributes
+    ----------
+    names : tuple of str
+        Varied parameters.
+    units : dict of str to str
+        SI unit of every parameter and output (``""`` for pure numbers).
+    values : numpy.ndarray, shape (N, D)
+    outputs : tuple of str
+    results : numpy.ndarray, shape (N, O)
+        Output values (SI), nan where none.
+    errors : dict of int to str
+        Messages of the points that have one.
+    """
+
+    names: tuple[str, ...]
+    units: dict[str, str]
+    values: np.ndarray
+    outputs: tuple[str, ...]
+    results: np.ndarray
+    errors: dict[int, str]
+
+    @classmethod
+    def empty(cls, names, units, outputs, count: int) -> ResultTable:
+        return cls(tuple(names), dict(units), np.full((count, len(names)), np.nan), tuple(outputs),
+                   np.full((count, len(outputs)), np.nan), {})
+
+    def add(self, record: dict) -> None:
+        """Store one checkpoint record."""
+        i = record["point"]
+        self.values[i] = record["values"]
+        self.results[i] = [math.nan if x is None else x for x in record["outputs"]]
+        if record.get("error"):
+            self.errors[i] = record["error"]
+        else:
+            self.errors.pop(i, None)
+
+    def column(self, name: str) -> np.ndarray:
+        """A parameter's or an output's column."""
+        if name in self.names:
+            return self.values[:, self.names.index(name)]
+        return self.results[:, self.outputs.index(name)]
+
+    def error_column(self) -> list[str]:
+        return [self.errors.get(i, "") for i in range(len(self.values))]
+
+
+def _number(value: float) -> str:
+    return repr(float(value)) if math.isfinite(value) else "nan"
+
+
+def csv_bytes(table: ResultTable) -> bytes:
+    """The CSV file (module docstring)."""
+    from ...io.output import column_name
+
+    buffer = io.StringIO()
+    writer = csv.writer(buffer, lineterminator="\n")
+    writer.writerow([column_name(n, table.units.get(n)) for n in (*table.names, *table.outputs)] + ["error"])
+    errors = table.error_column()
+    for i in range(len(table.values)):
+        writer.writerow([_number(x) for x in table.values[i]] + [_number(x) for x in table.results[i]] + [errors[i]])
+    return buffer.getvalue().encode("utf-8")
+
+
+def parquet_bytes(table: ResultTable, metadata: dict[str, str]) -> bytes:
+    """The Parquet file: one column per parameter and output, and ``error``."""
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    columns = {name: pa.array(table.column(name), type=pa.float64()) for name in (*table.names, *table.outputs)}
+    columns["error"] = pa.array(table.error_column(), type=pa.string())
+    meta = {f"express.{k}": v for k, v in metadata.items()}
+    meta["express.units"] = json.dumps({n: table.units.get(n, "") for n in (*table.names, *table.outputs)})
+    arrow = pa.table(columns).replace_schema_metadata(meta)
+    sink = io.BytesIO()
+    pq.write_table(arrow, sink)
+    return sink.getvalue()
+
+
+def netcdf_bytes(table: ResultTable, metadata: dict[str, str], grid: Sequence[Sequence[float]] | None) -> bytes:
+    """The netCDF file; ``grid`` holds each parameter's values for a grid study."""
+    import xarray as xr
+
+    errors = np.array(table.error_column(), dtype=object)
+    if grid is not None:
+        shape = tuple(len(axis) for axis in grid)
+        dims = table.names
+        coords = {name: (name, np.asarray(axis, dtype=float), {"units": table.units.get(name, "")})
+                  for name, axis in zip(table.names, grid)}
+        data = {name: (dims, table.column(name).reshape(shape), {"units": OUTPUTS[name][0]}) for name in table.outputs}
+        data["error"] = (dims, errors.reshape(shape), {})
+        dataset = xr.Dataset(data, coords=coords)
+    else:
+        data = {name: ("point", table.column(name), {"units": table.units.get(name, "")})
+                for name in (*table.names, *table.outputs)}
+        data["error"] = ("point", errors, {})
+        dataset = xr.Dataset(data, coords={"point": ("point", np.arange(len(table.values), dtype=np.int32))})
+    dataset.attrs.update(metadata)
+    return bytes(dataset.to_netcdf(engine="scipy"))
+
+
+def result_bytes(path: str | Path, table: ResultTable, metadata: dict[str, str], grid=None) -> bytes:
+    """The final file's bytes for ``path``'s suffix (:data:`FORMATS`)."""
+    suffix = Path(path).suffix.lower()
+    if suffix == ".csv":
+        return csv_bytes(table)
+    if suffix == ".parquet":
+        return parquet_bytes(table, metadata)
+    if suffix == ".nc":
+        return netcdf_bytes(table, metadata, grid)
+    raise UsageError(f"-o {path}: unknown results format; use {', '.join(FORMATS)}")

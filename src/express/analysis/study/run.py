@@ -1,0 +1,234 @@
+"""Running a study file end to end: points, checkpoint, final file (``express study``).
+
+:func:`run_study` checks the destination, builds the vehicle (a bad model stops here,
+before anything is written), evaluates the points that the checkpoint lacks on the
+chosen :class:`~express.analysis.study.runner.Engine`, appending each finished chunk to
+the checkpoint, then writes the final file whole and removes the checkpoint. A study
+killed mid-way continues with ``resume=True``; the final file is the same as an
+uninterrupted run's, because the rows are in point order and every number is written
+exactly.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import sys
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ... import __version__
+from ...diagnostics import UsageError
+from .outputs import OUTPUTS
+from .results import FORMATS, Checkpoint, ResultTable, checkpoint_path, result_bytes
+from .runner import Engine, make_task
+from .sampling import study_points
+from .spec import StudySpec
+
+__all__ = ["StudySummary", "default_workers", "parameter_units", "run_study"]
+
+
+@dataclass(frozen=True)
+class StudySummary:
+    """What a finished study did.
+
+    Attributes
+    ----------
+    output : Path
+    points : int
+        Points in the results file.
+    computed : int
+        Points evaluated by this run (the others came from the checkpoint).
+    failed : int
+        Points with a message in ``error`` and no value for some output.
+    seconds : float
+        Wall-clock time of this run.
+    workers : int
+    extra : dict
+        ``best`` (optimise), ``indices`` (sobol-indices), ``files`` written besides the output.
+    """
+
+    output: Path
+    points: int
+    computed: int
+    failed: int
+    seconds: float
+    workers: int
+    extra: dict = field(default_factory=dict)
+
+    def as_dict(self) -> dict[str, Any]:
+        return {"output": str(self.output), "points": self.points, "computed": self.computed,
+                "failed": self.failed, "seconds": self.seconds, "workers": self.workers, **self.extra}
+
+
+def default_workers() -> int:
+    """All local cores this process may use."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # pragma: no cover - not on Linux
+        return os.cpu_count() or 1
+
+
+def parameter_units(spec: StudySpec) -> dict[str, str]:
+    """SI unit of every varied parameter (from its dimension) and output."""
+    from ...io import load_model
+    from ...units import DIMENSIONS, dimension_of, si_unit
+
+    model = load_model(spec.model)
+    units = {name: unit for name, (unit, _group) in OUTPUTS.items()}
+    for r in spec.parameters:
+        parameter = model.parameters[r.name]
+        known = getattr(parameter, "dimension", None)
+        unit = ""
+        if isinstance(known, str) and known in DIMENSIONS:
+            unit = si_unit(known)
+        elif known is not None:
+            unit = next((si_unit(n) for n, d in DIMENSIONS.items() if d == known), getattr(known, "si", lambda: "")())
+        elif parameter.unit or r.unit:
+            try:
+                name = dimension_of(parameter.unit or r.unit)
+                unit = si_unit(name) if name in DIMENSIONS else name
+            except ValueError:
+                unit = ""
+        units[r.name] = "" if unit in ("-", "1") else unit
+    return units
+
+
+def _metadata(spec: StudySpec) -> dict[str, str]:
+    return {"study": spec.text, "study_file": spec.path.name, "model": spec.model.name, "kind": spec.kind,
+            "title": spec.title, "software": f"EXPRESS {__version__}"}
+
+
+def _progress(total: int, done: int, enabled: bool):
+    if not enabled:
+        return None
+    from tqdm import tqdm
+
+    return tqdm(total=total, initial=done, unit="pt", file=sys.stderr, dynamic_ncols=True, smoothing=0.1)
+
+
+def _check_output(spec: StudySpec, output: Path) -> None:
+    from ...io.output import check_destination
+
+    if output.suffix.lower() not in FORMATS:
+        raise UsageError(f"-o {output}: unknown results format; use {', '.join(FORMATS)}")
+    check_destination(output, inputs=[spec.path, spec.model], binary=True)
+
+
+def run_study(
+    spec: StudySpec, output: str | Path, *, workers: int | None = None, scheduler: str | None = None,
+    resume: bool = False, progress: bool = False,
+) -> StudySummary:
+    """Run a checked study and write its results file (module docstring).
+
+    Parameters
+    ----------
+    spec : StudySpec
+    output : path
+        ``.csv``, ``.parquet`` or ``.nc``.
+    workers : int, optional
+        Local processes; default all local cores.
+    scheduler : str, optional
+        Dask scheduler address; the points run on its cluster.
+    resume : bool
+        Continue from the checkpoint beside ``output``.
+    progress : bool
+        Show a progress bar on standard error.
+
+    Raises
+    ------
+    ModelError, UsageError, OutputError
+        Bad model, checkpoint or destination (nothing written).
+    """
+    output = Path(output)
+    _check_output(spec, output)
+    started = time.perf_counter()
+    task = make_task(spec)
+    units = parameter_units(spec)
+    workers = default_workers() if workers is None else workers
+    if spec.kind == "optimise":
+        from .optimise import run_optimisation
+
+        count = spec.optimiser["population"] * len(spec.parameters)
+        engine = Engine(task, min(workers, count), scheduler)
+        identity = {"key": task.key, "kind": spec.kind, "study": _digest(spec.text.encode()),
+                    "names": list(spec.names), "outputs": list(spec.outputs)}
+        checkpoint = Checkpoint(checkpoint_path(output), identity)
+        with engine:
+            checkpoint.open(resume)
+            table, computed, extra = run_optimisation(spec, engine, checkpoint, units, progress)
+        grid = None
+    else:
+        points = study_points(spec)
+        identity = {"key": task.key, "kind": spec.kind, "points": int(len(points)),
+                    "digest": _digest(np.ascontiguousarray(points).tobytes()),
+                    "names": list(spec.names), "outputs": list(spec.outputs)}
+        checkpoint = Checkpoint(checkpoint_path(output), identity)
+        engine = Engine(task, min(workers, len(points)), scheduler)
+        with engine:
+            checkpoint.open(resume)
+            table, computed = _evaluate(engine, checkpoint, points, spec, units, progress)
+        grid = [r.values for r in spec.parameters] if spec.kind == "grid" else None
+        extra = {}
+        if spec.kind == "sobol-indices":
+            from .optimise import sobol_indices
+
+            extra["indices"] = sobol_indices(spec, table)
+    files = _write(spec, output, table, grid, extra)
+    checkpoint.remove()
+    failed = sum(1 for i in table.errors if np.isnan(table.results[i]).any())
+    return StudySummary(output, len(table.values), computed, failed, time.perf_counter() - started,
+                        engine.parallel, {**extra, "files": files})
+
+
+def _digest(data: bytes) -> str:
+    return hashlib.sha256(data).hexdigest()
+
+
+def _evaluate(engine: Engine, checkpoint: Checkpoint, points: np.ndarray, spec: StudySpec, units, progress: bool):
+    count = len(points)
+    table = ResultTable.empty(spec.names, units, spec.outputs, count)
+    done = np.zeros(count, dtype=bool)
+    for record in checkpoint.records():
+        i = record["point"]
+        if not (0 <= i < count) or record.get("values") != points[i].tolist():
+            raise UsageError(f"{checkpoint.path}: the checkpoint does not match the study's points; delete it to start again")
+        done[i] = True
+    todo = np.flatnonzero(~done)
+    bar = _progress(count, count - len(todo), progress)
+    try:
+        for records in engine.run(todo.tolist(), points[todo]):
+            checkpoint.append(records)
+            if bar is not None:
+                bar.update(len(records))
+    finally:
+        if bar is not None:
+            bar.close()
+    checkpoint.close()
+    for record in checkpoint.records():
+        table.add(record)
+    return table, len(todo)
+
+
+def _write(spec: StudySpec, output: Path, table: ResultTable, grid, extra: dict) -> list[str]:
+    """The final file (and the indices of a sobol-indices study), all or nothing."""
+    from ...io.output import output_transaction, write_bytes
+
+    files = [str(output)]
+    with output_transaction([spec.path, spec.model]) as transaction:
+        transaction.declare(output, binary=True)
+        indices_path = None
+        if "indices" in extra:
+            indices_path = output.with_name(output.name + ".indices.csv")
+            transaction.declare(indices_path)
+            files.append(str(indices_path))
+        write_bytes(output, result_bytes(output, table, _metadata(spec), grid))
+        if indices_path is not None:
+            from .optimise import indices_csv
+
+            write_bytes(indices_path, indices_csv(extra["indices"]))
+    return files

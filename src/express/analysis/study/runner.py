@@ -1,0 +1,354 @@
+"""Evaluating a study's points: in this process, on local processes or on a Dask cluster.
+
+Every worker builds the numerical vehicle **once** (:func:`express.statespace.load_vehicle`:
+the symbolic generation, about a second) and evaluates each point from its parameter
+vector with :meth:`~express.statespace.VehicleModel.with_values` (milliseconds), which
+re-evaluates the derived parameters. The task sent to a worker carries the model's (and
+the track's) text, so that workers on other machines need no shared files.
+
+Engines (:class:`Engine`):
+
+- one worker: the points run in this process;
+- ``workers = N``: a pool of N local processes (forked after the vehicle is built, so
+  that they inherit it); a process that dies has its unfinished points run again in a
+  new pool (a chunk that keeps killing its process is split, and a single point that
+  kills its process three times is recorded as failed);
+- ``scheduler = "tcp://HOST:PORT"``: a Dask distributed cluster (``dask scheduler``,
+  ``dask worker ADDRESS``); the scheduler re-runs the tasks of a worker that dies.
+
+Points go out in chunks of consecutive points, and at most a few chunks per worker are
+in flight at a time, so that memory does not grow with the number of points. Results
+come back as they are computed (:meth:`Engine.run`) and are written to the checkpoint
+(:mod:`express.analysis.study.results`) before the next chunk is sent.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+import os
+import tempfile
+import threading
+from collections.abc import Iterable, Iterator, Sequence
+from dataclasses import dataclass, replace
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ...diagnostics import ExpressError, UsageError
+from .outputs import OutputSettings, PointOutputs
+from .spec import StudySpec
+
+__all__ = ["Engine", "StudyTask", "chunk_size", "evaluate_points", "make_task"]
+
+#: Chunks in flight per worker.
+IN_FLIGHT = 4
+#: Times a point may kill its worker process before it is recorded as failed.
+MAX_ATTEMPTS = 3
+
+
+@dataclass(frozen=True)
+class StudyTask:
+    """What a worker needs to evaluate points (picklable, no shared files needed).
+
+    Attributes
+    ----------
+    key : str
+        SHA-256 of everything below: identifies the study's vehicle and outputs.
+    model_path : str
+        The model file where the study was started (used when present with the same text).
+    model_text : bytes
+    names : tuple of str
+        The varied parameters, in the order of a point's vector.
+    fixed : tuple of (str, float)
+        ``[study.set]`` (SI).
+    outputs : tuple of str
+    settings : OutputSettings
+        With ``track`` None when ``track_text`` carries the track file.
+    track_name : str or None
+    track_text : bytes or None
+    """
+
+    key: str
+    model_path: str
+    model_text: bytes
+    names: tuple[str, ...]
+    fixed: tuple[tuple[str, float], ...]
+    outputs: tuple[str, ...]
+    settings: OutputSettings
+    track_name: str | None = None
+    track_text: bytes | None = None
+
+
+def make_task(spec: StudySpec) -> StudyTask:
+    """The worker task of a checked study."""
+    model_text = spec.model.read_bytes()
+    track = spec.settings.track
+    track_text = track.read_bytes() if track is not None else None
+    settings = replace(spec.settings, track=None)
+    digest = hashlib.sha256()
+    for part in (model_text, spec.model.suffix.encode(), repr(spec.names).encode(),
+                 repr(sorted(spec.fixed.items())).encode(), repr(spec.outputs).encode(), repr(settings).encode(),
+                 track_text or b""):
+        digest.update(hashlib.sha256(part).digest())
+    return StudyTask(
+        key=digest.hexdigest(), model_path=str(spec.model.resolve()), model_text=model_text, names=spec.names,
+        fixed=tuple(sorted(spec.fixed.items())), outputs=spec.outputs, settings=settings,
+        track_name=track.name if track is not None else None, track_text=track_text,
+    )
+
+
+def _materialise(path_hint: str | None, name: str, text: bytes, key: str) -> Path:
+    """The file holding ``text``: ``path_hint`` if it holds it, else a private copy."""
+    if path_hint is not None:
+        try:
+            if Path(path_hint).read_bytes() == text:
+                return Path(path_hint)
+        except OSError:
+            pass
+    folder = Path(tempfile.gettempdir()) / f"express-study-{key[:16]}"
+    folder.mkdir(parents=True, exist_ok=True)
+    target = folder / name
+    if not (target.exists() and target.read_bytes() == text):
+        handle, temporary = tempfile.mkstemp(dir=folder)
+        with os.fdopen(handle, "wb") as stream:
+            stream.write(text)
+        os.replace(temporary, target)
+    return target
+
+
+class _Worker:
+    """A worker's vehicle (built once) and output calculator."""
+
+    def __init__(self, task: StudyTask):
+        from ...statespace import load_vehicle
+
+        model = _materialise(task.model_path, Path(task.model_path).name, task.model_text, task.key)
+        settings = task.settings
+        if task.track_text is not None and task.track_name is not None:
+            settings = replace(settings, track=_materialise(None, task.track_name, task.track_text, task.key))
+        self.base = load_vehicle(model)
+        self.names = task.names
+        self.fixed = dict(task.fixed)
+        self.output_names = task.outputs
+        self.outputs = PointOutputs(task.outputs, settings)
+
+    def evaluate(self, index: int, vector: Sequence[float]) -> dict[str, Any]:
+        """One point: ``{"point", "values", "outputs", "error"}`` (outputs SI, None for nan)."""
+        changes = dict(self.fixed)
+        changes.update(zip(self.names, (float(x) for x in vector)))
+        try:
+            vehicle = self.base.with_values(changes)
+            values, notes = self.outputs(vehicle)
+            error = "; ".join(notes)
+        except (ExpressError, ValueError, ArithmeticError, np.linalg.LinAlgError) as exception:
+            values, error = {}, _message(exception)
+        except Exception as exception:  # a point never stops the study; the message says what broke
+            values, error = {}, f"internal error: {type(exception).__name__}: {_message(exception)}"
+        outputs = [values.get(name, math.nan) for name in self.output_names]
+        return {
+            "point": int(index),
+            "values": [float(x) for x in vector],
+            "outputs": [float(x) if math.isfinite(x) else None for x in outputs],
+            "error": error,
+        }
+
+
+def _message(exception: BaseException) -> str:
+    text = " ".join(str(exception).split()) or type(exception).__name__
+    return text[:500]
+
+
+_WORKERS: dict[str, _Worker] = {}
+_LOCK = threading.Lock()
+
+
+def _worker(task: StudyTask) -> _Worker:
+    with _LOCK:
+        worker = _WORKERS.get(task.key)
+        if worker is None:
+            if len(_WORKERS) >= 2:
+                _WORKERS.pop(next(iter(_WORKERS)))
+            worker = _WORKERS[task.key] = _Worker(task)
+        return worker
+
+
+def evaluate_points(task: StudyTask, indices: Sequence[int], vectors: Sequence[Sequence[float]]) -> list[dict]:
+    """Evaluate points on this process's worker (built on first use); one record each."""
+    worker = _worker(task)
+    return [worker.evaluate(i, v) for i, v in zip(indices, vectors)]
+
+
+def chunk_size(points: int, workers: int) -> int:
+    """Points per chunk: about 16 chunks per worker, from 1 to 64 points."""
+    return max(1, min(64, math.ceil(points / max(1, workers * 16))))
+
+
+def _chunks(indices: Sequence[int], vectors: np.ndarray, size: int) -> Iterator[tuple[list[int], list[list[float]]]]:
+    for start in range(0, len(indices), size):
+        part = list(indices[start : start + size])
+        yield part, [list(map(float, vectors[k])) for k in range(start, start + len(part))]
+
+
+def _failed(indices: Sequence[int], vectors: Sequence[Sequence[float]], outputs: int, message: str) -> list[dict]:
+    return [{"point": int(i), "values": [float(x) for x in v], "outputs": [None] * outputs, "error": message}
+            for i, v in zip(indices, vectors)]
+
+
+class Engine:
+    """Where the points run (module docstring). Use as a context manager.
+
+    Parameters
+    ----------
+    task : StudyTask
+    workers : int
+        Local processes (1: this process). Ignored with ``scheduler``.
+    scheduler : str, optional
+        Address of a Dask scheduler (``tcp://HOST:PORT``).
+    """
+
+    def __init__(self, task: StudyTask, workers: int = 1, scheduler: str | None = None):
+        self.task = task
+        self.workers = max(1, int(workers))
+        self.scheduler = scheduler
+        self._pool = None
+        self._client = None
+        self._task_future = None
+
+    def __enter__(self) -> Engine:
+        _worker(self.task)  # build the vehicle here: a bad model stops the study before any work
+        if self.scheduler is not None:
+            self._connect()
+        return self
+
+    def __exit__(self, *exc) -> None:
+        if self._pool is not None:
+            self._pool.shutdown(wait=True, cancel_futures=True)
+            self._pool = None
+        if self._client is not None:
+            self._client.close()
+            self._client = None
+
+    @property
+    def parallel(self) -> int:
+        """Workers available (Dask: the cluster's worker threads)."""
+        if self._client is not None:
+            return max(1, sum(self._client.nthreads().values()))
+        return self.workers
+
+    def _connect(self) -> None:
+        try:
+            from distributed import Client
+        except ImportError:  # pragma: no cover - distributed is a dependency
+            raise UsageError("--scheduler needs the dask[distributed] package") from None
+        try:
+            self._client = Client(self.scheduler, timeout="20s", set_as_default=False)
+        except (OSError, TimeoutError, ValueError) as error:
+            raise UsageError(f"--scheduler {self.scheduler}: cannot connect to the Dask scheduler ({error})") from None
+        self._task_future = self._client.scatter(self.task, broadcast=True, hash=False)
+
+    def run(self, indices: Sequence[int], vectors: np.ndarray) -> Iterator[list[dict]]:
+        """Evaluate the points; yields lists of records as chunks finish (any order)."""
+        if len(indices) == 0:
+            return
+        size = chunk_size(len(indices), self.parallel)
+        chunks = _chunks(indices, np.asarray(vectors, dtype=float), size)
+        if self._client is not None:
+            yield from self._run_dask(chunks)
+        elif self.workers == 1:
+            for part, part_vectors in chunks:
+                yield evaluate_points(self.task, part, part_vectors)
+        else:
+            yield from self._run_local(chunks)
+
+    # ---------------------------------------------------------------- local processes
+
+    def _new_pool(self):
+        import concurrent.futures
+        import multiprocessing
+
+        methods = multiprocessing.get_all_start_methods()
+        context = multiprocessing.get_context("fork" if "fork" in methods else "spawn")
+        return concurrent.futures.ProcessPoolExecutor(max_workers=self.workers, mp_context=context)
+
+    def _run_local(self, chunks: Iterable[tuple[list[int], list[list[float]]]]) -> Iterator[list[dict]]:
+        import concurrent.futures
+        from concurrent.futures.process import BrokenProcessPool
+
+        pending = list(chunks)[::-1]  # a stack: pop() gives the next chunk in order
+        attempts: dict[int, int] = {}
+        running: dict[Any, tuple[list[int], list[list[float]]]] = {}
+        if self._pool is None:
+            self._pool = self._new_pool()
+        while pending or running:
+            while pending and len(running) < IN_FLIGHT * self.workers:
+                part, part_vectors = pending.pop()
+                running[self._pool.submit(evaluate_points, self.task, part, part_vectors)] = (part, part_vectors)
+            done, _ = concurrent.futures.wait(running, return_when=concurrent.futures.FIRST_COMPLETED)
+            broken = False
+            for future in done:
+                part, part_vectors = running.pop(future)
+                try:
+                    yield future.result()
+                except BrokenProcessPool:
+                    broken = True
+                    pending.extend(self._retry(part, part_vectors, attempts))
+            if broken:
+                for future, (part, part_vectors) in running.items():
+                    try:
+                        yield future.result()
+                    except BrokenProcessPool:
+                        pending.extend(self._retry(part, part_vectors, attempts))
+                running.clear()
+                self._pool.shutdown(wait=False, cancel_futures=True)
+                self._pool = self._new_pool()
+            yield from self._give_up(pending, attempts)
+
+    def _retry(self, part: list[int], vectors: list[list[float]], attempts: dict[int, int]):
+        """Chunks to run again after their process died: split after the second death."""
+        for i in part:
+            attempts[i] = attempts.get(i, 0) + 1
+        if len(part) > 1 and attempts[part[0]] >= 2:
+            return [([i], [v]) for i, v in zip(part, vectors)][::-1]
+        return [(part, vectors)]
+
+    def _give_up(self, pending: list, attempts: dict[int, int]) -> Iterator[list[dict]]:
+        for chunk in [c for c in pending if len(c[0]) == 1 and attempts.get(c[0][0], 0) >= MAX_ATTEMPTS]:
+            pending.remove(chunk)
+            yield _failed(chunk[0], chunk[1], len(self.task.outputs),
+                          f"the worker process evaluating this point died {MAX_ATTEMPTS} times")
+
+    # ---------------------------------------------------------------- Dask
+
+    def _run_dask(self, chunks: Iterable[tuple[list[int], list[list[float]]]]) -> Iterator[list[dict]]:
+        from distributed import as_completed
+
+        client = self._client
+        assert client is not None
+        window = IN_FLIGHT * self.parallel
+        pending = iter(chunks)
+        futures = as_completed()
+        parts = {}
+
+        def submit() -> bool:
+            chunk = next(pending, None)
+            if chunk is None:
+                return False
+            future = client.submit(evaluate_points, self._task_future, chunk[0], chunk[1], pure=False)
+            parts[future.key] = chunk
+            futures.add(future)
+            return True
+
+        for _ in range(window):
+            if not submit():
+                break
+        for future in futures:
+            part, part_vectors = parts.pop(future.key)
+            try:
+                records = future.result()
+            except Exception as error:  # KilledWorker after repeated deaths, or a lost connection
+                records = _failed(part, part_vectors, len(self.task.outputs), f"Dask task failed: {_message(error)}")
+            yield records
+            future.release()
+            submit()
