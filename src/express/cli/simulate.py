@@ -114,10 +114,13 @@ def run(
 
 
 def _simulate(vehicle: Any, road: Any, speed: float, dt: float, linear: bool) -> Any:
+    import numpy as np
+
     from ..analysis.simulate import simulate
 
-    return simulate(vehicle, road, speed=speed, dt=dt, flange=not linear, saturation=not linear,
-                    progress=common.is_terminal(sys.stderr))
+    with np.errstate(over="ignore", invalid="ignore"):  # a diverging run is reported by find_divergence
+        return simulate(vehicle, road, speed=speed, dt=dt, flange=not linear, saturation=not linear,
+                        progress=common.is_terminal(sys.stderr))
 
 
 def _write(result: Any, outputs: list[str], plot: Path | None, title: str) -> None:
