@@ -261,3 +261,40 @@ def result_bytes(path: str | Path, table: ResultTable, metadata: dict[str, str],
     if suffix == ".nc":
         return netcdf_bytes(table, metadata, grid)
     raise UsageError(f"-o {path}: unknown results format; use {', '.join(FORMATS)}")
+
+
+def read_table(path: str | Path) -> dict[str, np.ndarray]:
+    """Columns of a results file by name (units stripped from CSV headers), for figures.
+
+    Numerical columns as float arrays; ``error`` as a list of strings.
+    """
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix == ".parquet":
+        import pyarrow.parquet as pq
+
+        arrow = pq.read_table(path)
+        return {name: (np.asarray(arrow[name]) if name != "error" else arrow[name].to_pylist())
+                for name in arrow.column_names}
+    if suffix == ".nc":
+        import xarray as xr
+
+        with xr.open_dataset(path, engine="scipy") as dataset:
+            return {name: np.asarray(dataset[name].values).ravel() for name in dataset.data_vars}
+    with open(path, encoding="utf-8", newline="") as stream:
+        rows = list(csv.reader(stream))
+    header, body = rows[0], rows[1:]
+    columns: dict[str, np.ndarray] = {}
+    for k, title in enumerate(header):
+        name = _bare_name(title)
+        cells = [row[k] for row in body]
+        columns[name] = cells if name == "error" else np.array([float(c) for c in cells])  # type: ignore[assignment]
+    return columns
+
+
+def _bare_name(title: str) -> str:
+    """``critical_speed_m_s`` -> ``critical_speed`` (the unit suffixes of :func:`column_name`)."""
+    for name in OUTPUTS:
+        if title.startswith(name + "_") or title == name:
+            return name
+    return title

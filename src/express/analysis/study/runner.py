@@ -122,8 +122,14 @@ class _Worker:
     """A worker's vehicle (built once) and output calculator."""
 
     def __init__(self, task: StudyTask):
+        import multiprocessing
+
         from ...statespace import load_vehicle
 
+        if multiprocessing.parent_process() is not None:  # a pool or Dask worker process
+            from threadpoolctl import threadpool_limits
+
+            threadpool_limits(limits=1, user_api="blas")  # small matrices: threads only contend
         model = _materialise(task.model_path, Path(task.model_path).name, task.model_text, task.key)
         settings = task.settings
         if task.track_text is not None and task.track_name is not None:

@@ -1,0 +1,116 @@
+"""Figures of studies and sensitivities (pyplot-free, house style of
+:mod:`express.analysis.plots`): a critical-speed map over two parameters, a curve over
+one, and the ranked tornado chart of a sensitivity."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+__all__ = ["figure_study_map", "figure_tornado"]
+
+KMH = 1.0 / 3.6
+
+
+def _figure(figsize):
+    from matplotlib.figure import Figure
+
+    figure = Figure(figsize=figsize)
+    return figure, figure.subplots()
+
+
+def figure_study_map(
+    axes: Sequence[tuple[str, np.ndarray, float, str]], values: np.ndarray, *, label: str, title: str,
+    scale: float = 1.0, unit: str = "",
+):
+    """A grid study's output over one parameter (a curve) or two (filled contours).
+
+    Parameters
+    ----------
+    axes : sequence of (name, values, display factor, display unit)
+        One or two parameters: their grid values (SI) and how to show them (the values
+        are divided by the factor, e.g. 1e6 for MN/m).
+    values : numpy.ndarray, shape (len(axes[0][1]),) or (len(axes[0][1]), len(axes[1][1]))
+        The output on the grid (SI); nan where it has none.
+    label : str
+        The output's name for the colour bar / y axis.
+    scale, unit : float, str
+        Display factor and unit of the output (``1/3.6``, ``"km/h"``).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    import matplotlib
+
+    from ..plots import STYLE
+
+    with matplotlib.rc_context(STYLE):
+        figure, axis = _figure((6.4, 4.6))
+        shown = np.asarray(values, dtype=float) / scale
+        name0, x, f0, u0 = axes[0]
+        xlabel = f"{name0} [{u0}]" if u0 else name0
+        if len(axes) == 1:
+            axis.plot(np.asarray(x) / f0, shown, marker="o", markersize=3)
+            axis.set_xlabel(xlabel)
+            axis.set_ylabel(f"{label} [{unit}]" if unit else label)
+        else:
+            name1, y, f1, u1 = axes[1]
+            grid_x, grid_y = np.meshgrid(np.asarray(x) / f0, np.asarray(y) / f1, indexing="ij")
+            finite = shown[np.isfinite(shown)]
+            levels = np.linspace(finite.min(), finite.max(), 15) if finite.size and np.ptp(finite) > 0 else 10
+            filled = axis.contourf(grid_x, grid_y, np.ma.masked_invalid(shown), levels=levels, cmap="viridis")
+            lines = axis.contour(grid_x, grid_y, np.ma.masked_invalid(shown), levels=filled.levels[::2],
+                                 colors="k", linewidths=0.5)
+            axis.clabel(lines, fmt="%.0f", fontsize=7)
+            bar = figure.colorbar(filled, ax=axis)
+            bar.set_label(f"{label} [{unit}]" if unit else label)
+            axis.set_xlabel(xlabel)
+            axis.set_ylabel(f"{name1} [{u1}]" if u1 else name1)
+            axis.grid(False)
+        axis.set_title(title)
+        figure.tight_layout()
+    return figure
+
+
+def figure_tornado(result, *, top: int = 15, change: float = 0.1, title: str = ""):
+    """Ranked tornado chart of a critical-speed sensitivity.
+
+    Each bar is the first-order change of the critical speed [km/h] when one parameter
+    is raised (right of its bar's sign) or lowered by ``change`` (10 %), i.e.
+    ``+/- change * p * dV/dp``; the label gives the elasticity ``(p/V) dV/dp``.
+
+    Parameters
+    ----------
+    result : CriticalSpeedSensitivity
+    top : int
+        Parameters shown, largest elasticity first.
+    change : float
+        Relative parameter change of the bars.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    import matplotlib
+
+    from ..plots import STYLE
+
+    ranked = [s for s in result.ranked() if s.elasticity != 0][:top]
+    with matplotlib.rc_context(STYLE):
+        figure, axis = _figure((6.4, 0.8 + 0.32 * max(len(ranked), 1)))
+        positions = np.arange(len(ranked))[::-1]
+        for y, s in zip(positions, ranked):
+            delta = change * s.value * s.derivative / KMH
+            axis.barh(y, delta, color="#d62728", height=0.7)
+            axis.barh(y, -delta, color="#1f77b4", height=0.7)
+            axis.text(abs(delta) * 1.04 if delta else 0, y, f" e = {s.elasticity:+.3f}", va="center", fontsize=7.5)
+        axis.set_yticks(positions, [s.name for s in ranked])
+        axis.axvline(0.0, color="k", linewidth=0.8)
+        axis.set_xlabel(f"change of the critical speed [km/h] for the parameter {change:+.0%} (red) / {-change:+.0%} (blue)")
+        span = max((abs(change * s.value * s.derivative / KMH) for s in ranked), default=1.0) or 1.0
+        axis.set_xlim(-1.35 * span, 1.6 * span)
+        axis.set_title(title or f"critical speed {result.critical_speed / KMH:.1f} km/h: sensitivities (e = elasticity)")
+        figure.tight_layout()
+    return figure
