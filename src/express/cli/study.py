@@ -84,7 +84,6 @@ def _plot(spec, output: Path, plot: Path) -> None:
     figure = figure_study_map(axes, table[name].reshape(shape), label=name, scale=scale, unit=shown,
                               title=spec.title or f"{spec.model.stem}: {name}")
     save_figure(figure, plot)
-    common.note(f"wrote {plot}")
 
 
 def _display(r) -> tuple[float, str]:

@@ -11,7 +11,7 @@ crossing** (a Hopf point) besides, which the sensitivities need:
    ``Re lambda = threshold`` is solved by Newton's method on the Hopf system
    ``(A(v) - (threshold + j omega) I) x = 0``, ``c^H x = 1`` (unknowns ``x``, ``omega``
    and ``s = 1/v``; ``A`` is affine in ``s``), a few LU factorizations of a
-   (4n + 2)-square real matrix instead of eigenvalue problems;
+   (2N + 2)-square real matrix (N states) instead of eigenvalue problems;
 2. the bisection of the stability code is then *replayed*: each midpoint is stable
    exactly when it lies below ``v*`` (one crossing inside a grid cell, the same
    assumption the bisection makes), so the midpoint it would have reported follows
@@ -159,29 +159,30 @@ class CriticalResult:
 
 
 class StateBlocks:
-    """``A(v) = T + [[0, 0], [0, C0' + C1' / v]]`` from blocks computed once
-    (``T = [[0, I], [-M^-1 K, 0]]``, ``C0' = -M^-1 C0``, ``C1' = -M^-1 C1``), as the
-    stability code assembles it."""
+    """``A(v) = A0 + A1 / v`` of a vehicle (its state form: ``A1`` is the creep damping),
+    assembled as the stability code assembles it."""
 
     def __init__(self, vehicle: VehicleModel):
         if vehicle.layout is None or not vehicle.wheelsets:
             raise ValueError("the model has no rail data (wheelsets): its eigenvalues do not depend on the speed")
-        n = vehicle.n
-        self.n = n
-        m_inv = vehicle.mass_inverse
-        self.template = np.zeros((2 * n, 2 * n))
-        self.template[:n, n:] = np.eye(n)
-        self.template[n:, :n] = -(m_inv @ vehicle.stiffness)
-        self.c0 = -(m_inv @ vehicle.damping_base)
-        self.c1 = -(m_inv @ vehicle.damping_creep)
+        form = getattr(vehicle, "form", None)
+        if form is not None:
+            self.a0, self.a1 = form.a0, form.a1
+        else:  # the second-order form [[0, I], [-M^-1 K, -M^-1 (C0 + C1 / v)]]
+            n = vehicle.n
+            m_inv = vehicle.mass_inverse
+            self.a0 = np.zeros((2 * n, 2 * n))
+            self.a1 = np.zeros((2 * n, 2 * n))
+            self.a0[:n, n:] = np.eye(n)
+            self.a0[n:, :n] = -(m_inv @ vehicle.stiffness)
+            self.a0[n:, n:] = -(m_inv @ vehicle.damping_base)
+            self.a1[n:, n:] = -(m_inv @ vehicle.damping_creep)
+        self.size = self.a0.shape[0]
         self.evaluations = 0
 
     def matrix(self, speed: float) -> np.ndarray:
-        """``A(v)``, shape (2n, 2n)."""
-        n = self.n
-        a = self.template.copy()
-        a[n:, n:] = self.c0 + self.c1 / speed
-        return a
+        """``A(v)``, shape (N, N)."""
+        return self.a0 + self.a1 / speed
 
     def sigma(self, speed: float) -> float:
         """Largest real part of the eigenvalues of ``A(v)`` [1/s]."""
@@ -194,12 +195,12 @@ def hopf_point(
 ) -> HopfPoint | None:
     """Newton's method on the Hopf system from a guess; None if it does not converge.
 
-    Unknowns ``x = xr + j xi`` (2n complex), ``omega`` and ``s = 1/v``; equations
+    Unknowns ``x = xr + j xi`` (N complex), ``omega`` and ``s = 1/v``; equations
     ``(A(s) - threshold I) xr + omega xi = 0``, ``(A(s) - threshold I) xi - omega xr = 0``,
     ``Re(c^H x) = 1``, ``Im(c^H x) = 0`` with ``c`` the guess (scaled so that
-    ``c^H x_guess = 1``). ``dA/ds = [[0, 0], [0, C1']]``.
+    ``c^H x_guess = 1``); ``A(s) = A0 + s A1``, ``dA/ds = A1``.
     """
-    n2 = 2 * blocks.n
+    size = blocks.size
     x = np.asarray(vector, dtype=complex)
     scale = np.vdot(x, x).real
     if not (scale > 0 and math.isfinite(scale) and speed > 0):
@@ -209,36 +210,31 @@ def hopf_point(
     xr, xi = x.real.copy(), x.imag.copy()
     s = 1.0 / speed
     w = float(omega)
-    identity = np.eye(n2)
-    jacobian = np.zeros((2 * n2 + 2, 2 * n2 + 2))
-    jacobian[n2 * 2, :n2], jacobian[n2 * 2, n2 : 2 * n2] = cr, ci
-    jacobian[n2 * 2 + 1, :n2], jacobian[n2 * 2 + 1, n2 : 2 * n2] = -ci, cr
-    d = np.zeros((n2, n2))
-    d[blocks.n :, blocks.n :] = blocks.c1
+    identity = np.eye(size)
+    jacobian = np.zeros((2 * size + 2, 2 * size + 2))
+    top, bottom = slice(0, size), slice(size, 2 * size)
+    jacobian[2 * size, top], jacobian[2 * size, bottom] = cr, ci
+    jacobian[2 * size + 1, top], jacobian[2 * size + 1, bottom] = -ci, cr
     for _ in range(iterations):
-        b = blocks.template.copy()
-        b[blocks.n :, blocks.n :] = blocks.c0 + blocks.c1 * s
-        b -= threshold * identity
-        residual = np.concatenate([
-            b @ xr + w * xi, b @ xi - w * xr, [cr @ xr + ci @ xi - 1.0, cr @ xi - ci @ xr]
-        ])
-        jacobian[:n2, :n2], jacobian[:n2, n2 : 2 * n2] = b, w * identity
-        jacobian[n2 : 2 * n2, :n2], jacobian[n2 : 2 * n2, n2 : 2 * n2] = -w * identity, b
-        jacobian[:n2, 2 * n2], jacobian[n2 : 2 * n2, 2 * n2] = xi, -xr
-        jacobian[:n2, 2 * n2 + 1], jacobian[n2 : 2 * n2, 2 * n2 + 1] = d @ xr, d @ xi
+        b = blocks.a0 + blocks.a1 * s - threshold * identity
+        residual = np.concatenate([b @ xr + w * xi, b @ xi - w * xr, [cr @ xr + ci @ xi - 1.0, cr @ xi - ci @ xr]])
+        jacobian[top, top], jacobian[top, bottom] = b, w * identity
+        jacobian[bottom, top], jacobian[bottom, bottom] = -w * identity, b
+        jacobian[top, 2 * size], jacobian[bottom, 2 * size] = xi, -xr
+        jacobian[top, 2 * size + 1], jacobian[bottom, 2 * size + 1] = blocks.a1 @ xr, blocks.a1 @ xi
         try:
             step = np.linalg.solve(jacobian, -residual)
         except np.linalg.LinAlgError:
             return None
         if not np.all(np.isfinite(step)):
             return None
-        xr += step[:n2]
-        xi += step[n2 : 2 * n2]
-        w += step[2 * n2]
-        s += step[2 * n2 + 1]
+        xr += step[top]
+        xi += step[bottom]
+        w += step[2 * size]
+        s += step[2 * size + 1]
         if not s > 0:
             return None
-        if abs(step[2 * n2 + 1]) <= 1e-14 * s and abs(step[2 * n2]) <= 1e-12 * max(1.0, abs(w)):
+        if abs(step[2 * size + 1]) <= 1e-14 * s and abs(step[2 * size]) <= 1e-12 * max(1.0, abs(w)):
             vector = xr + 1j * xi
             if w < 0:  # the conjugate member: keep Im >= 0
                 w, vector = -w, vector.conj()
@@ -291,14 +287,9 @@ def _locally_first(blocks: StateBlocks, crossing: HopfPoint, options: CriticalOp
 
 def _real_part_rate(blocks: StateBlocks, crossing: HopfPoint) -> float:
     """``d Re(lambda) / dv`` at the crossing, from the left eigenvector (1 LU)."""
-    a = blocks.matrix(crossing.speed)
-    lam = crossing.eigenvalue
     x = crossing.vector
-    left = left_vector(a, lam, x)
-    n = blocks.n
-    da_dv = np.zeros_like(a)
-    da_dv[n:, n:] = -blocks.c1 / crossing.speed**2
-    rate = (left.conj() @ da_dv @ x) / (left.conj() @ x)
+    left = left_vector(blocks.matrix(crossing.speed), crossing.eigenvalue, x)
+    rate = (left.conj() @ (-blocks.a1 / crossing.speed**2) @ x) / (left.conj() @ x)
     return float(rate.real)
 
 

@@ -1,18 +1,17 @@
 """Exact derivatives of eigenvalues and of the critical speed with respect to parameters.
 
-For a simple eigenvalue ``lambda`` of ``A`` with right and left eigenvectors ``x``,
-``y`` (``A x = lambda x``, ``y^H A = lambda y^H``)::
+The eigenvalues of the state matrix ``A(v)`` are those of the quadratic eigenproblem
+``Q(lambda) q = (lambda^2 M + lambda C(v) + K) q = 0`` (also with first-order
+coordinates, whose rows of ``M`` are zero). For a simple eigenvalue with right and
+left null vectors ``q``, ``u`` of ``Q(lambda)`` (``q`` the displacement part of the state
+eigenvector, ``u`` from the singular value decomposition of ``Q(lambda)``)::
 
-    d lambda / dp = y^H (dA/dp) x / (y^H x)
+    d lambda / dp = - u^H (lambda^2 dM/dp + lambda dC/dp + dK/dp) q / (u^H (2 lambda M + C) q)
 
-``dA/dp`` comes from the symbolic matrices: every entry of ``M``, ``C`` and ``K`` is
-differentiated (SymPy) with respect to every parameter symbol it holds, and with
-``A = [[0, I], [-M^-1 K, -M^-1 C]]`` and ``x = [x_q; lambda x_q]`` the product reduces to
-the derivative of the quadratic eigenproblem::
-
-    y^H (dA/dp) x = z^H (lambda^2 dM/dp + lambda dC/dp + dK/dp) x_q,   z^H = -y_q'^H M^-1
-
-with ``y_q'`` the lower half of ``y``. A parameter enters the matrices directly or through
+the derivative ``y^H (dA/dp) x / (y^H x)`` of the state form written for the matrices
+that are differentiated: every entry of ``M``, ``C`` and ``K`` is differentiated (SymPy)
+with respect to every parameter symbol it holds, once per set of equations.
+A parameter enters the matrices directly or through
 the parameters derived from it (the live graph of :mod:`express.parameters`): the chain
 rule ``dA/dp = sum_q (dA/dq) (dq/dp)`` takes ``dq/dp`` forward through the graph in its
 evaluation order, **exactly** for a derived parameter given by an expression (its
@@ -27,7 +26,7 @@ the implicit function theorem gives::
 
     dv*/dp = - (d Re lambda / dp) / (d Re lambda / dv)
 
-with ``dA/dv = [[0, 0], [0, M^-1 C1 / v^2]]``. The derivatives are of the exact crossing
+with ``dQ/dv = -lambda C1 / v^2`` (the creep damping ``C = C0 + C1 / v``). The derivatives are of the exact crossing
 (:class:`~express.analysis.study.critical.HopfPoint`), not of the bisection midpoint that
 ``express critical-speed`` prints.
 """
@@ -42,7 +41,7 @@ import scipy.linalg
 import sympy as sp
 
 from ...statespace import VehicleModel
-from .critical import CriticalOptions, StateBlocks, fast_critical_speed, left_vector
+from .critical import CriticalOptions, StateBlocks, fast_critical_speed
 
 __all__ = [
     "ParameterSensitivity",
@@ -244,29 +243,36 @@ def parameter_rates(vehicle: VehicleModel, name: str) -> dict[str, float]:
     return rates
 
 
-def _quadratic_derivatives(vehicle, speed, eigenvalue, right, left, names):
-    """``d lambda / dp`` for every name in ``names`` (module docstring)."""
+def _left_null_vector(pencil: np.ndarray) -> np.ndarray:
+    """``u`` with ``u^H Q = 0`` for a singular ``Q`` (its smallest singular value)."""
+    left, _singular, _right = np.linalg.svd(pencil)
+    return left[:, -1]
+
+
+def _pencil_derivatives(vehicle, speed, eigenvalue, state_vector, names):
+    """``d lambda / dp`` for every name in ``names``, and ``d lambda / dv`` (module docstring)."""
     n = vehicle.n
     values = dict(vehicle.values)
     speed_name = _speed_name(vehicle)
     if speed_name is not None:
         values[speed_name] = float(speed)
-    derivatives = _matrix_derivatives(vehicle.equations)
-    blocks = derivatives(values)
-    x_q, x_v = right[:n], right[n:]
-    z = -(left[n:].conj() @ vehicle.mass_inverse)
-    scale = left.conj() @ right
+    lam = complex(eigenvalue)
+    damping = vehicle.damping(speed)
+    q = np.asarray(state_vector)[:n]
+    u = _left_null_vector(lam**2 * vehicle.mass + lam * damping + vehicle.stiffness)
+    scale = u.conj() @ ((2 * lam * vehicle.mass + damping) @ q)
     per_symbol = {}
-    for q, d in blocks.items():
-        per_symbol[q] = z @ (d["K"] @ x_q + d["C"] @ x_v + eigenvalue * (d["M"] @ x_v)) / scale
+    for symbol, d in _matrix_derivatives(vehicle.equations)(values).items():
+        per_symbol[symbol] = -(u.conj() @ ((lam**2 * d["M"] + lam * d["C"] + d["K"]) @ q)) / scale
     result = {}
     for name in names:
         total = 0.0 + 0.0j
-        for q, rate in parameter_rates(vehicle, name).items():
-            if q in per_symbol:
-                total += rate * per_symbol[q]
+        for q_name, rate in parameter_rates(vehicle, name).items():
+            if q_name in per_symbol:
+                total += rate * per_symbol[q_name]
         result[name] = complex(total)
-    return result
+    speed_rate = -(u.conj() @ ((lam * -vehicle.damping_creep / speed**2) @ q)) / scale
+    return result, complex(speed_rate)
 
 
 def eigenvalue_derivatives(
@@ -290,11 +296,11 @@ def eigenvalue_derivatives(
         ``d lambda_k / dp`` [1/s per SI unit of p], in the order of ``eigenvalues``.
     """
     names = parameters if parameters is not None else sensitivity_parameters(vehicle)
-    values, left, right = scipy.linalg.eig(vehicle.state_matrix(float(speed)), left=True, right=True)
+    values, right = scipy.linalg.eig(vehicle.state_matrix(float(speed)))
     order = np.lexsort((-values.imag, -values.real))
     result = {name: np.zeros(values.size, dtype=complex) for name in names}
     for position, k in enumerate(order):
-        rates = _quadratic_derivatives(vehicle, speed, values[k], right[:, k], left[:, k], names)
+        rates, _ = _pencil_derivatives(vehicle, speed, values[k], right[:, k], names)
         for name in names:
             result[name][position] = rates[name]
     return values[order], result
@@ -337,12 +343,7 @@ def critical_speed_sensitivity(
         if result.speed is None:
             raise ValueError(f"stable up to {options.v_max:g} m/s: no critical speed to differentiate")
         raise ValueError("the crossing could not be located exactly (not a simple oscillatory mode)")
-    a = blocks.matrix(crossing.speed)
-    left = left_vector(a, crossing.eigenvalue, crossing.vector)
-    x = crossing.vector
-    n = vehicle.n
-    rate_v = (left.conj()[n:] @ (-blocks.c1 / crossing.speed**2) @ x[n:]) / (left.conj() @ x)
-    rates = _quadratic_derivatives(vehicle, crossing.speed, crossing.eigenvalue, x, left, names)
+    rates, rate_v = _pencil_derivatives(vehicle, crossing.speed, crossing.eigenvalue, crossing.vector, names)
     records = []
     for name in names:
         value = float(vehicle.values[name]) if name in vehicle.values else float("nan")
