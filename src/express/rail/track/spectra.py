@@ -10,8 +10,13 @@ Every spectrum is a :class:`TrackSpectrum`: a one-sided PSD ``S(Omega)``
 irregularity over a band is the integral of ``S`` over that band, and that integral in
 closed form (:meth:`TrackSpectrum.variance`).
 
-Adding a spectrum (another component, e.g. vertical profile, cross-level or gauge, or
-other classes, e.g. AAR): write a frozen dataclass deriving from :class:`TrackSpectrum`
+Vertical profile, cross-level (rail height difference) and gauge spectra, FRA classes
+1-6 (:data:`FRA_CLASSES`), ERRI / ORE B176 low and high (:data:`ERRI_LEVELS`) and
+user tables (:class:`TabulatedSpectrum`) follow the same conventions (end of the
+module; ``docs/ride.md``); seeded realisations of any of them are the cosine sums of
+:class:`~express.rail.track.irregularity.Harmonics`.
+
+Adding a spectrum (another component or other classes, e.g. AAR): write a frozen dataclass deriving from :class:`TrackSpectrum`
 with a ``name`` field, its :attr:`~TrackSpectrum.component`, :meth:`~TrackSpectrum.psd`
 and the antiderivative :meth:`~TrackSpectrum.primitive`; then
 :func:`register_spectrum` its instances under the names a track file uses.
@@ -32,17 +37,29 @@ from ._common import FloatArray
 __all__ = [
     "COMPONENTS",
     "ERRI_HIGH",
+    "ERRI_LEVELS",
     "ERRI_LOW",
+    "FRA_A_A",
+    "FRA_A_V",
+    "FRA_CLASSES",
     "FRA_CLASS_5",
     "FRA_CLASS_6",
+    "FRA_OMEGA_S",
     "SPECTRA",
     "SPECTRA_BY_COMPONENT",
     "AlignmentSpectrum",
     "ERRIAlignmentSpectrum",
+    "ERRICrossLevelSpectrum",
+    "ERRIGaugeSpectrum",
+    "ERRIVerticalSpectrum",
     "FRAAlignmentSpectrum",
+    "FRACrossLevelSpectrum",
+    "FRAVerticalSpectrum",
+    "TabulatedSpectrum",
     "TrackSpectrum",
     "get_spectrum",
     "register_spectrum",
+    "table_problems",
 ]
 
 #: Irregularity components a spectrum can describe. Only ``"alignment"`` (lateral,
@@ -248,3 +265,289 @@ def get_spectrum(name: str, component: str = "alignment") -> TrackSpectrum:
         known = ", ".join(table) or "none"
         raise KeyError(f"unknown spectrum {name!r} (known {component} spectra: {known})")
     return table[key]
+
+
+# ---------------------------------------------------------------------------------------
+# Vertical, cross-level and gauge spectra; user tables (issue 14, ride)
+# ---------------------------------------------------------------------------------------
+#
+# Conventions as above: one-sided in Omega [rad/m], variance = integral of S. Cross level
+# is the height difference between the rails [m] (the quantity of the cant, see
+# docs/track.md), not an angle; gauge is the gauge deviation [m].
+
+
+def _fra_primitive(k_a: float, omega_c: float, w: FloatArray) -> FloatArray:
+    # k A wc^2 / ((w^2 + wc^2) w^2) = k A (1/w^2 - 1/(w^2 + wc^2))
+    return k_a * (-1.0 / w - np.arctan(w / omega_c) / omega_c)
+
+
+def _pole_sum_primitive(scale: float, poles: tuple[float, ...], numerator_x: bool, w: FloatArray) -> FloatArray:
+    """Antiderivative of ``scale * x^m / prod_i (x + p_i^2)`` in w, ``x = w^2``, m = 1 or 0.
+
+    Partial fractions in x (distinct ``p_i``): ``sum_i r_i / (x + p_i^2)`` with
+    ``r_i = (-p_i^2)^m / prod_(j != i) (p_j^2 - p_i^2)``, and
+    ``integral dw / (w^2 + p^2) = atan(w / p) / p``.
+    """
+    out = np.zeros_like(w)
+    for i, p in enumerate(poles):
+        residue = (-(p**2)) if numerator_x else 1.0
+        for j, q in enumerate(poles):
+            if j != i:
+                residue /= q**2 - p**2
+        out = out + residue * np.arctan(w / p) / p
+    return scale * out
+
+
+@dataclass(frozen=True)
+class FRAVerticalSpectrum(TrackSpectrum):
+    """US FRA vertical profile (surface) spectrum of one track class.
+
+    ``S(Omega) = k A_v Omega_c^2 / ((Omega^2 + Omega_c^2) Omega^2)`` [m^2/(rad/m)], the
+    form of :class:`FRAAlignmentSpectrum`, with ``k = 0.25``, ``Omega_c = 0.8245`` rad/m
+    and A_v [m^2 rad/m] = (1.2107, 1.0181, 0.6816, 0.5376, 0.2095, 0.0339) x 1e-4 for
+    classes 1 to 6 (published in cm^2 rad/m; same sources as the alignment spectrum;
+    the A_v column also appears in public simulation code). Diverges at Omega -> 0.
+    """
+
+    component: ClassVar[str] = "vertical"
+    name: str
+    A_v: float
+    omega_c: float = 0.8245
+    k: float = 0.25
+
+    def psd(self, omega: ArrayLike) -> FloatArray:
+        """One-sided PSD [m^2/(rad/m)] at wavenumbers ``omega`` [rad/m] > 0."""
+        w = np.asarray(omega, dtype=float)
+        return self.k * self.A_v * self.omega_c**2 / ((w**2 + self.omega_c**2) * w**2)
+
+    def primitive(self, omega: FloatArray) -> FloatArray:
+        """Antiderivative [m^2]."""
+        return _fra_primitive(self.k * self.A_v, self.omega_c, np.asarray(omega, dtype=float))
+
+
+@dataclass(frozen=True)
+class FRACrossLevelSpectrum(TrackSpectrum):
+    """US FRA cross-level spectrum of one track class (rail height difference).
+
+    ``S(Omega) = 4 k A_v Omega_c^2 / ((Omega^2 + Omega_c^2) (Omega^2 + Omega_s^2))``
+    [m^2/(rad/m)], finite at Omega = 0, with the class's A_v (as in
+    :class:`FRAVerticalSpectrum`), ``k = 0.25``, ``Omega_c = 0.8245`` rad/m and
+    ``Omega_s`` [rad/m] = 0.6046, 0.9308, 0.8520, 1.1312, 0.8209, 0.4380 for classes
+    1 to 6.
+
+    Notes
+    -----
+    Form and Omega_s as tabulated with the other FRA constants in Garg & Dukkipati
+    (1984) after Hamid et al. (1983); the Omega_s column could not be checked against a
+    second public source here. The form is that of the ERRI / DB cross level
+    (:class:`ERRICrossLevelSpectrum`) without its long-wavelength roll-off.
+    """
+
+    component: ClassVar[str] = "cross_level"
+    name: str
+    A_v: float
+    omega_s: float
+    omega_c: float = 0.8245
+    k: float = 0.25
+
+    def __post_init__(self) -> None:
+        if not (self.omega_s > 0 and self.omega_c > 0 and self.omega_s != self.omega_c):
+            raise ValueError(f"{self.name}: need omega_s, omega_c > 0 and distinct")
+
+    def psd(self, omega: ArrayLike) -> FloatArray:
+        """One-sided PSD [m^2/(rad/m)] at wavenumbers ``omega`` [rad/m] >= 0."""
+        w = np.asarray(omega, dtype=float)
+        return 4 * self.k * self.A_v * self.omega_c**2 / ((w**2 + self.omega_c**2) * (w**2 + self.omega_s**2))
+
+    def primitive(self, omega: FloatArray) -> FloatArray:
+        """Antiderivative [m^2], by partial fractions in Omega^2."""
+        scale = 4 * self.k * self.A_v * self.omega_c**2
+        return _pole_sum_primitive(scale, (self.omega_c, self.omega_s), False, np.asarray(omega, dtype=float))
+
+
+@dataclass(frozen=True)
+class ERRIVerticalSpectrum(ERRIAlignmentSpectrum):
+    """ORE B176 / ERRI vertical profile spectrum: the form of
+    :class:`ERRIAlignmentSpectrum` with ``A_v`` = 4.032e-7 (low) or 1.080e-6 (high)
+    m rad (ORE B176; the same constants in several public simulation codes).
+    """
+
+    component: ClassVar[str] = "vertical"
+
+
+@dataclass(frozen=True)
+class ERRICrossLevelSpectrum(TrackSpectrum):
+    """ERRI / DB ("German") cross-level spectrum, as a rail height difference [m].
+
+    ``S(Omega) = 4 A_v Omega_c^2 Omega^2 / ((Omega^2 + Omega_r^2) (Omega^2 + Omega_c^2)
+    (Omega^2 + Omega_s^2))`` [m^2/(rad/m)], with the vertical level A_v and
+    Omega_c = 0.8246, Omega_r = 0.0206, Omega_s = 0.4380 rad/m.
+
+    Notes
+    -----
+    Published (DB high-speed spectra that extend ORE B176 to cross level and gauge) as
+    the PSD of the cross-level *angle*, ``A_v b^-2 Omega_c^2 Omega^2 / (...)``
+    [1/(rad/m)], b = 0.75 m the half distance between the rail centres; the height
+    difference ``2 b x angle`` has ``(2 b)^2`` times that PSD, the factor 4 here (and
+    b drops out).
+    """
+
+    component: ClassVar[str] = "cross_level"
+    name: str
+    A: float
+    omega_c: float = 0.8246
+    omega_r: float = 0.0206
+    omega_s: float = 0.4380
+    factor: ClassVar[float] = 4.0
+
+    def psd(self, omega: ArrayLike) -> FloatArray:
+        """One-sided PSD [m^2/(rad/m)] at wavenumbers ``omega`` [rad/m] >= 0."""
+        w2 = np.asarray(omega, dtype=float) ** 2
+        den = (w2 + self.omega_r**2) * (w2 + self.omega_c**2) * (w2 + self.omega_s**2)
+        return self.factor * self.A * self.omega_c**2 * w2 / den
+
+    def primitive(self, omega: FloatArray) -> FloatArray:
+        """Antiderivative [m^2], by partial fractions in Omega^2."""
+        scale = self.factor * self.A * self.omega_c**2
+        poles = (self.omega_r, self.omega_c, self.omega_s)
+        return _pole_sum_primitive(scale, poles, True, np.asarray(omega, dtype=float))
+
+
+@dataclass(frozen=True)
+class ERRIGaugeSpectrum(ERRICrossLevelSpectrum):
+    """ERRI / DB ("German") gauge spectrum [m^2/(rad/m)]:
+    ``A_g Omega_c^2 Omega^2 / ((Omega^2 + Omega_r^2) (Omega^2 + Omega_c^2) (Omega^2 +
+    Omega_s^2))``, A_g = 5.32e-8 (low) or 1.032e-7 (high) m rad (constants as in one
+    public simulation code; not checked against a second source).
+    """
+
+    component: ClassVar[str] = "gauge"
+    factor: ClassVar[float] = 1.0
+
+
+@dataclass(frozen=True)
+class TabulatedSpectrum(TrackSpectrum):
+    """A user's spectrum: a table of PSD against wavenumber, linear in between.
+
+    ``S`` is the piecewise-linear interpolation of the table and zero outside it, so the
+    band variance is exact (trapezoids). :meth:`from_table` reads a table in rad/m or in
+    cycles per metre.
+
+    Parameters
+    ----------
+    name : str
+        Label.
+    wavenumbers : tuple of float
+        Omega [rad/m], >= 0, strictly increasing, at least two.
+    values : tuple of float
+        S [m^2/(rad/m)] (or the component's unit squared per rad/m), >= 0, finite.
+    component : str
+        One of :data:`COMPONENTS`; default ``"alignment"``.
+
+    Raises
+    ------
+    ValueError
+        Naming every problem of the table.
+    """
+
+    name: str
+    wavenumbers: tuple[float, ...]
+    values: tuple[float, ...]
+    component: str = "alignment"  # type: ignore[misc]  # per table, not per class
+
+    def __post_init__(self) -> None:
+        problems = table_problems(self.wavenumbers, self.values, self.component)
+        if problems:
+            raise ValueError(f"{self.name}: " + "; ".join(problems))
+        object.__setattr__(self, "wavenumbers", tuple(float(x) for x in self.wavenumbers))
+        object.__setattr__(self, "values", tuple(float(x) for x in self.values))
+
+    @classmethod
+    def from_table(cls, name: str, frequencies: ArrayLike, values: ArrayLike, unit: str = "rad/m",
+                   component: str = "alignment") -> TabulatedSpectrum:
+        """From a table in ``unit`` ``"rad/m"`` (Omega, S(Omega)) or ``"1/m"`` (n, G(n)).
+
+        A table per cycle/m is converted by ``Omega = 2 pi n``, ``S = G / (2 pi)``.
+        """
+        f = np.asarray(frequencies, dtype=float).ravel()
+        g = np.asarray(values, dtype=float).ravel()
+        if unit == "1/m":
+            f, g = 2 * np.pi * f, g / (2 * np.pi)
+        elif unit != "rad/m":
+            raise ValueError(f"{name}: unit must be 'rad/m' or '1/m', got {unit!r}")
+        return cls(name, tuple(f), tuple(g), component)
+
+    def psd(self, omega: ArrayLike) -> FloatArray:
+        """One-sided PSD at wavenumbers ``omega`` [rad/m]; zero outside the table."""
+        return np.interp(np.asarray(omega, dtype=float), self.wavenumbers, self.values, left=0.0, right=0.0)
+
+    def primitive(self, omega: FloatArray) -> FloatArray:
+        """Antiderivative (zero below the table), exact for the linear pieces."""
+        x, v = np.asarray(self.wavenumbers), np.asarray(self.values)
+        cumulative = np.concatenate([[0.0], np.cumsum(np.diff(x) * (v[:-1] + v[1:]) / 2)])
+        w = np.clip(np.asarray(omega, dtype=float), x[0], x[-1])
+        i = np.clip(np.searchsorted(x, w, side="right") - 1, 0, x.size - 2)
+        d = w - x[i]
+        slope = (v[i + 1] - v[i]) / (x[i + 1] - x[i])
+        return cumulative[i] + v[i] * d + 0.5 * slope * d**2
+
+
+def table_problems(wavenumbers: ArrayLike, values: ArrayLike, component: str = "alignment") -> list[str]:
+    """Every problem of a PSD table (empty if none): shapes, order, signs, component."""
+    problems = []
+    try:
+        x = np.asarray(wavenumbers, dtype=float)
+        v = np.asarray(values, dtype=float)
+    except (TypeError, ValueError):
+        return ["the table must hold numbers"]
+    if x.ndim != 1 or v.ndim != 1 or x.size != v.size or x.size < 2:
+        problems.append(f"need two columns of equal length >= 2, got {x.size} wavenumbers and {v.size} values")
+    else:
+        if not np.all(np.isfinite(x)) or np.any(x < 0):
+            problems.append("wavenumbers must be finite and >= 0")
+        elif np.any(np.diff(x) <= 0):
+            i = int(np.argmax(np.diff(x) <= 0))
+            problems.append(f"wavenumbers must increase strictly (row {i + 2}: {x[i + 1]!r} after {x[i]!r})")
+        if not np.all(np.isfinite(v)):
+            problems.append("PSD values must be finite")
+        elif np.any(v < 0):
+            i = int(np.argmax(v < 0))
+            problems.append(f"PSD values must be >= 0 (row {i + 1}: {v[i]!r})")
+    if component not in COMPONENTS:
+        problems.append(f"unknown component {component!r} (known: {', '.join(COMPONENTS)})")
+    return problems
+
+
+#: FRA roughness coefficients per class 1..6 [m^2 rad/m] (published in cm^2 rad/m).
+FRA_A_V = (1.2107e-4, 1.0181e-4, 0.6816e-4, 0.5376e-4, 0.2095e-4, 0.0339e-4)
+FRA_A_A = (3.3634e-4, 1.2107e-4, 0.4128e-4, 0.3027e-4, 0.0762e-4, 0.0339e-4)
+#: FRA cross-level corner wavenumbers Omega_s per class 1..6 [rad/m].
+FRA_OMEGA_S = (0.6046, 0.9308, 0.8520, 1.1312, 0.8209, 0.4380)
+
+#: FRA spectra of classes 1..6 by component (alignment classes 5 and 6 are FRA_CLASS_5, _6).
+FRA_CLASSES: dict[str, tuple[TrackSpectrum, ...]] = {
+    "vertical": tuple(FRAVerticalSpectrum(f"FRA class {c} vertical", A_v=a) for c, a in enumerate(FRA_A_V, 1)),
+    "alignment": (*(FRAAlignmentSpectrum(f"FRA class {c} alignment", A_a=a) for c, a in enumerate(FRA_A_A[:4], 1)),
+                  FRA_CLASS_5, FRA_CLASS_6),
+    "cross_level": tuple(FRACrossLevelSpectrum(f"FRA class {c} cross level", A_v=a, omega_s=s)
+                         for c, (a, s) in enumerate(zip(FRA_A_V, FRA_OMEGA_S, strict=True), 1)),
+}
+#: ERRI / ORE B176 (and DB) spectra by component and level.
+ERRI_LEVELS: dict[str, dict[str, TrackSpectrum]] = {
+    "alignment": {"low": ERRI_LOW, "high": ERRI_HIGH},
+    "vertical": {"low": ERRIVerticalSpectrum("ERRI B176 low vertical", A=4.032e-7),
+                 "high": ERRIVerticalSpectrum("ERRI B176 high vertical", A=1.080e-6)},
+    "cross_level": {"low": ERRICrossLevelSpectrum("ERRI/DB low cross level", A=4.032e-7),
+                    "high": ERRICrossLevelSpectrum("ERRI/DB high cross level", A=1.080e-6)},
+    "gauge": {"low": ERRIGaugeSpectrum("ERRI/DB low gauge", A=5.32e-8),
+              "high": ERRIGaugeSpectrum("ERRI/DB high gauge", A=1.032e-7)},
+}
+
+# The new components get registry names; alignment keeps its four names (the track-file
+# reader's set), FRA classes 1-4 alignment being available as FRA_CLASSES["alignment"].
+_new: TrackSpectrum
+for _component in ("vertical", "cross_level", "gauge"):
+    for _level, _new in ERRI_LEVELS[_component].items():
+        register_spectrum(f"erri_{_level}", _new)
+    for _class, _new in enumerate(FRA_CLASSES.get(_component, ()), 1):
+        register_spectrum(f"fra{_class}", _new)
