@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ..diagnostics import AnalysisError
+from ..diagnostics import AnalysisError, UsageError
 from . import common
 
 __all__ = ["add_parser", "run"]
@@ -20,11 +20,62 @@ def add_parser(subparsers) -> None:
     common.add_model_arguments(parser)
     parser.add_argument("--speed", type=common.SPEED, metavar="SPEED", help=common.SPEED.help("running speed", "the model's speed"))
     common.add_json_option(parser)
+    parser.add_argument("--mode", type=common.count("--mode", 1, 100000), metavar="N",
+                        help="mode number N of the table (1 = least stable) for --plot/--animate")
+    parser.add_argument("--plot", type=common.figure_path, metavar="FILE",
+                        help="with --mode: the mode shape in plan, side and end views (.png, .svg, .pdf)")
+    parser.add_argument("--animate", metavar="FILE", help="with --mode: the mode shape animated (.gif or .html)")
     parser.set_defaults(handler=run, numeric=True)
 
 
-def run(model: Path, overrides: dict[str, str], *, speed: float | None = None, as_json: bool = False) -> int:
-    """Print the modes; returns the exit status."""
+def run(model: Path, overrides: dict[str, str], *, speed: float | None = None, as_json: bool = False,
+        mode: int | None = None, plot: Path | None = None, animate: str | None = None) -> int:
+    """Print the modes (and draw one); returns the exit status."""
+    if (plot or animate) and mode is None:
+        raise UsageError("--plot and --animate draw one mode: give --mode N")
+    if animate and Path(animate).suffix.lower() not in (".gif", ".html"):
+        raise UsageError(f"--animate {animate}: use .gif or .html")
+    if mode is not None and not (plot or animate):
+        raise UsageError("--mode N is drawn by --plot FILE or --animate FILE; give one")
+    if mode is not None:
+        from ..io.output import output_transaction
+
+        with output_transaction(inputs=[model]) as outputs:
+            for path in (plot, animate):
+                if path is not None:
+                    outputs.declare(path, binary=True)
+            status = _table(model, overrides, speed, as_json)
+            _draw_mode(model, overrides, speed, mode, plot, animate)
+        for path in (plot, animate):
+            if path is not None:
+                common.note(f"wrote {path}")
+        return status
+    return _table(model, overrides, speed, as_json)
+
+
+def _draw_mode(model: Path, overrides: dict[str, str], speed: float | None, number: int,
+               plot: Path | None, animate: str | None) -> None:
+    from ..analysis.plots import save_figure
+    from ..analysis.stability import eigen_analysis
+    from ..drawing.modes import animate_mode_shape, figure_mode_shape, mode_shape
+    from ..io.output import write_bytes
+    from .draw import model_geometry_of
+
+    vehicle = common.load_rail_vehicle(model, overrides, "eigen")
+    v = common.running_speed(vehicle, speed)
+    try:
+        shape = mode_shape(vehicle, v, number)
+    except ValueError as error:
+        raise UsageError(f"--mode {number}: {error}") from None
+    label = eigen_analysis(vehicle, v).modes[number - 1].kind
+    geometry = model_geometry_of(vehicle.model)
+    if plot is not None:
+        save_figure(figure_mode_shape(geometry, shape, label), plot)
+    if animate is not None:
+        write_bytes(animate, animate_mode_shape(geometry, shape, Path(animate).suffix.lower(), label))
+
+
+def _table(model: Path, overrides: dict[str, str], speed: float | None, as_json: bool) -> int:
     import numpy as np
 
     from ..analysis.stability import eigen_analysis

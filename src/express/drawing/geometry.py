@@ -63,6 +63,7 @@ class ModelGeometry:
     hosts: dict[str, str]
     elements: tuple[DrawnElement, ...]
     pins: tuple[tuple[str, str], ...]
+    ground_points: tuple[str, ...] = ()
 
     def ends(self, element: DrawnElement) -> tuple[Vector, Vector]:
         """Positions of an element's two points [m]."""
@@ -104,7 +105,11 @@ def model_geometry(model: Model, value: Callable[[object], float], roles: Mappin
     def vector(expressions, item: str, line) -> Vector:
         try:
             x, y, z = (float(value(e)) for e in expressions)
-        except (ModelError, KeyError, ValueError, TypeError) as error:
+        except KeyError as error:
+            problems.append(Problem(model.source, line, item,
+                                    f"cannot be drawn: no value for {error.args[0]} (give it with --set)"))
+            return (0.0, 0.0, 0.0)
+        except (ModelError, ValueError, TypeError) as error:
             problems.append(Problem(model.source, line, item, f"cannot be drawn: its position has no value ({error})"))
             return (0.0, 0.0, 0.0)
         if not all(np.isfinite((x, y, z))):
@@ -135,7 +140,27 @@ def model_geometry(model: Model, value: Callable[[object], float], roles: Mappin
         if element.s_end in points and element.t_end in points
     )
     pins = tuple((pin.id, pin.virtual) for pin in model.pins if pin.virtual in points)
-    return ModelGeometry(model.name, tuple(bodies), points, hosts, elements, pins)
+    grounds = {ground.id for ground in model.grounds}
+    _place_unplaced_ground_points(model, points, grounds)
+    return ModelGeometry(model.name, tuple(bodies), points, hosts, elements, pins,
+                         tuple(p for p, host in hosts.items() if host in grounds))
+
+
+def _place_unplaced_ground_points(model: Model, points: dict[str, Vector], grounds: set[str]) -> None:
+    """A point on a ground at the ground's origin (the classic format gives grounds no
+    position) is drawn at its element's other end, moved along the element's direction by
+    a quarter of the drawing's size, so that the element shows as in a textbook figure."""
+    host = {point.id: point.host for point in model.points}
+    zero = {point.id for point in model.points if point.host in grounds and all(o == 0 for o in point.offset)}
+    coordinates = np.array(list(points.values()) or [(0.0, 0.0, 0.0)])
+    length = 0.25 * max(float(np.ptp(coordinates, axis=0).max()), 1e-3)
+    for element in model.elements:
+        for ground_end, other in ((element.t_end, element.s_end), (element.s_end, element.t_end)):
+            if ground_end in zero and other in points and host.get(other) not in grounds and element.direction < 3:
+                position = list(points[other])
+                position[element.direction] += length if ground_end == element.t_end else -length
+                points[ground_end] = (position[0], position[1], position[2])
+                zero.discard(ground_end)
 
 
 def point_displacement(offset: Vector, dofs: Mapping[str, float], body: str) -> np.ndarray:

@@ -2,7 +2,7 @@
 
 Springs are zigzags, dampers dashpots, parallel spring-dampers both side by side, series
 (Maxwell) elements a spring followed by a dashpot, pinned joints small open circles,
-levers thick bars; bodies are boxes around their points, labelled with their ids.  An
+levers thick bars, grounds dark triangles; bodies are boxes around their points, labelled with their ids.  An
 element whose two points coincide in a view is drawn as a short symbol along its
 direction at that point, or as a ring when its direction points out of the view; a
 rotational element is a small arc.
@@ -134,6 +134,9 @@ def draw_view(axis, geometry: ModelGeometry, view: str, *, alpha: float = 1.0, l
     if rings:
         ring = np.array(rings)
         axis.plot(ring[:, 0], ring[:, 1], ls="none", marker="o", ms=3, mfc="none", color=_ELEMENT_COLOUR, alpha=alpha)
+    if geometry.ground_points:
+        anchors = np.array([geometry.points[p] for p in geometry.ground_points])[:, [h, v]]
+        axis.plot(anchors[:, 0], anchors[:, 1], ls="none", marker="v", ms=6, color="#444444", alpha=alpha)
     for _, point in geometry.pins:
         position = np.asarray(geometry.points[point])[[h, v]]
         axis.plot(*position, marker="o", ms=4, mfc="white", mec="black", mew=0.8, alpha=alpha, zorder=5)

@@ -24,7 +24,7 @@ import zipfile
 from pathlib import Path
 
 from .linear_system import LinearSystem
-from .numeric_files import to_npz_bytes
+from ..io.output import npz_bytes
 
 __all__ = ["to_fmu_bytes", "fmu_model_name"]
 
@@ -98,7 +98,7 @@ def to_fmu_bytes(system: LinearSystem, name: str, description: str = "") -> byte
     from pythonfmu.builder import FmuBuilder
 
     identifier = fmu_model_name(name)
-    resources = to_npz_bytes({
+    resources = npz_bytes({
         "A": system.A, "B": system.B, "C": system.C, "D": system.D,
         "inputs": list(system.inputs), "outputs": list(system.outputs),
     })

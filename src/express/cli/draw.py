@@ -1,0 +1,46 @@
+"""``express draw``: plan, side and end views of a model (:mod:`express.drawing`)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from . import common
+
+__all__ = ["add_parser", "run"]
+
+
+def add_parser(subparsers) -> None:
+    parser = subparsers.add_parser(
+        "draw", help="draw a model: plan, side and end views with its elements",
+        description="Plan, side and end views from the body positions, connection points and elements, "
+        "with springs, dampers, series elements, pins and levers as the usual symbols, labelled: "
+        "how a user checks the geometry. Parameters without a value are given with --set.",
+    )
+    common.add_model_arguments(parser)
+    parser.add_argument("-o", "--output", type=common.figure_path, required=True, metavar="FILE",
+                        help="figure file (.svg, .png or .pdf)")
+    parser.set_defaults(handler=run)
+
+
+def run(model: Path, overrides: dict[str, str], *, output: Path) -> int:
+    """Draw the model to ``output``; returns the exit status."""
+    from ..analysis.plots import save_figure
+    from ..drawing.views import figure_model
+    from ..io.output import output_transaction
+
+    with output_transaction(inputs=[model]) as outputs:
+        outputs.declare(output, binary=True)
+        geometry = model_geometry_of(common.load_model_with(model, overrides))
+        save_figure(figure_model(geometry), output)
+    common.note(f"wrote {output}")
+    return 0
+
+
+def model_geometry_of(model):
+    """The drawing geometry of a model at its parameter values (shared with ``eigen --plot``)."""
+    from ..drawing.geometry import model_geometry
+    from ..parameters import expression_value
+    from ..topology import classify_bodies
+
+    values = model.values()
+    return model_geometry(model, lambda expression: expression_value(expression, values), classify_bodies(model).role)
