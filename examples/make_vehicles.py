@@ -148,7 +148,7 @@ def _parameters(conventional: bool) -> str:
     comments = {}
     for line in source_lines:
         name = line.split("=", 1)[0].strip()
-        if "#" in line and "{" in line:
+        if "#" in line and ("{" in line or '"' in line.split("#", 1)[0]):
             comments.setdefault(name, line.split("#", 1)[1].strip())
     for name, spec in values.items():
         if name == "v":
@@ -158,11 +158,13 @@ def _parameters(conventional: bool) -> str:
             continue
         if name in ("f1", "f2"):
             continue  # computed from the contact: [rail.creep]
-        value = spec["value"]
         comment = comments.get(name, "")
         if conventional and name in data.get("parameters_conventional", {}):
             comment = "conventional bogie: " + comment
-        lines.append(f'{name} = {{ value = {value!r}, unit = "{spec["unit"]}" }}' + (f"  # {comment}" if comment else ""))
+        if isinstance(spec, str):  # a derived parameter: an expression of others
+            lines.append(f'{name} = "{spec}"' + (f"  # {comment}" if comment else ""))
+            continue
+        lines.append(f'{name} = {{ value = {spec["value"]!r}, unit = "{spec["unit"]}" }}' + (f"  # {comment}" if comment else ""))
     lines.append('hf = { value = 1.2, unit = "m" }  # floor height above rail (est.: JR EMU floor 1.1-1.2 m)')
     lines.append('Rrail = { value = 0.3, unit = "m" }  # rail-head transverse radius (JIS 50N crown, 300 mm)')
     lines.append('Emod = { value = 206, unit = "GPa" }  # Young\'s modulus of wheel and rail steel')

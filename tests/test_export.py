@@ -467,3 +467,68 @@ def test_text_inputs():
     assert "K[W1.y, B1.y] = -k_y" in text  # K is not symmetric: full listing
     assert "K (3 x 3)\n" in text
     assert "G[B1.y, B1.y] = 1" in text
+
+
+# ---------------------------------------------------------- values shown in the unit written
+
+
+def units_eom() -> EquationsOfMotion:
+    """Values in SI with the units a model file used (issue 10: ``cx1 = 15 kN*s/m``)."""
+    cx1, mc, v, Gamma = sp.symbols("cx1 mc v Gamma")
+    return EquationsOfMotion(
+        name="units",
+        dofs=("B1.x",),
+        eliminated=(),
+        inputs=(),
+        matrices={
+            "M": sp.ImmutableMatrix([[mc]]),
+            "C": sp.ImmutableMatrix([[cx1 + Gamma / v]]),
+            "K": sp.ImmutableMatrix([[0]]),
+        },
+        parameters=("Gamma", "cx1", "mc", "v"),
+        values={"Gamma": 0.1, "cx1": 15000.0, "mc": 30000.0, "v": 100 / 3.6},
+        units={"Gamma": "1", "cx1": "kN*s/m", "mc": "t", "v": "km/h"},
+    )
+
+
+@pytest.mark.parametrize(
+    ("exporter", "template"),
+    [
+        (to_text, "  {name} = {shown}"),
+        (to_matlab, "%     {name} = {shown}"),
+        (to_latex, "%   {name} = {shown}"),
+        (to_python, "    {name} = {shown}"),
+    ],
+)
+def test_headers_show_values_in_the_unit_written(exporter, template):
+    """Every header shows ``cx1 = 15 kN*s/m``, never the SI number beside the unit."""
+    text = exporter(units_eom())
+    lines = text.splitlines()
+    for name, shown in (("cx1", "15 kN*s/m"), ("mc", "30 t"), ("v", "100 km/h"), ("Gamma", "0.1")):
+        expected = template.format(name=name.ljust(5) if exporter in (to_text, to_matlab) else name, shown=shown)
+        assert expected in lines, (name, expected)
+    assert "15000" not in "\n".join(line for line in lines if "cx1 =" in line and ("%" in line or "  cx1" in line))
+
+
+def test_python_and_matlab_defaults_stay_si(tmp_path):
+    """The code keeps SI values (the headers only display them in the file's unit)."""
+    eom = units_eom()
+    assert "    p.cx1 = 15000.0;" in to_matlab(eom)
+    module = tmp_path / "units_module.py"
+    module.write_text(to_python(eom), encoding="utf-8")
+    namespace: dict = {}
+    exec(compile(module.read_text(encoding="utf-8"), str(module), "exec"), namespace)
+    assert namespace["VALUES"]["cx1"] == 15000.0 and namespace["UNITS"]["cx1"] == "kN*s/m"
+    assert namespace["matrices"]()["C"][0, 0] == pytest.approx(15000.0 + 0.1 * 3.6 / 100)
+
+
+def test_json_stays_si_with_a_units_map():
+    doc = json.loads(to_json(units_eom()))
+    assert doc["values"]["cx1"] == 15000.0 and doc["values"]["mc"] == 30000.0
+    assert doc["units"] == {"Gamma": "1", "cx1": "kN*s/m", "mc": "t", "v": "km/h"}
+
+
+def test_unreadable_unit_is_shown_as_si():
+    eom = units_eom()
+    eom.units["cx1"] = "widgets"
+    assert "  cx1   = 15000.0 SI" in to_text(eom).splitlines()

@@ -215,3 +215,33 @@ def test_importing_units_does_not_import_pint():
     code = "import sys, express.units; print('pint' in sys.modules, 'sympy' in sys.modules)"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert out.split() == ["False", "False"]
+
+
+def test_symbols_answered_without_pint_agree_with_pint():
+    """The SI symbols (with prefixes) and the accepted units answered from the small
+    table give exactly what pint gives."""
+    from express import units
+
+    names = [prefix + base for prefix in units._SI_PREFIXES for base in units._SI_SYMBOLS]
+    names += list(units._ACCEPTED)
+    registry = units._registry()
+    for name in names:
+        fast = units._fast_symbol(name)
+        assert fast is not None, name
+        quantity = registry.Quantity(1.0, registry.parse_units(name)).to_base_units()
+        assert fast.factor == pytest.approx(float(quantity.magnitude), rel=1e-15), name
+        dims = dict(quantity.dimensionality)
+        assert (fast.dim.mass, fast.dim.length, fast.dim.time) == tuple(
+            dims.get(key, 0) for key in ("[mass]", "[length]", "[time]")
+        ), name
+        assert fast.angle == ("radian" in str(registry.get_root_units(registry.parse_units(name))[1])), name
+
+
+def test_loading_common_units_does_not_import_pint():
+    code = (
+        "import sys; from express.units import parse_quantity as q;"
+        "[q(t) for t in ('1 kN*s/m', '2 kg*m^2', '3 t*m2', '120 km/h', '4 MN*m/rad', '5 deg', '6 GPa', '7 mm', '8 m/s^2')];"
+        "print('pint' in sys.modules)"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.strip() == "False"

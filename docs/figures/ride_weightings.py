@@ -27,7 +27,7 @@ def weightings_figure() -> Figure:
     f = np.logspace(-1, 2.3, 600)
     for weighting, style in ((WB, "-"), (WD, "-"), (WC, "-"), (WK, "--")):
         ax1.loglog(f, weighting.magnitude(f), style, label=weighting.name)
-    for name, values in TABLE.items():
+    for values in TABLE.values():
         ax1.loglog(TABLE_F, values, "o", mfc="none", color="k", ms=5)
     ax1.plot([], [], "o", mfc="none", color="k", label="ISO 2631-1 table")
     ax1.set(xlabel="frequency f [Hz]", ylabel="|W(i 2 pi f)|", title="EN 12299 / ISO 2631 weightings", ylim=(1e-2, 2))

@@ -1,9 +1,11 @@
 """Model records: bodies, grounds, connection points, elements, pinned joints.
 
 These are what every reader produces and every later stage consumes.  Values are
-exact SymPy expressions of parameter names; numerical parameter values (SI) travel
-alongside in :attr:`Model.parameters`.  :func:`check_model` validates the cross
-references and reports every problem at once.
+exact SymPy expressions of parameter names; the parameters themselves (a value with
+a unit, an expression of other parameters, or the output of a :class:`Derivation`)
+travel alongside in :attr:`Model.parameters`, kept consistent by
+:mod:`express.parameters` (the parameter graph).  :func:`check_model` validates the
+cross references and reports every problem at once.
 
 Axes and names follow ``conventions.md``: x forward, y left, z up; DOFs
 ``x, y, z, rx, ry, rz``; a generalized coordinate is ``<body>.<dof>``.
@@ -11,28 +13,29 @@ Axes and names follow ``conventions.md``: x forward, y left, z up; DOFs
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
+from collections.abc import Mapping
+from dataclasses import dataclass, field
 
 import sympy as sp
 
-from .diagnostics import ModelError, Problem
+from .diagnostics import Problem
+from .units import Dimension
 
 __all__ = [
     "AXES",
     "DOF_NAMES",
     "Body",
-    "Ground",
     "ConnectionPoint",
+    "Derivation",
     "Element",
-    "PinnedJoint",
-    "Parameter",
-    "Wheelset",
-    "OutputPoint",
-    "RailSpec",
-    "CreepSpec",
+    "Ground",
     "Model",
+    "OutputPoint",
+    "Parameter",
+    "PinnedJoint",
+    "RailSpec",
+    "Wheelset",
     "check_model",
-    "model_warnings",
     "with_values",
 ]
 
@@ -152,12 +155,83 @@ class PinnedJoint:
 
 @dataclass(frozen=True)
 class Parameter:
-    """A parameter value: ``value`` in SI units, ``unit`` as the user wrote it."""
+    """A parameter: a number with a unit (primary) or an expression of others (derived).
+
+    Attributes
+    ----------
+    name : str
+    value : float
+        Current value in SI units (derived values are kept up to date by
+        :mod:`express.parameters`; ``nan`` until a new model is evaluated).
+    unit : str
+        The unit the user wrote (``""`` for a bare SI number or a derived value).
+    line : int or None
+        Line in the source file.
+    expression : sympy.Expr or None
+        The definition of a derived parameter (``(mc + 2*mt + 4*mw)*g/8``); None for a
+        primary one.
+    derived_by : str or None
+        The item of the :class:`Derivation` that sets it (``"rail.creep"``), if any.
+    dimension : express.units.Dimension or None
+        Its dimension: from its unit, its expression or where it is used; None if unknown.
+    """
 
     name: str
     value: float
     unit: str = ""
     line: int | None = None
+    expression: sp.Expr | None = None
+    derived_by: str | None = None
+    dimension: Dimension | None = None
+
+    @property
+    def is_primary(self) -> bool:
+        """Whether the value is given (not an expression, not set by a derivation)."""
+        return self.expression is None and self.derived_by is None
+
+
+@dataclass(frozen=True)
+class Derivation:
+    """A function node of the parameter graph: parameters computed by a named
+    function of other parameters that has no closed form (a table look-up).
+
+    ``[rail.creep]`` is ``Derivation("kalker", "rail.creep", inputs=(("wheel_load",
+    P0, "force"), ...), outputs=(("f11", "f1", "force"), ("f22", "f2", "force")))``.
+    The function itself is registered by the layer that knows it
+    (:func:`express.parameters.register_derivation`).
+
+    Attributes
+    ----------
+    kind : str
+        Name of the registered function (``"kalker"``).
+    item : str
+        Where it is defined, for messages (``"rail.creep"``).
+    inputs : tuple of (argument, sympy.Expr, dimension name)
+        The function's arguments as expressions of parameters.
+    outputs : tuple of (result key, parameter name, dimension name)
+        Which parameter receives which result.
+    line : int or None
+    """
+
+    kind: str
+    item: str
+    inputs: tuple[tuple[str, sp.Expr, str], ...]
+    outputs: tuple[tuple[str, str, str], ...]
+    line: int | None = None
+
+    def input(self, argument: str) -> sp.Expr:
+        """The expression given for ``argument`` (KeyError if none)."""
+        for name, expression, _ in self.inputs:
+            if name == argument:
+                return expression
+        raise KeyError(argument)
+
+    def output(self, result: str) -> str:
+        """The parameter that receives ``result`` (KeyError if none)."""
+        for key, name, _ in self.outputs:
+            if key == result:
+                return name
+        raise KeyError(result)
 
 
 @dataclass(frozen=True)
@@ -194,25 +268,6 @@ class OutputPoint:
 
 
 @dataclass(frozen=True)
-class CreepSpec:
-    """Creep coefficients computed from the contact (Hertz ellipse + Kalker's table).
-
-    The parameters named ``longitudinal`` and ``lateral`` receive ``f11`` and ``f22``
-    [N] computed from the wheel load [N], wheel rolling radius [m], rail-head
-    transverse radius [m], Young's modulus [Pa] and Poisson's ratio.
-    """
-
-    longitudinal: str
-    lateral: str
-    wheel_load: sp.Expr
-    wheel_radius: sp.Expr
-    rail_head_radius: sp.Expr
-    youngs_modulus: sp.Expr
-    poisson: sp.Expr
-    line: int | None = None
-
-
-@dataclass(frozen=True)
 class RailSpec:
     """What makes a model a rail vehicle: wheelsets, speed, cant base, outputs."""
 
@@ -222,7 +277,6 @@ class RailSpec:
     gravity: sp.Expr = sp.Float(9.81)
     outputs: tuple[OutputPoint, ...] = ()
     line: int | None = None
-    creep: CreepSpec | None = None
 
 
 @dataclass(frozen=True)
@@ -240,6 +294,16 @@ class Model:
     rail: RailSpec | None = None
     title: str = ""
     gravity: sp.Expr | None = None  # [gravity] acceleration: every body's weight (docs/model-format.md)
+    derivations: tuple[Derivation, ...] = ()
+
+    def __repr__(self) -> str:
+        rail = f", {len(self.rail.wheelsets)} wheelsets" if self.rail is not None else ""
+        derived = sum(1 for p in self.parameters.values() if not p.is_primary)
+        return (
+            f"<Model {self.name!r} from {self.source}: {len(self.bodies)} bodies, "
+            f"{len(self.points)} CPs, {len(self.elements)} elements, {len(self.pins)} pins{rail}, "
+            f"{len(self.parameters)} parameters ({derived} derived)>"
+        )
 
     def body(self, body_id: str) -> Body:
         """The body with id ``body_id`` (KeyError if none)."""
@@ -260,13 +324,12 @@ class Model:
         return {name: parameter.value for name, parameter in self.parameters.items()}
 
 
-def with_values(model: Model, overrides: dict[str, float]) -> Model:
-    """A copy of ``model`` with parameter values (SI) replaced or added (``--set``)."""
-    parameters = dict(model.parameters)
-    for name, value in overrides.items():
-        previous = parameters.get(name)
-        parameters[name] = Parameter(name, float(value), "", previous.line if previous else None)
-    return replace(model, parameters=parameters)
+def with_values(model: Model, overrides: Mapping[str, float | str]) -> Model:
+    """A copy of ``model`` with parameter values replaced and every derived one
+    re-evaluated (``--set``); see :func:`express.parameters.with_values`."""
+    from .parameters import with_values as graph_with_values
+
+    return graph_with_values(model, overrides)
 
 
 def _duplicates(records, kind: str, source: str, problems: list[Problem]) -> None:
@@ -435,30 +498,3 @@ def _check_element_kinds(model: Model, hosts: dict[str, str], bodies: dict[str, 
                 model.source, element.line, item,
                 "the element of a pinned joint must be a plain translational element",
             ))
-
-
-def model_warnings(model: Model) -> list[Problem]:
-    """Suspicious but usable features: DOFs with zero mass or inertia."""
-    warnings = []
-    for body in model.bodies:
-        for dof in body.dofs:
-            if body.dof_inertia(dof) == 0:
-                what = "mass" if dof in AXES else f"moment of inertia I{dof[1]}"
-                warnings.append(
-                    Problem(
-                        model.source,
-                        body.line,
-                        f"body {body.id}",
-                        f"DOF {body.id}.{dof} has zero {what}; M is singular unless a pin "
-                        "removes it",
-                    )
-                )
-    return warnings
-
-
-def require_valid(model: Model) -> Model:
-    """Return ``model`` unchanged, or raise :class:`ModelError` with every problem."""
-    problems = check_model(model)
-    if problems:
-        raise ModelError(problems)
-    return model

@@ -26,7 +26,9 @@ import sympy as sp
 from .diagnostics import ModelError, Problem
 from .equations import EquationsOfMotion
 from .model import Model
+from .parameters import expression_value, override_values, undefined_name_problems, with_values
 from .rail.build import RailLayout, generate_vehicle, rail_layout
+from .units import KMH
 
 __all__ = [
     "WheelsetData",
@@ -173,11 +175,17 @@ class VehicleModel:
         b[self.n :] = self._minv_pd
         return b
 
-    def with_values(self, changes: dict[str, float]) -> VehicleModel:
-        """The same vehicle with some parameter values changed (SI), re-evaluated
+    def with_values(self, changes: Mapping[str, float | str]) -> VehicleModel:
+        """The same vehicle with some parameter values changed, re-evaluated
         numerically from the compiled matrices (about a millisecond; no regeneration).
 
-        The wheel/rail data (conicity, creep coefficients, ...) follow the new values.
+        Every derived parameter follows (:func:`express.parameters.with_values`): a
+        new mass changes the wheel load, the creep coefficients and all they feed.
+
+        Parameters
+        ----------
+        changes : mapping of str to float or str
+            Floats in SI, or texts with a unit as on the command line (``"60 t"``).
 
         Examples
         --------
@@ -188,11 +196,15 @@ class VehicleModel:
         """
         if self.model is None:
             raise ValueError("this VehicleModel has no model to re-evaluate")
-        from .model import with_values
-        from .rail.build import with_creep_coefficients
+        model = with_values(self.model, changes)
+        return _evaluate_vehicle(model, self.equations, self._evaluator, self._speed_name, self.layout is not None)
 
-        model = with_creep_coefficients(with_values(self.model, changes))
-        return _evaluate_vehicle(model, self.equations, self._evaluator, self._speed_name)
+    def __repr__(self) -> str:
+        speed = f", v = {self.speed / KMH:.6g} km/h" if self.speed == self.speed else ""
+        return (
+            f"<VehicleModel {self.equations.name!r}: {self.n} DOFs, {len(self.inputs)} inputs, "
+            f"{len(self.wheelsets)} wheelsets{speed}>"
+        )
 
     def eigenvalues(self, v: float) -> np.ndarray:
         """Eigenvalues of ``A(v)`` [1/s], shape (2n,)."""
@@ -323,6 +335,9 @@ def vehicle_model(model: Model, *, with_rail: bool = True) -> VehicleModel:
 
 def _evaluate_vehicle(model, equations, evaluator, speed_name, with_rail=True) -> VehicleModel:
     values = model.values()
+    missing = [name for name in equations.parameters if name not in values]
+    if missing:
+        raise ModelError(undefined_name_problems(model, missing) or _missing(model, missing))
     try:
         base, c1, p2 = _speed_split(equations, values, speed_name, evaluator)
     except ValueError as error:
@@ -335,26 +350,9 @@ def _evaluate_vehicle(model, equations, evaluator, speed_name, with_rail=True) -
     if with_rail and model.rail is not None and equations.inputs:
         layout = rail_layout(model)
         numeric = _numeric(model, values)
-        speed = numeric(model.rail.speed)
-        wheelsets = tuple(
-            WheelsetData(
-                name=w.body,
-                y=equations.dofs.index(f"{w.body}.y"),
-                psi=equations.dofs.index(f"{w.body}.rz"),
-                station=numeric(model.body(w.body).position[0]),
-                f1=numeric(w.f1),
-                f2=numeric(w.f2),
-                conicity=numeric(w.conicity),
-                r0=numeric(w.r0),
-                b=numeric(w.b),
-                flange_clearance=numeric(w.flange_clearance),
-                rail_stiffness=numeric(w.rail_stiffness),
-                friction=numeric(w.friction),
-                wheel_load=numeric(w.wheel_load),
-            )
-            for w in model.rail.wheelsets
-        )
-        stations = np.array([numeric(s.position) for s in layout.stations])
+        speed = numeric(model.rail.speed, "rail", "speed")
+        wheelsets = tuple(_wheelset_data(w, model, equations, numeric) for w in model.rail.wheelsets)
+        stations = np.array([numeric(s.position, "station", "position") for s in layout.stations])
     vehicle = VehicleModel(
         equations=equations,
         values=values,
@@ -376,20 +374,35 @@ def _evaluate_vehicle(model, equations, evaluator, speed_name, with_rail=True) -
     return vehicle
 
 
-def _numeric(model: Model, values: dict[str, float]):
-    """A function turning a parameter expression into a float at ``values``."""
+def _wheelset_data(wheelset, model: Model, equations: EquationsOfMotion, numeric) -> WheelsetData:
+    item = f"wheelset {wheelset.body}"
+    keys = ("f1", "f2", "conicity", "r0", "b", "flange_clearance", "rail_stiffness", "friction", "wheel_load")
+    return WheelsetData(
+        name=wheelset.body,
+        y=equations.dofs.index(f"{wheelset.body}.y"),
+        psi=equations.dofs.index(f"{wheelset.body}.rz"),
+        station=numeric(model.body(wheelset.body).position[0], f"body {wheelset.body}", "position"),
+        **{key: numeric(getattr(wheelset, key), item, key) for key in keys},
+    )
 
-    def evaluate(expression) -> float:
-        expression = sp.sympify(expression)
-        if expression.is_Number:
-            return float(expression)
-        names = sorted(symbol.name for symbol in expression.free_symbols)
-        missing = [name for name in names if name not in values]
-        if missing:
-            raise ModelError([Problem(model.source, None, "parameters", f"no value for {', '.join(missing)}")])
-        if expression.is_Symbol:
-            return float(values[expression.name])
-        return float(expression.xreplace({sp.Symbol(name): values[name] for name in names}))
+
+def _missing(model: Model, names: list[str]) -> list[Problem]:
+    plural = "s" if len(names) > 1 else ""
+    return [Problem(model.source, None, "parameters", f"no value for parameter{plural} {', '.join(names)}")]
+
+
+def _numeric(model: Model, values: Mapping[str, float]):
+    """``numeric(expression, item, what)``: the float value of a use of parameters,
+    or a ModelError naming the item (with its file and line) and the missing name."""
+
+    def evaluate(expression, item: str = "", what: str = "") -> float:
+        try:
+            return expression_value(expression, values)
+        except KeyError as error:
+            name = error.args[0]
+            raise ModelError(undefined_name_problems(model, [name]) or _missing(model, [name])) from None
+        except ValueError as error:
+            raise ModelError([Problem(model.source, None, f"{item} {what}".strip(), str(error))]) from None
 
     return evaluate
 
@@ -399,10 +412,10 @@ def point_lateral_row(model: Model, equations: EquationsOfMotion, body_id: str, 
 
     ``u_y = y + rz lx - rx lz`` in the body's track frame (shape (n,)).
     """
-    values = model.values()
+    numeric = _numeric(model, model.values())
     body = model.body(body_id)
-    lx = float(sp.sympify(offset[0]).subs(values)) if offset[0] != 0 else 0.0
-    lz = float(sp.sympify(offset[2]).subs(values)) if offset[2] != 0 else 0.0
+    lx = numeric(offset[0], f"body {body_id}", "offset")
+    lz = numeric(offset[2], f"body {body_id}", "offset")
     row = np.zeros(len(equations.dofs))
     for dof, coefficient in (("y", 1.0), ("rz", lx), ("rx", -lz)):
         name = f"{body.id}.{dof}"
@@ -430,14 +443,17 @@ def load_vehicle(
     path : str or Path
         Model file (classic ``.exp`` or modern ``.toml``).
     overrides : mapping of str to float or str, optional
-        Parameter values: numbers in SI, or strings with a unit (``"100 km/h"``).
+        Parameter values: floats in SI, or texts as on the command line, checked
+        against the parameter's dimension (``"100 km/h"``, ``"4 MN/m"``; a bare
+        number is SI except for a speed, which is km/h). Derived parameters follow.
     with_rail : bool
         Include the wheel/rail and curve terms when the model has rail data.
 
     Raises
     ------
     ModelError
-        For a bad file, an unknown parameter name or a bad value (every problem at once).
+        For a bad file, an unknown parameter name (with the closest one) or a bad
+        value (every problem at once).
 
     Examples
     --------
@@ -446,26 +462,10 @@ def load_vehicle(
     0.2
     """
     from .io import load_model
-    from .units import UnitError, parse_quantity
 
     path = Path(path)
     model = load_model(path)
-    values: dict[str, float] = {}
-    problems = []
-    for name, value in (overrides or {}).items():
-        if name not in model.parameters:
-            import difflib
-
-            close = difflib.get_close_matches(name, list(model.parameters), n=1)
-            hint = f"; did you mean {close[0]}?" if close else ""
-            problems.append(Problem(str(path), None, f"parameter {name}", f"the model has no such parameter{hint}"))
-            continue
-        try:
-            values[name] = parse_quantity(value)[0] if isinstance(value, str) else float(value)
-        except UnitError as error:
-            problems.append(Problem(str(path), None, f"parameter {name}", str(error)))
-    if problems:
-        raise ModelError(problems)
+    values = override_values(model, overrides or {})
     stat = path.resolve().stat()
     key = (str(path.resolve()), stat.st_mtime_ns, stat.st_size, with_rail)
     base = _GENERATED.get(key)
@@ -475,10 +475,8 @@ def load_vehicle(
         except ModelError:
             if not values:
                 raise
-            from .model import with_values
-            from .rail.build import with_creep_coefficients
-
-            return vehicle_model(with_creep_coefficients(with_values(model, values)), with_rail=with_rail)
+            # e.g. a singular M at the file's values that the overrides cure
+            return vehicle_model(with_values(model, values), with_rail=with_rail)
         if len(_GENERATED) >= _GENERATED_CACHE_SIZE:
             _GENERATED.pop(next(iter(_GENERATED)))
         _GENERATED[key] = base

@@ -88,6 +88,9 @@ class Dimension:
         p = Fraction(power)
         return Dimension(self.mass * p, self.length * p, self.time * p)
 
+    def __repr__(self) -> str:
+        return f"Dimension({self.si()!r})"
+
     @property
     def is_dimensionless(self) -> bool:
         return self.mass == 0 and self.length == 0 and self.time == 0
@@ -194,9 +197,43 @@ def _registry():
     return pint.UnitRegistry()
 
 
+#: SI units and the units accepted for use with them (SI brochure, Table 8) that model
+#: files mostly use: answered without importing pint (about half a second), and
+#: checked against pint in the tests.
+_SI_SYMBOLS = {
+    "m": _Unit(1.0, _dim(length=1)),
+    "g": _Unit(1e-3, _dim(mass=1)),
+    "s": _Unit(1.0, _dim(time=1)),
+    "N": _Unit(1.0, _dim(mass=1, length=1, time=-2)),
+    "Pa": _Unit(1.0, _dim(mass=1, length=-1, time=-2)),
+    "Hz": _Unit(1.0, _dim(time=-1)),
+    "rad": _Unit(1.0, _dim(), angle=True),
+}
+_SI_PREFIXES = {"G": 1e9, "M": 1e6, "k": 1e3, "": 1.0, "c": 1e-2, "m": 1e-3}
+_ACCEPTED = {
+    "t": _Unit(1e3, _dim(mass=1)),
+    "min": _Unit(60.0, _dim(time=1)),
+    "h": _Unit(3600.0, _dim(time=1)),
+    "deg": _Unit(math.pi / 180.0, _dim(), angle=True),
+}
+
+
+def _fast_symbol(name: str) -> _Unit | None:
+    if name in _ACCEPTED:
+        return _ACCEPTED[name]
+    for prefix, scale in _SI_PREFIXES.items():
+        base = _SI_SYMBOLS.get(name[len(prefix) :]) if name.startswith(prefix) else None
+        if base is not None and (prefix or name in _SI_SYMBOLS):
+            return _Unit(scale * base.factor, base.dim, base.angle)
+    return None
+
+
 @functools.lru_cache(maxsize=256)
 def _symbol(name: str, text: str) -> _Unit:
     """One unit symbol looked up in pint's registry: SI factor, dimension, angle?"""
+    fast = _fast_symbol(name)
+    if fast is not None:
+        return fast
     registry = _registry()
     try:
         units = registry.parse_units(_ALIASES.get(name, name))

@@ -33,8 +33,9 @@ from typing import Any
 import sympy as sp
 
 from express.equations import MATRIX_ORDER, EquationsOfMotion
+from express.units import UnitError, format_quantity
 
-__all__ = ["matrix_items", "parameter_symbols", "to_json"]
+__all__ = ["matrix_items", "parameter_symbols", "shown_value", "to_json"]
 
 _SQUARE = ("M", "C", "K")
 _INPUT_MATRICES = ("P", "Pd")
@@ -133,6 +134,27 @@ def parameter_symbols(
     return {
         name: sorted(found.get(name, ()), key=sp.default_sort_key) for name in eom.parameters
     }
+
+
+def shown_value(eom: EquationsOfMotion, name: str) -> str | None:
+    """A parameter's value as the headers of every export show it: in the unit the
+    model file used (``"15 kN*s/m"``), never an SI number beside another unit.
+
+    None when the parameter has no value; a bare SI number when it has no unit (or
+    one that cannot be read, then marked ``SI``).
+    """
+    if name not in eom.values:
+        return None
+    value = float(eom.values[name])
+    unit = str(eom.units.get(name, "")).strip()
+    if not math.isfinite(value):
+        return str(value)
+    if not unit:
+        return repr(value)
+    try:
+        return format_quantity(value, unit)
+    except UnitError:
+        return f"{value!r} SI"
 
 
 def _number(name: str, value: Any) -> float:

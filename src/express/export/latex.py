@@ -27,13 +27,12 @@ Greek); ``head_rest`` -> ``head_{rest}``. DOFs ``B1.rz`` are typeset
 
 from __future__ import annotations
 
-import math
 import re
 
 from sympy.printing.latex import LatexPrinter, greek_letters_set, translate
 
 from express.equations import EquationsOfMotion
-from express.export.json_export import matrix_items, parameter_symbols
+from express.export.json_export import matrix_items, parameter_symbols, shown_value
 
 __all__ = ["MAX_COLUMNS", "latex_dof_name", "latex_symbol_name", "to_latex"]
 
@@ -160,10 +159,6 @@ def _equation(label: str, cells: list[list[str]], suffix: str = "") -> list[str]
     return out
 
 
-def _value(value: float) -> str:
-    return repr(float(value)) if math.isfinite(float(value)) else str(float(value))
-
-
 def to_latex(eom: EquationsOfMotion) -> str:
     r"""Typeset the equations of motion as a LaTeX fragment (no preamble).
 
@@ -197,14 +192,10 @@ def to_latex(eom: EquationsOfMotion) -> str:
         f"% Matrices wider than {MAX_COLUMNS} columns are split into column blocks.",
     ]
     if eom.parameters:
-        out.append("% Parameters (value, unit when known):")
+        out.append("% Parameters (value in the unit of the model file, when known):")
         for par in eom.parameters:
-            line = f"%   {par}"
-            if par in eom.values:
-                line += f" = {_value(eom.values[par])}"
-            if par in eom.units:
-                line += f" [{' '.join(str(eom.units[par]).split())}]"
-            out.append(line)
+            shown = shown_value(eom, par)
+            out.append(f"%   {par}" + (f" = {' '.join(shown.split())}" if shown is not None else ""))
     if eom.eliminated:
         out.append("% Eliminated DOFs: " + ", ".join(eom.eliminated))
     out.append(rf"\setcounter{{MaxMatrixCols}}{{{MAX_COLUMNS}}}")

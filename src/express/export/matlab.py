@@ -47,7 +47,7 @@ import sympy as sp
 from sympy.printing.octave import OctaveCodePrinter
 
 from express.equations import EquationsOfMotion
-from express.export.json_export import matrix_items, parameter_symbols
+from express.export.json_export import matrix_items, parameter_symbols, shown_value
 
 __all__ = [
     "MATLAB_KEYWORDS",
@@ -314,14 +314,13 @@ def to_matlab(eom: EquationsOfMotion, name: str | None = None) -> str:
     h(f"%   Inputs u ({m}):" + ("" if m else " none"))
     for k, inp in enumerate(eom.inputs, 1):
         h(f"%     {k:>4}  {_comment(inp)}")
-    h(f"%   Parameters ({len(eom.parameters)}):" + ("" if eom.parameters else " none"))
+    h(f"%   Parameters ({len(eom.parameters)})" + (", in the unit of the model file:" if eom.parameters else ": none"))
     width = max((len(par) for par in eom.parameters), default=0)
     for par in eom.parameters:
         line = f"%     {par:<{width}}"
-        if par in eom.values:
-            line += f" = {_literal(float(eom.values[par]))}"
-        if par in eom.units:
-            line += f" [{_comment(eom.units[par])}]"
+        shown = shown_value(eom, par)
+        if shown is not None:
+            line += f" = {_comment(shown)}"
         if locals_[par] != par:
             line += f"  (local variable {locals_[par]})"
         out.append(line.rstrip())

@@ -13,12 +13,10 @@ as its upper triangle, with a note saying so.
 
 from __future__ import annotations
 
-import math
-
 import sympy as sp
 
 from express.equations import EquationsOfMotion
-from express.export.json_export import matrix_items, parameter_symbols
+from express.export.json_export import matrix_items, parameter_symbols, shown_value
 
 __all__ = ["is_symmetric", "to_text"]
 
@@ -68,11 +66,6 @@ def _names(title: str, names: tuple[str, ...]) -> list[str]:
     ]
 
 
-def _value(value: float) -> str:
-    value = float(value)
-    return repr(value) if math.isfinite(value) else str(value)
-
-
 def to_text(eom: EquationsOfMotion) -> str:
     """Render the equations of motion as plain text.
 
@@ -102,12 +95,8 @@ def to_text(eom: EquationsOfMotion) -> str:
         out.append(f"Parameters ({len(eom.parameters)}):")
         width = max(len(par) for par in eom.parameters)
         for par in eom.parameters:
-            line = f"  {par:<{width}}"
-            if par in eom.values:
-                line += f" = {_value(eom.values[par])}"
-            if par in eom.units:
-                line += f" [{eom.units[par]}]"
-            out.append(line.rstrip())
+            shown = shown_value(eom, par)
+            out.append(f"  {par:<{width}}" + (f" = {shown}" if shown is not None else "").rstrip())
     else:
         out.append("Parameters (0): none")
     for key, mat in items:

@@ -26,7 +26,5 @@ def load_model(path: str | Path) -> Model:
         what = "is a directory" if path.is_dir() else "does not exist"
         raise ModelError([Problem(str(path), None, "", f"file {what}")])
     if path.suffix.lower() == ".toml":
-        from ..rail.build import with_creep_coefficients
-
-        return with_creep_coefficients(read_toml_model(path))
+        return read_toml_model(path)
     return read_classic(path)

@@ -54,7 +54,7 @@ from ..model import (
     DOF_NAMES,
     Body,
     ConnectionPoint,
-    CreepSpec,
+    Derivation,
     Element,
     Ground,
     Model,
@@ -65,6 +65,7 @@ from ..model import (
     Wheelset,
     check_model,
 )
+from ..parameters import parameter_problems, resolve
 from ..units import UnitError, parse_quantity, unit_factor
 from .classic import model_name_from_path
 from .toml_lines import line_index as _line_index
@@ -200,9 +201,12 @@ def _show(value: Any) -> str:
 
 
 def _parameters(reader: _Reader, table: dict) -> dict[str, Parameter]:
-    """Parameter values in SI: numbers, quantities with units, or expressions."""
-    numeric: dict[str, Parameter] = {}
-    derived: dict[str, tuple[sp.Expr, int | None]] = {}
+    """Parameters: numbers (SI), quantities with units, or expressions of others.
+
+    Values are not computed here: :func:`express.parameters.resolve` evaluates the
+    graph (in dependency order, refusing cycles) once the whole model is read.
+    """
+    parameters: dict[str, Parameter] = {}
     for name, raw in table.items():
         path = ("parameters", name)
         item = f"parameter {name}"
@@ -210,86 +214,62 @@ def _parameters(reader: _Reader, table: dict) -> dict[str, Parameter]:
         if not is_valid_name(name):
             reader.problem(path, item, "a parameter name must start with a letter (letters, digits, _)")
             continue
+        unit = ""
         if isinstance(raw, dict):
             extra = set(raw) - {"value", "unit", "source", "note"}
             if extra:
                 reader.problem(path, item, f"unknown keys {sorted(extra)} (allowed: value, unit, source, note)")
-            value, unit = raw.get("value"), raw.get("unit", "")
-            if isinstance(value, bool) or not isinstance(value, (int, float)):
-                reader.problem(path, item, f"value must be a number, got {_show(value)}")
+            raw, unit = raw.get("value"), raw.get("unit", "")
+            if not isinstance(unit, str):
+                reader.problem(path, item, f"unit must be a text such as \"kN/m\", got {_show(unit)}")
                 continue
+            if isinstance(raw, bool) or not isinstance(raw, (int, float)):
+                reader.problem(path, item, f"value must be a number, got {_show(raw)}")
+                continue
+        if isinstance(raw, bool):
+            reader.problem(path, item, "value must be a number, got a boolean")
+        elif isinstance(raw, (int, float)):
             try:
-                si = float(value) * unit_factor(str(unit))
+                si = float(raw) * unit_factor(unit)
             except UnitError as error:
                 reader.problem(path, item, str(error))
                 continue
             if math.isfinite(si):
-                numeric[name] = Parameter(name, si, str(unit), line)
-            else:
-                reader.problem(path, item, f"value must be finite, got {si}")
-            continue
-        if isinstance(raw, bool):
-            reader.problem(path, item, "value must be a number, got a boolean")
-        elif isinstance(raw, (int, float)):
-            if math.isfinite(float(raw)):
-                numeric[name] = Parameter(name, float(raw), "", line)
+                parameters[name] = Parameter(name, si, unit.strip(), line)
             else:
                 reader.problem(path, item, f"value must be finite, got {raw}")
         elif isinstance(raw, str):
-            try:
-                value, unit = parse_quantity(raw)
-            except UnitError:
-                pass
-            else:
-                if math.isfinite(value):
-                    numeric[name] = Parameter(name, value, unit, line)
-                else:
-                    reader.problem(path, item, f'"{raw}" is not a finite number')
-                continue
-            try:
-                derived[name] = (parse_expression(raw), line)
-            except ExpressionError as error:
-                reader.problem(path, item, f'"{raw}" is neither a number with a unit nor an expression ({error})')
+            parameter = _text_parameter(reader, name, raw, line)
+            if parameter is not None:
+                parameters[name] = parameter
         else:
             reader.problem(path, item, f"value must be a number, got {_kind(raw)}")
-    # derived parameters: expressions of others, evaluated in dependency order
-    pending = dict(derived)
-    while pending:
-        progressed = False
-        for name, (expression, line) in list(pending.items()):
-            names = {s.name for s in expression.free_symbols}
-            missing = sorted(names - set(numeric) - set(pending))
-            if missing:
-                reader.problem(
-                    ("parameters", name),
-                    f"parameter {name}",
-                    f"undefined name{'s' if len(missing) > 1 else ''} {', '.join(missing)} where a number is required",
-                )
-                del pending[name]
-                progressed = True
-                continue
-            if names <= set(numeric):
-                value = expression.subs({sp.Symbol(n): numeric[n].value for n in names})
-                if value.is_real and value.is_finite and math.isfinite(float(value)):
-                    numeric[name] = Parameter(name, float(value), "", line)
-                else:
-                    reader.problem(
-                        ("parameters", name),
-                        f"parameter {name}",
-                        f'"{sp.sstr(expression)}" does not give a finite number here '
-                        "(division by zero or overflow)",
-                    )
-                del pending[name]
-                progressed = True
-        if not progressed:
-            cycle = ", ".join(sorted(pending))
-            first = sorted(pending)[0]
-            reader.problem(("parameters", first), f"parameter {first}", f"circular definition among {cycle}")
-            break
-    return numeric
+    return parameters
 
 
-def _rail(reader: _Reader, table: dict, parameters: dict[str, Parameter]) -> RailSpec | None:
+def _text_parameter(reader: _Reader, name: str, raw: str, line: int | None) -> Parameter | None:
+    """``"95 mm"`` (a quantity) or ``"0.2*lLU"`` (an expression: a derived parameter)."""
+    path, item = ("parameters", name), f"parameter {name}"
+    try:
+        value, unit = parse_quantity(raw)
+    except UnitError as unit_error:
+        try:
+            expression = parse_expression(raw)
+        except ExpressionError as error:
+            looks_like_quantity = re.match(r"\s*[-+]?[\d.]", raw) and not re.search(r"[*/^()+]", raw.strip()[1:])
+            reason = unit_error if looks_like_quantity else error
+            reader.problem(path, item, f'"{raw}" is neither a number with a unit nor an expression ({reason})')
+            return None
+        if expression.is_number:
+            return Parameter(name, float(expression), "", line)
+        return Parameter(name, math.nan, "", line, expression=expression)
+    if not math.isfinite(value):
+        reader.problem(path, item, f'"{raw}" is not a finite number')
+        return None
+    return Parameter(name, value, unit, line)
+
+
+def _rail(reader: _Reader, table: dict, parameters: dict[str, Parameter]) -> tuple[RailSpec, tuple[Derivation, ...]]:
     reader.unknown_keys(table, _RAIL_KEYS, ("rail",), "rail")
     defaults = reader.table(table.get("wheel_rail", {}), ("rail", "wheel_rail"), "rail.wheel_rail")
     reader.unknown_keys(defaults, WHEELSET_KEYS, ("rail", "wheel_rail"), "rail.wheel_rail")
@@ -332,26 +312,56 @@ def _rail(reader: _Reader, table: dict, parameters: dict[str, Parameter]) -> Rai
     gravity = "g" if "g" in parameters else "9.81"  # standard gravity unless the model names g
     for key, default in (("speed", "v"), ("cant_base", "G"), ("gravity", gravity)):
         scalars[key] = reader.expression(table.get(key, default), ("rail", key), "rail", key)
-    creep = None
+    derivations = []
     if "creep" in table:
-        path = ("rail", "creep")
-        spec = reader.table(table["creep"], path, "rail.creep")
-        reader.unknown_keys(spec, _CREEP_KEYS, path, "rail.creep")
-        if spec.get("from", "kalker") != "kalker":
-            reader.problem(path + ("from",), "rail.creep", f'from must be "kalker", got {_show(spec.get("from"))}')
-        defaults = {"youngs_modulus": 206e9, "poisson": 0.3}
-        values = {}
-        for key in ("wheel_load", "wheel_radius", "rail_head_radius", "youngs_modulus", "poisson"):
-            if key not in spec and key not in defaults:
-                reader.problem(path, "rail.creep", f'missing "{key}"')
-            values[key] = reader.expression(spec.get(key, defaults.get(key, 0)), path + (key,), "rail.creep", key)
-        creep = CreepSpec(
-            longitudinal=reader.name(spec.get("longitudinal", "f1"), path, "rail.creep", "longitudinal"),
-            lateral=reader.name(spec.get("lateral", "f2"), path, "rail.creep", "lateral"),
-            line=reader.line(*path),
-            **values,
-        )
-    return RailSpec(tuple(wheelsets), outputs=tuple(outputs), line=reader.line("rail"), creep=creep, **scalars)
+        derivations.append(_creep(reader, table["creep"]))
+    rail = RailSpec(tuple(wheelsets), outputs=tuple(outputs), line=reader.line("rail"), **scalars)
+    return rail, tuple(derivations)
+
+
+#: ``[rail.creep]`` arguments: (key, dimension, default).
+_CREEP_INPUTS = (
+    ("wheel_load", "force", None),
+    ("wheel_radius", "length", None),
+    ("rail_head_radius", "length", None),
+    ("youngs_modulus", "pressure", 206e9),
+    ("poisson", "dimensionless", 0.3),
+)
+
+
+def _creep(reader: _Reader, raw: Any) -> Derivation:
+    """``[rail.creep]``: f1, f2 from the contact, a derivation node of the graph."""
+    path = ("rail", "creep")
+    spec = reader.table(raw, path, "rail.creep")
+    reader.unknown_keys(spec, _CREEP_KEYS, path, "rail.creep")
+    if spec.get("from", "kalker") != "kalker":
+        reader.problem(path + ("from",), "rail.creep", f'from must be "kalker", got {_show(spec.get("from"))}')
+    inputs = []
+    for key, dimension, default in _CREEP_INPUTS:
+        if key not in spec and default is None:
+            reader.problem(path, "rail.creep", f'missing "{key}"')
+        value = reader.expression(spec.get(key, default if default is not None else 0), path + (key,), "rail.creep", key)
+        inputs.append((key, value, dimension))
+    outputs = (
+        ("f11", reader.name(spec.get("longitudinal", "f1"), path, "rail.creep", "longitudinal"), "force"),
+        ("f22", reader.name(spec.get("lateral", "f2"), path, "rail.creep", "lateral"), "force"),
+    )
+    return Derivation("kalker", "rail.creep", tuple(inputs), outputs, reader.line(*path))
+
+
+def _add_outputs(reader: _Reader, parameters: dict[str, Parameter], derivations: tuple[Derivation, ...]) -> None:
+    """Make the outputs of each derivation parameters set by it."""
+    for derivation in derivations:
+        for _, name, _ in derivation.outputs:
+            if name in parameters:
+                given = parameters[name]
+                where = f"line {given.line}" if given.line is not None else "[parameters]"
+                reader.problem(
+                    ("rail", "creep"), derivation.item,
+                    f"computes {name}, which [parameters] also gives ({where}); remove one of them",
+                )
+                continue
+            parameters[name] = Parameter(name, math.nan, "", derivation.line, derived_by=derivation.item)
 
 
 def _items(reader: _Reader, data: dict, base: tuple[str, ...] = ()):
@@ -485,9 +495,10 @@ def parse_toml_model(text: str, source: str = "<string>") -> Model:
     parameters = _parameters(reader, reader.table(data.get("parameters", {}), ("parameters",), "parameters"))
 
     bodies, grounds, points, elements, pins = _items(reader, data)
-    rail = None
+    rail, derivations = None, ()
     if "rail" in data:
-        rail = _rail(reader, reader.table(data["rail"], ("rail",), "rail"), parameters)
+        rail, derivations = _rail(reader, reader.table(data["rail"], ("rail",), "rail"), parameters)
+        _add_outputs(reader, parameters, derivations)
     model = Model(
         name=name,
         source=source,
@@ -499,11 +510,14 @@ def parse_toml_model(text: str, source: str = "<string>") -> Model:
         parameters=parameters,
         rail=rail,
         title=str(title),
+        derivations=derivations,
     )
-    problems = reader.problems + check_model(model)
+    # a name without value is allowed (symbolic generation); an analysis that needs
+    # numbers names the items using it (express.parameters.undefined_name_problems)
+    problems = reader.problems + check_model(model) + parameter_problems(model)
     if problems:
         raise ModelError(problems)
-    return model
+    return resolve(model)
 
 
 def read_toml_model(path: str | Path) -> Model:

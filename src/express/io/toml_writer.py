@@ -12,7 +12,8 @@ import json
 
 import sympy as sp
 
-from ..model import Model
+from ..model import Model, Parameter
+from ..units import unit_factor
 
 __all__ = ["model_to_toml", "value_to_toml", "value_text"]
 
@@ -64,6 +65,21 @@ def _string(text: str) -> str:
     return json.dumps(text, ensure_ascii=False)
 
 
+def _parameter_line(parameter: Parameter) -> str:
+    """``mc = { value = 30.0, unit = "t" }`` in the unit written, or ``P0 = "expression"``."""
+    name = parameter.name
+    if parameter.expression is not None:
+        return f"{name} = {_string(value_text(parameter.expression))}"
+    unit = parameter.unit.strip()
+    if unit:
+        factor = unit_factor(unit)
+        shown = parameter.value / factor
+        if float(shown) * factor == parameter.value:  # reads back to the same SI value
+            return f"{name} = {{ value = {shown!r}, unit = {_string(unit)} }}"
+        return f"{name} = {parameter.value!r}  # SI (given in {unit})"
+    return f"{name} = {parameter.value!r}"
+
+
 def model_to_toml(model: Model) -> str:
     """The TOML text of ``model`` (deterministic)."""
     lines = [
@@ -77,12 +93,9 @@ def model_to_toml(model: Model) -> str:
         lines.append(f"title = {_string(model.title)}")
     lines += ["", "[parameters]"]
     if model.parameters:
-        creep = model.rail.creep if model.rail is not None else None
-        computed = {creep.longitudinal, creep.lateral} if creep is not None else set()
-        for name, parameter in model.parameters.items():
-            if name in computed:
-                continue  # recomputed from [rail.creep] on loading
-            lines.append(f"{name} = {parameter.value!r}  # SI" + (f", given in {parameter.unit}" if parameter.unit else ""))
+        for parameter in model.parameters.values():
+            if parameter.derived_by is None:  # outputs of [rail.creep] are computed on loading
+                lines.append(_parameter_line(parameter))
     else:
         names = set()
         for body in model.bodies:
@@ -150,17 +163,16 @@ def _rail_lines(model: Model) -> list[str]:
     for wheelset in rail.wheelsets:
         lines += ["", f"[rail.wheelset.{wheelset.body}]"]
         lines += [f"{key} = {value_to_toml(getattr(wheelset, key))}" for key in keys]
-    if rail.creep is not None:
-        creep = rail.creep
-        lines += [
-            "",
-            "[rail.creep]",
-            'from = "kalker"',
-            f"longitudinal = {_string(creep.longitudinal)}",
-            f"lateral = {_string(creep.lateral)}",
-        ]
-        for key in ("wheel_load", "wheel_radius", "rail_head_radius", "youngs_modulus", "poisson"):
-            lines.append(f"{key} = {value_to_toml(getattr(creep, key))}")
+    for derivation in model.derivations:
+        if derivation.kind == "kalker":
+            lines += [
+                "",
+                "[rail.creep]",
+                'from = "kalker"',
+                f"longitudinal = {_string(derivation.output('f11'))}",
+                f"lateral = {_string(derivation.output('f22'))}",
+            ]
+            lines += [f"{key} = {value_to_toml(value)}" for key, value, _ in derivation.inputs]
     for output in rail.outputs:
         lines += ["", f"[rail.outputs.{output.name}]", f"body = {_string(output.body)}", f"offset = {_vector(output.offset)}"]
     return lines

@@ -1,5 +1,8 @@
 """Rail vehicle assembly: the wheel/rail and curve terms added to the core generator.
 
+Also registers the ``"kalker"`` derivation of the parameter graph (``[rail.creep]``:
+creep coefficients from the contact), see :mod:`express.parameters`.
+
 Inputs are named and ordered as the paper's eq. (13): the irregularity at every
 wheelset (``W1.yR``, ...), the flange penetrations (``W1.dy``, ...), the curvature
 at every station (``B1.rho``, ...) and the cant at every station (``B1.S``, ...);
@@ -8,19 +11,16 @@ ground inputs of the core model, if any, come first.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
-import sympy as sp
-
-
-from ..diagnostics import ModelError, Problem
 from ..generator import AddedTerms, GenerationResult, generate
-from ..model import Model, Parameter
+from ..model import Model
+from ..parameters import register_derivation
 from .contact import creep_coefficients
 from .curve import Station, cant_deficiency_forces, curvature_point_inputs, station_of, stations
 from .wheelrail import flange_input, irregularity_input, wheelset_terms
 
-__all__ = ["RailLayout", "rail_layout", "rail_terms", "generate_vehicle", "with_creep_coefficients"]
+__all__ = ["RailLayout", "generate_vehicle", "rail_layout", "rail_terms"]
 
 
 @dataclass(frozen=True)
@@ -104,49 +104,11 @@ def generate_vehicle(model: Model, *, keep_virtual: bool = False, with_rail: boo
     return generate(model, keep_virtual=keep_virtual, added=added)
 
 
-def speed_symbol(model: Model) -> sp.Symbol | None:
-    """The speed symbol of a rail model (``v``), if the speed is a plain parameter."""
-    if model.rail is None:
-        return None
-    speed = model.rail.speed
-    return speed if isinstance(speed, sp.Symbol) else None
+def _kalker(wheel_load: float, wheel_radius: float, rail_head_radius: float, youngs_modulus: float, poisson: float) -> dict[str, float]:
+    """The ``"kalker"`` derivation of ``[rail.creep]``: f11, f22 [N] per wheel from the
+    Hertz ellipse and Kalker's Table E.3 (:func:`express.rail.contact.creep_coefficients`)."""
+    coefficients = creep_coefficients(wheel_load, wheel_radius, rail_head_radius, youngs_modulus, poisson)
+    return {"f11": coefficients.f11, "f22": coefficients.f22}
 
 
-def with_creep_coefficients(model: Model) -> Model:
-    """Fill in the creep-coefficient parameters of a ``[rail.creep]`` section.
-
-    ``f11`` and ``f22`` of :func:`express.rail.contact.creep_coefficients` (Hertz
-    ellipse, Kalker's Table E.3) are computed from the current parameter values and
-    stored as the parameters the section names (``f1``, ``f2`` by default).  Models
-    without the section are returned unchanged.
-
-    Raises
-    ------
-    ModelError
-        If a value is missing or the contact data are not physical.
-    """
-    creep = model.rail.creep if model.rail is not None else None
-    if creep is None:
-        return model
-    values = model.values()
-    numbers = {}
-    for key in ("wheel_load", "wheel_radius", "rail_head_radius", "youngs_modulus", "poisson"):
-        expression = sp.sympify(getattr(creep, key))
-        missing = sorted(s.name for s in expression.free_symbols if s.name not in values)
-        if missing:
-            raise ModelError([Problem(model.source, creep.line, "rail.creep", f"{key}: no value for {', '.join(missing)}")])
-        numbers[key] = float(expression.subs({sp.Symbol(n): values[n] for n in (s.name for s in expression.free_symbols)}))
-    try:
-        coefficients = creep_coefficients(
-            numbers["wheel_load"],
-            numbers["wheel_radius"],
-            numbers["rail_head_radius"],
-            numbers["youngs_modulus"],
-            numbers["poisson"],
-        )
-    except ValueError as error:
-        raise ModelError([Problem(model.source, creep.line, "rail.creep", str(error))]) from None
-    parameters = dict(model.parameters)
-    parameters[creep.longitudinal] = Parameter(creep.longitudinal, coefficients.f11, "N", creep.line)
-    parameters[creep.lateral] = Parameter(creep.lateral, coefficients.f22, "N", creep.line)
-    return replace(model, parameters=parameters)
+register_derivation("kalker", _kalker)

@@ -61,7 +61,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy import stats
 
 from ...diagnostics import InputError
-from .spectral import _check_psd, check_frequencies, spectral_variance
+from .spectral import check_frequencies, check_psd, spectral_variance
 from .weighting import WB, WD, FrequencyWeighting, sperling_weighting, weigh_time_history
 
 __all__ = [
@@ -119,7 +119,7 @@ def sperling_index(
     (1.909, 1.909)
     """
     f = check_frequencies(frequencies, "sperling_index")
-    g = _check_psd(psd, f.size, "sperling_index")
+    g = check_psd(psd, f.size, "sperling_index")
     weighted = sperling_weighting(f, direction) ** 2 * g
     return float(SPERLING_CONSTANT * float(spectral_variance(f, weighted, band)) ** 0.15)
 
@@ -271,7 +271,7 @@ def p95_from_spectrum(
         Module docstring.
     """
     f = check_frequencies(frequencies, "p95_from_spectrum")
-    g = _check_psd(psd, f.size, "p95_from_spectrum")
+    g = check_psd(psd, f.size, "p95_from_spectrum")
     if method not in ("gaussian", "rms"):
         raise InputError(f"p95_from_spectrum: method must be 'gaussian' or 'rms', got {method!r}")
     if not (isinstance(window, (int, float)) and math.isfinite(window) and window > 0):
@@ -312,7 +312,7 @@ def mean_comfort_spectral(
     f = check_frequencies(frequencies, "mean_comfort_spectral")
     p95 = []
     for name, psd, weighting in (("x", psd_x, WD), ("y", psd_y, WD), ("z", psd_z, WB)):
-        g = _check_psd(psd, f.size, f"mean_comfort_spectral (psd_{name})")
+        g = check_psd(psd, f.size, f"mean_comfort_spectral (psd_{name})")
         p95.append(p95_from_spectrum(f, _weighted(weighting, f, g), window, method))
     return _n_mv(p95, method=method)
 

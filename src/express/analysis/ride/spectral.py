@@ -49,6 +49,8 @@ from scipy.integrate import trapezoid
 from ...diagnostics import InputError
 
 __all__ = [
+    "check_frequencies",
+    "check_psd",
     "delay_factors",
     "frequency_response",
     "harmonic_realisation",
@@ -102,7 +104,14 @@ def check_frequencies(frequencies: ArrayLike, where: str, positive: bool = False
     return f
 
 
-def _check_psd(psd: ArrayLike, n_f: int, where: str) -> FloatArray:
+def check_psd(psd: ArrayLike, n_f: int, where: str) -> FloatArray:
+    """``psd`` as a float array of ``n_f`` finite values >= 0 along axis 0.
+
+    Raises
+    ------
+    InputError
+        Naming the problem and ``where``.
+    """
     g = np.asarray(psd, dtype=float)
     problems = []
     if g.ndim == 0 or g.shape[0] != n_f:
@@ -205,7 +214,7 @@ def spectral_variance(
     float or numpy.ndarray of shape ``psd.shape[1:]``
     """
     f = check_frequencies(frequencies, "spectral_variance")
-    g = _check_psd(psd, f.size, "spectral_variance")
+    g = check_psd(psd, f.size, "spectral_variance")
     if band is not None:
         lo, hi = (float(x) for x in band)
         if not (math.isfinite(lo) and math.isfinite(hi) and 0 <= lo < hi):
@@ -347,7 +356,7 @@ def track_input_spectrum(
         Inputs ordered wheelset-major: index ``k * I + i``.
     """
     f = check_frequencies(frequencies, "track_input_spectrum")
-    g = np.stack([_check_psd(p, f.size, f"track_input_spectrum (PSD {j + 1})") for j, p in enumerate(psds)], axis=1)
+    g = np.stack([check_psd(p, f.size, f"track_input_spectrum (PSD {j + 1})") for j, p in enumerate(psds)], axis=1)
     t = np.eye(g.shape[1]) if mixing is None else np.asarray(mixing, dtype=float)
     if t.ndim != 2 or t.shape[1] != g.shape[1]:
         raise InputError(f"track_input_spectrum: mixing must have shape (I, {g.shape[1]}), got {t.shape}")
@@ -394,7 +403,7 @@ def harmonic_realisation(
     values : numpy.ndarray, shape (N,)
     """
     f = check_frequencies(frequencies, "harmonic_realisation")
-    g = _check_psd(psd, f.size, "harmonic_realisation")
+    g = check_psd(psd, f.size, "harmonic_realisation")
     problems = []
     if not (isinstance(duration, (int, float)) and math.isfinite(duration) and duration > 0):
         problems.append(f"duration must be > 0 s, got {duration!r}")
