@@ -13,9 +13,9 @@ import subprocess
 import sys
 
 import pytest
-from cli_support import CONVENTIONAL, LEVER, ROOT, run
 
 import express
+from cli_support import CONVENTIONAL, LEVER, ROOT, run
 from express import cli
 from express.diagnostics import AnalysisError, ModelError, OutputError, Problem, UsageError
 
@@ -158,7 +158,7 @@ def test_exit_statuses(capsys, monkeypatch, outcome, status, first_line):
     """0 success, 1 no valid result, 2 bad input (one line per problem), 70 anything
     unexpected (one line), never a traceback."""
     monkeypatch.setattr(cli.eigen, "run", outcome)
-    code, out, err = run(capsys, "eigen", CONVENTIONAL)
+    code, _, err = run(capsys, "eigen", CONVENTIONAL)
     assert code == status
     lines = err.splitlines()
     if first_line is None:

@@ -7,8 +7,8 @@ import argparse
 import time
 
 import pytest
-from cli_support import CONVENTIONAL, assert_input_error, run
 
+from cli_support import CONVENTIONAL, assert_input_error, run
 from express.cli import common
 
 KMH = 1 / 3.6

@@ -7,6 +7,7 @@ import json
 from pathlib import Path
 
 import pytest
+
 from cli_support import LEVER, STEERED, assert_input_error, run
 
 

@@ -7,8 +7,8 @@ import argparse
 import csv
 
 import pytest
-from cli_support import valued_lever, CONVENTIONAL, LEVER, STEERED, assert_input_error, run, run_json
 
+from cli_support import CONVENTIONAL, LEVER, STEERED, assert_input_error, run, run_json, valued_lever
 from express.cli.critical_speed import parse_range
 
 

@@ -5,8 +5,8 @@ and the demo's files replaced all together or not at all (the full run is in
 from __future__ import annotations
 
 import pytest
-from cli_support import EXAMPLES, assert_input_error, run
 
+from cli_support import EXAMPLES, assert_input_error, run
 from express.cli import demo as command
 
 

@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from cli_support import valued_lever, CONVENTIONAL, LEVER, STEERED, assert_input_error, run, run_json
+
+from cli_support import CONVENTIONAL, LEVER, STEERED, assert_input_error, run, run_json, valued_lever
 
 
 def test_eigen_json(capsys):

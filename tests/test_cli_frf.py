@@ -8,7 +8,8 @@ import io
 
 import numpy as np
 import pytest
-from cli_support import valued_lever, CONVENTIONAL, LEVER, STEERED, assert_input_error, run, run_json
+
+from cli_support import CONVENTIONAL, LEVER, STEERED, assert_input_error, run, run_json, valued_lever
 
 
 def test_frf_json_floor_accelerations_and_dof(capsys):

@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import sympy as sp
+
 from cli_support import LEVER, PROBLEM_LINE, STEERED, assert_input_error, run
 
 LEVER_TEXT = Path(LEVER).read_text(encoding="utf-8")

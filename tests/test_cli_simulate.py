@@ -11,8 +11,19 @@ from types import SimpleNamespace
 
 import numpy as np
 import pytest
-from cli_support import valued_lever, CONVENTIONAL, LEVER, SHORT_TRACK, SINUSOID, STEERED, assert_fails, assert_input_error, run, run_json
 
+from cli_support import (
+    CONVENTIONAL,
+    LEVER,
+    SHORT_TRACK,
+    SINUSOID,
+    STEERED,
+    assert_fails,
+    assert_input_error,
+    run,
+    run_json,
+    valued_lever,
+)
 from express.cli import simulate as command
 
 
@@ -47,7 +58,7 @@ def test_simulate_steered_reports_lever_angles_and_writes_files(capsys, short_tr
     assert data["track_length"] == pytest.approx(80.0)
     assert {"theta_L1", "theta_L2", "theta_L3", "theta_L4", "Q1", "Q2", "psi_TW1", "psi_TW2"} <= set(data["max_abs"])
     assert data["max_abs"]["theta_L1"] > 0.01  # the lever turns in the curve [rad]
-    for path in outputs + [figure]:
+    for path in [*outputs, figure]:
         assert path.is_file() and path.stat().st_size > 0, path
     with open(outputs[0], newline="", encoding="utf-8") as stream:
         header = next(csv.reader(stream))

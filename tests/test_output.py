@@ -81,7 +81,7 @@ def test_a_failure_leaves_the_old_file_and_no_temporary(tmp_path, monkeypatch, f
         raise OSError(28, "No space left on device")
 
     monkeypatch.setattr(os, failing, broken)
-    with pytest.raises(OutputError, match="out.csv.*No space left"):
+    with pytest.raises(OutputError, match=r"out\.csv.*No space left"):
         write_text(target, "new contents\n" * 1000)
     monkeypatch.undo()
     assert target.read_text() == "old contents\n"
@@ -238,7 +238,7 @@ def test_a_failed_rename_names_what_was_replaced(tmp_path, monkeypatch):
         real_replace(source, target)
 
     monkeypatch.setattr(os, "replace", replace_once)
-    with pytest.raises(OutputError, match="already replaced: .*a.csv"), output_transaction() as outputs:
+    with pytest.raises(OutputError, match=r"already replaced: .*a\.csv"), output_transaction():
         write_text(first, "new a\n")
         write_text(second, "new b\n")
     assert first.read_text() == "new a\n" and second.read_text() == "old b\n"

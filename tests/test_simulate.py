@@ -11,13 +11,16 @@ distance along the track; the last wheelset (W4) is 2 (lT + a) = 16.7 m behind i
 from __future__ import annotations
 
 import csv
+import os
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 from express.analysis.simulate import continuous_rhs, derived_outputs, simulate, track_inputs
+from express.diagnostics import OutputError
 from express.io import load_model
+from express.io.output import column_name
 from express.rail.track import SinusoidIrregularity, Straight, Track, paper_curve
 from express.statespace import vehicle_model
 
@@ -351,8 +354,9 @@ def test_save_csv_round_trips(short_run, tmp_path):
     with path.open(newline="") as handle:
         header = next(csv.reader(handle))
     columns = short_run.series()
-    assert header == list(columns)
-    assert header[:2] == ["time", "d1"] and "W1.y" in header and "W1.y_dot" in header and "Q1" in header
+    units = short_run.units()
+    assert header == [column_name(name, units[name]) for name in columns]  # units in the header
+    assert header[:2] == ["time_s", "d1_m"] and "W1.y_m" in header and "W1.y_dot_m_s" in header and "Q1_N" in header
     data = np.loadtxt(path, delimiter=",", skiprows=1)
     assert data.shape == (short_run.time.size, len(columns))
     for i, (name, values) in enumerate(columns.items()):
@@ -390,12 +394,12 @@ def test_save_is_all_or_nothing(short_run, tmp_path, monkeypatch):
     short_run.save(path)
     before = path.read_bytes()
 
-    def broken(file, **arrays):
-        Path(file).write_bytes(b"partial")
-        raise OSError("disk full")
+    def broken(handle):
+        os.write(handle, b"partial")
+        raise OSError(28, "disk full")
 
-    monkeypatch.setattr(np, "savez_compressed", broken)
-    with pytest.raises(OSError, match="disk full"):
+    monkeypatch.setattr(os, "fsync", broken)  # the output layer's flush to disk
+    with pytest.raises(OutputError, match="disk full"):
         short_run.save(path)
     assert path.read_bytes() == before
     assert list(tmp_path.iterdir()) == [path]

@@ -103,14 +103,14 @@ def run(
         if conicities is not None and (vehicle.model is None or parameter not in vehicle.model.parameters):
             raise UsageError(f"--parameter {parameter}: the model has no such parameter")
         result, sweep = _compute(vehicle, options, conicities, parameter)
-        if output is not None:
+        if output is not None and conicities is not None and sweep is not None:
             _write_sweep(output, parameter, conicities, sweep)
         if plot is not None:
             _figure(vehicle, plot, vmin, vmax, result, conicities, parameter, sweep)
     for path in [p for p in (output, plot) if p is not None and str(p) != "-"]:
         common.note(f"wrote {path}")
     summary = {"model": str(model), "v_min": vmin, "v_max": vmax, **_fields(result)}
-    if conicities is not None:
+    if conicities is not None and sweep is not None:
         summary["sweep"] = _sweep_summary(parameter, conicities, sweep)
     if as_json:
         common.print_json(summary)
@@ -196,7 +196,7 @@ def _print(name: str, result: Any, vmax: float, conicities: list[float] | None, 
     if conicities is None or sweep is None:
         return
     print(f"  {parameter:>8} {'V_cr [km/h]':>12}  mode", file=stream)
-    for value, c in zip(conicities, sweep):
+    for value, c in zip(conicities, sweep, strict=True):
         if c is None:
             print(f"  {value:8.4f} {'> ' + format(vmax / common.KMH, '.0f'):>12}  stable over the range", file=stream)
         elif c.unstable_at_min:

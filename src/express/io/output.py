@@ -482,11 +482,11 @@ def csv_text(columns: Mapping[str, Any], units: Mapping[str, str | None] | None 
     cells = [_cells(columns[name]) for name in names]
     lengths = {len(column) for column in cells}
     if len(lengths) > 1:
-        raise ValueError(f"columns of different lengths: {dict(zip(names, map(len, cells)))}")
+        raise ValueError(f"columns of different lengths: {dict(zip(names, map(len, cells), strict=True))}")
     buffer = io.StringIO()
     writer = csv.writer(buffer, lineterminator="\n")
     writer.writerow([column_name(name, units.get(name)) for name in names])
-    writer.writerows(zip(*cells))
+    writer.writerows(zip(*cells, strict=True))
     return buffer.getvalue()
 
 
