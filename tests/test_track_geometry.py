@@ -122,7 +122,7 @@ def test_segment_validation():
         Straight(0.0)
     with pytest.raises(ValueError, match="shape"):
         Transition(10, "cubic")
-    with pytest.raises(ValueError, match="radius.*direction"):
+    with pytest.raises(ValueError, match=r"radius.*direction"):
         Curve(10, -5, "up")
     with pytest.raises(ValueError, match="segments 2 and 3 are both transitions"):
         Track((Straight(10), Transition(10), Transition(10)))
@@ -160,7 +160,7 @@ def test_heading_and_centreline_against_quadrature(shape):
     for s in (30.0, 97.3, 145.0, 222.2, 380.0, 460.0, 470.0):
         th = quad(t.curvature, -10, s, points=[p for p in pts if p < s], epsabs=1e-14, limit=200)[0]
         assert t.heading(s) == pytest.approx(th, abs=1e-12)
-        kw = dict(points=[p for p in pts if p < s], epsabs=1e-13, limit=200)
+        kw = {"points": [p for p in pts if p < s], "epsabs": 1e-13, "limit": 200}
         x = quad(lambda u: math.cos(t.heading(u)), 0, s, **kw)[0]
         y = quad(lambda u: math.sin(t.heading(u)), 0, s, **kw)[0]
         xs, ys = t.centreline(s)

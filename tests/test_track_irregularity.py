@@ -10,11 +10,11 @@ import pytest
 from scipy.integrate import quad
 
 from express.rail.track import (
+    ERRI_LOW,
     MAX_HARMONICS,
     MAX_LATERAL_IRREGULARITY,
     MAX_SAMPLES,
     SPECTRA,
-    ERRI_LOW,
     NoIrregularity,
     ProfileIrregularity,
     SinusoidIrregularity,

@@ -22,6 +22,7 @@ from express.rail.track import (
     register_spectrum,
 )
 
+
 def test_spectrum_constants():
     assert FRA_CLASS_5.A_a == pytest.approx(0.0762e-4)
     assert FRA_CLASS_6.A_a == pytest.approx(0.0339e-4)
