@@ -42,9 +42,9 @@ from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
-import sympy as sp
 
 from ..topology import Topology, classify_bodies
+from ..parameters import expression_value
 from ..statespace import VehicleModel
 
 __all__ = [
@@ -286,17 +286,9 @@ def _roles(vehicle: VehicleModel) -> Topology:
     return classify_bodies(model, lambda body: _station(model, body))
 
 
-def _number(expression, values: dict[str, float]) -> float:
-    """Value of a parameter expression (substituting only its own symbols: fast)."""
-    expression = sp.sympify(expression)
-    if expression.is_Number:
-        return float(expression)
-    return float(expression.xreplace({s: sp.Float(values[s.name]) for s in expression.free_symbols}))
-
-
 def _station(model, body_id: str) -> float:
     try:
-        return _number(model.body(body_id).position[0], model.values())
+        return expression_value(model.body(body_id).position[0], model.values())
     except (KeyError, TypeError, ValueError):
         return 0.0
 
@@ -375,8 +367,8 @@ def _dof_lengths(vehicle: VehicleModel) -> np.ndarray:
         if body is None:
             continue
         try:
-            mass = _number(body.mass, values)
-            inertia = _number(body.inertia[axis[motion]], values)
+            mass = expression_value(body.mass, values)
+            inertia = expression_value(body.inertia[axis[motion]], values)
         except (KeyError, TypeError, ValueError):
             continue
         if mass > 0 and inertia > 0:
