@@ -279,9 +279,12 @@ def p95_from_spectrum(
     variance = float(spectral_variance(f, g))
     if method == "rms" or variance == 0.0:
         return math.sqrt(variance)
-    # autocorrelation on a uniform grid df = 1/(8T): R periodic over 8T, far beyond T
+    # autocorrelation on a uniform grid df = 1/(8T): R periodic over 8T, far beyond T;
+    # the grid stops where the rest of the spectrum holds less than 1e-9 of the variance
     df = 1.0 / (8.0 * window)
-    n_f = max(16, math.ceil(f[-1] / df) + 1)
+    tail = variance - np.concatenate([[0.0], np.cumsum(np.diff(f) * (g[1:] + g[:-1]) / 2)])
+    f_top = float(f[np.argmax(tail <= 1e-9 * variance)]) if np.any(tail <= 1e-9 * variance) else float(f[-1])
+    n_f = max(16, math.ceil(f_top / df) + 2)
     fine = np.arange(n_f) * df
     g_fine = np.interp(fine, f, g, left=0.0, right=0.0)
     n_t = 2 * (n_f - 1)
