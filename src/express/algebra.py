@@ -19,9 +19,7 @@ from sympy import QQ
 from sympy.polys.fields import field
 from sympy.polys.rings import ring
 
-__all__ = ["ExactDomain", "SparseVector", "needs_fractions", "inverted_symbols"]
-
-SparseVector = dict  # index -> domain element, zero entries omitted
+__all__ = ["ExactDomain", "inverted_symbols", "needs_fractions"]
 
 
 def needs_fractions(expressions: Iterable[sp.Expr]) -> bool:

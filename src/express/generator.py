@@ -26,8 +26,9 @@ from .diagnostics import ModelError, Problem
 from .equations import EquationsOfMotion
 from .kinematics import end_motion, generalized_coordinates
 from .model import AXES, DOF_NAMES, Model, check_model
+from .parameters import display_unit
 
-__all__ = ["AddedTerms", "GenerationResult", "generate", "generate_equations", "pin_transformation"]
+__all__ = ["AddedTerms", "GenerationResult", "generate", "pin_transformation"]
 
 
 @dataclass(frozen=True)
@@ -276,11 +277,6 @@ def generate(model: Model, *, keep_virtual: bool = False, added: AddedTerms | No
         return _generate(model, keep_virtual, added, ExactDomain(symbols, True))
 
 
-def generate_equations(model: Model, *, keep_virtual: bool = False, added: AddedTerms | None = None) -> EquationsOfMotion:
-    """Shortcut for ``generate(...).equations``."""
-    return generate(model, keep_virtual=keep_virtual, added=added).equations
-
-
 def _add_outer(target, left, right, scale) -> None:
     for i, a in left.items():
         factor = a * scale
@@ -423,8 +419,10 @@ def _generate(model: Model, keep_virtual: bool, added: AddedTerms, domain: Exact
         matrices=matrices,
         parameters=parameters,
         values={name: p.value for name, p in sorted(model.parameters.items()) if name not in virtual_only},
-        units={
-            name: p.unit for name, p in sorted(model.parameters.items()) if p.unit and name not in virtual_only
+        units={  # as written, or the SI unit of a derived parameter's dimension
+            name: display_unit(p)
+            for name, p in sorted(model.parameters.items())
+            if display_unit(p) and name not in virtual_only
         },
     )
     warnings = []
