@@ -23,7 +23,7 @@ import sympy as sp
 
 from .algebra import ExactDomain, inverted_symbols, needs_fractions
 from .diagnostics import ModelError, Problem
-from .equations import EquationsOfMotion
+from .equations import STROKE, ClearanceTerm, EquationsOfMotion
 from .kinematics import end_motion, generalized_coordinates
 from .model import AXES, DOF_NAMES, Model, check_model
 from .parameters import display_unit
@@ -285,7 +285,8 @@ def _add_outer(target, left, right, scale) -> None:
 
 
 def _generate(model: Model, keep_virtual: bool, added: AddedTerms, domain: ExactDomain) -> GenerationResult:
-    full_dofs = generalized_coordinates(model)
+    # series elements add their damper stroke, a massless first-order coordinate
+    full_dofs = generalized_coordinates(model) + [f"{e.id}.{STROKE}" for e in model.elements if e.series]
     conv = domain.from_expr
 
     # deflection of every element: dofs part and inputs part
@@ -357,14 +358,26 @@ def _generate(model: Model, keep_virtual: bool, added: AddedTerms, domain: Exact
     damping: dict[tuple[int, int], object] = {}
     p_matrix: dict[tuple[int, int], object] = {}
     pd_matrix: dict[tuple[int, int], object] = {}
+    clearances = []
     for element in model.elements:
         if not keep_virtual and element.id in pin_element_ids:
             continue  # its reduced gradient is the pin constraint: exactly zero
         g = reduce(gradients[element.id])
-        if not g:
-            continue
         h = {in_index[u]: v for u, v in input_gradients[element.id].items()}
         k, c = conv(element.stiffness), conv(element.damping)
+        if element.gap is not None:
+            clearances.append(_clearance(element, g, h, reduced, inputs, domain))
+            continue
+        if element.series:
+            # spring deflection delta - s, damper stroke s (docs/model-format.md)
+            stroke = r_index[f"{element.id}.{STROKE}"]
+            g[stroke] = g.get(stroke, domain.zero) - domain.one
+            _add_outer(stiffness, g, g, k)
+            _add_outer(p_matrix, g, h, -k)
+            _add_outer(damping, {stroke: domain.one}, {stroke: domain.one}, c)
+            continue
+        if not g:
+            continue
         if k:
             _add_outer(stiffness, g, g, k)
             _add_outer(p_matrix, g, h, -k)
@@ -424,11 +437,24 @@ def _generate(model: Model, keep_virtual: bool, added: AddedTerms, domain: Exact
             for name, p in sorted(model.parameters.items())
             if display_unit(p) and name not in virtual_only
         },
+        clearances=tuple(clearances),
     )
     warnings = []
     by_id = {body.id: body for body in model.bodies}
+    if clearances:
+        names = ", ".join(term.element for term in clearances)
+        first = next(e for e in model.elements if e.gap is not None)
+        warnings.append(
+            Problem(
+                model.source,
+                first.line,
+                f"TSD {names}",
+                "clearance elements (bump stops) are left out of the linear matrices "
+                "(eigenvalues, critical speed, FRF); only the simulation uses them",
+            )
+        )
     for i, dof in enumerate(reduced):
-        if matrices["M"][i, i] == 0:
+        if matrices["M"][i, i] == 0 and dof.split(".")[0] in by_id:
             body = by_id[dof.split(".")[0]]
             warnings.append(
                 Problem(
@@ -444,3 +470,15 @@ def _generate(model: Model, keep_virtual: bool, added: AddedTerms, domain: Exact
         lambda i, j: domain.readable(t_rows[full_dofs[i]].get(j, domain.zero)),
     )
     return GenerationResult(equations, tuple(warnings), t_matrix, tuple(full_dofs))
+
+
+def _clearance(element, gradient: dict, inputs_gradient: dict, dofs: list[str], inputs: list[str], domain) -> ClearanceTerm:
+    """The record of a clearance element, its deflection in reduced coordinates."""
+    return ClearanceTerm(
+        element=element.id,
+        gradient={dofs[i]: domain.readable(v) for i, v in sorted(gradient.items())},
+        inputs={inputs[j]: domain.readable(v) for j, v in sorted(inputs_gradient.items())},
+        gap=sp.sympify(element.gap),
+        stiffness=sp.sympify(element.stiffness),
+        progressive=sp.sympify(element.progressive),
+    )

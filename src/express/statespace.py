@@ -25,6 +25,7 @@ import sympy as sp
 
 from .diagnostics import ModelError, Problem
 from .equations import EquationsOfMotion
+from .first_order import FirstOrderError, StateForm, state_form
 from .model import Model
 from .parameters import expression_value, override_values, undefined_name_problems, with_values
 from .rail.build import RailLayout, generate_vehicle, rail_layout
@@ -112,13 +113,10 @@ class VehicleModel:
     model: Model | None = None
 
     def __post_init__(self) -> None:
-        self.mass_inverse = _invert_mass(self.mass, self.equations, self.model)
-        self._minv_k = self.mass_inverse @ self.stiffness
-        self._minv_c0 = self.mass_inverse @ self.damping_base
-        self._minv_c1 = self.mass_inverse @ self.damping_creep
-        self._minv_p0 = self.mass_inverse @ self.forcing_base
-        self._minv_p2 = self.mass_inverse @ self.forcing_speed2
-        self._minv_pd = self.mass_inverse @ self.forcing_rate_matrix
+        # x = [q; q_D'] (express.first_order): [q; q'] unless series elements add
+        # first-order coordinates (damper strokes)
+        self.form = _state_form(self)
+        self.mass_inverse = self.form.mass_inverse
 
     @property
     def dofs(self) -> tuple[str, ...]:
@@ -155,25 +153,18 @@ class VehicleModel:
         return self.forcing_rate_matrix
 
     def state_matrix(self, v: float) -> np.ndarray:
-        """State-space ``A(v)`` at speed ``v`` [m/s], shape (2n, 2n), state ``[q; q']``."""
-        n = self.n
-        a = np.zeros((2 * n, 2 * n))
-        a[:n, n:] = np.eye(n)
-        a[n:, :n] = -self._minv_k
-        a[n:, n:] = -(self._minv_c0 + self._minv_c1 / v)
-        return a
+        """State-space ``A(v)`` at speed ``v`` [m/s], shape (N, N), state ``[q; q']``
+        (N = 2n; with series elements ``[q; q_D']``, N = n + n_D: their strokes are
+        first-order coordinates, :mod:`express.first_order`)."""
+        return self.form.state_matrix(v)
 
     def input_matrix(self, v: float) -> np.ndarray:
-        """State-space ``B(v)`` of the inputs ``u`` at speed ``v`` [m/s], shape (2n, m)."""
-        b = np.zeros((2 * self.n, self.forcing_base.shape[1]))
-        b[self.n :] = self._minv_p0 + self._minv_p2 * v**2
-        return b
+        """State-space ``B(v)`` of the inputs ``u`` at speed ``v`` [m/s], shape (N, m)."""
+        return self.form.input_matrix(v)
 
     def input_rate_matrix(self, v: float) -> np.ndarray:
-        """State-space ``Bd`` of the input rates ``u'`` at speed ``v`` [m/s], shape (2n, m)."""
-        b = np.zeros((2 * self.n, self.forcing_rate_matrix.shape[1]))
-        b[self.n :] = self._minv_pd
-        return b
+        """State-space ``Bd`` of the input rates ``u'`` at speed ``v`` [m/s], shape (N, m)."""
+        return self.form.bd.copy()
 
     def with_values(self, changes: Mapping[str, float | str]) -> VehicleModel:
         """The same vehicle with some parameter values changed, re-evaluated
@@ -209,6 +200,22 @@ class VehicleModel:
     def eigenvalues(self, v: float) -> np.ndarray:
         """Eigenvalues of ``A(v)`` [1/s], shape (2n,)."""
         return np.linalg.eigvals(self.state_matrix(v))
+
+
+def _state_form(vehicle: VehicleModel) -> StateForm:
+    try:
+        return state_form(
+            vehicle.mass, vehicle.damping_base, vehicle.damping_creep, vehicle.stiffness,
+            vehicle.forcing_base, vehicle.forcing_speed2, vehicle.forcing_rate_matrix,
+        )
+    except FirstOrderError as error:
+        if str(error) == "M is not positive definite":
+            _invert_mass(vehicle.mass, vehicle.equations, vehicle.model)
+        source = vehicle.model.source if vehicle.model is not None else vehicle.equations.name
+        dofs = ", ".join(vehicle.equations.dofs[i] for i in error.bad)
+        raise SingularMassError(
+            [Problem(source, None, "mass matrix", f"M cannot be inverted: {error} ({dofs}); give it a mass or a damper")]
+        ) from None
 
 
 def _invert_mass(mass: np.ndarray, equations: EquationsOfMotion, model: Model | None) -> np.ndarray:

@@ -1,5 +1,8 @@
 """Time marching of ``x' = A x + e(t) + G z(x, t)`` with exact discretization.
 
+The nonlinear forces ``z`` are the wheel/rail corrections of every wheelset and the
+forces of the bump stops (clearance elements, :mod:`express.clearance`).
+
 The linear part is discretized exactly (matrix exponential, first-order hold on the
 known forcing ``e``: track curvature, cant, irregularity and their rates), so the
 stiff lever and creep modes cost nothing in step size.  The nonlinear wheel/rail
@@ -59,13 +62,13 @@ def discretize(a: np.ndarray, dt: float) -> tuple[np.ndarray, np.ndarray, np.nda
 
 
 @njit(cache=True, fastmath=False)
-def _feedback(x, n, k, iy, ipsi, y_rail, rho, speed, f1, f2, conicity, r0, b, clearance, k_rail, limit, flange, saturation, z):
+def _feedback(x, ivy, ivpsi, k, iy, ipsi, y_rail, rho, speed, f1, f2, conicity, r0, b, clearance, k_rail, limit, flange, saturation, stop_rows, stop_offset, stop_gap, stop_k, stop_k3, z):
     count = iy.size
     for j in range(count):
         y = x[iy[j]]
         psi = x[ipsi[j]]
-        y_dot = x[n + iy[j]]
-        psi_dot = x[n + ipsi[j]]
+        y_dot = x[ivy[j]]
+        psi_dot = x[ivpsi[j]]
         relative = y - y_rail[k, j]
         xi_x = conicity[j] * relative / r0[j] + b[j] * psi_dot / speed + b[j] * rho[k, j]
         xi_y = y_dot / speed - psi
@@ -86,19 +89,29 @@ def _feedback(x, n, k, iy, ipsi, y_rail, rho, speed, f1, f2, conicity, r0, b, cl
                 dy = relative + clearance[j]
         z[j] = -k_rail[j] * dy + (factor - 1.0) * (-2.0 * f2[j] * xi_y)
         z[count + j] = (factor - 1.0) * (-2.0 * b[j] * f1[j] * xi_x)
+    # bump stops (express.clearance): -F beyond the gap
+    for s in range(stop_gap.size):
+        delta = stop_offset[k, s]
+        for i in range(x.size):
+            delta += stop_rows[s, i] * x[i]
+        e = 0.0
+        if delta > stop_gap[s]:
+            e = delta - stop_gap[s]
+        elif delta < -stop_gap[s]:
+            e = delta + stop_gap[s]
+        z[2 * count + s] = -(stop_k[s] * e + stop_k3[s] * e * e * e)
 
 
 @njit(cache=True, fastmath=True)
-def _march(phi, drive, g0, g1, x0, first, last, states, iy, ipsi, y_rail, rho, speed, f1, f2, conicity, r0, b, clearance, k_rail, limit, flange, saturation):
+def _march(phi, drive, g0, g1, x0, first, last, states, ivy, ivpsi, iy, ipsi, y_rail, rho, speed, f1, f2, conicity, r0, b, clearance, k_rail, limit, flange, saturation, stop_rows, stop_offset, stop_gap, stop_k, stop_k3):
     size = x0.size
-    n = size // 2
     nz = g0.shape[1]
     x = x0.copy()
     z = np.zeros(nz)
     z_next = np.zeros(nz)
     base = np.zeros(size)
     trial = np.zeros(size)
-    _feedback(x, n, first, iy, ipsi, y_rail, rho, speed, f1, f2, conicity, r0, b, clearance, k_rail, limit, flange, saturation, z)
+    _feedback(x, ivy, ivpsi, first, iy, ipsi, y_rail, rho, speed, f1, f2, conicity, r0, b, clearance, k_rail, limit, flange, saturation, stop_rows, stop_offset, stop_gap, stop_k, stop_k3, z)
     for k in range(first, last):
         for i in range(size):
             total = drive[k, i]
@@ -109,13 +122,13 @@ def _march(phi, drive, g0, g1, x0, first, last, states, iy, ipsi, y_rail, rho, s
             for j in range(nz):
                 held += g0[i, j] * z[j]
             trial[i] = total + held
-        _feedback(trial, n, k + 1, iy, ipsi, y_rail, rho, speed, f1, f2, conicity, r0, b, clearance, k_rail, limit, flange, saturation, z_next)
+        _feedback(trial, ivy, ivpsi, k + 1, iy, ipsi, y_rail, rho, speed, f1, f2, conicity, r0, b, clearance, k_rail, limit, flange, saturation, stop_rows, stop_offset, stop_gap, stop_k, stop_k3, z_next)
         for i in range(size):
             total = base[i]
             for j in range(nz):
                 total += g0[i, j] * z[j] + g1[i, j] * (z_next[j] - z[j])
             x[i] = total
-        _feedback(x, n, k + 1, iy, ipsi, y_rail, rho, speed, f1, f2, conicity, r0, b, clearance, k_rail, limit, flange, saturation, z)
+        _feedback(x, ivy, ivpsi, k + 1, iy, ipsi, y_rail, rho, speed, f1, f2, conicity, r0, b, clearance, k_rail, limit, flange, saturation, stop_rows, stop_offset, stop_gap, stop_k, stop_k3, z)
         for i in range(size):
             states[k + 1, i] = x[i]
     return x
@@ -129,14 +142,18 @@ def march(phi, drive, g0, g1, x0, wheel_rail, *, flange=True, saturation=True, p
     phi : numpy.ndarray, shape (N, N)
     drive : numpy.ndarray, shape (steps, N)
         Known forcing already discretized: ``gamma0 e[k] + gamma1 (e[k+1] - e[k])``.
-    g0, g1 : numpy.ndarray, shape (N, 2 * n_wheelsets)
-        Discretized input matrices of the feedback forces.
+    g0, g1 : numpy.ndarray, shape (N, 2 * n_wheelsets + n_stops)
+        Discretized input matrices of the feedback forces (wheel/rail, then bump stops).
     x0 : numpy.ndarray, shape (N,)
         Initial state.
     wheel_rail : dict
-        ``iy``, ``ipsi`` (int arrays), ``y_rail`` and ``rho`` (steps + 1, n_wheelsets),
-        ``speed`` and the per-wheelset arrays ``f1, f2, conicity, r0, b, clearance,
-        k_rail, limit``.
+        ``iy``, ``ipsi`` (int arrays: the wheelsets' lateral and yaw coordinates in the
+        state), ``ivy``, ``ivpsi`` (their velocities in the state), ``y_rail`` and
+        ``rho`` (steps + 1, n_wheelsets), ``speed`` and the per-wheelset arrays ``f1,
+        f2, conicity, r0, b, clearance, k_rail, limit``; optionally the bump stops
+        (:mod:`express.clearance`): ``stop_rows`` (n_stops, N) deflection over the
+        state, ``stop_offset`` (steps + 1, n_stops) its input part, ``stop_gap``,
+        ``stop_k``, ``stop_k3`` (n_stops,).
     progress : callable, optional
         Called with the fraction done, after each chunk.
 
@@ -149,14 +166,22 @@ def march(phi, drive, g0, g1, x0, wheel_rail, *, flange=True, saturation=True, p
     states = np.empty((steps + 1, x0.size))
     states[0] = x0
     w = wheel_rail
+    half = x0.size // 2
+    ivy = np.ascontiguousarray(w.get("ivy", half + w["iy"]), dtype=np.int64)
+    ivpsi = np.ascontiguousarray(w.get("ivpsi", half + w["ipsi"]), dtype=np.int64)
+    stops = (
+        np.ascontiguousarray(w.get("stop_rows", np.zeros((0, x0.size))), dtype=float),
+        np.ascontiguousarray(w.get("stop_offset", np.zeros((steps + 1, 0))), dtype=float),
+        *(np.ascontiguousarray(w.get(key, np.zeros(0)), dtype=float) for key in ("stop_gap", "stop_k", "stop_k3")),
+    )
     chunk = steps if progress is None else max(1, steps // 50)
     x = np.ascontiguousarray(x0, dtype=float)
     for first in range(0, steps, chunk):
         last = min(steps, first + chunk)
         x = _march(
-            phi, drive, g0, g1, x, first, last, states, w["iy"], w["ipsi"], w["y_rail"], w["rho"],
+            phi, drive, g0, g1, x, first, last, states, ivy, ivpsi, w["iy"], w["ipsi"], w["y_rail"], w["rho"],
             float(w["speed"]), w["f1"], w["f2"], w["conicity"], w["r0"], w["b"], w["clearance"],
-            w["k_rail"], w["limit"], bool(flange), bool(saturation),
+            w["k_rail"], w["limit"], bool(flange), bool(saturation), *stops,
         )
         if progress is not None:
             progress(last / steps)

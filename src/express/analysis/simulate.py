@@ -21,6 +21,12 @@ Derived quantities (``rail.md``):
     radial value is ``a / R``).
 ``theta_<lever>``
     Rotation of each steering lever [rad] (bodies carrying a pin's virtual DOF).
+``stop_<element>``
+    Force of each bump stop (clearance element, :mod:`express.clearance`) [N; N m for
+    a rotational one], zero inside its gap.
+
+Series (Maxwell) elements make the state ``[q; q_D']`` (:mod:`express.first_order`);
+``q_dot`` of their damper strokes comes from the first-order equations.
 """
 
 from __future__ import annotations
@@ -35,6 +41,7 @@ from ..rail.nonlinear import wheelset_forces
 from ..rail.track import Track
 from ..topology import classify_bodies
 from ..statespace import VehicleModel
+from ..clearance import clearance_force, clearances_of
 from .integrator import discretize, march
 
 __all__ = ["SimulationResult", "simulate", "bogie_of_wheelsets", "lever_bodies", "TrackInputs", "track_inputs"]
@@ -122,7 +129,7 @@ class SimulationResult:
 #: Units of the derived outputs by name prefix (longest prefixes first).
 _OUTPUT_UNITS = (
     ("QP", ""), ("Qtot", "N"), ("Q", "N"), ("flange", "N"), ("psi_TW", "rad"), ("theta_", "rad"),
-    ("dy", "m"), ("rho", "1/m"), ("S", "m"),
+    ("dy", "m"), ("rho", "1/m"), ("S", "m"), ("stop_", "N"),
 )
 
 
@@ -224,6 +231,7 @@ def simulate(
     saturation: bool = True,
     initial_state: np.ndarray | None = None,
     progress: bool | None = None,
+    clearances: bool | None = None,
 ) -> SimulationResult:
     """Run ``vehicle`` along ``track``.
 
@@ -243,10 +251,14 @@ def simulate(
         track length.
     flange, saturation : bool
         Include flange contact and creep saturation (both on, as in the paper's Fig. 9).
-    initial_state : numpy.ndarray, shape (2n,), optional
-        ``[q; q']`` at the start (zero by default).
+    initial_state : numpy.ndarray, shape (N,), optional
+        The state ``[q; q']`` at the start (zero by default); with series elements
+        ``[q; q_D']`` (:mod:`express.first_order`), N = ``vehicle.form.size``.
     progress : bool, optional
         Show a progress bar; by default only when standard error is a terminal.
+    clearances : bool, optional
+        Include the bump stops (clearance elements); by default unless both
+        ``flange`` and ``saturation`` are off (a linear run).
 
     Returns
     -------
@@ -273,30 +285,69 @@ def simulate(
         + inputs.u_rate[1:] @ (late @ bd).T
     )
     n = vehicle.n
-    count = len(vehicle.wheelsets)
-    selector = np.zeros((2 * n, 2 * count))
-    for j, wheelset in enumerate(vehicle.wheelsets):
-        selector[n:, j] = vehicle.mass_inverse[:, wheelset.y]
-        selector[n:, count + j] = vehicle.mass_inverse[:, wheelset.psi]
+    stops = _stops(vehicle, inputs, flange or saturation if clearances is None else clearances)
+    selector = _feedback_selector(vehicle, stops)
     g0, g1 = gamma0 @ selector, gamma1 @ selector
     wheel_rail = _wheel_rail_arrays(vehicle, inputs, v)
-    x0 = np.zeros(2 * n) if initial_state is None else np.asarray(initial_state, dtype=float)
+    wheel_rail.update(stops)
+    size = vehicle.form.size
+    x0 = np.zeros(size) if initial_state is None else np.asarray(initial_state, dtype=float)
+    if x0.shape != (size,):
+        raise ValueError(f"initial_state must have shape ({size},), got {x0.shape}")
     show = _terminal_progress() if progress is None else (_terminal_progress() if progress else None)
     states = march(
         np.ascontiguousarray(phi), np.ascontiguousarray(drive), np.ascontiguousarray(g0),
         np.ascontiguousarray(g1), x0, wheel_rail, flange=flange, saturation=saturation, progress=show,
     )
-    q, q_dot = states[:, :n], states[:, n:]
+    q = states[:, :n]
+    # feedback forces act on massive coordinates only: they do not enter q_F'
+    q_dot = vehicle.form.velocities(states, inputs.u, inputs.u_rate)
     outputs = derived_outputs(vehicle, q, q_dot, inputs, v, flange=flange, saturation=saturation)
-    return SimulationResult(time, distance, vehicle.dofs, q, q_dot, outputs, v,
-                            {"flange": flange, "saturation": saturation, "dt": dt})
+    if stops["names"]:
+        stop_forces = -_stop_forces(states, stops)
+        for b, name in enumerate(stops["names"]):
+            outputs[f"stop_{name}"] = stop_forces[:, b]
+    options = {"flange": flange, "saturation": saturation, "dt": dt}
+    if stops["names"]:
+        options["clearances"] = True
+    return SimulationResult(time, distance, vehicle.dofs, q, q_dot, outputs, v, options)
+
+
+def _feedback_selector(vehicle: VehicleModel, stops: dict) -> np.ndarray:
+    """``G`` columns of the feedback forces: wheelset lateral, wheelset yaw, bump stops."""
+    force = vehicle.form.force
+    columns = [force[:, w.y] for w in vehicle.wheelsets] + [force[:, w.psi] for w in vehicle.wheelsets]
+    columns += [force[:, : vehicle.n] @ row[: vehicle.n] for row in stops["stop_rows"]]
+    return np.column_stack(columns) if columns else np.zeros((vehicle.form.size, 0))
+
+
+def _stops(vehicle: VehicleModel, inputs: TrackInputs, active: bool) -> dict:
+    """Bump-stop arrays for :func:`express.analysis.integrator.march` (empty if none)."""
+    size, count = vehicle.form.size, inputs.u.shape[0]
+    data = clearances_of(vehicle.equations, vehicle.values) if active else None
+    if data is None or data.count == 0:
+        return {"names": (), "stop_rows": np.zeros((0, size)), "stop_offset": np.zeros((count, 0)),
+                "stop_gap": np.zeros(0), "stop_k": np.zeros(0), "stop_k3": np.zeros(0)}
+    rows = np.zeros((data.count, size))
+    rows[:, : vehicle.n] = data.gradient
+    return {"names": data.names, "stop_rows": rows, "stop_offset": inputs.u @ data.inputs.T,
+            "stop_gap": data.gap, "stop_k": data.stiffness, "stop_k3": data.progressive}
+
+
+def _stop_forces(states: np.ndarray, stops: dict) -> np.ndarray:
+    """Generalized-force amplitudes ``-F`` of the bump stops at every step, (N, n_stops)."""
+    delta = states @ stops["stop_rows"].T + stops["stop_offset"]
+    return -clearance_force(delta, stops["stop_gap"], stops["stop_k"], stops["stop_k3"])
 
 
 def _wheel_rail_arrays(vehicle: VehicleModel, inputs: TrackInputs, speed: float) -> dict:
     ws = vehicle.wheelsets
+    velocity = {int(i): vehicle.n + j for j, i in enumerate(vehicle.form.massive)}
     return {
         "iy": np.array([w.y for w in ws], dtype=np.int64),
         "ipsi": np.array([w.psi for w in ws], dtype=np.int64),
+        "ivy": np.array([velocity[w.y] for w in ws], dtype=np.int64),
+        "ivpsi": np.array([velocity[w.psi] for w in ws], dtype=np.int64),
         "y_rail": np.ascontiguousarray(inputs.y_rail),
         "rho": np.ascontiguousarray(inputs.rho_wheelsets),
         "speed": speed,
@@ -371,22 +422,26 @@ def continuous_rhs(
     a, b, bd = vehicle.state_matrix(v), vehicle.input_matrix(v), vehicle.input_rate_matrix(v)
     n = vehicle.n
     ws = vehicle.wheelsets
-    count = len(ws)
-    selector = np.zeros((2 * n, 2 * count))
-    for j, wheelset in enumerate(ws):
-        selector[n:, j] = vehicle.mass_inverse[:, wheelset.y]
-        selector[n:, count + j] = vehicle.mass_inverse[:, wheelset.psi]
+    data = clearances_of(vehicle.equations, vehicle.values) if (flange or saturation) else None
+    stop_rows = data.gradient if data is not None else np.zeros((0, n))
+    columns = [vehicle.form.force[:, w.y] for w in ws] + [vehicle.form.force[:, w.psi] for w in ws]
+    columns += [vehicle.form.force @ row for row in stop_rows]
+    selector = np.column_stack(columns)
     iy = [w.y for w in ws]
     ipsi = [w.psi for w in ws]
 
     def rhs(t: float, x: np.ndarray) -> np.ndarray:
         inputs = track_inputs(vehicle, track, np.array([start + v * t]), v)
-        q, q_dot = x[:n], x[n:]
+        q = x[:n]
+        q_dot = vehicle.form.velocities(x, inputs.u[0], inputs.u_rate[0])
         forces = wheelset_forces(
             q[iy], q[ipsi], q_dot[iy], q_dot[ipsi], inputs.y_rail[0], inputs.rho_wheelsets[0], v, ws,
             flange=flange, saturation=saturation,
         )
-        z = np.concatenate([forces["flange"] + forces["lateral_correction"], forces["yaw_correction"]])
-        return a @ x + b @ inputs.u[0] + bd @ inputs.u_rate[0] + selector @ z
+        z = [forces["flange"] + forces["lateral_correction"], forces["yaw_correction"]]
+        if data is not None and data.count:
+            delta = stop_rows @ q + data.inputs @ inputs.u[0]
+            z.append(-clearance_force(delta, data.gap, data.stiffness, data.progressive))
+        return a @ x + b @ inputs.u[0] + bd @ inputs.u_rate[0] + selector @ np.concatenate(z)
 
     return rhs

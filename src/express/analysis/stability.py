@@ -506,26 +506,18 @@ def eigen_analysis(vehicle: VehicleModel, speed: float) -> EigenResult:
 
 
 class _Pieces:
-    """``A(v)`` assembled from precomputed blocks, many speeds at once."""
+    """``A(v) = A0 + A1 / v`` (:mod:`express.first_order`), many speeds at once."""
 
     def __init__(self, vehicle: VehicleModel):
-        n = vehicle.n
-        self.n = n
-        m_inv = vehicle.mass_inverse
-        self.template = np.zeros((2 * n, 2 * n))
-        self.template[:n, n:] = np.eye(n)
-        self.template[n:, :n] = -(m_inv @ vehicle.stiffness)
-        self.c0 = -(m_inv @ vehicle.damping_base)
-        self.c1 = -(m_inv @ vehicle.damping_creep)
+        self.a0 = vehicle.form.a0
+        self.a1 = vehicle.form.a1
+        self.size = self.a0.shape[0]
 
     def stack(self, speeds: np.ndarray) -> np.ndarray:
-        n = self.n
-        a = np.broadcast_to(self.template, (speeds.size, 2 * n, 2 * n)).copy()
-        a[:, n:, n:] = self.c0[None] + self.c1[None] / speeds[:, None, None]
-        return a
+        return self.a0[None] + self.a1[None] / speeds[:, None, None]
 
     def eigenvalues(self, speeds: np.ndarray, chunk: int = 256) -> np.ndarray:
-        out = np.empty((speeds.size, 2 * self.n), dtype=complex)
+        out = np.empty((speeds.size, self.size), dtype=complex)
         for start in range(0, speeds.size, chunk):
             part = speeds[start : start + chunk]
             out[start : start + part.size] = np.linalg.eigvals(self.stack(part))
