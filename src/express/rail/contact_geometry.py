@@ -119,7 +119,8 @@ class ContactTable:
     ----------
     y : wheelset lateral displacement [m], positive to the left.
     roll : wheelset roll angle phi [rad], positive lifting the left wheel.
-    height : vertical displacement of the wheelset centre from its nominal height [m].
+    height : vertical displacement of the wheelset centre from its nominal height r0
+        above the rail tops [m].
     delta_r : rolling radius difference r_left - r_right [m].
     radius : rolling radius [m].
     wheel_position : contact point on the wheel profile, side frame y [m].
@@ -411,14 +412,43 @@ def _scan(sigma, y, c, sn, r0, half, ws, wh, wz, rs, rh, rz, rdz, gaps, around, 
 
 
 @njit(cache=True)
-def _refine(sigma, y, c, sn, r0, half, ws, wh, wz, wdz, rs, rh, rz, rdz, gaps, i):
-    """Gap minimum refined by a parabola: (wheel position, gap, d gap / d phi, u, rail z)."""
+def _linear(start, step, values, x):
+    """Linear interpolation in a uniform table (clamped to its ends)."""
+    f = (x - start) / step
+    k = min(max(int(math.floor(f)), 0), len(values) - 2)
+    t = f - k
+    return (1.0 - t) * values[k] + t * values[k + 1]
+
+
+@njit(cache=True)
+def _refine(sigma, y, c, sn, r0, half, ws, wh, wz, wdz, wddz, rs, rh, rz, rdz, rddz, gaps, i):
+    """Gap minimum near wheel point i: a parabola through the neighbours, then Newton
+    steps on d gap / ds = 0 with the tables' curvatures (near-conformal contacts have a
+    flat gap, where the parabola alone is off by a micrometre).
+
+    Returns (wheel position, gap, d gap / d phi, u, rail z)."""
     t = 0.0
     if 0 < i < len(wz) - 1 and math.isfinite(gaps[i - 1]) and math.isfinite(gaps[i + 1]):
         curvature = gaps[i - 1] - 2.0 * gaps[i] + gaps[i + 1]
         if curvature > 0.0:
             t = min(0.5, max(-0.5, 0.5 * (gaps[i - 1] - gaps[i + 1]) / curvature))
     s = ws + wh * (i + t)
+    for _ in range(2):
+        zw, dzw = _hermite(ws, wh, wz, wdz, s)
+        u = sigma * (y + c * sigma * (half + s) - sn * (-r0 + zw))
+        rail, rail_slope = _hermite(rs, rh, rz, rdz, u)
+        if math.isnan(zw) or math.isnan(rail):
+            break
+        ddzw = _linear(ws, wh, wddz, s)
+        du = c - sigma * sn * dzw
+        first = (sn * sigma + c * dzw) - rail_slope * du
+        second = c * ddzw - _linear(rs, rh, rddz, u) * du * du + rail_slope * sigma * sn * ddzw
+        if not second > 0.0:
+            break
+        step = first / second
+        if abs(s - step - (ws + wh * i)) > wh:
+            break
+        s -= step
     zw_profile, _ = _hermite(ws, wh, wz, wdz, s)
     if math.isnan(zw_profile):
         zw_profile = wz[i]
@@ -478,8 +508,8 @@ def _solve_all(ys, r0, half, lws, lwh, lwz, lwdz, lwddz, lrs, lrh, lrz, lrdz, lr
                     return k
                 full = True
                 continue
-            sl, gap_l, dl, ul, zl = _refine(1.0, y, c, sn, r0, half, lws, lwh, lwz, lwdz, lrs, lrh, lrz, lrdz, gl, il)
-            sr, gap_r, dr, ur, zr = _refine(-1.0, y, c, sn, r0, half, rws, rwh, rwz, rwdz, rrs, rrh, rrz, rrdz, gr, ir)
+            sl, gap_l, dl, ul, zl = _refine(1.0, y, c, sn, r0, half, lws, lwh, lwz, lwdz, lwddz, lrs, lrh, lrz, lrdz, lrddz, gl, il)
+            sr, gap_r, dr, ur, zr = _refine(-1.0, y, c, sn, r0, half, rws, rwh, rwz, rwdz, rwddz, rrs, rrh, rrz, rrdz, rrddz, gr, ir)
             f = gap_l - gap_r
             if f > 0.0:
                 hi = phi
@@ -497,7 +527,7 @@ def _solve_all(ys, r0, half, lws, lwh, lwz, lwdz, lwddz, lrs, lrh, lrz, lrdz, lr
             phi = new
             full = False
         out[0, k] = phi
-        out[1, k] = -0.5 * (gap_l + gap_r)
+        out[1, k] = -0.5 * (gap_l + gap_r) - r0
         for row, (sigma, s, u, zrail, i, gaps, ws, wh, wz, wdz, wddz, rs, rh, rz, rdz, rddz) in enumerate((
             (1.0, sl, ul, zl, il, gl, lws, lwh, lwz, lwdz, lwddz, lrs, lrh, lrz, lrdz, lrddz),
             (-1.0, sr, ur, zr, ir, gr, rws, rwh, rwz, rwdz, rwddz, rrs, rrh, rrz, rrdz, rrddz),

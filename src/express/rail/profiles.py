@@ -425,10 +425,10 @@ def _arc_length_samples(func, lo: float, hi: float, step: float, breaks: tuple[f
     dense = np.linspace(lo, hi, round((hi - lo) / 1e-3) + 1)
     height = func(dense)
     length = np.concatenate([[0.0], np.cumsum(np.hypot(np.diff(dense), np.diff(height)))])
-    samples = np.round(np.interp(np.arange(0.0, length[-1], step), length, dense), 6)
+    samples = np.round(np.interp(np.arange(0.0, length[-1], step), length, dense), 9)
     fixed = np.array(sorted({lo, hi, *(b for b in breaks if lo < b < hi)}))
     nearest = np.min(np.abs(samples[:, None] - fixed[None, :]), axis=1)
-    return np.union1d(samples[nearest > step / 4.0], np.round(fixed, 6))
+    return np.union1d(samples[nearest > step / 4.0], np.round(fixed, 9))
 
 
 #: The profiles shipped under ``express/data/profiles`` (name -> file, kind).
@@ -457,7 +457,7 @@ def standard_profile_text(name: str, step: float = 0.1) -> str:
         ]
     else:
         _arcs, (y_flank, z_flank) = _uic60_geometry()
-        y_max = round(y_flank + (z_flank + 30.0) * _UIC60_FLANK, 6)
+        y_max = round(y_flank + (z_flank + 30.0) * _UIC60_FLANK, 9)
         breaks = tuple(b * sign for b in _UIC60_BREAKS for sign in (-1.0, 1.0))
         y = _arc_length_samples(uic60_height, -y_max, y_max, step, breaks)
         z = uic60_height(y)
@@ -470,7 +470,8 @@ def standard_profile_text(name: str, step: float = 0.1) -> str:
             "# negative y); z up from the crown.",
             f"# Points every {step:g} mm along the profile, arc ends included.",
         ]
-    body = [f"{a:.6f},{b:.6f}" for a, b in zip(y, z, strict=True)]
+    # nine decimals (pm): curvatures come from second differences of these points
+    body = [f"{a:.9f},{b:.9f}" for a, b in zip(y, z, strict=True)]
     return "\n".join([*head, "y_mm,z_mm", *body]) + "\n"
 
 
