@@ -196,7 +196,11 @@ class _Inference:
         try:
             found = self.dim(expression)
         except _MismatchError as mismatch:
-            self.report(site.line, site.item, f'{site.what} "{sp.sstr(expression)}" {mismatch}')
+            if expression.is_Add:  # blame the terms that are not what the use needs
+                for term in expression.args:
+                    self.expect(term, wanted, site)
+            else:
+                self.report(site.line, site.item, f'{site.what} "{sp.sstr(expression)}" {mismatch}'.strip())
             return
         if found == _ANY:
             return
