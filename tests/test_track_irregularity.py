@@ -156,3 +156,33 @@ def test_profile_validation():
     assert irr(2.5) == pytest.approx(0.0025) and isinstance(irr(2.5), float)
     assert ProfileIrregularity([0, 10], [0, 0.01]).rate(2.5) == pytest.approx(1e-3)
     assert NoIrregularity()(np.ones(3)).shape == (3,)
+
+
+def _cosine_sum(s, w, a, phi, derivative):
+    """The definition, one cosine per term (independent of Harmonics.evaluate)."""
+    arg = np.outer(s, w) + phi
+    return -np.sin(arg) @ (a * w) if derivative else np.cos(arg) @ a
+
+
+@pytest.mark.parametrize("derivative", [False, True])
+@pytest.mark.parametrize("period, lmin", [(10_000.0, 3.0), (250.0, 3.0), (120.0, 100.0), (2000.0, 1.0)])
+def test_harmonic_sum_equals_the_cosine_sum(period, lmin, derivative):
+    # block sizes: 3250 harmonics, 81 (one full block and a partial one), 1 (a single cosine), 1984
+    irr = SpectrumIrregularity("fra5", seed=5, wavelength_min=lmin, wavelength_max=min(120.0, period), period=period)
+    h = irr.harmonics
+    s = np.concatenate([np.linspace(-30.0, 1500.0, 3001), [1e5 + 0.3]])
+    expected = _cosine_sum(s, h.wavenumbers, h.amplitudes, h.phases, derivative)
+    scale = np.max(np.abs(expected))
+    np.testing.assert_allclose(h.evaluate(s, derivative), expected, rtol=0, atol=1e-11 * scale)
+
+
+def test_harmonic_sum_of_arbitrary_wavenumbers():
+    rng = np.random.default_rng(0)
+    w = np.sort(rng.uniform(0.05, 2.0, 300))
+    a, phi = rng.uniform(0, 1e-3, 300), rng.uniform(0, 2 * np.pi, 300)
+    from express.rail.track import Harmonics
+
+    h = Harmonics(ERRI_LOW, w, a, phi)
+    s = np.linspace(0, 400, 777)
+    for derivative in (False, True):
+        np.testing.assert_allclose(h.evaluate(s, derivative), _cosine_sum(s, w, a, phi, derivative), atol=1e-15)

@@ -48,8 +48,8 @@ __all__ = [
 #: mistake (millimetres written as metres).
 MAX_LATERAL_IRREGULARITY = 0.1
 #: Most cosines in one spectrum realisation, ``period * (1/wavelength_min -
-#: 1/wavelength_max)``. Evaluating yR costs one cosine per harmonic per point (the
-#: default realisation has 3250).
+#: 1/wavelength_max)``. Evaluating yR costs work in proportion to harmonics times
+#: points (the default realisation has 3250 harmonics).
 MAX_HARMONICS = 200_000
 #: Most points :meth:`SpectrumIrregularity.tabulate` makes.
 MAX_SAMPLES = 10_000_000
@@ -230,6 +230,64 @@ class Harmonics:
             arr.setflags(write=False)
         return cls(spectrum, w, amplitudes, phases)
 
+    def evaluate(self, s: FloatArray, derivative: bool = False) -> FloatArray:
+        """``sum_k a_k cos(Omega_k s + phi_k)`` [m], or its derivative in s [m/m].
+
+        Parameters
+        ----------
+        s : ndarray, shape (p,)
+            Distances [m].
+        derivative : bool
+            If true, ``-sum_k a_k Omega_k sin(Omega_k s + phi_k)``.
+
+        Returns
+        -------
+        ndarray, shape (p,)
+
+        Notes
+        -----
+        The sum is ``Re sum_k c_k exp(i Omega_k s)`` with ``c_k = a_k exp(i phi_k)``
+        (times ``i Omega_k`` for the derivative). When the wavenumbers are consecutive
+        multiples of one step ``dw`` (every drawn realisation), blocks of 64 of them share
+        ``exp(i Omega_b s)`` and the rest is a polynomial in ``exp(i dw s)`` summed by
+        Horner's rule: the same sum, exact to rounding, at about a fifth of the cost of
+        one cosine per term. Otherwise the cosines are summed directly.
+        """
+        s = np.asarray(s, dtype=float)
+        coefficients = self.amplitudes * np.exp(1j * self.phases)
+        if derivative:
+            coefficients = 1j * self.wavenumbers * coefficients
+        w = self.wavenumbers
+        if w.size >= 2 and np.allclose(np.diff(w), w[1] - w[0], rtol=1e-9, atol=0.0):
+            return _sum_progression(s, w[0], w[1] - w[0], coefficients)
+        out = np.empty_like(s)
+        chunk = max(1, 2_000_000 // max(w.size, 1))  # bounds the (chunk, n) temporary to 32 MB
+        for i in range(0, s.size, chunk):
+            out[i : i + chunk] = (np.exp(1j * np.outer(s[i : i + chunk], w)) @ coefficients).real
+        return out
+
+
+def _sum_progression(s: FloatArray, w0: float, dw: float, coefficients: np.ndarray) -> FloatArray:
+    """``Re sum_k c_k exp(i (w0 + k dw) s)``, k = 0..n-1, by blocks of Horner sums."""
+    n = coefficients.size
+    size = min(64, n)
+    blocks = -(-n // size)
+    padded = np.zeros(blocks * size, dtype=complex)
+    padded[:n] = coefficients
+    table = padded.reshape(blocks, size)  # table[b, m] is c_{b size + m}
+    block_start = w0 + dw * size * np.arange(blocks)
+    out = np.empty_like(s)
+    chunk = max(1, 500_000 // blocks)  # bounds each (chunk, blocks) temporary to 8 MB
+    for i in range(0, s.size, chunk):
+        part = s[i : i + chunk]
+        step = np.exp(1j * dw * part)[:, None]
+        total = np.broadcast_to(table[:, -1], (part.size, blocks)).copy()
+        for m in range(size - 2, -1, -1):
+            total *= step
+            total += table[:, m]
+        out[i : i + chunk] = (np.exp(1j * np.outer(part, block_start)) * total).sum(axis=1).real
+    return out
+
 
 def _harmonic_numbers(period: float, wavelength_min: float, wavelength_max: float) -> FloatArray:
     """The k with ``2 pi k / period`` in the band (as floats); check the count first."""
@@ -361,16 +419,7 @@ class SpectrumIrregularity(Irregularity):
 
     def _sum(self, s: ArrayLike, derivative: bool) -> FloatArray | float:
         arr, scalar = as_input(s)
-        flat = arr.ravel()
-        out = np.empty_like(flat)
-        w, a, phi = self.wavenumbers, self.amplitudes, self.phases
-        chunk = max(1, 2_000_000 // w.size)  # bounds the temporary (chunk, n) array to 16 MB
-        for i in range(0, flat.size, chunk):
-            arg = np.outer(flat[i : i + chunk], w) + phi
-            if derivative:
-                out[i : i + chunk] = -np.sin(arg) @ (a * w)
-            else:
-                out[i : i + chunk] = np.cos(arg) @ a
+        out = self.harmonics.evaluate(arr.ravel(), derivative=derivative)
         return as_output(out.reshape(arr.shape), scalar)
 
     def value(self, s: ArrayLike) -> FloatArray | float:
