@@ -415,7 +415,7 @@ def _scan(sigma, y, c, sn, r0, half, ws, wh, wz, rs, rh, rz, rdz, gaps, around, 
 def _linear(start, step, values, x):
     """Linear interpolation in a uniform table (clamped to its ends)."""
     f = (x - start) / step
-    k = min(max(int(math.floor(f)), 0), len(values) - 2)
+    k = min(max(math.floor(f), 0), len(values) - 2)
     t = f - k
     return (1.0 - t) * values[k] + t * values[k + 1]
 

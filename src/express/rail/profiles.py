@@ -174,10 +174,10 @@ def parse_profile(
         raise ValueError(f"profile units must be 'mm' or 'm', not {units!r}")
     problems: list[Problem] = []
     header_unit, rows = _parse_rows(text, file, problems)
-    unit = _resolve_unit(header_unit, units, file, problems)
     if not rows:
         problems.append(Problem(file, None, "", "no profile points"))
         raise ModelError(problems)
+    unit = _resolve_unit(header_unit, units, file, problems)
     lines = np.array([row[0] for row in rows])
     y = np.array([row[1] for row in rows])
     z = np.array([row[2] for row in rows])
@@ -420,13 +420,13 @@ def uic60_height(y: np.ndarray) -> np.ndarray:
 
 
 def _arc_length_samples(func, lo: float, hi: float, step: float, breaks: tuple[float, ...]) -> np.ndarray:
-    """Abscissae in [lo, hi] spaced ``step`` along the curve z = func(y), with the ends and
-    the section breaks included exactly (samples closer than step/4 to one are dropped)."""
+    """Abscissae in [lo, hi] spaced ``step`` along the curve z = func(y), with the ends, the
+    origin and the section breaks included exactly (samples closer than step/4 to one are dropped)."""
     dense = np.linspace(lo, hi, round((hi - lo) / 1e-3) + 1)
     height = func(dense)
     length = np.concatenate([[0.0], np.cumsum(np.hypot(np.diff(dense), np.diff(height)))])
     samples = np.round(np.interp(np.arange(0.0, length[-1], step), length, dense), 9)
-    fixed = np.array(sorted({lo, hi, *(b for b in breaks if lo < b < hi)}))
+    fixed = np.array(sorted({lo, hi, 0.0, *(b for b in breaks if lo < b < hi)}))
     nearest = np.min(np.abs(samples[:, None] - fixed[None, :]), axis=1)
     return np.union1d(samples[nearest > step / 4.0], np.round(fixed, 9))
 
@@ -453,7 +453,7 @@ def standard_profile_text(name: str, step: float = 0.1) -> str:
             "# coefficients as published in EN 13715 and in open contact codes (docs/contact.md).",
             "# Side frame: y lateral from the taping line, positive toward the field side (flange at",
             "# negative y, flange back at y = -70 mm); z up from the taping line (rolling radius r0 - z).",
-            f"# Points every {step:g} mm along the profile, section ends included.",
+            f"# Points every {step:g} mm along the profile, the taping line and section ends included.",
         ]
     else:
         _arcs, (y_flank, z_flank) = _uic60_geometry()
@@ -468,7 +468,7 @@ def standard_profile_text(name: str, step: float = 0.1) -> str:
             "# then the 1:20 flank, drawn to 30 mm below the crown (docs/contact.md).",
             "# Side frame: y lateral from the rail axis, positive toward the field side (gauge face at",
             "# negative y); z up from the crown.",
-            f"# Points every {step:g} mm along the profile, arc ends included.",
+            f"# Points every {step:g} mm along the profile, the crown and arc ends included.",
         ]
     # nine decimals (pm): curvatures come from second differences of these points
     body = [f"{a:.9f},{b:.9f}" for a, b in zip(y, z, strict=True)]
