@@ -27,7 +27,7 @@ Examples
 >>> model = load_model("examples/forced-steering.toml")
 >>> heavy = with_values(model, {"mc": "60 t"})
 >>> round(heavy.parameters["P0"].value / model.parameters["P0"].value, 4)
-1.4702
+1.7353
 """
 
 from __future__ import annotations
@@ -108,7 +108,7 @@ def expression_value(expression, values: Mapping[str, float]) -> float:
     Examples
     --------
     >>> expression_value(parse_expression("(mc + 2*mt)*g/8"), {"mc": 30000.0, "mt": 2600.0, "g": 9.81})
-    43167.6
+    43164.0
     """
     try:
         result = _float(expression, values)
