@@ -89,6 +89,31 @@ def test_critical_speed_curve_breaks_where_no_finite_stable_point(speeds, unstab
     assert axis.get_xlabel().startswith("tread conicity") and "km/h" in axis.get_ylabel()
 
 
+@pytest.mark.parametrize(
+    ("tops", "segments", "bars"),
+    [
+        ([np.nan] * 5, 1, 0),  # nothing known: one line
+        ([np.nan, np.nan, 140.0, np.inf, np.nan], 2, 1),  # 78-140 km/h window closes before 335: a jump
+        ([np.nan, np.nan, 400.0, np.inf, np.nan], 1, 1),  # the ranges overlap: the same instability, joined
+        ([np.nan, np.nan, np.inf, np.inf, np.nan], 1, 0),  # unstable up to the top at both: joined
+    ],
+)
+def test_critical_speed_curve_breaks_where_a_window_closes(tops, segments, bars):
+    from matplotlib.collections import LineCollection
+
+    conicity = np.array([0.04, 0.05, 0.06, 0.07, 0.08])
+    speeds = np.array([51.0, 71.0, 78.0, 335.0, 351.0])
+    figure = plots.figure_critical_speed(
+        [{"label": "car", "conicity": conicity, "speed_kmh": speeds, "window_end_kmh": np.array(tops),
+          "color": "#123456"}])
+    axis = figure.axes[0]
+    assert len(_lines(axis, "#123456")) == segments
+    drawn = [c for c in axis.collections if isinstance(c, LineCollection)]
+    assert sum(len(c.get_segments()) for c in drawn) == bars
+    if bars:
+        assert axis.get_ylim()[1] >= 140.0
+
+
 def test_root_locus_complex_plane():
     speeds = np.linspace(10.0, 100.0, 30)
     locus = _locus(speeds)

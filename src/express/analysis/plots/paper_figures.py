@@ -245,6 +245,22 @@ def _log_frequency_axis(axis) -> None:
 # --------------------------------------------------------------------------------------
 
 
+def _segments(speeds: np.ndarray, flagged: np.ndarray, tops: np.ndarray) -> list[np.ndarray]:
+    """Indices of the pieces of a ``V_cr`` line: runs of finite, not flagged points, cut
+    between neighbours whose unstable ranges ``[V_cr, top]`` are both known and disjoint."""
+    pieces = []
+    for run in _runs(np.isfinite(speeds) & ~flagged):
+        indices = np.arange(run.start, run.stop)
+        start = 0
+        for k in range(indices.size - 1):
+            i, j = indices[k], indices[k + 1]
+            if not (np.isnan(tops[i]) or np.isnan(tops[j])) and (tops[i] < speeds[j] or tops[j] < speeds[i]):
+                pieces.append(indices[start:k + 1])
+                start = k + 1
+        pieces.append(indices[start:])
+    return pieces
+
+
 @_styled
 def figure_critical_speed(
     curves: Sequence[Mapping],
@@ -256,17 +272,21 @@ def figure_critical_speed(
 ):
     """``V_cr`` [km/h] against ``Gamma`` (paper Fig. 11).
 
-    Each curve is drawn as separate segments: a point where no critical speed was found
-    below the search limit (nan) or where the vehicle is unstable at every speed scanned
-    (``unstable_at_min``, marked with a cross) breaks the line, so the line never joins
-    across an unstable window.
+    Each curve is drawn as separate segments, so the line never joins across an unstable
+    window: a point where no critical speed was found below the search limit (nan) or
+    where the vehicle is unstable at every speed scanned (``unstable_at_min``, marked
+    with a cross) breaks the line, and so does a jump between neighbours whose unstable
+    ranges ``[V_cr, window_end]`` do not overlap (a window that closes; the window is
+    drawn as a bar).
 
     Parameters
     ----------
     curves : sequence of mapping
         ``label``, ``conicity`` (shape (G,)), ``speed_kmh`` (shape (G,), nan where no
         critical speed was found below the search limit), and optional
-        ``unstable_at_min`` (bool, shape (G,)), ``color`` and ``style``.
+        ``unstable_at_min`` (bool, shape (G,)), ``window_end_kmh`` (shape (G,): the speed
+        from which the vehicle is stable again, ``inf`` if never, nan if unknown),
+        ``color`` and ``style``.
     running_speed_kmh : float, optional
         Drawn as a dotted horizontal line.
     nominal_conicity : float, optional
@@ -282,12 +302,18 @@ def figure_critical_speed(
         speeds = np.asarray(curve["speed_kmh"], dtype=float)
         colour = curve.get("color", palette[k % len(palette)])
         flagged = np.asarray(curve.get("unstable_at_min", np.zeros(speeds.size, bool)), dtype=bool)
-        for n, run in enumerate(_runs(np.isfinite(speeds) & ~flagged)):
-            axis.plot(conicity[run], speeds[run], color=colour, marker="o", markersize=2.8,
+        tops = np.asarray(curve.get("window_end_kmh", np.full(speeds.size, np.nan)), dtype=float)
+        for n, piece in enumerate(_segments(speeds, flagged, tops)):
+            axis.plot(conicity[piece], speeds[piece], color=colour, marker="o", markersize=2.8,
                       label=curve["label"] if n == 0 else "_segment", **style)
         if flagged.any():
             axis.plot(conicity[flagged], speeds[flagged], linestyle="none", marker="X", markersize=8,
                       color=colour, label=f"{curve['label']}: unstable from the lowest speed scanned")
+        windows = np.isfinite(tops) & np.isfinite(speeds)
+        if windows.any():
+            axis.vlines(conicity[windows], speeds[windows], tops[windows], color=colour, linewidth=3.0, alpha=0.45,
+                        label=f"{curve['label']}: unstable window (stable again above)")
+            top = max(top, float(np.max(tops[windows])))
         if np.isfinite(speeds).any():
             top = max(top, float(np.nanmax(speeds)))
     if running_speed_kmh is not None:
@@ -301,7 +327,7 @@ def figure_critical_speed(
     axis.set_xlim(left=0.0)
     axis.set_ylim(0.0, top * 1.12 if top > 0 else None)
     axis.set_title(title)
-    axis.legend(loc="upper right", framealpha=0.9)
+    axis.legend(loc="best", framealpha=0.9)
     figure.tight_layout(rect=(0, 0.06 if caption else 0, 1, 1))
     _caption(figure, caption)
     return figure

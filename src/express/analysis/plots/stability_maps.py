@@ -216,7 +216,7 @@ def figure_damping_vs_speed(
     for rank, j in enumerate(drawn):
         if rank < highlight:
             at = int(np.nanargmin(zeta[:, j]))
-            label = labels[j] if labels is not None else f"{frequency[at, j]:.2f} Hz at {speeds[at]:.0f} km/h"
+            label = labels[j] if labels is not None else f"{frequency[at, j]:.2f} Hz (least damped at {speeds[at]:.0f} km/h)"
             axis.plot(speeds, zeta[:, j], color=palette[rank % len(palette)], linewidth=1.8, label=label,
                       zorder=3 + highlight - rank)
         else:
