@@ -241,7 +241,7 @@ def test_an_undefined_name_in_an_element_carries_file_and_line():
 
 
 def test_contact_data_out_of_range_is_a_model_error(steered):
-    with pytest.raises(ModelError, match="rail.creep"):
+    with pytest.raises(ModelError, match=r"rail\.creep"):
         with_values(steered, {"nu": 0.7})
 
 

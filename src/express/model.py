@@ -44,6 +44,8 @@ DOF_NAMES = ("x", "y", "z", "rx", "ry", "rz")
 
 Vector = tuple[sp.Expr, sp.Expr, sp.Expr]
 ZERO3: Vector = (sp.S.Zero, sp.S.Zero, sp.S.Zero)
+#: Standard gravity [m/s^2], the rail gravity of a model that names none.
+STANDARD_GRAVITY = sp.Float(9.81)
 
 
 @dataclass(frozen=True)
@@ -274,7 +276,7 @@ class RailSpec:
     wheelsets: tuple[Wheelset, ...]
     speed: sp.Expr
     cant_base: sp.Expr
-    gravity: sp.Expr = sp.Float(9.81)
+    gravity: sp.Expr = STANDARD_GRAVITY
     outputs: tuple[OutputPoint, ...] = ()
     line: int | None = None
 

@@ -88,8 +88,8 @@ def to_text(eom: EquationsOfMotion) -> str:
         "",
     ]
     out += _names("DOFs q", eom.dofs)
-    out += [""] + _names("Eliminated DOFs", eom.eliminated)
-    out += [""] + _names("Inputs u", eom.inputs)
+    out += ["", *_names("Eliminated DOFs", eom.eliminated)]
+    out += ["", *_names("Inputs u", eom.inputs)]
     out.append("")
     if eom.parameters:
         out.append(f"Parameters ({len(eom.parameters)}):")

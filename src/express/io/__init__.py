@@ -10,7 +10,7 @@ from .classic import parse_classic, read_classic
 from .toml_model import parse_toml_model, read_toml_model
 from .toml_writer import model_to_toml
 
-__all__ = ["load_model", "read_classic", "parse_classic", "read_toml_model", "parse_toml_model", "model_to_toml"]
+__all__ = ["load_model", "model_to_toml", "parse_classic", "parse_toml_model", "read_classic", "read_toml_model"]
 
 
 def load_model(path: str | Path) -> Model:

@@ -15,7 +15,7 @@ import sympy as sp
 from ..model import Model, Parameter
 from ..units import unit_factor
 
-__all__ = ["model_to_toml", "value_to_toml", "value_text"]
+__all__ = ["model_to_toml", "value_text", "value_to_toml"]
 
 
 def _decimal(value: sp.Rational) -> str | None:
