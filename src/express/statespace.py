@@ -19,6 +19,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import sympy as sp
@@ -32,12 +33,12 @@ from .rail.build import RailLayout, generate_vehicle, rail_layout
 from .units import KMH
 
 __all__ = [
-    "WheelsetData",
-    "VehicleModel",
-    "vehicle_model",
-    "load_vehicle",
-    "evaluate_matrices",
     "SingularMassError",
+    "VehicleModel",
+    "WheelsetData",
+    "evaluate_matrices",
+    "load_vehicle",
+    "vehicle_model",
 ]
 
 
@@ -111,6 +112,9 @@ class VehicleModel:
     wheelsets: tuple[WheelsetData, ...] = ()
     station_positions: np.ndarray = field(default_factory=lambda: np.zeros(0))
     model: Model | None = None
+    # how it was evaluated, for with_values (set by _evaluate_vehicle)
+    _evaluator: Any = field(default=None, repr=False, compare=False)
+    _speed_name: str | None = field(default=None, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         # x = [q; q_D'] (express.first_order): [q; q'] unless series elements add
@@ -257,7 +261,7 @@ class _MatrixEvaluator:
         result = {}
         for key, (shape, entries, function) in self.functions.items():
             array = np.zeros(shape)
-            for (i, j, _), number in zip(entries, function(*arguments)):
+            for (i, j, _), number in zip(entries, function(*arguments), strict=False):
                 array[i, j] = number
             result[key] = array
         return result

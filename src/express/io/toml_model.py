@@ -219,7 +219,8 @@ def _parameters(reader: _Reader, table: dict) -> dict[str, Parameter]:
             extra = set(raw) - {"value", "unit", "source", "note"}
             if extra:
                 reader.problem(path, item, f"unknown keys {sorted(extra)} (allowed: value, unit, source, note)")
-            raw, unit = raw.get("value"), raw.get("unit", "")
+            spec, raw = raw, raw.get("value")
+            unit = spec.get("unit", "")
             if not isinstance(unit, str):
                 reader.problem(path, item, f"unit must be a text such as \"kN/m\", got {_show(unit)}")
                 continue
@@ -495,7 +496,8 @@ def parse_toml_model(text: str, source: str = "<string>") -> Model:
     parameters = _parameters(reader, reader.table(data.get("parameters", {}), ("parameters",), "parameters"))
 
     bodies, grounds, points, elements, pins = _items(reader, data)
-    rail, derivations = None, ()
+    rail: RailSpec | None = None
+    derivations: tuple[Derivation, ...] = ()
     if "rail" in data:
         rail, derivations = _rail(reader, reader.table(data["rail"], ("rail",), "rail"), parameters)
         _add_outputs(reader, parameters, derivations)

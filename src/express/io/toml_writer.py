@@ -151,6 +151,7 @@ def model_to_toml(model: Model) -> str:
 
 def _rail_lines(model: Model) -> list[str]:
     rail = model.rail
+    assert rail is not None
     lines = [
         "",
         "[rail]",
