@@ -151,11 +151,13 @@ class CriticalResult:
     crossing: HopfPoint | None
     evaluations: int
     method: str
+    mode_frequency: float = float("nan")
 
     @property
     def frequency(self) -> float:
-        """Frequency of the crossing mode [Hz] (nan without a crossing)."""
-        return self.crossing.frequency if self.crossing is not None else float("nan")
+        """Frequency of the mode that goes unstable [Hz]: that of the crossing, or without
+        one that of the least stable mode at :attr:`speed` (nan when stable throughout)."""
+        return self.crossing.frequency if self.crossing is not None else self.mode_frequency
 
 
 class StateBlocks:
@@ -272,6 +274,13 @@ def _bisect(blocks: StateBlocks, lo: float, hi: float, options: CriticalOptions)
     return 0.5 * (lo + hi)
 
 
+def _mode_frequency(blocks: StateBlocks, speed: float) -> float:
+    """Frequency [Hz] of the least stable eigenvalue of ``A(v)`` (as the stability code
+    reports the mode at the speed it returns)."""
+    values = np.linalg.eigvals(blocks.matrix(float(speed)))
+    return float(abs(values[int(np.argmax(values.real))].imag) / (2.0 * np.pi))
+
+
 def _cell(grid: np.ndarray, speed: float) -> int:
     """Index ``i`` of the grid cell ``(grid[i-1], grid[i]]`` holding ``speed``."""
     return int(np.searchsorted(grid, speed, side="left"))
@@ -345,7 +354,7 @@ def fast_critical_speed(
     blocks.evaluations = 0
     grid = options.grid
     if blocks.sigma(grid[0]) > options.threshold:
-        return CriticalResult(float(grid[0]), True, None, blocks.evaluations, "grid")
+        return CriticalResult(float(grid[0]), True, None, blocks.evaluations, "grid", _mode_frequency(blocks, grid[0]))
     if options.check == "local" and guess is not None:
         result = _local(blocks, grid, guess, options)
         if result is not None:
@@ -361,7 +370,7 @@ def fast_critical_speed(
     crossing = _crossing_in_cell(blocks, lo, hi, options)
     if crossing is None:
         speed = _bisect(blocks, lo, hi, options)
-        return CriticalResult(speed, False, None, blocks.evaluations, "bisection")
+        return CriticalResult(speed, False, None, blocks.evaluations, "bisection", _mode_frequency(blocks, speed))
     speed = _replay_bisection(blocks, lo, hi, crossing.speed, options)
     return CriticalResult(speed, False, crossing, blocks.evaluations, "grid")
 

@@ -6,7 +6,8 @@ output                     unit    what
 ``critical_speed``         m/s     as ``express critical-speed`` reports it (``critical`` module);
                                    ``v_min`` when already unstable there, nan when stable up to
                                    ``v_max`` (with a message)
-``critical_frequency``     Hz      frequency of the mode that goes unstable (exact crossing)
+``critical_frequency``     Hz      frequency of the mode that goes unstable (at the exact crossing;
+                                   10 significant digits)
 ``least_damping_ratio``    --      smallest damping ratio ``-Re/|lambda|`` of the modes at ``speed``
 ``least_damping_frequency`` Hz     frequency of that mode
 ``max_Q``                  N       largest lateral wheel/rail force ``|Q|`` of any wheelset on the
@@ -147,6 +148,12 @@ class OutputSettings:
         return settings
 
 
+def _rounded(value: float, digits: int) -> float:
+    """``value`` to ``digits`` significant digits (so that a quantity found by Newton's
+    method from different starting points is written the same)."""
+    return float(f"{value:.{digits}g}") if math.isfinite(value) else value
+
+
 class PointOutputs:
     """Computes the outputs of one point from a vehicle evaluated at its values.
 
@@ -197,7 +204,9 @@ class PointOutputs:
         elif result.speed is None:
             notes.append(f"no critical speed: stable up to {options.v_max:.6g} m/s")
         speed = result.speed if result.speed is not None else math.nan
-        return {"critical_speed": speed, "critical_frequency": result.frequency}
+        if options.check == "local" and options.tolerance == 0:
+            speed = _rounded(speed, 12)  # the exact crossing's last bits depend on the starting guess
+        return {"critical_speed": speed, "critical_frequency": _rounded(result.frequency, 10)}
 
     def _eigen(self, vehicle) -> dict[str, float]:
         eigenvalues = np.linalg.eigvals(vehicle.state_matrix(self._speed(vehicle)))

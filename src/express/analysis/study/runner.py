@@ -240,8 +240,8 @@ class Engine:
     def parallel(self) -> int:
         """Workers available (Dask: the cluster's worker threads)."""
         if self._client is not None:
-            return max(1, sum(self._client.nthreads().values()))
-        return self.workers
+            self._threads = max(1, sum(self._client.nthreads().values()))
+        return getattr(self, "_threads", self.workers)
 
     def _connect(self) -> None:
         try:
@@ -334,21 +334,18 @@ class Engine:
         assert client is not None
         window = IN_FLIGHT * self.parallel
         pending = iter(chunks)
-        futures = as_completed()
         parts = {}
 
-        def submit() -> bool:
+        def submit():
             chunk = next(pending, None)
             if chunk is None:
-                return False
+                return None
             future = client.submit(evaluate_points, self._task_future, chunk[0], chunk[1], pure=False)
             parts[future.key] = chunk
-            futures.add(future)
-            return True
+            return future
 
-        for _ in range(window):
-            if not submit():
-                break
+        first = [f for f in (submit() for _ in range(window)) if f is not None]
+        futures = as_completed(first, loop=client.loop)  # our client is not the default one
         for future in futures:
             part, part_vectors = parts.pop(future.key)
             try:
@@ -357,4 +354,6 @@ class Engine:
                 records = _failed(part, part_vectors, len(self.task.outputs), f"Dask task failed: {_message(error)}")
             yield records
             future.release()
-            submit()
+            following = submit()
+            if following is not None:
+                futures.add(following)

@@ -1,0 +1,263 @@
+"""Running studies (express.analysis.study.run / runner / results): the CSV against
+individual ``express critical-speed`` runs, the formats, failing points, checkpoint and
+resume (in process and after SIGKILL), a worker that dies, and a real Dask cluster."""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import json
+import math
+import os
+import signal
+import socket
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from express.analysis.study import runner
+from express.analysis.study.results import checkpoint_path, read_table
+from express.analysis.study.run import run_study
+from express.analysis.study.spec import read_study
+from express.cli import main
+
+ROOT = Path(__file__).resolve().parents[1]
+MODEL = ROOT / "examples" / "forced-steering.toml"
+
+
+def _study(folder: Path, body: str, name: str = "study.toml") -> Path:
+    path = folder / name
+    path.write_text(f'[study]\nmodel = "{MODEL}"\n' + body)
+    return path
+
+
+GRID = """kind = "grid"
+outputs = ["critical_speed", "critical_frequency"]
+[study.parameters]
+Gamma = { values = [0.03, 0.1, 0.3] }
+kx1 = { from = "1 MN/m", to = "4 MN/m", count = 2 }
+[study.set]
+cyaw = "200 kN*s/m"
+"""
+
+
+def _cli_json(arguments: list[str]) -> dict:
+    buffer = io.StringIO()
+    with contextlib.redirect_stdout(buffer):
+        assert main(arguments) == 0
+    return json.loads(buffer.getvalue())
+
+
+def test_grid_csv_equals_individual_critical_speed_runs(tmp_path: Path) -> None:
+    study = _study(tmp_path, GRID)
+    output = tmp_path / "grid.csv"
+    summary = _cli_json(["study", str(study), "-o", str(output), "--workers", "2", "--json"])
+    assert summary["points"] == 6 and summary["computed"] == 6 and summary["failed"] == 0
+    assert not checkpoint_path(output).exists()
+    lines = output.read_text().splitlines()
+    assert lines[0] == "Gamma,kx1_N_m,critical_speed_m_s,critical_frequency_hz,error"
+    rows = [line.split(",") for line in lines[1:]]
+    assert [(float(r[0]), float(r[1])) for r in rows] == [(g, k) for g in (0.03, 0.1, 0.3) for k in (1e6, 4e6)]
+    for row in rows:
+        single = _cli_json(["critical-speed", str(MODEL), "--set", f"Gamma={row[0]}", "--set", f"kx1={row[1]}",
+                            "--set", "cyaw=200 kN*s/m", "--json"])
+        assert float(row[2]) == pytest.approx(single["critical_speed"], rel=1e-9, abs=0)
+        assert float(row[3]) == pytest.approx(single["frequency_hz"], rel=1e-3)  # bisection midpoint vs crossing
+        assert row[4] == ("already unstable at the lowest speed 1 m/s" if single["unstable_at_min"] else "")
+    assert rows[0][4] and not rows[1][4]  # Gamma = 0.03 with the soft kx1 hunts at any speed
+
+
+def test_formats_hold_the_same_numbers(tmp_path: Path) -> None:
+    spec = read_study(_study(tmp_path, GRID))
+    tables = {}
+    for suffix in (".csv", ".parquet", ".nc"):
+        run_study(spec, tmp_path / f"r{suffix}", workers=1)
+        tables[suffix] = read_table(tmp_path / f"r{suffix}")
+    for suffix in (".parquet", ".nc"):
+        for name in ("critical_speed", "critical_frequency"):
+            assert np.array_equal(tables[suffix][name], tables[".csv"][name])
+    import pyarrow.parquet as pq
+    import xarray as xr
+
+    metadata = pq.read_schema(tmp_path / "r.parquet").metadata
+    assert metadata[b"express.study"].decode() == spec.text
+    assert json.loads(metadata[b"express.units"])["kx1"] == "N/m"
+    with xr.open_dataset(tmp_path / "r.nc", engine="scipy") as data:
+        assert data["critical_speed"].dims == ("Gamma", "kx1")
+        assert data["critical_speed"].attrs["units"] == "m/s" and data["kx1"].attrs["units"] == "N/m"
+        assert data.attrs["study"] == spec.text
+        assert float(data["critical_speed"].sel(Gamma=0.1, kx1=4e6)) == tables[".csv"]["critical_speed"][3]
+    # deterministic bytes: the same study written again
+    for suffix in (".csv", ".parquet", ".nc"):
+        run_study(spec, tmp_path / f"again{suffix}", workers=1)
+        assert (tmp_path / f"again{suffix}").read_bytes() == (tmp_path / f"r{suffix}").read_bytes()
+
+
+def test_failing_point_is_recorded_and_the_study_goes_on(tmp_path: Path) -> None:
+    body = ('outputs = ["critical_speed", "least_damping_ratio"]\n[study.parameters]\n'
+            'Rrail = { values = [0.3, -0.3, 0.2] }\n')
+    output = tmp_path / "f.csv"
+    summary = run_study(read_study(_study(tmp_path, body)), output, workers=1)
+    table = read_table(output)
+    assert summary.points == 3 and summary.failed == 1
+    assert math.isnan(table["critical_speed"][1]) and math.isnan(table["least_damping_ratio"][1])
+    assert table["error"][1] and "Rrail" in table["error"][1] or "radius" in table["error"][1]
+    assert table["error"][0] == table["error"][2] == ""
+    assert np.isfinite(table["critical_speed"][[0, 2]]).all()
+
+
+def test_resume_after_a_crash_computes_only_the_missing_points(tmp_path: Path, monkeypatch) -> None:
+    spec = read_study(_study(tmp_path, GRID.replace("count = 2", "count = 4")))
+    reference = tmp_path / "reference.csv"
+    run_study(spec, reference, workers=1)
+    output = tmp_path / "crashed.csv"
+    original = runner.Engine.run
+
+    def crash_after_two_chunks(self, indices, vectors):
+        for number, records in enumerate(original(self, indices, vectors)):
+            if number == 2:
+                raise KeyboardInterrupt
+            yield records
+
+    monkeypatch.setattr(runner, "chunk_size", lambda points, workers: 2)
+    monkeypatch.setattr(runner.Engine, "run", crash_after_two_chunks)
+    with pytest.raises(KeyboardInterrupt):
+        run_study(spec, output, workers=1)
+    checkpoint = checkpoint_path(output)
+    assert not output.exists() and len(checkpoint.read_text().splitlines()) == 1 + 4
+    with open(checkpoint, "a") as stream:
+        stream.write('{"point": 7, "values": [0.1, 2')  # a line cut short by the crash
+    monkeypatch.setattr(runner.Engine, "run", original)
+    assert main(["study", str(spec.path), "-o", str(output)]) == 2  # a checkpoint exists: --resume or delete it
+    summary = run_study(spec, output, workers=1, resume=True)
+    assert summary.computed == 12 - 4
+    assert output.read_bytes() == reference.read_bytes()
+    assert not checkpoint.exists()
+
+
+def test_checkpoint_of_another_study_is_refused(tmp_path: Path) -> None:
+    spec = read_study(_study(tmp_path, GRID))
+    output = tmp_path / "x.csv"
+    checkpoint_path(output).write_text('{"format": "express-study-checkpoint", "key": "other"}\n')
+    with pytest.raises(Exception, match="another study"):
+        run_study(spec, output, workers=1, resume=True)
+    assert not output.exists()
+
+
+# ------------------------------------------------------------------ processes, kills, Dask
+
+SLOW_GRID = """kind = "grid"
+outputs = ["critical_speed"]
+[study.parameters]
+Gamma = { from = 0.05, to = 0.4, count = 12 }
+kx1 = { from = "0.5 MN/m", to = "8 MN/m", count = 12, scale = "log" }
+"""
+
+
+def _express(arguments: list[str], **kwargs) -> subprocess.Popen:
+    environment = dict(os.environ, PYTHONPATH=str(ROOT / "src") + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    return subprocess.Popen([sys.executable, "-m", "express", *arguments], env=environment,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, **kwargs)
+
+
+def _lines(path: Path) -> int:
+    try:
+        return path.read_text().count("\n")
+    except FileNotFoundError:
+        return 0
+
+
+def _wait_for_lines(path: Path, count: int, process: subprocess.Popen, timeout: float = 300) -> None:
+    deadline = time.monotonic() + timeout
+    while _lines(path) < count:
+        assert process.poll() is None, process.communicate()
+        assert time.monotonic() < deadline, "the study made no progress"
+        time.sleep(0.05)
+
+
+@pytest.fixture(scope="module")
+def slow_reference(tmp_path_factory) -> tuple[Path, bytes]:
+    folder = tmp_path_factory.mktemp("reference")
+    study = _study(folder, SLOW_GRID)
+    output = folder / "reference.csv"
+    run_study(read_study(study), output, workers=2)
+    return study, output.read_bytes()
+
+
+@pytest.mark.slow
+def test_killed_study_resumes_to_the_identical_file(tmp_path: Path, slow_reference) -> None:
+    study, reference = slow_reference
+    output = tmp_path / "killed.csv"
+    process = _express(["study", str(study), "-o", str(output), "--workers", "2"], start_new_session=True)
+    checkpoint = checkpoint_path(output)
+    _wait_for_lines(checkpoint, 1 + 20, process)
+    os.killpg(process.pid, signal.SIGKILL)  # the study and its worker processes
+    process.communicate()
+    done = _lines(checkpoint) - 1
+    assert not output.exists() and 20 <= done < 144
+    resumed = _express(["study", str(study), "-o", str(output), "--workers", "2", "--resume", "--json"])
+    out, err = resumed.communicate(timeout=600)
+    assert resumed.returncode == 0, err
+    summary = json.loads(out)
+    assert summary["points"] == 144 and summary["computed"] <= 144 - done + 1  # + a torn line at most
+    assert output.read_bytes() == reference
+
+
+@pytest.mark.slow
+def test_dead_worker_process_has_its_points_run_again(tmp_path: Path, slow_reference) -> None:
+    import psutil
+
+    study, reference = slow_reference
+    output = tmp_path / "dead-worker.csv"
+    process = _express(["study", str(study), "-o", str(output), "--workers", "2"])
+    _wait_for_lines(checkpoint_path(output), 1 + 10, process)
+    children = psutil.Process(process.pid).children()
+    assert children, "no worker processes"
+    children[0].send_signal(signal.SIGKILL)
+    out, err = process.communicate(timeout=600)
+    assert process.returncode == 0, err
+    assert output.read_bytes() == reference
+
+
+def _free_port() -> int:
+    with socket.socket() as probe:
+        probe.bind(("127.0.0.1", 0))
+        return probe.getsockname()[1]
+
+
+@pytest.mark.slow
+def test_dask_scheduler_and_worker_on_localhost_give_the_same_results(tmp_path: Path, slow_reference) -> None:
+    study, reference = slow_reference
+    port = _free_port()
+    address = f"tcp://127.0.0.1:{port}"
+    environment = dict(os.environ, PYTHONPATH=str(ROOT / "src") + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    dask = [sys.executable, "-m", "distributed.cli.dask_scheduler"]
+    scheduler = subprocess.Popen([*dask, "--host", "127.0.0.1", "--port", str(port), "--dashboard-address", ":0"],
+                                 env=environment, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    worker = None
+    try:
+        worker = subprocess.Popen([sys.executable, "-m", "distributed.cli.dask_worker", address, "--nworkers", "2",
+                                   "--nthreads", "1", "--dashboard-address", ":0", "--local-directory", str(tmp_path)],
+                                  env=environment, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        from distributed import Client
+
+        with Client(address, timeout="60s") as client:
+            client.wait_for_workers(2, timeout=120)
+        output = tmp_path / "dask.csv"
+        run = _express(["study", str(study), "-o", str(output), "--scheduler", address, "--json"])
+        out, err = run.communicate(timeout=600)
+        assert run.returncode == 0, err
+        assert json.loads(out)["workers"] == 2
+        assert output.read_bytes() == reference
+    finally:
+        for process in (worker, scheduler):
+            if process is not None:
+                process.terminate()
+                try:
+                    process.wait(timeout=30)
+                except subprocess.TimeoutExpired:
+                    process.kill()
