@@ -17,7 +17,9 @@
 
 This module runs the steps; each figure has its own module (``demo_lever``,
 ``demo_curving``, ``demo_frequency``, ``demo_stability``) that measures a typed record
-and draws it, and the paper's numbers live in :mod:`express.analysis.paper`.  Nothing
+and draws it; ``demo_summary`` turns the records into verdicts and ``demo_report``
+into ``summary.md`` and ``summary.json``; the paper's numbers live in
+:mod:`express.analysis.paper`.  Nothing
 here is tuned to the paper: the vehicle parameters are the bundled ones
 (``docs/parameters.md``).
 """
@@ -34,6 +36,7 @@ from .demo_common import Cars
 from .demo_curving import Curving, measure_curving, write_curving
 from .demo_frequency import FloorResponse, measure_floor_response, write_floor_response
 from .demo_lever import LeverStep, lever_cases, lever_step_response, measure_lever, write_lever
+from .demo_report import summary_markdown, summary_numbers
 from .demo_stability import (
     StabilityMap,
     StabilitySweep,
@@ -42,7 +45,7 @@ from .demo_stability import (
     write_stability,
     write_stability_map,
 )
-from .demo_summary import Verdict, summary_markdown, summary_numbers, summary_rows
+from .demo_summary import Verdict, summary_rows
 from .paper import PAPER
 
 __all__ = [

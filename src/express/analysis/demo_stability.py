@@ -293,7 +293,7 @@ def write_stability_map(outdir: Path, stability_map: StabilityMap, name: str, *,
 
     speeds_kmh = stability_map.speeds / KMH
     complex_figure = figure_root_locus_complex(
-        speeds_kmh, stability_map.eigenvalues, title=f"{name}: eigenvalues from 0 to {speeds_kmh[-1]:.0f} km/h",
+        speeds_kmh, stability_map.eigenvalues, title=f"{name}: eigenvalues from {speeds_kmh[0]:.1f} to {speeds_kmh[-1]:.0f} km/h",
         critical_kmh=stability_map.critical_kmh, max_frequency_hz=max_frequency_hz)
     paths = write_figure(complex_figure, outdir / "stability_root_locus")
     damping_figure = figure_damping_vs_speed(

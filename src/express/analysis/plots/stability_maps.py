@@ -118,7 +118,7 @@ def figure_root_locus_complex(
         row = int(np.argmin(np.abs(speeds - critical_kmh)))
         k = int(np.argmax(np.where(values[row].imag >= 0, values[row].real, -np.inf)))
         axis.plot(values[row, k].real, frequency[row, k], marker="*", markersize=13, color=_RED, linestyle="none",
-                  markeredgecolor="black", label=f"least stable at {critical_kmh:.1f} km/h")
+                  markeredgecolor="black", label=f"critical speed {critical_kmh:.1f} km/h")
         axis.legend(loc="upper left", framealpha=0.9)
     top = max_frequency_hz if max_frequency_hz is not None else float(np.max(frequency[shown], initial=1.0))
     axis.set_xlim(left, right)
@@ -126,6 +126,7 @@ def figure_root_locus_complex(
     axis.set_xlabel("real part of eigenvalue [1/s]")
     axis.set_ylabel("frequency Im/2π [Hz]")
     axis.set_title(title)
+    figure.tight_layout()
     return figure
 
 
