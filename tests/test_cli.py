@@ -15,7 +15,7 @@ import sys
 import pytest
 
 import express
-from cli_support import CONVENTIONAL, LEVER, ROOT, run
+from cli_support import CONVENTIONAL, LEVER, ROOT, assert_input_error, run
 from express import cli
 from express.diagnostics import AnalysisError, ModelError, OutputError, Problem, UsageError
 
@@ -219,3 +219,19 @@ def test_numerical_commands_run_blas_on_one_thread_and_restore_it(capsys, monkey
     assert status == 0
     assert seen and seen[0] and all(n == 1 for n in seen[0])
     assert [pool["num_threads"] for pool in threadpool_info() if pool["user_api"] == "blas"] == before
+
+
+@pytest.mark.parametrize(
+    "text, shown",
+    [("plain text", "plain text"), ("a\nb", "a\\nb"), ("0\x850", "0\\x850"), ("\x1b[31mred", "\\x1b[31mred"),
+     ("tab\there", "tab\\there"), ("é ü 120 km/h", "é ü 120 km/h")],
+)
+def test_error_lines_show_control_characters_as_escapes(text, shown):
+    """What the user typed is echoed in errors; a newline or an escape sequence in it
+    must not split the line or drive the terminal."""
+    assert cli.printable(text) == shown
+
+
+def test_a_set_value_with_a_line_break_is_one_error_line(capsys):
+    err = assert_input_error(capsys, "eigen", CONVENTIONAL, "--set", "Gamma=0\x850")
+    assert len(err.split("\n")) == 2 and "\\x85" in err  # one line and its end

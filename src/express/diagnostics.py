@@ -80,7 +80,7 @@ class InputError(ExpressError, ValueError):
 
     def lines(self) -> list[str]:
         """The message as the lines the command line prints (one per problem)."""
-        return str(self).splitlines() or [type(self).__name__]
+        return str(self).split("\n") if str(self) else [type(self).__name__]
 
 
 class ModelError(InputError):

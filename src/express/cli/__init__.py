@@ -43,7 +43,7 @@ class _Parser(argparse.ArgumentParser):
     """An argument parser whose mistakes are one ``error:`` line and status 2."""
 
     def error(self, message: str) -> NoReturn:
-        self.exit(EXIT_INPUT, f"error: {self.prog}: {message} (see {self.prog} --help)\n")
+        self.exit(EXIT_INPUT, f"error: {printable(f'{self.prog}: {message}')} (see {self.prog} --help)\n")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -84,15 +84,21 @@ def _one_blas_thread(numeric: bool) -> Iterator[None]:
         yield
 
 
+def printable(text: str) -> str:
+    """``text`` with control characters (a newline, NEL, escape sequences the user typed)
+    shown as ``\\xNN`` escapes: an error line stays one line and cannot drive the terminal."""
+    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
+
+
 def _print_error_lines(lines: Sequence[str]) -> None:
     for line in lines:
-        print(f"error: {line}", file=sys.stderr)
+        print(f"error: {printable(line)}", file=sys.stderr)
 
 
 def _internal_error(error: BaseException, debug: bool) -> int:
     if debug:
         traceback.print_exception(type(error), error, error.__traceback__, file=sys.stderr)
-    message = (str(error).splitlines() or [""])[0][:200]
+    message = printable(str(error).split("\n")[0][:200])
     hint = "" if debug else " (run with --debug for the traceback)"
     print(f"error: internal error: {type(error).__name__}: {message}{hint}", file=sys.stderr)
     return EXIT_INTERNAL
@@ -137,7 +143,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         _print_error_lines(error.lines())
         return EXIT_INPUT
     except AnalysisError as error:
-        _print_error_lines(str(error).splitlines() or [type(error).__name__])
+        _print_error_lines(str(error).split("\n") if str(error) else [type(error).__name__])
         return EXIT_ANALYSIS
     except BrokenPipeError:  # e.g. `express generate ... | head`
         _quiet_stdout()

@@ -28,7 +28,21 @@ def run(model: Path, overrides: dict[str, str], *, output: str | None = None) ->
     output = output or STDOUT
     with output_transaction(inputs=[model]) as outputs:
         outputs.declare(output)
-        write_text(output, model_to_toml(common.load_model_with(model, overrides)))
+        text = model_to_toml(common.load_model_with(model, overrides))
+        _check_loads_back(text, output)
+        write_text(output, text)
     if output != STDOUT:
         common.note(f"wrote {output}")
     return 0
+
+
+def _check_loads_back(text: str, output: str) -> None:
+    """Every file ``convert`` writes loads back; one that would not is a bug of the
+    writer, reported as an internal error before anything is written."""
+    from ..diagnostics import ModelError
+    from ..io import parse_toml_model
+
+    try:
+        parse_toml_model(text, source=output)
+    except ModelError as error:
+        raise RuntimeError(f"the converted model does not load back: {error.lines()[0]}") from None
