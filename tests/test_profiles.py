@@ -11,6 +11,8 @@ import pytest
 
 from express.diagnostics import ModelError
 from express.rail.profiles import (
+    _S1002_BREAKS,
+    _UIC60_BREAKS,
     Profile,
     parse_inclination,
     parse_profile,
@@ -21,7 +23,6 @@ from express.rail.profiles import (
     standard_profile_text,
     uic60_height,
 )
-from express.rail.profiles import _S1002_BREAKS, _UIC60_BREAKS
 
 
 @pytest.mark.parametrize("name, filename", [("S1002", "S1002.csv"), ("60E1", "60E1.csv")])
