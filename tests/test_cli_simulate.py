@@ -220,3 +220,16 @@ def test_json_summary_is_plain_json(capsys, short_track):
 def test_simulate_needs_rail_data(capsys, tmp_path):
     """A model with values but no rail data: status 2 and a message saying what applies."""
     assert_input_error(capsys, "simulate", valued_lever(tmp_path), mentions="no rail data")
+
+
+def test_a_profile_read_by_the_track_is_an_input(capsys, tmp_path):
+    """``-o`` naming the measured profile the track reads is refused; the profile is intact."""
+    profile = tmp_path / "profile.csv"
+    rows = "\n".join(f"{s},{0.001 * np.sin(s / 5):.6f}" for s in range(0, 101, 5))
+    profile.write_text("s,yr\n" + rows + "\n", encoding="utf-8")
+    track = tmp_path / "measured.toml"
+    track.write_text('[[segment]]\ntype = "straight"\nlength = 100.0\n\n[irregularity]\ntype = "csv"\nfile = "profile.csv"\n',
+                     encoding="utf-8")
+    before = profile.read_bytes()
+    assert_input_error(capsys, "simulate", CONVENTIONAL, "--track", track, "-o", profile, mentions="refusing")
+    assert profile.read_bytes() == before

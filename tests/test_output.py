@@ -326,3 +326,17 @@ def test_npz_and_mat_bytes_are_deterministic_and_load_back(compress):
     assert mat == mat_bytes(arrays, compress=compress)
     assert mat.startswith(output.MAT_HEADER)
     np.testing.assert_array_equal(np.ravel(loadmat(io.BytesIO(mat))["t"]), arrays["t"])
+
+
+def test_inputs_found_during_the_work_are_protected(tmp_path):
+    """A file read once the work started (a profile named by a track) may not be one of
+    the declared destinations, nor be written afterwards."""
+    profile = tmp_path / "profile.csv"
+    profile.write_text("0,0\n1,0.001\n")
+    with pytest.raises(OutputError, match="refusing"), output_transaction() as outputs:
+        outputs.declare(profile)
+        outputs.add_inputs([profile])
+    with pytest.raises(OutputError, match="refusing"), output_transaction() as outputs:
+        outputs.add_inputs([profile])
+        write_text(profile, "clobbered")
+    assert profile.read_text() == "0,0\n1,0.001\n"

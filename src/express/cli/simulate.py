@@ -84,6 +84,7 @@ def run(
         if plot is not None:
             transaction.declare(plot, binary=True)
         road = common.load_track(track)
+        transaction.add_inputs(_files_read_by(road))
         vehicle = common.load_rail_vehicle(model, overrides, "simulate")
         v = common.running_speed(vehicle, speed)
         steps = road.length / (v * dt)
@@ -111,6 +112,12 @@ def run(
     else:
         _print_summary(vehicle.equations.name, summary, track, sys.stderr if "-" in outputs else sys.stdout)
     return 0
+
+
+def _files_read_by(road: Any) -> list[str]:
+    """Data files a track read besides itself (a measured profile)."""
+    source = getattr(road.irregularity, "source", None)
+    return [source] if isinstance(source, str) and Path(source).is_file() else []
 
 
 def _simulate(vehicle: Any, road: Any, speed: float, dt: float, linear: bool) -> Any:

@@ -243,6 +243,16 @@ class Transaction:
         self._declared[key] = destination
         return destination
 
+    def add_inputs(self, inputs: Iterable[str | os.PathLike]) -> None:
+        """Files found to be read once the work started (a profile named by a track file):
+        refused as destinations from now on, and checked against those declared already."""
+        added = tuple(os.fspath(p) for p in inputs)
+        for destination in self._declared.values():
+            if destination.kind == "file" and destination.path is not None:
+                with contextlib.suppress(FileNotFoundError):
+                    _refuse_input(destination.given, os.stat(destination.path), added)
+        self.inputs = self.inputs + added
+
     def _destination(self, given: str | os.PathLike) -> Destination:
         destination = check_destination(given, inputs=self.inputs)
         return self._declared.setdefault(self._key(destination), destination)
