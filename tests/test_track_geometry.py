@@ -216,6 +216,7 @@ def test_offset_approximation_errors(shape, lx, first, second, two):
     [
         (lambda: Straight(MAX_TRACK_LENGTH * 1.001), "'length' must be at most 1e+06 m"),
         (lambda: Straight(float("inf")), "'length' must be a finite number"),
+        (lambda: Straight(10**400), "'length' must be a finite number"),  # an int beyond float range
         (lambda: Transition(1e300), "'length' must be at most"),
         (lambda: Curve(100, 400, "left", 95.0), "'cant' must be at most 0.5 m in size, got 95.0 m"),
         (lambda: Curve(100, 400, "right", -0.6), "'cant' must be at most 0.5 m"),

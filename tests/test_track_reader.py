@@ -299,6 +299,7 @@ def test_total_length_and_speed_limits_in_a_file():
         ({"type": "curve", "length": 10, "radius": 400}, "missing 'direction' (one of left, right)"),
         ({"type": "transition", "length": "5 m^400"}, "'length': exponent 400"),
         ({"type": "straight", "length": "1e999 m"}, "out of range"),
+        ({"type": "straight", "length": 10**400}, "'length' must be finite, got a number of 401 digits"),
         ({"type": "straight", "length": [1, 2]}, "must be a number or a string with a unit, got list"),
         ({"type": "straight"}, "missing 'length'"),
         ({"length": 10}, "missing 'type' (one of straight, transition, curve)"),

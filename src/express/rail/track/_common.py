@@ -36,8 +36,13 @@ def is_number(x: Any) -> bool:
 
 
 def is_finite_number(x: Any) -> bool:
-    """True for a finite int or float (not a bool)."""
-    return is_number(x) and math.isfinite(float(x))
+    """True for a finite int or float (not a bool); False for an int beyond float range."""
+    if not is_number(x):
+        return False
+    try:
+        return math.isfinite(float(x))
+    except OverflowError:
+        return False
 
 
 def as_input(s: ArrayLike) -> tuple[FloatArray, bool]:

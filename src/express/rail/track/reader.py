@@ -33,7 +33,7 @@ import numpy as np
 from ...diagnostics import ModelError, Problem
 from ...io.toml_lines import KeyPath, find_line, line_index
 from ...units import KMH, UnitError, parse_quantity
-from ._common import FieldProblem, is_number
+from ._common import FieldProblem, is_finite_number, is_number
 from .geometry import DIRECTIONS, TRANSITION_SHAPES, Curve, Segment, Straight, Track, Transition
 from .irregularity import (
     Irregularity,
@@ -121,8 +121,9 @@ class _Report:
 def _quantity(value: Any, key: str, dimension: str) -> tuple[float | None, str | None]:
     """``(value in SI, None)`` or ``(None, what is wrong)`` for a number or ``"95 mm"``."""
     if is_number(value):
-        if not math.isfinite(float(value)):
-            return None, f"'{key}' must be finite, got {value!r}"
+        if not is_finite_number(value):
+            shown = repr(value) if len(repr(value)) <= 30 else f"a number of {len(repr(value))} digits"
+            return None, f"'{key}' must be finite, got {shown}"
         return float(value), None
     if isinstance(value, str):
         try:
