@@ -171,8 +171,15 @@ def _figure(vehicle: Any, plot: Path, vmin: float, vmax: float, result: Any, con
 
     name = vehicle.equations.name
     if conicities is not None and sweep is not None:
+        from ..analysis.demo_stability import unstable_windows
+
+        speeds_kmh = _speeds(sweep) / common.KMH
+        at_min = np.array([bool(c is not None and c.unstable_at_min) for c in sweep])
+        windows = unstable_windows(vehicle, np.asarray(conicities), speeds_kmh, at_min, parameter=parameter,
+                                   v_max=vmax)
         figure = plots.figure_critical_speed(
-            [{"label": name, "conicity": np.asarray(conicities), "speed_kmh": _speeds(sweep) / common.KMH}],
+            [{"label": name, "conicity": np.asarray(conicities), "speed_kmh": speeds_kmh,
+              "unstable_at_min": at_min, "window_end_kmh": windows}],
             nominal_conicity=vehicle.values.get(parameter),
             running_speed_kmh=vehicle.speed / common.KMH if math.isfinite(vehicle.speed) else None,
             title=f"{name}: critical speed against {parameter}",
