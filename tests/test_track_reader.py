@@ -412,3 +412,9 @@ def test_profile_read_is_read_only_and_exact(tmp_path):
         irr.distance[0] = 5.0
     assert irr(0.375) == pytest.approx(-0.5e-3) and math.isclose(irr.rate(0.3), -12e-3)
     np.testing.assert_array_equal(irr.yr, [0.0, 1e-3, -2e-3])
+
+
+def test_track_file_with_a_byte_order_mark(tmp_path):
+    f = tmp_path / "bom.toml"
+    f.write_bytes(b"\xef\xbb\xbf" + (EXAMPLES / "paper_curve.toml").read_bytes())
+    assert load_track(f) == paper_curve()

@@ -373,7 +373,7 @@ def load_track(path: str | Path) -> Track:
     """
     path = Path(path)
     source = str(path)
-    text = _read_text(path, MAX_TRACK_FILE_BYTES, "track", "utf-8")
+    text = _read_text(path, MAX_TRACK_FILE_BYTES, "track", "utf-8-sig")
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
