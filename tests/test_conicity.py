@@ -4,6 +4,7 @@ standard's reference cases E1..E9, file reading and the amplitude limits."""
 
 from __future__ import annotations
 
+import json
 import math
 from importlib import resources
 
@@ -120,8 +121,8 @@ def test_unsupported_amplitudes_listed_together():
     with pytest.raises(ModelError) as info:
         equivalent_conicity(DeltaR(y, 0.2 * y, "dr.csv"), amplitudes=[3e-3, 4.5e-3, 6e-3])
     lines = [str(p) for p in info.value.problems]
-    assert len(lines) == 2
-    assert lines[0].startswith("dr.csv: amplitude 4.5 mm: needs delta_r beyond its range (y -5 .. 4 mm)")
+    assert len(lines) == 1
+    assert lines[0].startswith("dr.csv: amplitudes 4.5 .. 6 mm (2 of them): needs delta_r beyond its range (y -5 .. 4 mm)")
     assert "the largest amplitude it supports is 4 mm" in lines[0]
 
 
@@ -207,3 +208,41 @@ def test_conicity_of_s1002_on_60e1():
     # 1:20 inclination gives a far lower conicity for this pair
     at_20, _ = conicity_from_profiles(wheel, rail, 3e-3, ContactSetup(inclination=1 / 20))
     assert at_20 < 0.05
+
+
+# --- express conicity -----------------------------------------------------------------
+
+
+def en15302_file(name: str) -> str:
+    return str(resources.files("express").joinpath("data").joinpath("en15302").joinpath(name))
+
+
+def test_cli_conicity_json_and_csv(tmp_path, capsys):
+    from express.cli import main
+
+    assert main(["conicity", "--delta-r", en15302_file("E1.csv"), "--amplitudes", "1:3:1", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert list(data) == ["amplitude_m", "tan_gamma_e"]
+    assert data["amplitude_m"] == pytest.approx([1e-3, 2e-3, 3e-3])
+    assert data["tan_gamma_e"] == pytest.approx([0.125, 0.155, 0.188], abs=1e-3)  # E1's reference
+    out = tmp_path / "c.csv"
+    assert main(["conicity", "S1002", "60E1", "--amplitudes", "0.002:0.004:0.001 m", "-o", str(out)]) == 0
+    lines = out.read_text().splitlines()
+    assert lines[0] == "amplitude_m,tan_gamma_e" and len(lines) == 4
+
+
+def test_cli_conicity_bad_input_writes_nothing(tmp_path, capsys):
+    from express.cli import main
+
+    bad = tmp_path / "dr.csv"
+    bad.write_text("y_m,delta_r_m\n-0.001,-0.0002\n0.001,nan\n0.0005,0.0001\n")
+    out = tmp_path / "c.csv"
+    assert main(["conicity", "--delta-r", str(bad), "-o", str(out)]) == 2
+    err = capsys.readouterr().err.splitlines()
+    assert err == [f"error: {bad}:3: delta_r: 'nan' is not a finite number"]
+    assert main(["conicity", "--delta-r", en15302_file("E5.csv"), "-o", str(out)]) == 2
+    assert "amplitudes 5.5 .. 7.5 mm (21 of them): needs delta_r beyond its range" in capsys.readouterr().err
+    assert not out.exists()
+    assert main(["conicity", "--amplitudes", "1:2:1"]) == 2
+    assert "give either --delta-r FILE.csv or the two profiles" in capsys.readouterr().err
+    assert main(["conicity", "S1002", "60E1", "--amplitudes", "1:2:0"]) == 2

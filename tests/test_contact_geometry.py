@@ -10,6 +10,7 @@ flange contact starts.
 
 from __future__ import annotations
 
+import json
 import math
 
 import numpy as np
@@ -268,3 +269,35 @@ def test_bad_setup_and_kinds():
         ContactSetup(inclination=-0.1)
     with pytest.raises(ValueError, match="wheel profile and a rail"):
         contact_geometry(standard_profile("60E1"), standard_profile("S1002"), np.zeros(1))
+
+
+# --- express contact-geometry -----------------------------------------------------------
+
+
+def test_cli_contact_geometry(tmp_path, capsys):
+    from express.cli import main
+
+    out, fig = tmp_path / "t.csv", tmp_path / "t.png"
+    args = ["contact-geometry", "S1002", "UIC60", "--y-range=-1:1:0.5", "--inclination", "1:40", "--gauge", "1435 mm"]
+    assert main([*args, "-o", str(out), "--plot", str(fig), "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["points"] == 5 and summary["gauge_m"] == pytest.approx(1.435)
+    assert [j["side"] for j in summary["jumps"]] == ["right", "left"]
+    lines = out.read_text().splitlines()
+    assert lines[0].startswith("y_m,roll_rad,height_m,delta_r_m,r_left_m,r_right_m,contact_angle_left_rad")
+    assert len(lines) == 6 and fig.stat().st_size > 10_000
+
+
+def test_cli_contact_geometry_bad_profile(tmp_path, capsys):
+    from express.cli import main
+
+    wheel = tmp_path / "w.csv"
+    wheel.write_text("y_mm,z_mm\n" + "".join(f"{y},{0.05 * y}\n" for y in range(-40, 41, 2)).replace("\n0,0.0\n", "\n0,x\n"))
+    out = tmp_path / "t.csv"
+    assert main(["contact-geometry", str(wheel), "60E1", "-o", str(out)]) == 2
+    assert capsys.readouterr().err.splitlines() == [f"error: {wheel}:22: vertical coordinate: 'x' is not a number"]
+    assert not out.exists()
+    assert main(["contact-geometry", "60E1", "S1002"]) == 2
+    assert "60E1 is a rail profile, given as the wheel" in capsys.readouterr().err
+    assert main(["contact-geometry", "S1002", "60E1", "--gauge", "1435"]) == 2  # bare numbers are SI
+    assert "outside the valid range" in capsys.readouterr().err

@@ -348,12 +348,15 @@ def _solve(y, delta_r, centre, amplitudes, source) -> np.ndarray:
     energy = _solve_energy(lambda e: amplitude(e)[0], amplitudes, top)
     reached, (jl, tl, jr, tr) = amplitude(energy)
     problems = []
+    beyond = amplitudes[amplitudes > largest[0] * (1 + 1e-12)]
+    if len(beyond):
+        item = (f"amplitude {beyond[0] * 1e3:g} mm" if len(beyond) == 1
+                else f"amplitudes {beyond.min() * 1e3:g} .. {beyond.max() * 1e3:g} mm ({len(beyond)} of them)")
+        problems.append(Problem(source, None, item,
+                                f"needs delta_r beyond its range (y {y[0] * 1e3:g} .. {y[-1] * 1e3:g} mm); "
+                                f"the largest amplitude it supports is {largest[0] * 1e3:.4g} mm"))
     for a, got in zip(amplitudes, reached, strict=True):
-        if a > largest[0] * (1 + 1e-12):
-            problems.append(Problem(source, None, f"amplitude {a * 1e3:g} mm",
-                                    f"needs delta_r beyond its range (y {y[0] * 1e3:g} .. {y[-1] * 1e3:g} mm); "
-                                    f"the largest amplitude it supports is {largest[0] * 1e3:.4g} mm"))
-        elif a > half_band and abs(got - a) > 1e-9 + 1e-9 * a:
+        if half_band < a <= largest[0] * (1 + 1e-12) and abs(got - a) > 1e-9 + 1e-9 * a:
             problems.append(Problem(source, None, f"amplitude {a * 1e3:g} mm",
                                     "no oscillation of this amplitude: delta_r has a second centred position "
                                     f"(amplitudes jump from {got * 1e3:.4g} mm)"))
