@@ -4,7 +4,10 @@
   Sperling's B(f), weighting of time histories;
 - :mod:`.comfort`: Sperling's Wz and EN 12299 N_MV from spectra and time histories;
 - :mod:`.spectral`: output spectra ``H G_u H^H``, RMS, wheelbase delays and filters,
-  seeded random realisations.  PSDs are one-sided in Hz throughout (``docs/ride.md``).
+  seeded random realisations.  PSDs are one-sided in Hz throughout (``docs/ride.md``);
+- :mod:`.vehicle`: a vehicle's response to random track irregularity (accelerations of
+  the output points, wheel forces), comfort per point, Y/Q;
+- :mod:`.figures`: acceleration PSDs with their weighted curves.
 """
 
 from .comfort import (
@@ -20,12 +23,14 @@ from .comfort import (
     sperling_index_time,
     window_rms,
 )
+from .figures import figure_ride_spectra
 from .spectral import (
     delay_factors,
     frequency_response,
     harmonic_realisation,
     output_autospectra,
     output_spectra,
+    resolvent_solve,
     spatial_to_temporal,
     spectral_rms,
     spectral_variance,
@@ -34,6 +39,22 @@ from .spectral import (
     two_point_filter_zeros,
     wheelbase_filter,
     wheelset_delays,
+)
+from .vehicle import (
+    TRACK_CLASSES,
+    PointComfort,
+    RailInputs,
+    RideResponse,
+    WheelForces,
+    comfort_from_psd,
+    comfort_from_time_histories,
+    point_comfort,
+    rail_inputs,
+    ride_response,
+    simulation_accelerations,
+    track_class_spectra,
+    wheel_forces,
+    y_over_q_level,
 )
 from .weighting import (
     WB,
@@ -50,6 +71,22 @@ from .weighting import (
 
 __all__ = [
     "EN12299_WINDOW",
+    "TRACK_CLASSES",
+    "PointComfort",
+    "RailInputs",
+    "RideResponse",
+    "WheelForces",
+    "comfort_from_psd",
+    "comfort_from_time_histories",
+    "figure_ride_spectra",
+    "point_comfort",
+    "rail_inputs",
+    "resolvent_solve",
+    "ride_response",
+    "simulation_accelerations",
+    "track_class_spectra",
+    "wheel_forces",
+    "y_over_q_level",
     "SPERLING_BAND",
     "SPERLING_CONSTANT",
     "WB",

@@ -1,0 +1,695 @@
+"""Vehicle-level ride: the stationary random response of a vehicle to track irregularity.
+
+This module owns the link between a :class:`~express.statespace.VehicleModel` and the
+spectral tools of :mod:`.spectral`: which inputs the track drives and how, which outputs
+are reported and what they are computed from, the response itself, and the comfort and
+wheel-force summaries (``docs/ride.md``, "Vehicle-level response").
+
+Track inputs
+------------
+The track has four mutually uncorrelated irregularity components (one-sided spatial
+PSDs of :mod:`express.rail.track.spectra`): ``alignment`` a (lateral, + left),
+``vertical`` z_v (mean rail height, + up), ``cross_level`` c (rail height difference
+``z_R - z_L``, the sign of the cant) and ``gauge`` g (+ wider).  They drive:
+
+- ``<W>.yR`` of every wheelset W (the lateral irregularity of the wheel/rail model):
+  ``a``;
+- the motion of a ground named after a body ``<B>_rail`` (both rails),
+  ``<B>_railL`` (left rail) or ``<B>_railR`` (right rail), the *rail grounds*:
+  along z ``z_v``, ``z_v - c/2``, ``z_v + c/2``; along y ``a``, ``a + g/2``, ``a - g/2``.
+  This is how a model receives vertical (and 3-D lateral) rail inputs: an element
+  (the wheel/rail contact spring, or the primary suspension of a wheelset without
+  vertical DOFs) from the body to its rail ground.
+
+Every input of body or wheelset k, at station ``x_k``, is the irregularity the leading
+one met ``tau_k = (x_lead - x_k) / v`` earlier (factor ``exp(-i w tau_k)``): the
+wheelbase filtering.  Other inputs (flange penetrations, curvature, cant, other grounds,
+rotations of rail grounds) stay zero and are listed in :attr:`RideResponse.notes`.
+
+Outputs
+-------
+- ``<point>.ax``, ``.ay``, ``.az``: acceleration [m/s^2] of each ``[rail.outputs]``
+  point, ``u = t + theta x r`` on its body (:mod:`express.kinematics`), for each
+  direction in which the body's DOFs move the point;
+- ``<W>.Y``: lateral force of one wheel of wheelset W [N], half the wheelset's linear
+  lateral creep force ``-2 f2 (y'/v - psi)`` (both wheels have the same creepage and
+  coefficients in the linear model; no flange contact; the ``Q<n>`` of a simulation
+  without flange contact);
+- ``<W>.y_rel``: wheelset lateral displacement relative to the track ``y - yR`` [m]
+  (to compare with the flange clearance: the linear model holds while it stays inside);
+- ``<W>.dQL``, ``<W>.dQR``: dynamic vertical wheel loads [N], the z force of the
+  elements between the vehicle and the rail grounds of W, on the vehicle (+ up: more
+  load); with one ground ``<W>_rail`` each wheel carries half of it.  Absent when the
+  model has no vertical rail inputs.
+
+Each output is ``y = (D0 + i w D1 - w^2 D2) q + (E0 + i w E1) u`` and the state
+``x = [q; q_D']`` solves ``(i w I - A) x = (B + i w Bd) u`` (:func:`.spectral.resolvent_solve`).
+Because the components are uncorrelated and each is fully coherent between wheelsets,
+one right-hand side per component suffices: ``u_j(f) = sum_k T[k, j] exp(-i w tau_k)``
+at the driven inputs k, and ``G_y = sum_j |H_yj|^2 G_j`` -- the same as
+``H G_u H^H`` with the cross-spectral matrix of :func:`.spectral.track_input_spectrum`.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from ...diagnostics import AnalysisError, InputError
+from ...kinematics import end_motion
+from ...parameters import expression_value
+from ...rail.track.spectra import COMPONENTS, ERRI_LEVELS, FRA_CLASSES, TrackSpectrum
+from ...statespace import VehicleModel
+from .comfort import mean_comfort, mean_comfort_spectral, sperling_index, sperling_index_time
+from .spectral import check_frequencies, check_psd, resolvent_solve, spatial_to_temporal, spectral_rms
+from .weighting import WB, WD, weigh_time_history
+
+__all__ = [
+    "AXES",
+    "DEFAULT_BAND",
+    "DEFAULT_POINTS",
+    "TRACK_CLASSES",
+    "PointComfort",
+    "RailInputs",
+    "RideResponse",
+    "WheelForces",
+    "comfort_from_psd",
+    "comfort_from_time_histories",
+    "point_comfort",
+    "rail_inputs",
+    "ride_response",
+    "simulation_accelerations",
+    "track_class_spectra",
+    "wheel_forces",
+    "y_over_q_level",
+]
+
+FloatArray = NDArray[np.float64]
+AXES = ("x", "y", "z")
+#: Default frequency band [Hz] and number of log-spaced frequencies of :func:`ride_response`.
+DEFAULT_BAND = (0.1, 50.0)
+DEFAULT_POINTS = 2000
+#: Named track classes: every component their source defines (FRA has no gauge).
+TRACK_CLASSES = ("ERRI-low", "ERRI-high", *(f"FRA-{k}" for k in range(1, 7)))
+ACCELERATION_UNIT = "m/s^2"
+_RAIL_GROUND = re.compile(r"(?P<body>[A-Za-z][A-Za-z0-9_]*?)_rail(?P<side>[LR]?)\.(?P<axis>r?[xyz])\Z")
+# (axis, side) of a rail ground -> coefficient of each component
+_RAIL_MIXING = {
+    ("z", ""): {"vertical": 1.0},
+    ("z", "L"): {"vertical": 1.0, "cross_level": -0.5},
+    ("z", "R"): {"vertical": 1.0, "cross_level": 0.5},
+    ("y", ""): {"alignment": 1.0},
+    ("y", "L"): {"alignment": 1.0, "gauge": 0.5},
+    ("y", "R"): {"alignment": 1.0, "gauge": -0.5},
+}
+# displacement of a point at r = (lx, ly, lz): t + theta x r, per axis
+_ROTATION_TERMS = {0: (("ry", 1, 2), ("rz", -1, 1)), 1: (("rz", 1, 0), ("rx", -1, 2)), 2: (("rx", 1, 1), ("ry", -1, 0))}
+
+
+def _key(name: str) -> str:
+    return name.strip().lower().replace("_", "-").replace(" ", "-")
+
+
+def track_class_spectra(name: str) -> dict[str, TrackSpectrum]:
+    """The spectra of a named track class, by component.
+
+    ``ERRI-low`` / ``ERRI-high``: ORE B176 alignment and vertical, DB cross level and
+    gauge; ``FRA-1`` ... ``FRA-6``: alignment, vertical and cross level (``docs/ride.md``).
+    Case, ``_`` and spaces are ignored.
+
+    Raises
+    ------
+    InputError
+        For an unknown name, listing the known ones.
+    """
+    key = _key(str(name))
+    if key in ("erri-low", "erri-high"):
+        level = key.split("-")[1]
+        return {component: ERRI_LEVELS[component][level] for component in COMPONENTS}
+    match = re.fullmatch(r"fra-?([1-6])", key)
+    if match:
+        k = int(match.group(1)) - 1
+        return {component: FRA_CLASSES[component][k] for component in ("alignment", "vertical", "cross_level")}
+    raise InputError(f"unknown track class {name!r}; known: {', '.join(TRACK_CLASSES)}")
+
+
+# --- inputs ------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class RailInputs:
+    """The inputs of a vehicle the track drives.
+
+    Attributes
+    ----------
+    names : tuple of str
+        Driven inputs (``W1.yR``, ``W1_railL.z``, ...).
+    columns : numpy.ndarray of int, shape (K,)
+        Their indices in ``vehicle.inputs``.
+    positions : numpy.ndarray, shape (K,)
+        Station ``x`` [m] of the wheelset or body of each.
+    mixing : numpy.ndarray, shape (K, len(COMPONENTS))
+        Coefficient of each track component in each input.
+    rail_grounds : dict of str to (str, str)
+        Rail ground id -> (body, side ``""``, ``"L"`` or ``"R"``).
+    undriven : tuple of str
+        Inputs left at zero.
+    """
+
+    names: tuple[str, ...]
+    columns: NDArray[np.int64]
+    positions: FloatArray
+    mixing: FloatArray
+    rail_grounds: dict[str, tuple[str, str]]
+    undriven: tuple[str, ...]
+
+    def delays(self, speed: float) -> FloatArray:
+        """``tau_k = (max x - x_k) / v`` [s] of each driven input."""
+        return (self.positions.max() - self.positions) / speed if self.positions.size else self.positions
+
+
+def _value(vehicle: VehicleModel, expression: Any, what: str) -> float:
+    try:
+        return expression_value(expression, vehicle.values)
+    except (KeyError, ValueError) as error:
+        raise InputError(f"{what}: {error}") from None
+
+
+def rail_inputs(vehicle: VehicleModel) -> RailInputs:
+    """Which inputs of ``vehicle`` the track drives, with what, from where (module docstring)."""
+    model = vehicle.model
+    bodies = {body.id: body for body in model.bodies} if model is not None else {}
+    stations = {w.name: w.station for w in vehicle.wheelsets}
+    irregularity = {f"{w.name}.yR": w.name for w in vehicle.wheelsets}
+    names, columns, positions, rows, undriven = [], [], [], [], []
+    grounds: dict[str, tuple[str, str]] = {}
+    for column, name in enumerate(vehicle.inputs):
+        mix: dict[str, float] | None = None
+        if name in irregularity:
+            mix, position = {"alignment": 1.0}, stations[irregularity[name]]
+        else:
+            match = _RAIL_GROUND.match(name)
+            if match and match["body"] in bodies:
+                grounds[name.split(".")[0]] = (match["body"], match["side"])
+                mix = _RAIL_MIXING.get((match["axis"], match["side"]))
+                body = bodies[match["body"]]
+                position = _value(vehicle, body.position[0], f"body {body.id} position")
+        if mix is None:
+            undriven.append(name)
+            continue
+        names.append(name)
+        columns.append(column)
+        positions.append(position)
+        rows.append([mix.get(component, 0.0) for component in COMPONENTS])
+    return RailInputs(
+        tuple(names), np.array(columns, dtype=np.int64), np.array(positions, dtype=float),
+        np.array(rows, dtype=float).reshape(len(names), len(COMPONENTS)), grounds, tuple(undriven),
+    )
+
+
+# --- outputs -----------------------------------------------------------------------------
+
+
+@dataclass
+class _Rows:
+    """Output rows ``y = (D0 + i w D1 - w^2 D2) q + (E0 + i w E1) u``, built one by one."""
+
+    n: int
+    m: int
+    names: list[str] = field(default_factory=list)
+    units: list[str] = field(default_factory=list)
+    rows: list[tuple[np.ndarray, ...]] = field(default_factory=list)
+
+    def add(self, name: str, unit: str, **parts: np.ndarray) -> None:
+        zero_q, zero_u = np.zeros(self.n), np.zeros(self.m)
+        self.names.append(name)
+        self.units.append(unit)
+        self.rows.append(tuple(parts.get(k, zero_q) for k in ("d0", "d1", "d2"))
+                         + tuple(parts.get(k, zero_u) for k in ("e0", "e1")))
+
+    def matrices(self) -> tuple[np.ndarray, ...]:
+        return tuple(np.array([row[i] for row in self.rows]).reshape(len(self.rows), -1) for i in range(5))
+
+
+def _dof_row(vehicle: VehicleModel, coefficients: Mapping[str, Any], what: str) -> np.ndarray:
+    """A row over q from ``{dof: expression}``; refuses DOFs removed by pins."""
+    row = np.zeros(vehicle.n)
+    for dof, coefficient in coefficients.items():
+        if dof not in vehicle.dofs:
+            raise InputError(f"{what}: moves with {dof}, which a pin eliminates; ride outputs need "
+                             "bodies whose DOFs are kept")
+        row[vehicle.dofs.index(dof)] += _value(vehicle, coefficient, what)
+    return row
+
+
+def _point_rows(vehicle: VehicleModel, body_id: str, offset, what: str) -> dict[str, np.ndarray]:
+    """Displacement rows of a point on a body, for each axis along which it can move."""
+    body = vehicle.model.body(body_id)
+    rows = {}
+    for axis, name in enumerate(AXES):
+        terms: dict[str, Any] = {}
+        if name in body.dofs:
+            terms[f"{body_id}.{name}"] = 1
+        for rotation, sign, component in _ROTATION_TERMS[axis]:
+            if rotation in body.dofs:
+                terms[f"{body_id}.{rotation}"] = sign * offset[component]
+        row = _dof_row(vehicle, terms, what)
+        if np.any(row != 0):
+            rows[name] = row
+    return rows
+
+
+def _wheel_load_rows(vehicle: VehicleModel, inputs: RailInputs, rows: _Rows) -> dict[str, tuple[str, ...]]:
+    """``<W>.dQL``, ``<W>.dQR`` from the z elements between the vehicle and the rail grounds."""
+    model = vehicle.model
+    n, m = vehicle.n, rows.m
+    hosts = {point.id: point.host for point in model.points}
+    loads: dict[str, dict[str, np.ndarray]] = {}  # body -> side -> [k dq, c dq, k du, c du]
+    for element in model.elements:
+        on_ground = [hosts.get(end) in inputs.rail_grounds for end in (element.s_end, element.t_end)]
+        if on_ground[0] == on_ground[1] or element.rotational or element.direction != 2:
+            continue
+        what = f"element {element.id} (to a rail ground)"
+        if element.series or element.gap is not None:
+            raise InputError(f"{what}: a series or clearance element cannot carry the wheel load in a ride analysis")
+        body, side = inputs.rail_grounds[hosts[element.s_end if on_ground[0] else element.t_end]]
+        delta_q, delta_u = np.zeros(n), np.zeros(m)
+        for end, sign in ((element.s_end, 1.0), (element.t_end, -1.0)):
+            dofs, ground_inputs = end_motion(model, end, element.direction, False)
+            delta_q += sign * _dof_row(vehicle, dofs, what)
+            for name, coefficient in ground_inputs.items():
+                delta_u[vehicle.inputs.index(name)] += sign * _value(vehicle, coefficient, what)
+        # the element's force on its vehicle end, + up: -(k d + c d') on S, +(k d + c d') on T
+        on_vehicle = -1.0 if on_ground[1] else 1.0
+        k = on_vehicle * _value(vehicle, element.stiffness, what)
+        c = on_vehicle * _value(vehicle, element.damping, what)
+        parts = loads.setdefault(body, {}).setdefault(side, np.zeros(2 * (n + m)))
+        parts += np.concatenate([k * delta_q, c * delta_q, k * delta_u, c * delta_u])
+    for body, by_side in loads.items():
+        shared = by_side.get("", np.zeros(2 * (n + m)))  # one ground under both wheels
+        for side in ("L", "R"):
+            row = 0.5 * shared + by_side.get(side, np.zeros(2 * (n + m)))
+            rows.add(f"{body}.dQ{side}", "N", d0=row[:n], d1=row[n:2 * n], e0=row[2 * n:2 * n + m], e1=row[2 * n + m:])
+    return {body: ("L", "R") for body in loads}
+
+
+def _output_rows(vehicle: VehicleModel, inputs: RailInputs, speed: float) -> tuple[_Rows, dict, dict]:
+    model = vehicle.model
+    rows = _Rows(vehicle.n, len(vehicle.inputs))
+    directions: dict[str, tuple[str, ...]] = {}
+    for point in model.rail.outputs:
+        point_rows = _point_rows(vehicle, point.body, point.offset, f"output {point.name}")
+        directions[point.name] = tuple(point_rows)
+        for axis, row in point_rows.items():
+            rows.add(f"{point.name}.a{axis}", ACCELERATION_UNIT, d2=row)
+    for w in vehicle.wheelsets:
+        lateral, yaw = np.zeros(vehicle.n), np.zeros(vehicle.n)
+        lateral[w.y], yaw[w.psi] = -w.f2 / speed, w.f2
+        rows.add(f"{w.name}.Y", "N", d0=yaw, d1=lateral)
+        relative, rail = np.zeros(vehicle.n), np.zeros(len(vehicle.inputs))
+        relative[w.y], rail[vehicle.inputs.index(f"{w.name}.yR")] = 1.0, -1.0
+        rows.add(f"{w.name}.y_rel", "m", d0=relative, e0=rail)
+    sides = _wheel_load_rows(vehicle, inputs, rows)
+    return rows, directions, sides
+
+
+# --- response ----------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class RideResponse:
+    """Stationary random response of a vehicle on a track, one-sided PSDs in Hz.
+
+    Attributes
+    ----------
+    frequencies : numpy.ndarray, shape (F,)
+        [Hz].
+    speed : float
+        [m/s].
+    components : tuple of str
+        Track components that drive the vehicle (order of the last axis of ``transfer``).
+    input_psd : dict of str to numpy.ndarray
+        Temporal PSD [m^2/Hz] of each component in ``components``.
+    names, units : tuple of str
+        Outputs (module docstring) and their SI units.
+    transfer : numpy.ndarray, complex, shape (F, len(names), len(components))
+        Response of each output to each component [unit/m], delays included.
+    psd : numpy.ndarray, shape (F, len(names))
+        ``sum_j |transfer_j|^2 G_j`` [unit^2/Hz].
+    directions : dict of str to tuple of str
+        Axes in which each output point can move.
+    wheel_sides : dict of str to tuple of str
+        Bodies with dynamic wheel loads, and the sides.
+    notes : tuple of str
+        What the analysis left out (undriven inputs, components the model cannot feel).
+    """
+
+    frequencies: FloatArray
+    speed: float
+    components: tuple[str, ...]
+    input_psd: dict[str, FloatArray]
+    names: tuple[str, ...]
+    units: tuple[str, ...]
+    transfer: NDArray[np.complex128] = field(repr=False)
+    psd: FloatArray = field(repr=False)
+    directions: dict[str, tuple[str, ...]]
+    wheel_sides: dict[str, tuple[str, ...]]
+    notes: tuple[str, ...] = ()
+
+    def index(self, name: str) -> int:
+        try:
+            return self.names.index(name)
+        except ValueError:
+            raise KeyError(f"unknown ride output {name!r}; known: {', '.join(self.names)}") from None
+
+    def psd_of(self, name: str) -> FloatArray:
+        """One-sided PSD of an output [unit^2/Hz], shape (F,)."""
+        return self.psd[:, self.index(name)]
+
+    def rms(self, name: str) -> float:
+        """RMS of an output over the frequency grid [unit]."""
+        return float(spectral_rms(self.frequencies, self.psd_of(name)))
+
+    def covariance(self, first: str, second: str) -> float:
+        """``integral Re G_12 df``, ``G_12 = sum_j H_1j conj(H_2j) G_j`` [unit_1 unit_2]."""
+        h1, h2 = self.transfer[:, self.index(first)], self.transfer[:, self.index(second)]
+        weights = np.stack([self.input_psd[c] for c in self.components], axis=1)
+        cross = np.sum((h1 * np.conj(h2)).real * weights, axis=1)
+        return float(np.trapezoid(cross, self.frequencies))
+
+
+def _speed(vehicle: VehicleModel, speed: float | None) -> float:
+    v = float(vehicle.speed if speed is None else speed)
+    if not (math.isfinite(v) and v > 0):
+        raise InputError(f"ride: the speed must be > 0 m/s, got {v!r}" + (" (the model has none)" if speed is None else ""))
+    return v
+
+
+def _check_stable(vehicle: VehicleModel, a: np.ndarray, v: float) -> None:
+    eigenvalues = np.linalg.eigvals(a)
+    worst = eigenvalues[np.argmax(eigenvalues.real)] if eigenvalues.size else 0.0
+    if eigenvalues.size and worst.real > 1e-6 * max(1.0, float(np.abs(eigenvalues).max())):
+        raise AnalysisError(
+            f"ride: {vehicle.equations.name} is unstable at {v * 3.6:.4g} km/h (eigenvalue {worst.real:.4g} "
+            f"{worst.imag:+.4g}i 1/s, e.g. hunting above the critical speed): no stationary random response"
+        )
+
+
+def _undriven_notes(vehicle: VehicleModel, inputs: RailInputs) -> list[str]:
+    """One line per kind of input left at zero."""
+    layout = vehicle.layout
+    kinds = (
+        ("flange penetrations (linear model: no flange contact)", set(layout.flange)),
+        ("curvature and cant (straight track)", set(layout.curvature) | set(layout.cant)),
+    )
+    notes, rest = [], list(inputs.undriven)
+    for what, names in kinds:
+        found = [name for name in rest if name in names]
+        rest = [name for name in rest if name not in names]
+        if found:
+            notes.append(f"left at zero: {what}: {', '.join(found)}")
+    if rest:
+        notes.append(f"left at zero: inputs the track does not drive (not rail grounds, docs/ride.md): {', '.join(rest)}")
+    return notes
+
+
+def ride_response(
+    vehicle: VehicleModel,
+    spectra: Mapping[str, Any],
+    speed: float | None = None,
+    frequencies: ArrayLike | None = None,
+) -> RideResponse:
+    """PSDs of the ride outputs of ``vehicle`` running at ``speed`` on a random track.
+
+    Parameters
+    ----------
+    vehicle : VehicleModel
+        With rail data (wheelsets; ``[rail.outputs]`` for the accelerations).
+    spectra : mapping of str to TrackSpectrum
+        Spatial spectrum per component of :data:`express.rail.track.spectra.COMPONENTS`
+        (anything with ``psd(Omega)`` [m^2/(rad/m)]); e.g. :func:`track_class_spectra`.
+    speed : float, optional
+        [m/s] > 0; the model's own speed by default.
+    frequencies : array_like, optional
+        [Hz] > 0, increasing; default :data:`DEFAULT_POINTS` log-spaced over
+        :data:`DEFAULT_BAND`.
+
+    Raises
+    ------
+    InputError
+        Bad speed, frequencies, component names or spectrum values (negative PSD).
+    AnalysisError
+        The vehicle is unstable at that speed, or ``i w I - A`` is singular.
+    """
+    if vehicle.model is None or vehicle.model.rail is None or not vehicle.wheelsets:
+        raise InputError("ride: the model has no rail data (no [rail] section with wheelsets)")
+    v = _speed(vehicle, speed)
+    f = check_frequencies(np.geomspace(*DEFAULT_BAND, DEFAULT_POINTS) if frequencies is None else frequencies,
+                          "ride_response", positive=True)
+    unknown = [name for name in spectra if name not in COMPONENTS]
+    if unknown:
+        raise InputError(f"ride: unknown track component(s) {', '.join(map(repr, unknown))}; known: {', '.join(COMPONENTS)}")
+    inputs = rail_inputs(vehicle)
+    notes = _undriven_notes(vehicle, inputs)
+    used = []
+    for j, component in enumerate(COMPONENTS):
+        felt = bool(np.any(inputs.mixing[:, j] != 0)) if inputs.names else False
+        if component in spectra and felt:
+            used.append(component)
+        elif component in spectra:
+            notes.append(f"{component}: the model has no input it drives (rail grounds, docs/ride.md)")
+    input_psd = {c: check_psd(spatial_to_temporal(spectra[c].psd, f, v), f.size, f"ride ({c} spectrum)") for c in used}
+    rows, directions, sides = _output_rows(vehicle, inputs, v)
+    a, b, bd = vehicle.state_matrix(v), vehicle.input_matrix(v), vehicle.input_rate_matrix(v)
+    _check_stable(vehicle, a, v)
+    w = 2.0 * math.pi * f
+    mixing = inputs.mixing[:, [COMPONENTS.index(c) for c in used]]  # (K, J)
+    phase = np.exp(-1j * np.outer(w, inputs.delays(v)))  # (F, K)
+    u = np.zeros((f.size, len(vehicle.inputs), len(used)), dtype=complex)
+    u[:, inputs.columns, :] = phase[:, :, None] * mixing[None, :, :]
+    b_cols, bd_cols = b[:, inputs.columns], bd[:, inputs.columns]
+    drive = np.einsum("nk,fkj->fnj", b_cols, u[:, inputs.columns]) + 1j * w[:, None, None] * np.einsum(
+        "nk,fkj->fnj", bd_cols, u[:, inputs.columns])
+    try:
+        x = resolvent_solve(a, f, drive)[:, : vehicle.n]
+    except np.linalg.LinAlgError as error:
+        raise AnalysisError(f"ride: {error}") from None
+    d0, d1, d2, e0, e1 = rows.matrices()
+    s = (1j * w)[:, None, None]
+    transfer = (d0 + s * d1 + s**2 * d2) @ x + (e0 + s * e1) @ u
+    weights = np.stack([input_psd[c] for c in used], axis=1) if used else np.zeros((f.size, 0))
+    psd = np.einsum("fpj,fj->fp", np.abs(transfer) ** 2, weights)
+    return RideResponse(f, v, tuple(used), input_psd, tuple(rows.names), tuple(rows.units), transfer, psd,
+                        directions, sides, tuple(notes))
+
+
+# --- comfort -----------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class PointComfort:
+    """Comfort at one output point.
+
+    Attributes
+    ----------
+    directions : tuple of str
+        Axes the point moves in (the others count as zero in ``n_mv``).
+    rms, weighted_rms : dict of str to float
+        Acceleration RMS per axis [m/s^2], unweighted and weighted (Wd for x and y, Wb
+        for z).
+    wz : dict of str to float
+        Sperling's index, ``"y"`` with the lateral and ``"z"`` with the vertical weighting.
+    n_mv : float
+        EN 12299 simplified mean comfort.
+    a_p95 : dict of str to float
+        Its 95th percentiles of the weighted 5-s RMS per axis [m/s^2].
+    method : str
+        ``"gaussian"`` or ``"rms"`` (from spectra) or ``"time"`` (from histories).
+    """
+
+    directions: tuple[str, ...]
+    rms: dict[str, float]
+    weighted_rms: dict[str, float]
+    wz: dict[str, float]
+    n_mv: float
+    a_p95: dict[str, float]
+    method: str
+
+
+_WEIGHTING = {"x": WD, "y": WD, "z": WB}
+_SPERLING = {"y": "lateral", "z": "vertical"}
+
+
+def comfort_from_psd(frequencies: ArrayLike, psds: Mapping[str, ArrayLike], method: str = "gaussian") -> PointComfort:
+    """:class:`PointComfort` from acceleration PSDs [(m/s^2)^2/Hz] by axis (``x``, ``y``, ``z``)."""
+    f = check_frequencies(frequencies, "comfort_from_psd", positive=True)
+    g = {axis: check_psd(psds[axis], f.size, f"comfort_from_psd ({axis})") for axis in AXES if axis in psds}
+    zero = np.zeros(f.size)
+    comfort = mean_comfort_spectral(f, g.get("x", zero), g.get("y", zero), g.get("z", zero), method=method)
+    p95 = {"x": comfort.a_xp95, "y": comfort.a_yp95, "z": comfort.a_zp95}
+    return PointComfort(
+        directions=tuple(g),
+        rms={axis: float(spectral_rms(f, psd)) for axis, psd in g.items()},
+        weighted_rms={axis: float(spectral_rms(f, _WEIGHTING[axis].magnitude(f) ** 2 * psd)) for axis, psd in g.items()},
+        wz={axis: sperling_index(f, psd, _SPERLING[axis]) for axis, psd in g.items() if axis in _SPERLING},
+        n_mv=comfort.n_mv, a_p95={axis: p95[axis] for axis in g}, method=method,
+    )
+
+
+def point_comfort(response: RideResponse, method: str = "gaussian") -> dict[str, PointComfort]:
+    """:func:`comfort_from_psd` of every output point of ``response``."""
+    return {
+        point: comfort_from_psd(response.frequencies, {a: response.psd_of(f"{point}.a{a}") for a in axes}, method)
+        for point, axes in response.directions.items() if axes
+    }
+
+
+def comfort_from_time_histories(histories: Mapping[str, ArrayLike], sampling_rate: float) -> PointComfort:
+    """:class:`PointComfort` from sampled accelerations [m/s^2] by axis (mean removed).
+
+    Wz from the periodogram (:func:`.comfort.sperling_index_time`), N_MV from 5-s
+    windows (:func:`.comfort.mean_comfort`); at least one 5-s window is needed.
+    """
+    x = {axis: np.asarray(histories[axis], dtype=float) for axis in AXES if axis in histories}
+    x = {axis: signal - signal.mean() for axis, signal in x.items()}
+    if not x:
+        raise InputError("comfort_from_time_histories: no acceleration given (axes x, y, z)")
+    zero = np.zeros(next(iter(x.values())).size)
+    comfort = mean_comfort(x.get("x", zero), x.get("y", zero), x.get("z", zero), sampling_rate)
+    p95 = {"x": comfort.a_xp95, "y": comfort.a_yp95, "z": comfort.a_zp95}
+
+    def rms(signal: np.ndarray) -> float:
+        return float(np.sqrt(np.mean(signal**2)))
+
+    return PointComfort(
+        directions=tuple(x), rms={a: rms(s) for a, s in x.items()},
+        weighted_rms={a: rms(weigh_time_history(s, sampling_rate, _WEIGHTING[a])) for a, s in x.items()},
+        wz={a: sperling_index_time(s, sampling_rate, _SPERLING[a]) for a, s in x.items() if a in _SPERLING},
+        n_mv=comfort.n_mv, a_p95={a: p95[a] for a in x}, method="time",
+    )
+
+
+# --- wheel forces ------------------------------------------------------------------------
+
+
+def y_over_q_level(sigma_y: float, sigma_q: float, covariance: float, q0: float, z: float = 3.0) -> float:
+    """The level r that ``Y / (Q0 + dQ)`` exceeds with the probability of ``z`` standard
+    deviations of a normal variable, for jointly Gaussian, zero-mean Y and dQ.
+
+    ``Y / (Q0 + dQ) > r`` (with ``Q0 + dQ > 0``) is ``Y - r dQ > r Q0``, and
+    ``Y - r dQ`` is normal with variance ``s_Y^2 - 2 r C + r^2 s_Q^2``; setting
+    ``r Q0 = z sqrt(...)`` gives the positive root of
+    ``(Q0^2 - z^2 s_Q^2) r^2 + 2 z^2 C r - z^2 s_Y^2 = 0``.  Both signs of Y are tried
+    (C -> -C) and the larger level returned; ``inf`` if ``z s_Q >= Q0`` (the wheel
+    unloads that often).  With ``s_Q = 0`` it is ``z s_Y / Q0``.
+    """
+    a = q0**2 - (z * sigma_q) ** 2
+    if a <= 0:
+        return math.inf
+    levels = [(-(z**2) * c + math.sqrt((z**2 * c) ** 2 + a * (z * sigma_y) ** 2)) / a for c in (covariance, -covariance)]
+    return max(levels)
+
+
+@dataclass(frozen=True)
+class WheelForces:
+    """Wheel/rail forces of one wheelset (:func:`wheel_forces`).
+
+    Attributes
+    ----------
+    wheelset : str
+    wheel_load : float
+        Static wheel load Q0 [N].
+    y_rms : float
+        RMS of the lateral force of one wheel [N].
+    dq_rms : dict of str to float
+        RMS of the dynamic wheel load per side ``L``, ``R`` [N]; zeros without
+        vertical rail inputs (``dynamic_q`` False).
+    yq_rms : float
+        RMS of ``Y / Q0`` (static load).
+    yq_level : dict of str to float
+        ``Y / Q`` with the dynamic load exceeded with probability ``1 - Phi(z)`` per side
+        (:func:`y_over_q_level`).
+    z : float
+        The number of standard deviations used.
+    y_rel_rms : float
+        RMS of ``y - yR`` [m].
+    flange_clearance : float
+        [m].
+    dynamic_q : bool
+    """
+
+    wheelset: str
+    wheel_load: float
+    y_rms: float
+    dq_rms: dict[str, float]
+    yq_rms: float
+    yq_level: dict[str, float]
+    z: float
+    y_rel_rms: float
+    flange_clearance: float
+    dynamic_q: bool
+
+
+def wheel_forces(response: RideResponse, vehicle: VehicleModel, z: float = 3.0) -> dict[str, WheelForces]:
+    """Y, dQ and Y/Q of every wheelset of ``vehicle`` from ``response``."""
+    if not (math.isfinite(z) and z > 0):
+        raise InputError(f"wheel_forces: z must be > 0, got {z!r}")
+    out = {}
+    for w in vehicle.wheelsets:
+        y_name = f"{w.name}.Y"
+        sigma_y = response.rms(y_name)
+        dynamic = w.name in response.wheel_sides
+        dq, levels = {}, {}
+        for side in ("L", "R"):
+            name = f"{w.name}.dQ{side}"
+            dq[side] = response.rms(name) if dynamic else 0.0
+            covariance = response.covariance(y_name, name) if dynamic else 0.0
+            levels[side] = y_over_q_level(sigma_y, dq[side], covariance, w.wheel_load, z)
+        out[w.name] = WheelForces(w.name, w.wheel_load, sigma_y, dq, sigma_y / w.wheel_load, levels, z,
+                                  response.rms(f"{w.name}.y_rel"), w.flange_clearance, dynamic)
+    return out
+
+
+# --- time histories of a simulation ------------------------------------------------------
+
+
+def simulation_accelerations(vehicle: VehicleModel, result: Any, track: Any) -> dict[str, dict[str, FloatArray]]:
+    """Accelerations [m/s^2] of the output points along a simulation, by point and axis.
+
+    For a linear run (no flange contact, saturation or bump stops) they come exactly from
+    the state equation ``x' = A x + B u + Bd u'`` with the run's track inputs
+    (:func:`express.analysis.simulate.track_inputs`); otherwise from second-order
+    central differences of the velocities.
+
+    Parameters
+    ----------
+    vehicle : VehicleModel
+    result : express.analysis.simulate.SimulationResult
+    track : express.rail.track.Track
+        The track of the run.
+    """
+    from ..simulate import track_inputs
+
+    options = result.options
+    linear = not (options.get("flange") or options.get("saturation") or options.get("clearances"))
+    if linear:
+        inputs = track_inputs(vehicle, track, result.distance, result.speed)
+        form = vehicle.form
+        states = np.concatenate([result.q, result.q_dot[:, form.massive]], axis=1)
+        rates = (states @ vehicle.state_matrix(result.speed).T + inputs.u @ vehicle.input_matrix(result.speed).T
+                 + inputs.u_rate @ vehicle.input_rate_matrix(result.speed).T)
+        q_ddot = np.zeros_like(result.q)
+        q_ddot[:, form.massive] = rates[:, vehicle.n:]
+    else:
+        q_ddot = np.gradient(result.q_dot, result.time, axis=0, edge_order=2)
+    out = {}
+    for point in vehicle.model.rail.outputs:
+        rows = _point_rows(vehicle, point.body, point.offset, f"output {point.name}")
+        out[point.name] = {axis: q_ddot @ row for axis, row in rows.items()}
+    return out
