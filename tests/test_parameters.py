@@ -509,3 +509,39 @@ def test_importing_the_reader_does_not_import_rail_or_pint():
     code = "import sys, express.io, express.parameters; print(sorted(m for m in sys.modules if m.startswith(('express.rail', 'pint'))))"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert out.strip() == "[]"
+
+
+# ----------------------------------------------------------------------------- the command line
+
+
+def _simulate_json(capsys, *extra: str) -> dict:
+    import json
+
+    from express.cli import main
+
+    track = ROOT / "examples" / "tracks" / "straight_sinusoid.toml"
+    status = main(["simulate", str(FORCED), "--track", str(track), "--json", *extra])
+    out = capsys.readouterr().out
+    assert status == 0
+    return json.loads(out)
+
+
+@pytest.mark.slow
+def test_set_a_mass_on_the_command_line_changes_the_wheel_load(capsys):
+    """Issue 10's first complaint: ``--set mc=60000`` kept P0 = 50.03 kN (and f1, f2)."""
+    heavy = _simulate_json(capsys, "--set", "mc=60000")
+    p0 = (60000 + 2 * 2600 + 4 * 1400) * G / 8
+    for k in range(1, 5):
+        assert heavy["max_abs"][f"QP{k}"] == pytest.approx(heavy["max_abs"][f"Q{k}"] / p0, rel=1e-9)
+    again = _simulate_json(capsys, "--set", "mc=60 t")
+    assert again["max_abs"] == heavy["max_abs"]
+
+
+@pytest.mark.slow
+def test_set_refuses_a_unit_of_the_wrong_dimension(capsys):
+    from express.cli import main
+
+    status = main(["eigen", str(FORCED), "--set", "ky1=4 s", "--speed", "100"])
+    err = capsys.readouterr().err
+    assert status == 2
+    assert "parameter ky1" in err and "expected a stiffness (N/m)" in err and "Traceback" not in err
