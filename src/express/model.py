@@ -13,6 +13,7 @@ Axes and names follow ``conventions.md``: x forward, y left, z up; DOFs
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 
@@ -453,13 +454,14 @@ def check_model(model: Model) -> list[Problem]:
 
 
 def _numeric_value(expression, parameters: dict[str, Parameter]) -> float | None:
-    """Value of a parameter expression, or None when a name has no value."""
-    expression = sp.sympify(expression)
-    names = {symbol.name for symbol in expression.free_symbols}
-    if not names <= set(parameters):
+    """Value of a parameter expression, or None when a name has no value (yet)."""
+    from .parameters import expression_value
+
+    try:
+        value = expression_value(expression, {name: p.value for name, p in parameters.items()})
+    except (KeyError, ValueError):
         return None
-    value = expression.xreplace({sp.Symbol(name): sp.Float(parameters[name].value) for name in names})
-    return float(value) if value.is_real else None
+    return value if math.isfinite(value) else None
 
 
 def _check_element_kinds(model: Model, hosts: dict[str, str], bodies: dict[str, Body], problems: list[Problem]) -> None:
