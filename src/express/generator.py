@@ -17,7 +17,7 @@ before elimination); the generator treats them like everything else.
 from __future__ import annotations
 
 from collections import defaultdict
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import sympy as sp
 
@@ -267,6 +267,10 @@ def generate(model: Model, *, keep_virtual: bool = False, added: AddedTerms | No
     if problems:
         raise ModelError(problems)
     added = added or AddedTerms()
+    if model.gravity is not None:  # geometric stiffness of the static preloads
+        from .gravity import gravity_stiffness
+
+        added = replace(added, stiffness=list(added.stiffness) + gravity_stiffness(model))
     expressions = list(_model_expressions(model, added))
     symbols = set().union(*(sp.sympify(e).free_symbols for e in expressions)) if expressions else set()
     inverses = inverted_symbols(expressions)

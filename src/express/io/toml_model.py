@@ -77,7 +77,7 @@ else:  # pragma: no cover - exercised on Python 3.10 only
 
 __all__ = ["parse_toml_model", "read_toml_model", "WHEELSET_KEYS"]
 
-_TOP_KEYS = ("model", "parameters", "bodies", "grounds", "points", "elements", "pins", "rail")
+_TOP_KEYS = ("model", "parameters", "bodies", "grounds", "points", "elements", "pins", "rail", "gravity")
 _BODY_KEYS = ("mass", "inertia", "dofs", "position", "label")
 _POINT_KEYS = ("body", "offset")
 _ELEMENT_KEYS = ("from", "to", "direction", "stiffness", "damping", "label", "series", "gap", "progressive")
@@ -513,6 +513,7 @@ def parse_toml_model(text: str, source: str = "<string>") -> Model:
         rail=rail,
         title=str(title),
         derivations=derivations,
+        gravity=_gravity(reader, data),
     )
     # a name without value is allowed (symbolic generation); an analysis that needs
     # numbers names the items using it (express.parameters.undefined_name_problems)
@@ -520,6 +521,18 @@ def parse_toml_model(text: str, source: str = "<string>") -> Model:
     if problems:
         raise ModelError(problems)
     return resolve(model)
+
+
+def _gravity(reader: _Reader, data: dict) -> sp.Expr | None:
+    """``[gravity] acceleration = "g"``: every body's weight (None without the section)."""
+    if "gravity" not in data:
+        return None
+    table = reader.table(data["gravity"], ("gravity",), "gravity")
+    reader.unknown_keys(table, ("acceleration",), ("gravity",), "gravity")
+    if "acceleration" not in table:
+        reader.problem(("gravity",), "gravity", 'missing "acceleration" (e.g. acceleration = "g")')
+        return None
+    return reader.expression(table["acceleration"], ("gravity", "acceleration"), "gravity", "acceleration")
 
 
 def read_toml_model(path: str | Path) -> Model:

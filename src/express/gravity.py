@@ -1,0 +1,253 @@
+"""Gravity: static preloads from the 3-D static equilibrium and their geometric stiffness.
+
+With ``[gravity] acceleration = "g"`` every body carries its weight ``m g`` (down, -z).
+Three steps (``docs/model-format.md``, section Gravity):
+
+1. **Static equilibrium of the full 3-D model.** Every body gets all six DOFs, whatever
+   the dynamic model keeps; series elements (their dampers relax) and clearance
+   elements (within their gaps) carry no static load; pins stay constraints; in a rail
+   vehicle the rails carry each wheelset (its ``z`` and ``rx`` are held).  The static
+   displacement solves ``K_s q_s = F`` exactly (SymPy, on the coordinates that move:
+   found numerically at the model's values and at perturbed values, the result then
+   checked on the whole system); a weight no element carries is refused.
+2. **Preloads.** Each element's static force ``N = k delta_s`` (``delta_s`` its static
+   deflection, S end relative to T end along its axis: negative in compression).
+3. **Geometric stiffness.** The element's potential ``k/2 (delta_s + delta)^2`` with
+   ``delta`` to second order gives ``K += N d2(delta)/dq2``:
+
+   * a CP at offset ``r`` on a rotating body moves by ``theta x r + 1/2 theta x (theta
+     x r)``: along axis ``a`` the second-order term has the Hessian
+     ``H_ij = 1/2 (d_ia r_j + d_ja r_i) - r_a d_ij`` over the rotations (a body on
+     springs below its centre: ``K_rx,rx = 2 k b^2 - m g h``);
+   * an element whose ends are a distance ``L`` apart along its axis (from the bodies'
+     positions plus the offsets) is a link whose line follows its ends: ``delta`` gains
+     ``|du_perp|^2 / (2 L)`` (a pendulum of length ``L``: lateral stiffness ``m g / L``).
+
+   Rotational elements, pins and the wheel/rail contact add no geometric stiffness here
+   (the contact's gravitational stiffness belongs to the wheel/rail model).
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+import sympy as sp
+
+from .diagnostics import ModelError, Problem
+from .kinematics import point_motion
+from .model import AXES, DOF_NAMES, Model
+
+__all__ = ["static_preloads", "gravity_stiffness", "element_length"]
+
+#: Relative size of the random perturbation of the parameters used to find which
+#: coordinates move in the static equilibrium (structural zeros stay zero).
+_PERTURBATION = 0.1
+
+
+def _static_model(model: Model) -> Model:
+    """The 3-D static model: all DOFs, no series or clearance elements, wheelsets held."""
+    held = {w.body for w in model.rail.wheelsets} if model.rail is not None else set()
+    bodies = tuple(
+        replace(b, dofs=tuple(d for d in DOF_NAMES if not (b.id in held and d in ("z", "rx")))) for b in model.bodies
+    )
+    elements = tuple(e for e in model.elements if not e.series and e.gap is None)
+    return replace(model, bodies=bodies, elements=elements, gravity=None, rail=None)
+
+
+def _number_function(symbols: list[sp.Symbol], expressions):
+    return sp.lambdify(symbols, list(expressions), modules="math")
+
+
+def static_preloads(model: Model) -> dict[str, sp.Expr]:
+    """Static force ``N = k delta_s`` [N or N m] of every loaded element under gravity.
+
+    Returns
+    -------
+    dict of str to sympy.Expr
+        Element id -> exact preload (elements without load omitted).
+
+    Raises
+    ------
+    ModelError
+        When no element carries a body's weight (naming the bodies), or when a value
+        is missing.
+    """
+    from .generator import generate  # the generator calls this module: import late
+
+    gravity = sp.sympify(model.gravity)
+    static = _static_model(model)
+    result = generate(static)
+    eom, t = result.equations, result.transformation
+    full = list(result.full_dofs)
+    n = len(eom.dofs)
+    load_full = sp.zeros(len(full), 1)
+    for body in static.bodies:
+        if f"{body.id}.z" in full:  # a held wheelset's weight goes straight to the rails
+            load_full[full.index(f"{body.id}.z"), 0] = -body.mass * gravity
+    load = (t.T * load_full).applyfunc(sp.expand)
+    stiffness = eom.K
+    symbols = sorted(stiffness.free_symbols | load.free_symbols, key=lambda s: s.name)
+    values = model.values()
+    missing = [s.name for s in symbols if s.name not in values]
+    if missing:
+        raise ModelError([Problem(model.source, None, "gravity", f"no value for {', '.join(missing)}")])
+    numbers = _number_function(symbols, list(stiffness) + list(load))
+    rng = np.random.default_rng(0)
+    points = [np.array([values[s.name] for s in symbols], dtype=float)]
+    points.append(points[0] * (1.0 + _PERTURBATION * rng.uniform(-1.0, 1.0, len(symbols))))
+    moving: set[int] = set()
+    for point in points:
+        flat = np.array(numbers(*point), dtype=float)
+        k_num, f_num = flat[: n * n].reshape(n, n), flat[n * n :]
+        q = _solve_numeric(model, static, eom.dofs, k_num, f_num)
+        scale = np.max(np.abs(q)) if q.size else 0.0
+        moving |= {i for i in range(n) if abs(q[i]) > 1e-9 * scale}
+    active = _independent(sorted(moving), np.array(numbers(*points[0]), dtype=float)[: n * n].reshape(n, n))
+    q_static = sp.zeros(n, 1)
+    if active:
+        k_aa = stiffness.extract(active, active)
+        f_a = load.extract(active, [0])
+        solution = _exact_solve(k_aa, f_a)
+        for index, value in zip(active, solution):
+            q_static[index, 0] = value
+    _check_solution(model, numbers, points, stiffness, load, q_static, symbols, n)
+    displacement = (t * q_static).applyfunc(sp.cancel)  # full static coordinates
+    by_dof = {dof: displacement[i, 0] for i, dof in enumerate(full) if displacement[i, 0] != 0}
+    preloads = {}
+    for element in static.elements:
+        if element.rotational:
+            continue
+        deflection = sum(
+            (sign * value * by_dof[dof]
+             for end, sign in ((element.s_end, 1), (element.t_end, -1))
+             for dof, value in point_motion(static, end, element.direction)[0].items()
+             if dof in by_dof),
+            sp.S.Zero,
+        )
+        force = sp.factor(sp.cancel(sp.sympify(element.stiffness) * deflection))
+        if force != 0:
+            preloads[element.id] = force
+    pinned = {frozenset((p.virtual, p.non_virtual)) for p in model.pins}
+    return {e: f for e, f in preloads.items() if frozenset(_ends(static, e)) not in pinned}
+
+
+def _ends(model: Model, element_id: str) -> tuple[str, str]:
+    element = next(e for e in model.elements if e.id == element_id)
+    return element.s_end, element.t_end
+
+
+def _solve_numeric(model: Model, static: Model, dofs, k_num: np.ndarray, f_num: np.ndarray) -> np.ndarray:
+    """Least-squares static solution; refuses a load in the null space of K."""
+    if not f_num.size:
+        return np.zeros(0)
+    q, *_ = np.linalg.lstsq(k_num, f_num, rcond=None)
+    residual = np.linalg.norm(k_num @ q - f_num)
+    if residual <= 1e-8 * max(np.linalg.norm(f_num), 1e-300):
+        return q
+    # which weights are not carried: the load's part in the null space of K
+    _, singular, vt = np.linalg.svd(k_num)
+    null = vt[singular <= 1e-10 * singular.max()] if singular.size else vt
+    unsupported = sorted({dofs[i].split(".")[0] for row in null for i in np.flatnonzero(np.abs(row) > 1e-6)
+                          if abs(row @ f_num) > 1e-8 * np.linalg.norm(f_num) and dofs[i].endswith((".z", ".rx", ".ry"))})
+    names = ", ".join(unsupported) or "some bodies"
+    raise ModelError([Problem(
+        model.source, None, "gravity",
+        f"no element carries the weight of {names}: add supports along z (or leave out [gravity]); "
+        "the static equilibrium of the full 3-D model has no solution",
+    )])
+
+
+def _independent(indices: list[int], k_num: np.ndarray) -> list[int]:
+    """A subset of ``indices`` whose block of K is invertible (column pivoting)."""
+    if not indices:
+        return []
+    import scipy.linalg
+
+    block = k_num[np.ix_(indices, indices)]
+    _, r, pivots = scipy.linalg.qr(block, pivoting=True)
+    diagonal = np.abs(np.diag(r))
+    rank = int(np.sum(diagonal > 1e-10 * diagonal.max())) if diagonal.size else 0
+    return sorted(indices[p] for p in pivots[:rank])
+
+
+def _exact_solve(matrix: sp.Matrix, rhs: sp.Matrix) -> list[sp.Expr]:
+    """Exact solution of a small nonsingular system over the rational functions."""
+    from sympy.polys.matrices import DomainMatrix
+
+    a, b = DomainMatrix.from_Matrix(sp.Matrix(matrix)).unify(DomainMatrix.from_Matrix(sp.Matrix(rhs)))
+    x = a.to_field().lu_solve(b.to_field())
+    return [sp.cancel(value) for value in x.to_Matrix()]
+
+
+def _check_solution(model, numbers, points, stiffness, load, q_static, symbols, n) -> None:
+    """The exact solution must solve the whole static system at both parameter points."""
+    function = _number_function(symbols, list(q_static))
+    for point in points:
+        flat = np.array(numbers(*point), dtype=float)
+        k_num, f_num = flat[: n * n].reshape(n, n), flat[n * n :]
+        q = np.array(function(*point), dtype=float)
+        if np.linalg.norm(k_num @ q - f_num) > 1e-7 * max(np.linalg.norm(f_num), 1e-300):
+            raise ModelError([Problem(model.source, None, "gravity",
+                                      "the static equilibrium could not be solved exactly (internal check failed)")])
+
+
+def element_length(model: Model, element) -> sp.Expr:
+    """Signed distance ``L = (p_S - p_T)[axis]`` [m] between an element's ends along its
+    axis: body position plus CP offset (a ground CP's offset is its position)."""
+    bodies = {b.id: b for b in model.bodies}
+
+    def position(point_id: str) -> sp.Expr:
+        point = model.point(point_id)
+        body = bodies.get(point.host)
+        base = body.position[element.direction] if body is not None else 0
+        return sp.sympify(base) + sp.sympify(point.offset[element.direction])
+
+    return sp.expand(position(element.s_end) - position(element.t_end))
+
+
+def _rotation_hessian(model: Model, point_id: str, axis: int) -> list[tuple[str, str, sp.Expr]]:
+    """Second derivatives of a CP's displacement along ``axis`` over its body's
+    rotations (``1/2 theta x (theta x r)``), as (dof, dof, value) for every pair."""
+    point = model.point(point_id)
+    try:
+        body = model.body(point.host)
+    except KeyError:
+        return []
+    r = [sp.sympify(v) for v in point.offset]
+    entries = []
+    for i in range(3):
+        for j in range(3):
+            value = sp.Rational(1, 2) * (int(i == axis) * r[j] + int(j == axis) * r[i]) - r[axis] * int(i == j)
+            di, dj = f"r{AXES[i]}", f"r{AXES[j]}"
+            if value != 0 and di in body.dofs and dj in body.dofs:
+                entries.append((f"{body.id}.{di}", f"{body.id}.{dj}", value))
+    return entries
+
+
+def gravity_stiffness(model: Model) -> list[tuple[str, str, sp.Expr]]:
+    """Geometric stiffness of the preloaded elements: ``(row DOF, column DOF, value)``
+    in the model's full coordinates (before pin elimination), to be added to K."""
+    preloads = static_preloads(model)
+    terms: list[tuple[str, str, sp.Expr]] = []
+    for element in model.elements:
+        force = preloads.get(element.id)
+        if force is None:
+            continue
+        for end, sign in ((element.s_end, 1), (element.t_end, -1)):
+            for row, column, value in _rotation_hessian(model, end, element.direction):
+                terms.append((row, column, sign * force * value))
+        length = element_length(model, element)
+        if length != 0:
+            for axis in range(3):
+                if axis == element.direction:
+                    continue
+                relative: dict[str, sp.Expr] = {}
+                for end, sign in ((element.s_end, 1), (element.t_end, -1)):
+                    for dof, value in point_motion(model, end, axis)[0].items():
+                        relative[dof] = relative.get(dof, 0) + sign * value
+                for row, a in relative.items():
+                    for column, b in relative.items():
+                        if a != 0 and b != 0:
+                            terms.append((row, column, force * a * b / length))
+    return terms
