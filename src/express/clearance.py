@@ -16,9 +16,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-import sympy as sp
 
 from .equations import EquationsOfMotion
+from .parameters import expression_value
 
 __all__ = ["Clearances", "clearances_of", "clearance_force"]
 
@@ -52,13 +52,10 @@ class Clearances:
 
 
 def _number(expression, values: dict[str, float]) -> float:
-    expression = sp.sympify(expression)
-    if expression.is_Number:
-        return float(expression)
-    missing = sorted(s.name for s in expression.free_symbols if s.name not in values)
-    if missing:
-        raise ValueError(f"no value for {', '.join(missing)}")
-    return float(expression.xreplace({s: sp.Float(values[s.name]) for s in expression.free_symbols}))
+    try:
+        return expression_value(expression, values)
+    except KeyError as error:
+        raise ValueError(f"no value for {error.args[0]}") from None
 
 
 def clearances_of(equations: EquationsOfMotion, values: dict[str, float]) -> Clearances:

@@ -16,6 +16,7 @@ import sympy as sp
 
 from ..drawing.geometry import model_geometry
 from ..drawing.views import figure_model
+from ..parameters import expression_value
 from ..statespace import VehicleModel
 from ..topology import classify_bodies
 from ..units import KMH
@@ -31,11 +32,7 @@ def _value_of(vehicle: VehicleModel) -> Callable[[object], float]:
     values = vehicle.values
 
     def value(expression) -> float:
-        expression = sp.sympify(expression)
-        missing = sorted(s.name for s in expression.free_symbols if s.name not in values)
-        if missing:
-            raise KeyError(f"no value for {', '.join(missing)}")
-        return float(expression.xreplace({sp.Symbol(n): sp.Float(values[n]) for n in values if sp.Symbol(n) in expression.free_symbols}))
+        return expression_value(expression, values)  # KeyError naming a name without value
 
     return value
 
