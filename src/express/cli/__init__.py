@@ -31,11 +31,11 @@ from typing import Any, NoReturn
 
 from .. import __version__
 from ..diagnostics import EXIT_ANALYSIS, EXIT_INPUT, EXIT_INTERNAL, EXIT_OK, AnalysisError, InputError
-from . import conicity, contact_geometry, convert, critical_speed, demo, draw, eigen, export, frf, generate, report, sensitivity, simulate, study
+from . import conicity, contact_geometry, convert, critical_speed, demo, draw, eigen, export, frf, generate, report, ride, sensitivity, simulate, study
 
 __all__ = ["build_parser", "main"]
 
-COMMANDS = (generate, convert, simulate, frf, eigen, critical_speed, demo, draw, export, report, study, sensitivity,
+COMMANDS = (generate, convert, simulate, frf, eigen, critical_speed, demo, draw, export, report, study, sensitivity, ride,
             contact_geometry, conicity)
 _META = ("handler", "numeric", "debug", "command")
 

@@ -1,0 +1,279 @@
+"""``express ride``: ride comfort and wheel forces on a random track,
+:func:`express.analysis.ride.vehicle.ride_response` (``docs/ride.md``)."""
+
+from __future__ import annotations
+
+import csv
+import math
+import sys
+from pathlib import Path
+from typing import Any
+
+from ..diagnostics import ModelError, Problem, UsageError
+from . import common
+
+__all__ = ["MAX_POINTS", "add_parser", "read_psd_table", "run"]
+
+#: Most frequencies one run computes.
+MAX_POINTS = 100_000
+#: RMS below which a direction counts as not excited (not drawn) [m/s^2].
+_NEGLIGIBLE = 1e-9
+_PSD_UNITS = {"n": ("1/m", {"m^2/(1/m)", "m^3"}), "omega": ("rad/m", {"m^2/(rad/m)", "m^3/rad", "m^3"})}
+
+
+def add_parser(subparsers) -> None:
+    from ..analysis.ride.vehicle import TRACK_CLASSES
+
+    parser = subparsers.add_parser(
+        "ride", help="ride comfort (Sperling Wz, EN 12299 N_MV) and wheel forces on a random track",
+        description="Stationary random response of the vehicle to track irregularity spectra (alignment, "
+        "vertical, cross level, gauge), wheelsets delayed behind the leading one: per output point the RMS "
+        "accelerations, Sperling's Wz and EN 12299's N_MV; per wheelset the lateral wheel force Y, the "
+        "dynamic wheel load dQ and Y/Q. See docs/ride.md.",
+    )
+    common.add_model_arguments(parser)
+    parser.add_argument("--track", required=True, metavar="CLASS|FILE.csv",
+                        help=f"track class ({', '.join(TRACK_CLASSES)}) or a CSV table of PSD against "
+                        "wavenumber (docs/ride.md)")
+    parser.add_argument("--speed", type=common.SPEED, metavar="SPEED", help=common.SPEED.help("running speed", "the model's speed"))
+    parser.add_argument("--fmin", type=common.FMIN, default=0.1, metavar="F",
+                        help=common.FMIN.help("lowest frequency", "0.1 Hz"))
+    parser.add_argument("--fmax", type=common.FMAX, default=50.0, metavar="F",
+                        help=common.FMAX.help("highest frequency, above --fmin", "50 Hz"))
+    parser.add_argument("--points", type=common.count("--points", 16, MAX_POINTS), default=2000,
+                        help=f"number of frequencies, log-spaced; 16 <= --points <= {MAX_POINTS}; default 2000")
+    parser.add_argument("-o", "--output", metavar="FILE", help="the PSDs as CSV, units in the header (- for standard output)")
+    parser.add_argument("--plot", type=common.figure_path, metavar="FILE", help="acceleration PSDs with weighted curves (.png, .svg or .pdf)")
+    common.add_json_option(parser)
+    parser.set_defaults(handler=run, numeric=True)
+
+
+def run(
+    model: Path, overrides: dict[str, str], *, track: str, speed: float | None = None, fmin: float = 0.1,
+    fmax: float = 50.0, points: int = 2000, output: str | None = None, plot: Path | None = None,
+    as_json: bool = False,
+) -> int:
+    """Compute the response and write the outputs all together; returns the exit status."""
+    import numpy as np
+
+    from ..analysis.ride.vehicle import point_comfort, ride_response, wheel_forces
+    from ..io.output import output_transaction
+
+    if not fmax > fmin:
+        raise UsageError(f"--fmax {fmax:g} Hz: must be above --fmin {fmin:g} Hz")
+    if output == "-" and as_json:
+        raise UsageError("-o - and --json both write to standard output; choose one")
+    table = _is_table(track)
+    with output_transaction([model, *([track] if table else [])]) as transaction:
+        if output is not None:
+            transaction.declare(output)
+        if plot is not None:
+            transaction.declare(plot, binary=True)
+        spectra, track_name = _spectra(track, table)
+        vehicle = common.load_rail_vehicle(model, overrides, "ride")
+        v = common.running_speed(vehicle, speed)
+        response = ride_response(vehicle, spectra, v, np.geomspace(fmin, fmax, points))
+        comfort = point_comfort(response)
+        wheels = wheel_forces(response, vehicle)
+        if output is not None:
+            _write_csv(output, response)
+        if plot is not None:
+            _figure(vehicle, response, track_name, plot)
+    for path in [p for p in (output, plot) if p is not None and str(p) != "-"]:
+        common.note(f"wrote {path}")
+    summary = _summary(model, track_name, response, comfort, wheels)
+    if as_json:
+        common.print_json(summary)
+    else:
+        _print_table(vehicle.equations.name, summary, sys.stderr if output == "-" else sys.stdout)
+    for line in response.notes:
+        common.note(f"note: {line}")
+    return 0
+
+
+# --- the track ---------------------------------------------------------------------------
+
+
+def _is_table(track: str) -> bool:
+    return track.lower().endswith(".csv") or Path(track).is_file()
+
+
+def _spectra(track: str, table: bool) -> tuple[dict, str]:
+    from ..analysis.ride.vehicle import track_class_spectra
+    from ..diagnostics import InputError
+
+    if table:
+        return read_psd_table(Path(track)), track
+    try:
+        spectra = track_class_spectra(track)
+    except InputError as error:
+        raise UsageError(f"--track: {error}") from None
+    return spectra, track
+
+
+def _header_cell(cell: str) -> tuple[str, str | None]:
+    name, _, unit = cell.strip().partition("[")
+    return name.strip(), (unit.rstrip().rstrip("]").replace(" ", "") if unit else None)
+
+
+def read_psd_table(path: Path) -> dict:
+    """A user's track spectra: CSV, first column ``n [1/m]`` (cycles per metre) or
+    ``Omega [rad/m]``, then one column per component (``alignment``, ``vertical``,
+    ``cross_level``, ``gauge``) of PSD per that wavenumber (``m^2/(1/m)`` or
+    ``m^2/(rad/m)``; units in brackets optional).  ``#`` lines are comments.
+
+    Returns
+    -------
+    dict of str to express.rail.track.spectra.TabulatedSpectrum
+
+    Raises
+    ------
+    ModelError
+        Every problem with its line: header, numbers, negative PSD, wavenumbers that do
+        not increase.
+    UsageError
+        The file cannot be read.
+    """
+    from ..rail.track.spectra import COMPONENTS, TabulatedSpectrum
+
+    source = str(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as error:
+        raise UsageError(f"--track {path}: cannot read the PSD table ({error.__class__.__name__}: {error})") from None
+    rows = [(number, cells) for number, cells in enumerate(csv.reader(text.splitlines()), 1)
+            if cells and "".join(cells).strip() and not cells[0].lstrip().startswith("#")]
+    problems: list[Problem] = []
+    if not rows:
+        raise ModelError([Problem(source, None, "PSD table", "empty: need a header and at least two rows")])
+    header_line, header = rows[0]
+    columns = [_header_cell(cell) for cell in header]
+    first, first_unit = columns[0][0].lower(), columns[0][1]
+    if first not in _PSD_UNITS:
+        problems.append(Problem(source, header_line, "PSD table", f"first column must be 'n [1/m]' or 'Omega [rad/m]', got {header[0].strip()!r}"))
+        first = "n"
+    elif first_unit is not None and first_unit != _PSD_UNITS[first][0]:
+        problems.append(Problem(source, header_line, f"column {columns[0][0]}", f"unit must be {_PSD_UNITS[first][0]}, got {first_unit!r}"))
+    for name, unit in columns[1:]:
+        if name not in COMPONENTS:
+            problems.append(Problem(source, header_line, f"column {name or '(empty)'}", f"unknown component; known: {', '.join(COMPONENTS)}"))
+        elif unit is not None and unit not in _PSD_UNITS[first][1]:
+            problems.append(Problem(source, header_line, f"column {name}", f"unit must be one of {', '.join(sorted(_PSD_UNITS[first][1]))}, got {unit!r}"))
+    if len(columns) < 2:
+        problems.append(Problem(source, header_line, "PSD table", "needs a wavenumber column and at least one PSD column"))
+    values = _table_values(source, rows[1:], len(columns), [c[0] for c in columns], problems)
+    if len(values) < 2 and not problems:
+        problems.append(Problem(source, None, "PSD table", f"needs at least two rows of numbers, got {len(values)}"))
+    if problems:
+        raise ModelError(problems)
+    unit = "1/m" if first == "n" else "rad/m"
+    wavenumbers = [row[1][0] for row in values]
+    return {name: TabulatedSpectrum.from_table(f"{path.name} {name}", wavenumbers, [row[1][k] for row in values], unit, name)
+            for k, (name, _) in enumerate(columns) if k > 0}
+
+
+def _table_values(source: str, rows: list, width: int, names: list[str], problems: list[Problem]) -> list:
+    """Numbers of the data rows, with a problem for each bad cell, negative PSD or
+    wavenumber that does not increase."""
+    values = []
+    for number, cells in rows:
+        if len(cells) != width:
+            problems.append(Problem(source, number, "PSD table", f"expected {width} values, got {len(cells)}"))
+            continue
+        try:
+            numbers = [float(cell) for cell in cells]
+        except ValueError:
+            problems.append(Problem(source, number, "PSD table", f"not a number in {','.join(cells)!r}"))
+            continue
+        if not all(math.isfinite(x) for x in numbers):
+            problems.append(Problem(source, number, "PSD table", "values must be finite"))
+            continue
+        if numbers[0] < 0:
+            problems.append(Problem(source, number, f"column {names[0]}", f"wavenumber must be >= 0, got {numbers[0]:g}"))
+        for k in range(1, width):
+            if numbers[k] < 0:
+                problems.append(Problem(source, number, f"column {names[k]}", f"PSD must be >= 0, got {numbers[k]:g}"))
+        if values and numbers[0] <= values[-1][1][0]:
+            problems.append(Problem(source, number, f"column {names[0]}", f"wavenumbers must increase: {numbers[0]:g} "
+                                    f"after {values[-1][1][0]:g} (line {values[-1][0]})"))
+        values.append((number, numbers))
+    return values
+
+
+# --- outputs -----------------------------------------------------------------------------
+
+
+def _summary(model: Path, track: str, response: Any, comfort: dict, wheels: dict) -> dict:
+    f = response.frequencies
+    return {
+        "model": str(model), "track": track, "speed": response.speed, "speed_kmh": response.speed / common.KMH,
+        "frequency_band_hz": [float(f[0]), float(f[-1])], "points": int(f.size),
+        "components": list(response.components), "notes": list(response.notes),
+        "output_points": {
+            name: {"directions": list(c.directions), "rms": c.rms, "weighted_rms": c.weighted_rms, "wz": c.wz,
+                   "n_mv": c.n_mv, "a_p95": c.a_p95, "method": c.method}
+            for name, c in comfort.items()
+        },
+        "wheelsets": {
+            name: {"wheel_load": w.wheel_load, "y_rms": w.y_rms, "dq_rms": w.dq_rms, "dynamic_q": w.dynamic_q,
+                   "yq_rms": w.yq_rms, "yq_level": w.yq_level, "yq_sigmas": w.z, "y_rel_rms": w.y_rel_rms,
+                   "flange_clearance": w.flange_clearance}
+            for name, w in wheels.items()
+        },
+        "units": {"rms": "m/s^2", "weighted_rms": "m/s^2", "a_p95": "m/s^2", "wheel_load": "N", "y_rms": "N",
+                  "dq_rms": "N", "y_rel_rms": "m", "flange_clearance": "m", "speed": "m/s"},
+    }
+
+
+def _print_table(name: str, summary: dict, stream) -> None:
+    band = summary["frequency_band_hz"]
+    print(f"{name}: track {summary['track']} at {summary['speed_kmh']:.1f} km/h, {band[0]:g}-{band[1]:g} Hz "
+          f"({summary['points']} points); components: {', '.join(summary['components']) or 'none'}", file=stream)
+    print(f"  {'point':<14} {'a_x rms':>9} {'a_y rms':>9} {'a_z rms':>9} {'Wz_y':>6} {'Wz_z':>6} {'N_MV':>6}   (m/s^2)",
+          file=stream)
+    for point, c in summary["output_points"].items():
+        rms = "".join(f" {c['rms'][a]:9.4f}" if a in c["rms"] else f" {'-':>9}" for a in "xyz")
+        wz = "".join(f" {c['wz'][a]:6.2f}" if a in c["wz"] else f" {'-':>6}" for a in "yz")
+        print(f"  {point:<14}{rms}{wz} {c['n_mv']:6.2f}", file=stream)
+    print(f"  {'wheelset':<10} {'Y rms':>7} {'dQ rms L/R':>15} {'Y/Q0 rms':>9} {'Y/Q 3-sigma L/R':>17} {'y-yR rms':>9}",
+          file=stream)
+    print(f"  {'':<10} {'[kN]':>7} {'[kN]':>15} {'':>9} {'(dynamic Q)':>17} {'[mm]':>9}", file=stream)
+    for wheelset, w in summary["wheelsets"].items():
+        dq = f"{w['dq_rms']['L'] / 1e3:.2f}/{w['dq_rms']['R'] / 1e3:.2f}" if w["dynamic_q"] else "-"
+        levels = f"{w['yq_level']['L']:.3f}/{w['yq_level']['R']:.3f}"
+        print(f"  {wheelset:<10} {w['y_rms'] / 1e3:7.2f} {dq:>15} {w['yq_rms']:9.4f} {levels:>17} "
+              f"{w['y_rel_rms'] * 1e3:9.2f}", file=stream)
+
+
+def _psd_unit(unit: str) -> str:
+    return {"m/s^2": "m^2/s^4/Hz", "N": "N^2/Hz", "m": "m^2/Hz"}.get(unit, f"({unit})^2/Hz")
+
+
+def _write_csv(output: str, response: Any) -> None:
+    from ..io.output import write_csv
+
+    columns: dict[str, Any] = {"frequency": response.frequencies}
+    units = {"frequency": "Hz"}
+    for component in response.components:
+        columns[f"track_{component}_psd"] = response.input_psd[component]
+        units[f"track_{component}_psd"] = "m^2/Hz"
+    for name, unit in zip(response.names, response.units, strict=True):
+        columns[f"{name}_psd"] = response.psd_of(name)
+        units[f"{name}_psd"] = _psd_unit(unit)
+    write_csv(output, columns, units)
+
+
+def _figure(vehicle: Any, response: Any, track: str, plot: Path) -> None:
+    from ..analysis.plots import save_figure
+    from ..analysis.ride.figures import figure_ride_spectra
+
+    spectra = {}
+    for point, axes in response.directions.items():
+        kept = {a: response.psd_of(f"{point}.a{a}") for a in axes if response.rms(f"{point}.a{a}") > _NEGLIGIBLE}
+        if kept:
+            spectra[point] = kept
+    if not spectra:
+        raise UsageError(f"--plot: {vehicle.equations.name} has no excited output point ([rail.outputs]) to draw")
+    title = f"{vehicle.equations.name}: track {track}, {response.speed / common.KMH:.0f} km/h"
+    caption = "solid: PSD; dashed: EN 12299 weighted (Wd lateral/longitudinal, Wb vertical); dotted: Sperling B²·PSD"
+    save_figure(figure_ride_spectra(response.frequencies, spectra, title=title, caption=caption), plot)
