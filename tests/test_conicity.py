@@ -34,7 +34,7 @@ def test_linear_delta_r_gives_lambda_exactly(lam, grid):
         y = np.sort(np.random.default_rng(3).uniform(-0.01, 0.01, 300))
     amplitudes = np.arange(0.5, 9.51, 0.5) * 1e-3
     result = equivalent_conicity(y, 2 * lam * y, amplitudes)
-    assert np.abs(result - lam).max() <= 4 * np.finfo(float).eps * lam
+    assert np.abs(result - lam).max() <= 10 * np.finfo(float).eps * lam  # rounding of ~300 terms
 
 
 def test_offset_and_mirror_do_not_change_the_result():

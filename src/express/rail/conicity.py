@@ -27,6 +27,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+from numba import njit
 
 from ..diagnostics import ModelError, Problem
 from .contact_geometry import ContactSetup, ContactTable, contact_geometry
@@ -236,40 +237,56 @@ class _Branch:
 
     def integral(self, j: np.ndarray, t: np.ndarray) -> np.ndarray:
         """Sum over the segments up to the turning point (segment j, offset t) of
-        integral du / sqrt(C - S), with C = S there.
-
-        C - S is built from t at the turning point's own segment, so the square roots
-        next to it carry no rounding residue of C - S_j."""
-        seg = np.arange(len(self.m))[None, :]
-        before, here = seg < j[:, None], seg == j[:, None]
-        last = (self.d[j] * t + 0.5 * self.m[j] * t * t)[:, None]  # C - S_j, >= 0
-        energy = self.s[j][:, None] + last
-        dt = np.where(before, self.du[None, :], t[:, None])
-        d0, m = self.d[None, :-1], self.m[None, :]
-        q0 = np.where(here, np.sqrt(last), np.sqrt(np.maximum(energy - self.s[None, :-1], 0.0)))
-        q1 = np.where(seg == j[:, None] - 1, np.sqrt(last), np.sqrt(np.maximum(energy - self.s[None, 1:], 0.0)))
-        q1 = np.where(here, 0.0, q1)
-        pieces = _segment_integral(dt, q0, q1, -0.5 * d0, -0.5 * (d0 + m * dt), m)
-        return np.sum(np.where(before | here, pieces, 0.0), axis=1)
+        integral du / sqrt(C - S), with C = S there (one value per turning point)."""
+        out = np.empty(len(j))
+        _branch_integral(self.du, self.d, self.m, self.s, j.astype(np.int64), t.astype(float), out)
+        return out
 
 
-def _segment_integral(dt, q0, q1, p0, p1, m):
+@njit(cache=True)
+def _branch_integral(du, d, m, s, j, t, out):
+    """:meth:`_Branch.integral`, compiled.  C - S is built from t at the turning point's
+    own segment, so the square roots next to it carry no rounding residue of C - S_j."""
+    for k in range(len(j)):
+        jk, tk = j[k], t[k]
+        last = max(d[jk] * tk + 0.5 * m[jk] * tk * tk, 0.0)  # C - S_j
+        energy = s[jk] + last
+        total = 0.0
+        for i in range(jk + 1):
+            dt = du[i] if i < jk else tk
+            if dt <= 0.0:
+                continue
+            q0 = math.sqrt(last) if i == jk else math.sqrt(max(energy - s[i], 0.0))
+            if i == jk:
+                q1 = 0.0
+            elif i == jk - 1:
+                q1 = math.sqrt(last)
+            else:
+                q1 = math.sqrt(max(energy - s[i + 1], 0.0))
+            total += _piece(dt, q0, q1, -0.5 * d[i], -0.5 * (d[i] + m[i] * dt), m[i])
+        out[k] = total
+
+
+@njit(cache=True)
+def _piece(dt, q0, q1, p0, p1, m):
     """integral_0^dt dt / sqrt(Q) for Q = C - S quadratic with Q' / 2 = P, in closed form.
 
     q = sqrt(Q) and P = -delta_r / 2 at both ends; m is the slope of delta_r.  Rising
     delta_r (m > 0): the circle form atan2(k (q1 P0 - q0 P1), k^2 q0 q1 + P0 P1) / k with
-    k = sqrt(m / 2); falling: the logarithm, written with log1p; m = 0: Q linear or constant.
-    Each form tends to the next without cancellation.
+    k = sqrt(m / 2); falling: the logarithm, written with log1p; m = 0: Q linear or
+    constant.  Each form tends to the next without cancellation.
     """
-    with np.errstate(divide="ignore", invalid="ignore"):
-        k = np.sqrt(np.abs(m) / 2.0)
-        rising = np.arctan2(k * (q1 * p0 - q0 * p1), k * k * q0 * q1 + p0 * p1) / k
-        plus = np.log1p(k * (k * dt + q1 - q0) / (p0 + k * q0)) / k
-        minus = -np.log1p((k * k * dt - k * (q1 - q0)) / (p0 - k * q0)) / k
-        falling = np.where(p0 >= 0.0, plus, minus)
-        linear = np.where(p0 != 0.0, (q1 - q0) / p0, dt / q0)
-    result = np.where(m > 0, rising, np.where(m < 0, falling, linear))
-    return np.where(dt > 0.0, result, 0.0)
+    if m > 0.0:
+        k = math.sqrt(0.5 * m)
+        return math.atan2(k * (q1 * p0 - q0 * p1), k * k * q0 * q1 + p0 * p1) / k
+    if m < 0.0:
+        k = math.sqrt(-0.5 * m)
+        if p0 >= 0.0:
+            return math.log1p(k * (k * dt + q1 - q0) / (p0 + k * q0)) / k
+        return -math.log1p((k * k * dt - k * (q1 - q0)) / (p0 - k * q0)) / k
+    if p0 != 0.0:
+        return (q1 - q0) / p0
+    return dt / q0
 
 
 def equivalent_conicity(
