@@ -261,3 +261,24 @@ def test_dask_scheduler_and_worker_on_localhost_give_the_same_results(tmp_path: 
                     process.wait(timeout=30)
                 except subprocess.TimeoutExpired:
                     process.kill()
+
+
+def test_local_check_gives_the_grid_check_file_across_a_low_speed_window(tmp_path: Path) -> None:
+    """The bundled map's corner where a low-speed instability window opens (lLL >= 120 mm
+    with soft kx1): the local check, following neighbours, gives the grid check's file."""
+    body = """kind = "grid"
+outputs = ["critical_speed", "critical_frequency"]
+[study.parameters]
+lLL = { from = "110 mm", to = "130 mm", count = 5 }
+kx1 = { from = "0.5 MN/m", to = "2 MN/m", count = 7, scale = "log" }
+[study.options]
+v_max = "600 km/h"
+"""
+    files = {}
+    for check in ("grid", "local"):
+        study = _study(tmp_path, body + f'check = "{check}"\n', f"{check}.toml")
+        files[check] = tmp_path / f"{check}.csv"
+        run_study(read_study(study), files[check], workers=2)
+    table = read_table(files["grid"])
+    assert table["critical_speed"].min() < 25 < 80 < table["critical_speed"].max()  # both regimes present
+    assert files["local"].read_bytes() == files["grid"].read_bytes()

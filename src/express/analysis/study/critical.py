@@ -27,7 +27,7 @@ crossing** (a Hopf point) besides, which the sensitivities need:
        with a starting guess (the crossing of a similar vehicle, e.g. the previous point
        of a study), Newton's method starts from it and only ``v_min``, the grid speed
        below the crossing and the speed just below it (``v* - tolerance / 4``) are
-       checked, with the direction of the crossing: three eigenvalue problems instead of
+       checked, with the direction of the crossing: a few eigenvalue problems instead of
        tens. An instability confined to lower speeds that the guess does not lead to
        (a window that opens between two study points below the tracked crossing) is
        then not seen; without a guess, or when Newton's method fails or a check fails,
@@ -46,7 +46,7 @@ import numpy as np
 
 from ...statespace import VehicleModel
 
-__all__ = ["CriticalOptions", "HopfPoint", "CriticalResult", "StateBlocks", "fast_critical_speed", "hopf_point"]
+__all__ = ["CriticalOptions", "CriticalResult", "CriticalSpeedSearch", "HopfPoint", "StateBlocks", "fast_critical_speed", "hopf_point"]
 
 #: Relative distance of a bisection midpoint from the crossing below which the midpoint
 #: is decided by solving the eigenvalue problem rather than by comparison.
@@ -286,9 +286,16 @@ def _cell(grid: np.ndarray, speed: float) -> int:
     return int(np.searchsorted(grid, speed, side="left"))
 
 
+#: Relative distance below a crossing at which every mode must decay: close enough that
+#: no other mode crosses in between unnoticed (two bogies' hunting modes cross within
+#: 0.1 % of each other), far enough that the crossing mode's own real part is clearly
+#: below the threshold (by about 1e-6 v dRe/dv, well above round-off).
+_BELOW = 1e-6
+
+
 def _locally_first(blocks: StateBlocks, crossing: HopfPoint, options: CriticalOptions) -> bool:
     """Stable just below the crossing and the crossing mode's real part rising with v."""
-    below = crossing.speed - max(options.tolerance / 4, 1e-7 * crossing.speed)
+    below = crossing.speed * (1.0 - _BELOW)
     if not below > options.v_min or blocks.sigma(below) > options.threshold:
         return False
     return _real_part_rate(blocks, crossing) > 0
@@ -319,12 +326,23 @@ def left_vector(a: np.ndarray, eigenvalue: complex, right: np.ndarray) -> np.nda
 
 def _crossing_in_cell(blocks: StateBlocks, lo: float, hi: float, options: CriticalOptions) -> HopfPoint | None:
     """Newton's method from each unstable eigenpair at ``hi``; the lowest crossing inside
-    ``(lo, hi]`` that is stable just below it."""
+    ``(lo, hi]`` that is stable just below it.
+
+    When Newton's method from ``hi`` leads out of the cell (a mode whose real part rises
+    and falls again within a few cells: from ``hi`` it finds the falling crossing), it
+    starts again from the nearest eigenpair at ``lo``, below the rising one."""
     blocks.evaluations += 1
     values, vectors = np.linalg.eig(blocks.matrix(hi))
+    below = None
     found: list[HopfPoint] = []
     for k in np.flatnonzero((values.real > options.threshold) & (values.imag >= 0)):
         point = hopf_point(blocks, hi, float(values[k].imag), vectors[:, k], options.threshold)
+        if point is None or not lo < point.speed <= hi:
+            if below is None:
+                blocks.evaluations += 1
+                below = np.linalg.eig(blocks.matrix(lo))
+            j = int(np.argmin(np.abs(below[0] - values[k]) + np.where(below[0].imag >= 0, 0.0, np.inf)))
+            point = hopf_point(blocks, lo, float(below[0][j].imag), below[1][:, j], options.threshold)
         if point is not None and lo < point.speed <= hi:
             found.append(point)
     for point in sorted(found, key=lambda p: p.speed):
@@ -350,41 +368,98 @@ def fast_critical_speed(
     -------
     CriticalResult
     """
-    blocks = vehicle if isinstance(vehicle, StateBlocks) else StateBlocks(vehicle)
-    blocks.evaluations = 0
-    grid = options.grid
-    if blocks.sigma(grid[0]) > options.threshold:
-        return CriticalResult(float(grid[0]), True, None, blocks.evaluations, "grid", _mode_frequency(blocks, grid[0]))
-    if options.check == "local" and guess is not None:
-        result = _local(blocks, grid, guess, options)
-        if result is not None:
-            return result
-    first = None
-    for i in range(1, grid.size):
-        if blocks.sigma(grid[i]) > options.threshold:
-            first = i
-            break
-    if first is None:
-        return CriticalResult(None, False, None, blocks.evaluations, "grid")
-    lo, hi = float(grid[first - 1]), float(grid[first])
-    crossing = _crossing_in_cell(blocks, lo, hi, options)
-    if crossing is None:
-        speed = _bisect(blocks, lo, hi, options)
-        return CriticalResult(speed, False, None, blocks.evaluations, "bisection", _mode_frequency(blocks, speed))
-    speed = _replay_bisection(blocks, lo, hi, crossing.speed, options)
-    return CriticalResult(speed, False, crossing, blocks.evaluations, "grid")
+    search = CriticalSpeedSearch(options)
+    search.crossing = guess
+    return search(vehicle)
 
 
-def _local(blocks: StateBlocks, grid: np.ndarray, guess: HopfPoint, options: CriticalOptions) -> CriticalResult | None:
-    """Newton's method from ``guess``, checked locally; None to fall back to the grid."""
-    crossing = hopf_point(blocks, guess.speed, guess.omega, guess.vector, options.threshold)
-    if crossing is None or not (grid[0] < crossing.speed <= grid[-1]):
-        return None
-    i = _cell(grid, crossing.speed)
-    lo, hi = float(grid[i - 1]), float(grid[i])
-    if i > 1 and blocks.sigma(lo) > options.threshold:
-        return None
-    if not _locally_first(blocks, crossing, options):
-        return None
-    speed = _replay_bisection(blocks, lo, hi, crossing.speed, options)
-    return CriticalResult(speed, False, crossing, blocks.evaluations, "local")
+#: ``check = "local"``: grid speeds below the crossing checked besides the one just
+#: below it, chosen by the largest real part last seen there (unknown ones first).
+WATCHED = 2
+#: ``check = "local"``: points after which the whole grid is checked again.
+REFRESH = 16
+
+
+class CriticalSpeedSearch:
+    """Critical speeds of a sequence of similar vehicles (the points of a worker).
+
+    With ``check = "local"`` it keeps, from one vehicle to the next, the last crossing
+    (the starting guess of Newton's method) and, for each grid speed, the largest real
+    part seen there since the last full check: besides ``v_min``, the grid speed below
+    the crossing and the speed just below it, the :data:`WATCHED` grid speeds below the
+    crossing that came closest to instability are checked (an instability window that
+    opens at lower speeds is announced there by a mode approaching the axis), and every
+    :data:`REFRESH` points the whole grid. A heuristic: a window that opens away from the
+    watched speeds is missed until the next full check; ``check = "grid"`` checks every
+    grid speed every time.
+
+    Parameters
+    ----------
+    options : CriticalOptions
+    """
+
+    def __init__(self, options: CriticalOptions = CriticalOptions()):
+        self.options = options
+        self.grid = options.grid
+        self.crossing: HopfPoint | None = None
+        self.sigma = np.full(self.grid.size, np.nan)
+        self.since_grid = 0
+
+    def _sigma(self, blocks: StateBlocks, j: int) -> float:
+        value = blocks.sigma(float(self.grid[j]))
+        self.sigma[j] = max(value, self.sigma[j]) if np.isfinite(self.sigma[j]) else value
+        return value
+
+    def __call__(self, vehicle: VehicleModel | StateBlocks) -> CriticalResult:
+        blocks = vehicle if isinstance(vehicle, StateBlocks) else StateBlocks(vehicle)
+        blocks.evaluations = 0
+        options, grid = self.options, self.grid
+        if self._sigma(blocks, 0) > options.threshold:
+            self.sigma[0] = np.nan
+            return CriticalResult(float(grid[0]), True, None, blocks.evaluations, "grid", _mode_frequency(blocks, grid[0]))
+        if options.check == "local" and self.crossing is not None and self.since_grid < REFRESH:
+            result = self._local(blocks)
+            if result is not None:
+                self.since_grid += 1
+                self.crossing = result.crossing
+                return result
+        result = self._grid(blocks)
+        self.since_grid = 0
+        if result.crossing is not None:
+            self.crossing = result.crossing
+        return result
+
+    def _grid(self, blocks: StateBlocks) -> CriticalResult:
+        options, grid = self.options, self.grid
+        self.sigma[1:] = np.nan  # a full check starts the record again
+        first = next((i for i in range(1, grid.size) if self._sigma(blocks, i) > options.threshold), None)
+        if first is None:
+            return CriticalResult(None, False, None, blocks.evaluations, "grid")
+        lo, hi = float(grid[first - 1]), float(grid[first])
+        crossing = _crossing_in_cell(blocks, lo, hi, options)
+        if crossing is None:
+            speed = _bisect(blocks, lo, hi, options)
+            return CriticalResult(speed, False, None, blocks.evaluations, "bisection", _mode_frequency(blocks, speed))
+        speed = _replay_bisection(blocks, lo, hi, crossing.speed, options)
+        return CriticalResult(speed, False, crossing, blocks.evaluations, "grid")
+
+    def _local(self, blocks: StateBlocks) -> CriticalResult | None:
+        """Newton's method from the last crossing, checked locally; None to fall back."""
+        options, grid = self.options, self.grid
+        guess = self.crossing
+        assert guess is not None
+        crossing = hopf_point(blocks, guess.speed, guess.omega, guess.vector, options.threshold)
+        if crossing is None or not (grid[0] < crossing.speed <= grid[-1]):
+            return None
+        i = _cell(grid, crossing.speed)
+        below = np.arange(1, i - 1)
+        seen = np.where(np.isnan(self.sigma[below]), np.inf, self.sigma[below])
+        watched = below[np.argsort(-seen, kind="stable")[:WATCHED]]
+        for j in [*watched.tolist(), i - 1] if i > 1 else []:
+            if self._sigma(blocks, j) > options.threshold:
+                return None
+        if not _locally_first(blocks, crossing, options):
+            return None
+        lo, hi = float(grid[i - 1]), float(grid[i])
+        speed = _replay_bisection(blocks, lo, hi, crossing.speed, options)
+        return CriticalResult(speed, False, crossing, blocks.evaluations, "local")

@@ -28,9 +28,10 @@ def figure_study_map(
 
     Parameters
     ----------
-    axes : sequence of (name, values, display factor, display unit)
+    axes : sequence of (name, values, display factor, display unit[, scale])
         One or two parameters: their grid values (SI) and how to show them (the values
-        are divided by the factor, e.g. 1e6 for MN/m).
+        are divided by the factor, e.g. 1e6 for MN/m); ``scale`` ``"log"`` draws that
+        axis logarithmically.
     values : numpy.ndarray, shape (len(axes[0][1]),) or (len(axes[0][1]), len(axes[1][1]))
         The output on the grid (SI); nan where it has none.
     label : str
@@ -46,32 +47,56 @@ def figure_study_map(
 
     from ..plots import STYLE
 
+    import textwrap
+
+    from matplotlib.ticker import ScalarFormatter
+
+    def unpack(entry):
+        name, grid, factor, shown_unit = entry[:4]
+        return name, np.asarray(grid, dtype=float) / factor, f"{name} [{shown_unit}]" if shown_unit else name, \
+            (entry[4] if len(entry) > 4 else "linear")
+
     with matplotlib.rc_context(STYLE):
-        figure, axis = _figure((6.4, 4.6))
+        figure, axis = _figure((6.4, 4.8))
         shown = np.asarray(values, dtype=float) / scale
-        name0, x, f0, u0 = axes[0]
-        xlabel = f"{name0} [{u0}]" if u0 else name0
+        quantity = f"{label} [{unit}]" if unit else label
+        _name0, x, xlabel, xscale = unpack(axes[0])
         if len(axes) == 1:
-            axis.plot(np.asarray(x) / f0, shown, marker="o", markersize=3)
-            axis.set_xlabel(xlabel)
-            axis.set_ylabel(f"{label} [{unit}]" if unit else label)
+            axis.plot(x, shown, marker="o", markersize=3)
+            axis.set_ylabel(quantity)
         else:
-            name1, y, f1, u1 = axes[1]
-            grid_x, grid_y = np.meshgrid(np.asarray(x) / f0, np.asarray(y) / f1, indexing="ij")
+            _name1, y, ylabel, yscale = unpack(axes[1])
+            grid_x, grid_y = np.meshgrid(x, y, indexing="ij")
             finite = shown[np.isfinite(shown)]
-            levels = np.linspace(finite.min(), finite.max(), 15) if finite.size and np.ptp(finite) > 0 else 10
-            filled = axis.contourf(grid_x, grid_y, np.ma.masked_invalid(shown), levels=levels, cmap="viridis")
-            lines = axis.contour(grid_x, grid_y, np.ma.masked_invalid(shown), levels=filled.levels[::2],
-                                 colors="k", linewidths=0.5)
+            masked = np.ma.masked_invalid(shown)
+            filled = axis.contourf(grid_x, grid_y, masked, levels=_levels(finite), cmap="viridis")
+            lines = axis.contour(grid_x, grid_y, masked, levels=filled.levels[1:-1:2], colors="k", linewidths=0.5)
             axis.clabel(lines, fmt="%.0f", fontsize=7)
-            bar = figure.colorbar(filled, ax=axis)
-            bar.set_label(f"{label} [{unit}]" if unit else label)
-            axis.set_xlabel(xlabel)
-            axis.set_ylabel(f"{name1} [{u1}]" if u1 else name1)
+            figure.colorbar(filled, ax=axis).set_label(quantity)
+            axis.set_ylabel(ylabel)
+            axis.set_yscale(yscale)
             axis.grid(False)
-        axis.set_title(title)
+        axis.set_xlabel(xlabel)
+        axis.set_xscale(xscale)
+        for which, chosen in ((axis.xaxis, xscale), (axis.yaxis, yscale if len(axes) > 1 else "linear")):
+            if chosen == "log":  # plain numbers on a log axis
+                which.set_major_formatter(ScalarFormatter())
+                which.set_minor_formatter(ScalarFormatter())
+        axis.set_title("\n".join(textwrap.wrap(title, 64)))
         figure.tight_layout()
     return figure
+
+
+def _levels(values: np.ndarray, count: int = 16) -> np.ndarray | int:
+    """Contour levels at equal shares of the values (rounded), so that a map whose values
+    fall into separate ranges (a region of low-speed instability beside the usual
+    hunting) shows detail in each of them."""
+    if values.size == 0 or np.ptp(values) == 0:
+        return 10
+    step = 10.0 ** np.floor(np.log10(np.ptp(values) / 100.0))
+    levels = np.unique(np.round(np.quantile(values, np.linspace(0.0, 1.0, count + 1)) / step) * step)
+    levels[0], levels[-1] = min(levels[0], values.min()), max(levels[-1], values.max())
+    return levels if levels.size >= 3 else 10
 
 
 def figure_tornado(result, *, top: int = 15, change: float = 0.1, title: str = ""):

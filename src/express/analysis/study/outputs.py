@@ -37,7 +37,7 @@ from typing import Any
 
 import numpy as np
 
-from .critical import CriticalOptions, HopfPoint, StateBlocks, fast_critical_speed
+from .critical import CriticalOptions, CriticalSpeedSearch, StateBlocks
 
 __all__ = ["OUTPUTS", "OutputSettings", "PointOutputs"]
 
@@ -158,7 +158,8 @@ class PointOutputs:
     """Computes the outputs of one point from a vehicle evaluated at its values.
 
     One instance per worker: it keeps the track (read once) and, for ``check =
-    "local"``, the last crossing as the starting guess of the next critical speed.
+    "local"``, the state of the critical-speed search (the last crossing as the starting
+    guess, :class:`~express.analysis.study.critical.CriticalSpeedSearch`).
 
     Parameters
     ----------
@@ -171,8 +172,12 @@ class PointOutputs:
         self.outputs = tuple(outputs)
         self.settings = settings
         self.groups = {OUTPUTS[name][1] for name in self.outputs}
-        self.guess: HopfPoint | None = None
+        self.search = CriticalSpeedSearch(settings.critical)
         self._track = None
+
+    def restart(self) -> None:
+        """Forget the critical-speed search's state (at the start of a chunk)."""
+        self.search = CriticalSpeedSearch(self.settings.critical)
 
     def __call__(self, vehicle) -> tuple[dict[str, float], list[str]]:
         """Output values (SI; nan when not available) and messages for this point."""
@@ -196,9 +201,7 @@ class PointOutputs:
 
     def _critical(self, vehicle, notes: list[str]) -> dict[str, float]:
         options = self.settings.critical
-        result = fast_critical_speed(StateBlocks(vehicle), options, self.guess)
-        if result.crossing is not None:
-            self.guess = result.crossing
+        result = self.search(StateBlocks(vehicle))
         if result.unstable_at_min:
             notes.append(f"already unstable at the lowest speed {options.v_min:.6g} m/s")
         elif result.speed is None:

@@ -25,7 +25,7 @@ from ... import __version__
 from ...diagnostics import UsageError
 from .outputs import OUTPUTS
 from .results import FORMATS, Checkpoint, ResultTable, checkpoint_path, result_bytes
-from .runner import Engine, make_task
+from .runner import BLOCK, Engine, blocked, make_task
 from .sampling import study_points
 from .spec import StudySpec
 
@@ -198,6 +198,9 @@ def _evaluate(engine: Engine, checkpoint: Checkpoint, points: np.ndarray, spec: 
         if not (0 <= i < count) or record.get("values") != points[i].tolist():
             raise UsageError(f"{checkpoint.path}: the checkpoint does not match the study's points; delete it to start again")
         done[i] = True
+    if blocked(engine.task):  # a block counts as done only when all its points are
+        whole = np.add.reduceat(done, np.arange(0, count, BLOCK)) == np.diff(np.append(np.arange(0, count, BLOCK), count))
+        done = np.repeat(whole, BLOCK)[:count]
     todo = np.flatnonzero(~done)
     bar = _progress(count, count - len(todo), progress)
     try:

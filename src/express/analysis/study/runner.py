@@ -37,15 +37,21 @@ from typing import Any
 import numpy as np
 
 from ...diagnostics import ExpressError, UsageError
-from .outputs import OutputSettings, PointOutputs
+from .outputs import OUTPUTS, OutputSettings, PointOutputs
 from .spec import StudySpec
 
-__all__ = ["Engine", "StudyTask", "chunk_size", "evaluate_points", "make_task"]
+__all__ = ["BLOCK", "Engine", "StudyTask", "blocked", "chunk_size", "evaluate_points", "make_task"]
 
 #: Chunks in flight per worker.
 IN_FLIGHT = 4
 #: Times a point may kill its worker process before it is recorded as failed.
 MAX_ATTEMPTS = 3
+#: With ``check = "local"`` the points go out in aligned blocks of this many indices;
+#: each block starts a fresh critical-speed search, and so does every point that is not a
+#: neighbour of the one before (more than one parameter changed): a point's result then
+#: depends only on the points of its block, whatever worker, chunk or resumed run
+#: evaluates it.
+BLOCK = 16
 
 
 @dataclass(frozen=True)
@@ -139,9 +145,22 @@ class _Worker:
         self.fixed = dict(task.fixed)
         self.output_names = task.outputs
         self.outputs = PointOutputs(task.outputs, settings)
+        self.previous: list[float] | None = None
+
+    def restart(self) -> None:
+        """Start a chunk: the next point starts a fresh critical-speed search."""
+        self.previous = None
 
     def evaluate(self, index: int, vector: Sequence[float]) -> dict[str, Any]:
-        """One point: ``{"point", "values", "outputs", "error"}`` (outputs SI, None for nan)."""
+        """One point: ``{"point", "values", "outputs", "error"}`` (outputs SI, None for nan).
+
+        The critical-speed search follows on from the previous point only when the two
+        differ in one parameter (neighbours along a grid line); otherwise it starts again.
+        """
+        vector = [float(x) for x in vector]
+        if self.previous is None or sum(a != b for a, b in zip(vector, self.previous)) > 1:
+            self.outputs.restart()
+        self.previous = vector
         changes = dict(self.fixed)
         changes.update(zip(self.names, (float(x) for x in vector)))
         try:
@@ -181,9 +200,16 @@ def _worker(task: StudyTask) -> _Worker:
 
 
 def evaluate_points(task: StudyTask, indices: Sequence[int], vectors: Sequence[Sequence[float]]) -> list[dict]:
-    """Evaluate points on this process's worker (built on first use); one record each."""
+    """Evaluate a chunk of points on this process's worker (built on first use); one
+    record each. Each chunk starts a fresh critical-speed search."""
     worker = _worker(task)
+    worker.restart()
     return [worker.evaluate(i, v) for i, v in zip(indices, vectors)]
+
+
+def blocked(task: StudyTask) -> bool:
+    """Whether the points go out in aligned blocks (``check = "local"``)."""
+    return task.settings.check == "local" and "critical" in {OUTPUTS[name][1] for name in task.outputs}
 
 
 def chunk_size(points: int, workers: int) -> int:
@@ -191,10 +217,20 @@ def chunk_size(points: int, workers: int) -> int:
     return max(1, min(64, math.ceil(points / max(1, workers * 16))))
 
 
-def _chunks(indices: Sequence[int], vectors: np.ndarray, size: int) -> Iterator[tuple[list[int], list[list[float]]]]:
-    for start in range(0, len(indices), size):
-        part = list(indices[start : start + size])
-        yield part, [list(map(float, vectors[k])) for k in range(start, start + len(part))]
+def _chunks(indices: Sequence[int], vectors: np.ndarray, size: int, aligned: bool = False):
+    """Chunks of consecutive entries of ``indices`` (``aligned``: one per block of
+    :data:`BLOCK` point indices)."""
+    start = 0
+    while start < len(indices):
+        if aligned:
+            block = indices[start] // BLOCK
+            end = start
+            while end < len(indices) and indices[end] // BLOCK == block:
+                end += 1
+        else:
+            end = min(start + size, len(indices))
+        yield list(indices[start:end]), [list(map(float, vectors[k])) for k in range(start, end)]
+        start = end
 
 
 def _failed(indices: Sequence[int], vectors: Sequence[Sequence[float]], outputs: int, message: str) -> list[dict]:
@@ -259,7 +295,7 @@ class Engine:
         if len(indices) == 0:
             return
         size = chunk_size(len(indices), self.parallel)
-        chunks = _chunks(indices, np.asarray(vectors, dtype=float), size)
+        chunks = _chunks(list(indices), np.asarray(vectors, dtype=float), size, blocked(self.task))
         if self._client is not None:
             yield from self._run_dask(chunks)
         elif self.workers == 1:

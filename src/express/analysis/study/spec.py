@@ -216,6 +216,9 @@ def parse_study(text: str, path: str | Path) -> StudySpec:
     samples = _samples(check, study, kind)
     seed = _integer(check, study, "seed", 0, 0, 2**32 - 1)
     objective, constraints, optimiser = _optimisation(check, study, kind, outputs)
+    if kind == "optimise" and settings.check == "local":
+        check.add(("options", "check"), "study.options.check", 'check = "local" follows neighbouring points of a '
+                  'grid or sample; an optimisation uses the grid check')
     if kind == "grid" and parameters:
         total = math.prod(len(p.values) for p in parameters)
         if total > MAX_POINTS:
