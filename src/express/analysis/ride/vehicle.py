@@ -469,22 +469,23 @@ def ride_response(
     a, b, bd = vehicle.state_matrix(v), vehicle.input_matrix(v), vehicle.input_rate_matrix(v)
     _check_stable(vehicle, a, v)
     w = 2.0 * math.pi * f
+    n_f, n_j = f.size, len(used)
     mixing = inputs.mixing[:, [COMPONENTS.index(c) for c in used]]  # (K, J)
-    phase = np.exp(-1j * np.outer(w, inputs.delays(v)))  # (F, K)
-    u = np.zeros((f.size, len(vehicle.inputs), len(used)), dtype=complex)
-    u[:, inputs.columns, :] = phase[:, :, None] * mixing[None, :, :]
-    b_cols, bd_cols = b[:, inputs.columns], bd[:, inputs.columns]
-    drive = np.einsum("nk,fkj->fnj", b_cols, u[:, inputs.columns]) + 1j * w[:, None, None] * np.einsum(
-        "nk,fkj->fnj", bd_cols, u[:, inputs.columns])
+    # u_j at the driven inputs k: T[k, j] exp(-i w tau_k), laid out (K, F*J) for plain matrix products
+    u = (np.exp(-1j * np.outer(inputs.delays(v), w))[:, :, None] * mixing[:, None, :]).reshape(-1, n_f * n_j)
+    s = np.repeat(1j * w, n_j)  # i w for every (frequency, component) column
+    columns = inputs.columns
+    drive = b[:, columns] @ u + (bd[:, columns] @ u) * s
     try:
-        x = resolvent_solve(a, f, drive)[:, : vehicle.n]
+        x = resolvent_solve(a, f, drive.reshape(-1, n_f, n_j).transpose(1, 0, 2))[:, : vehicle.n]
     except np.linalg.LinAlgError as error:
         raise AnalysisError(f"ride: {error}") from None
+    q = x.transpose(1, 0, 2).reshape(vehicle.n, n_f * n_j)
     d0, d1, d2, e0, e1 = rows.matrices()
-    s = (1j * w)[:, None, None]
-    transfer = (d0 + s * d1 + s**2 * d2) @ x + (e0 + s * e1) @ u
-    weights = np.stack([input_psd[c] for c in used], axis=1) if used else np.zeros((f.size, 0))
-    psd = np.einsum("fpj,fj->fp", np.abs(transfer) ** 2, weights)
+    y = d0 @ q + (d1 @ q) * s + (d2 @ q) * s**2 + e0[:, columns] @ u + (e1[:, columns] @ u) * s
+    transfer = y.reshape(-1, n_f, n_j).transpose(1, 0, 2)
+    weights = np.stack([input_psd[c] for c in used], axis=1) if used else np.zeros((n_f, 0))
+    psd = np.sum((transfer.real**2 + transfer.imag**2) * weights[:, None, :], axis=2)
     return RideResponse(f, v, tuple(used), input_psd, tuple(rows.names), tuple(rows.units), transfer, psd,
                         directions, sides, tuple(notes))
 
