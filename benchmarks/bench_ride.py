@@ -136,7 +136,7 @@ def car_toml() -> str:
             bodies.append((w, "mw", '"Iwx", "Iwy", "Iwz"', '"x", "y", "z", "rx", "rz"', f'"{bogie_x} + {sign}a", 0, "r0"'))
     for body, mass, inertia, dofs, position in bodies:
         text += f'[bodies.{body}]\nmass = "{mass}"\ninertia = [{inertia}]\ndofs = [{dofs}]\nposition = [{position}]\n'
-    for w, t, bogie_x, sign in wheelsets:
+    for w, t, _, sign in wheelsets:
         for side, y in (("L", "b0"), ("R", "-b0")):
             text += f"[grounds.{w}_rail{side}]\n"
             text += _spring(f"{w}_c{side}", w, ["0", f'"{y}"', '"-r0"'], f"{w}_rail{side}", ["0", f'"{y}"', "0"],
@@ -207,7 +207,8 @@ def main() -> int:
     args = parser.parse_args()
     runs = 3 if args.quick else args.runs
 
-    from express.analysis.ride.vehicle import point_comfort, rail_inputs, ride_response, track_class_spectra, wheel_forces
+    from express.analysis.ride.summaries import point_comfort, wheel_forces
+    from express.analysis.ride.vehicle import rail_inputs, ride_response, track_class_spectra
     from express.statespace import load_vehicle
 
     print(f"express ride benchmark, {datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M} UTC")

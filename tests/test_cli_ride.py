@@ -12,9 +12,8 @@ import numpy as np
 import pytest
 
 from cli_support import CONVENTIONAL, assert_fails, assert_input_error, run, run_json, valued_lever
-from test_ride_vehicle import two_axle_toml
-
 from express.rail.track.spectra import ERRI_LOW
+from test_ride_vehicle import two_axle_toml
 
 
 @pytest.fixture(scope="module")

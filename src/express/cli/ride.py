@@ -56,7 +56,8 @@ def run(
     """Compute the response and write the outputs all together; returns the exit status."""
     import numpy as np
 
-    from ..analysis.ride.vehicle import point_comfort, ride_response, wheel_forces
+    from ..analysis.ride.summaries import point_comfort, wheel_forces
+    from ..analysis.ride.vehicle import ride_response
     from ..io.output import output_transaction
 
     if not fmax > fmin:

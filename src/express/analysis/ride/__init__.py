@@ -6,7 +6,7 @@
 - :mod:`.spectral`: output spectra ``H G_u H^H``, RMS, wheelbase delays and filters,
   seeded random realisations.  PSDs are one-sided in Hz throughout (``docs/ride.md``);
 - :mod:`.vehicle`: a vehicle's response to random track irregularity (accelerations of
-  the output points, wheel forces), comfort per point, Y/Q;
+  the output points, wheel forces); :mod:`.summaries`: comfort per point, Y/Q;
 - :mod:`.figures`: acceleration PSDs with their weighted curves.
 """
 
@@ -40,22 +40,17 @@ from .spectral import (
     wheelbase_filter,
     wheelset_delays,
 )
-from .vehicle import (
-    TRACK_CLASSES,
+from .summaries import (
     PointComfort,
-    RailInputs,
-    RideResponse,
     WheelForces,
     comfort_from_psd,
     comfort_from_time_histories,
     point_comfort,
-    rail_inputs,
-    ride_response,
     simulation_accelerations,
-    track_class_spectra,
     wheel_forces,
     y_over_q_level,
 )
+from .vehicle import TRACK_CLASSES, RailInputs, RideResponse, rail_inputs, ride_response, track_class_spectra
 from .weighting import (
     WB,
     WC,
@@ -71,24 +66,9 @@ from .weighting import (
 
 __all__ = [
     "EN12299_WINDOW",
-    "TRACK_CLASSES",
-    "PointComfort",
-    "RailInputs",
-    "RideResponse",
-    "WheelForces",
-    "comfort_from_psd",
-    "comfort_from_time_histories",
-    "figure_ride_spectra",
-    "point_comfort",
-    "rail_inputs",
-    "resolvent_solve",
-    "ride_response",
-    "simulation_accelerations",
-    "track_class_spectra",
-    "wheel_forces",
-    "y_over_q_level",
     "SPERLING_BAND",
     "SPERLING_CONSTANT",
+    "TRACK_CLASSES",
     "WB",
     "WC",
     "WD",
@@ -96,7 +76,14 @@ __all__ = [
     "WK",
     "FrequencyWeighting",
     "MeanComfort",
+    "PointComfort",
+    "RailInputs",
+    "RideResponse",
+    "WheelForces",
+    "comfort_from_psd",
+    "comfort_from_time_histories",
     "delay_factors",
+    "figure_ride_spectra",
     "frequency_response",
     "get_weighting",
     "harmonic_realisation",
@@ -105,6 +92,11 @@ __all__ = [
     "output_autospectra",
     "output_spectra",
     "p95_from_spectrum",
+    "point_comfort",
+    "rail_inputs",
+    "resolvent_solve",
+    "ride_response",
+    "simulation_accelerations",
     "spatial_to_temporal",
     "spectral_rms",
     "spectral_variance",
@@ -113,11 +105,14 @@ __all__ = [
     "sperling_index_time",
     "sperling_transfer",
     "sperling_weighting",
+    "track_class_spectra",
     "track_input_spectrum",
     "two_point_filter",
     "two_point_filter_zeros",
     "weigh_time_history",
+    "wheel_forces",
     "wheelbase_filter",
     "wheelset_delays",
     "window_rms",
+    "y_over_q_level",
 ]
