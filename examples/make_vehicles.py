@@ -174,6 +174,22 @@ def _parameters(conventional: bool) -> str:
     return "\n".join(lines) + "\n"
 
 
+def _rail_section(wheelsets: list[str], prefix: str = "") -> str:
+    """The [rail] tables: wheel/rail data, Kalker creep, floor output points."""
+    wheelset_list = ", ".join(_q(x) for x in wheelsets)
+    return (
+        "[rail]\nspeed = \"v\"\ncant_base = \"G\"\ngravity = \"g\"\n"
+        f"wheelsets = [{wheelset_list}]\n\n"
+        "[rail.wheel_rail]\nf1 = \"f1\"\nf2 = \"f2\"\nconicity = \"Gamma\"\nr0 = \"r0\"\nb = \"b\"\n"
+        "flange_clearance = \"delta\"\nrail_stiffness = \"kR\"\nfriction = \"mu\"\nwheel_load = \"P0\"\n\n"
+        "# f1, f2 (per wheel) from the Hertz ellipse and Kalker's coefficients (docs/contact.md)\n"
+        "[rail.creep]\nfrom = \"kalker\"\nlongitudinal = \"f1\"\nlateral = \"f2\"\nwheel_load = \"P0\"\n"
+        "wheel_radius = \"r0\"\nrail_head_radius = \"Rrail\"\nyoungs_modulus = \"Emod\"\npoisson = \"nu\"\n\n"
+        f"[rail.outputs.floor_front]\nbody = \"{prefix}CB\"\noffset = [\"lT\", 0, \"hf - hc\"]\n\n"
+        f"[rail.outputs.floor_rear]\nbody = \"{prefix}CB\"\noffset = [\"-lT\", 0, \"hf - hc\"]\n"
+    )
+
+
 def vehicle_toml(steered: bool = True, cars: int = 1, car_length: str = "20.0") -> str:
     """TOML text of the forced-steering (``steered``) or conventional vehicle, or a train."""
     w = _Writer()
@@ -210,18 +226,153 @@ def vehicle_toml(steered: bool = True, cars: int = 1, car_length: str = "20.0") 
                    'kcx = { value = 1.0e7, unit = "N/m" }\nccx = { value = 1.0e5, unit = "N*s/m" }\n'
                    'kcy = { value = 1.0e5, unit = "N/m" }\nccy = { value = 1.0e4, unit = "N*s/m" }\n')
     out += w.bodies + w.points + w.elements + w.pins
-    wheelset_list = ", ".join(_q(x) for x in wheelsets)
-    out.append(
-        "[rail]\nspeed = \"v\"\ncant_base = \"G\"\ngravity = \"g\"\n"
-        f"wheelsets = [{wheelset_list}]\n\n"
-        "[rail.wheel_rail]\nf1 = \"f1\"\nf2 = \"f2\"\nconicity = \"Gamma\"\nr0 = \"r0\"\nb = \"b\"\n"
-        "flange_clearance = \"delta\"\nrail_stiffness = \"kR\"\nfriction = \"mu\"\nwheel_load = \"P0\"\n\n"
-        "# f1, f2 (per wheel) from the Hertz ellipse and Kalker's coefficients (docs/contact.md)\n"
-        "[rail.creep]\nfrom = \"kalker\"\nlongitudinal = \"f1\"\nlateral = \"f2\"\nwheel_load = \"P0\"\n"
-        "wheel_radius = \"r0\"\nrail_head_radius = \"Rrail\"\nyoungs_modulus = \"Emod\"\npoisson = \"nu\"\n\n"
-        f"[rail.outputs.floor_front]\nbody = \"{'C1' if cars > 1 else ''}CB\"\noffset = [\"lT\", 0, \"hf - hc\"]\n\n"
-        f"[rail.outputs.floor_rear]\nbody = \"{'C1' if cars > 1 else ''}CB\"\noffset = [\"-lT\", 0, \"hf - hc\"]\n"
-    )
+    out.append(_rail_section(wheelsets, "C1" if cars > 1 else ""))
+    return "\n".join(out)
+
+def _inline(**fields) -> str:
+    """A TOML inline table from keyword values (strings quoted, tuples as lists)."""
+    parts = []
+    for key, value in fields.items():
+        if isinstance(value, tuple):
+            value = _vec(*value)
+        elif isinstance(value, bool):
+            value = "true" if value else "false"
+        elif isinstance(value, str):
+            value = _q(value)
+        parts.append(f"{'from' if key == 'from_' else key} = {value}")
+    return "{ " + ", ".join(parts) + " }"
+
+
+def _bogie_substructure(steered: bool, yaw_bush: bool) -> str:
+    """The two-axle bogie (frame, wheelsets, primary and secondary suspension, and for
+    the steered car the steering levers and links), in its own frame (station 0)."""
+    lines = ["[substructures.bogie]",
+             'label = "two-axle bogie: frame T, wheelsets WF (front) and WR, primary suspension'
+             + (', steering levers LL, LR' if steered else '') + '"']
+    if steered:
+        lines.append('parameters = ["arm"]  # offset of the lever arm driving the front axle box')
+    connectors = ["seat_L", "seat_R", "seat_C"] + (["beam_L", "beam_R"] if steered else [])
+    lines.append("connectors = [" + ", ".join(_q(c) for c in connectors) + "]  # car-body points")
+    lines += ["", "[substructures.bogie.bodies]",
+              "T = " + _inline(label="bogie frame", mass="mt", inertia=("Itx", "Ity", "Itz"),
+                               dofs=("x", "y", "rx", "rz"), position=(0, 0, "ht")),
+              "WF = " + _inline(label="front wheelset", mass="mw", inertia=("Iwx", "0", "Iwz"), dofs=("y", "rz"),
+                                position=("a", 0, "r0")),
+              "WR = " + _inline(label="rear wheelset", mass="mw", inertia=("Iwx", "0", "Iwz"), dofs=("y", "rz"),
+                                position=("-a", 0, "r0"))]
+    if steered:
+        for lever, side in (("LL", "left"), ("LR", "right")):
+            lines.append(f"{lever} = " + _inline(label=f"steering lever ({side})", mass="mL", inertia=("0", "ILy", "0"),
+                                                 dofs=("x", "ry"), position=(0, 0, "ht")))
+    points = ["", "[substructures.bogie.points]"]
+    elements = ["", "[substructures.bogie.elements]"]
+    pins = []
+    for ws, ax in (("WF", "a"), ("WR", "-a")):
+        for side, bl, b1, b2 in SIDES:
+            box = f"{ws}_{side}"
+            points.append(f"{box}_T = " + _inline(body="T", offset=(ax, b1, "h1 - ht")))
+            points.append(f"{box}_W = " + _inline(body=ws, offset=(0, b1, "h1 - r0")))
+            for axis, k, c in (("x", "kx1", "0"), ("y", "ky1", "cy1"), ("z", "kz1", "cz1")):
+                elements.append(f"{ws}_p{axis}{side} = " + _inline(
+                    label=f"primary {axis}, {ws} {side}", from_=f"{box}_T", to=f"{box}_W", direction=axis,
+                    stiffness=k, damping=c))
+    for side, bl, b1, b2 in SIDES:
+        points.append(f"s{side} = " + _inline(body="T", offset=(0, b2, "h2 - ht")))
+        damper = "0" if yaw_bush else "cyaw"
+        elements.append(f"sx{side} = " + _inline(
+            label=f"secondary x (air spring{'' if yaw_bush else ' and yaw damper'}), {side}",
+            from_=f"seat_{side}", to=f"s{side}", direction="x", stiffness="kx2", damping=damper))
+        elements.append(f"sy{side} = " + _inline(label=f"secondary y, {side}", from_=f"seat_{side}", to=f"s{side}",
+                                               direction="y", stiffness="ky2"))
+        elements.append(f"sz{side} = " + _inline(label=f"secondary z, {side}", from_=f"seat_{side}", to=f"s{side}",
+                                               direction="z", stiffness="kz2", damping="cz2"))
+        if yaw_bush:
+            elements.append(f"yaw{side} = " + _inline(
+                label=f"yaw damper with its bushes in series, {side}", from_=f"seat_{side}", to=f"s{side}",
+                direction="x", stiffness="kyaw", damping="cyaw", series=True))
+    points.append("sC = " + _inline(body="T", offset=(0, 0, "h2 - ht")))
+    elements.append("dy = " + _inline(label="secondary lateral damper", from_="seat_C", to="sC", direction="y",
+                                      stiffness="0", damping="cy2"))
+    if steered:
+        for lever, (side, bl, _b1, _b2) in zip(("LL", "LR"), SIDES):
+            points += [f"{lever}_top = " + _inline(body=lever, offset=(0, bl, "lLU")),
+                       f"{lever}_front = " + _inline(body=lever, offset=("a", bl, "arm")),
+                       f"{lever}_rear = " + _inline(body=lever, offset=("-a", bl, "-arm")),
+                       f"{lever}_axle_front = " + _inline(body="WF", offset=(0, bl, "h1 - r0")),
+                       f"{lever}_axle_rear = " + _inline(body="WR", offset=(0, bl, "h1 - r0")),
+                       f"{lever}_pin = " + _inline(body=lever, offset=(0, bl, 0)),
+                       f"{lever}_seat = " + _inline(body="T", offset=(0, bl, 0))]
+            elements += [
+                f"{lever}_upper = " + _inline(label="lever upper link to the car-body steering beam",
+                                              from_=f"{lever}_top", to=f"beam_{side}", direction="x", stiffness="kLU"),
+                f"{lever}_front = " + _inline(label="lever link to the front axle box", from_=f"{lever}_front",
+                                              to=f"{lever}_axle_front", direction="x", stiffness="kLL"),
+                f"{lever}_rear = " + _inline(label="lever link to the rear axle box", from_=f"{lever}_rear",
+                                             to=f"{lever}_axle_rear", direction="x", stiffness="kLL"),
+                f"{lever}_pin = " + _inline(label="lever pin to the frame (virtual)", from_=f"{lever}_pin",
+                                            to=f"{lever}_seat", direction="x", stiffness="kinf"),
+            ]
+            pins.append(f"{lever}_pin = " + _inline(virtual=f"{lever}_pin", non_virtual=f"{lever}_seat"))
+    out = lines + points + elements
+    if pins:
+        out += ["", "[substructures.bogie.pins]"] + pins
+    return "\n".join(out) + "\n"
+
+
+def car_toml(steered: bool = True, yaw_bush: bool = False) -> str:
+    """The single car written with a bogie substructure: the whole car (car body, its
+    seats, two bogie instances, rail data) on one screen, then the bogie.
+
+    ``yaw_bush``: the yaw dampers become series elements with the stiffness of their
+    bushes (``kyaw``) instead of pure dampers in parallel with the air springs.
+    """
+    name = "forced_steering" if steered else "conventional"
+    title = ("Forced-steering narrow-gauge limited-express car (Tanifuji & Suzuki 2001, Figs. 7-8)"
+             if steered else "The same car with conventional bogies (no steering levers or links)")
+    if yaw_bush:
+        name += "_yaw_bush"
+        title += "; yaw dampers with series bush stiffness"
+    parameters = _parameters(conventional=not steered)
+    if yaw_bush:
+        parameters += ('kyaw = { value = 6.0e6, unit = "N/m" }  # est: series stiffness of a yaw damper\'s '
+                       "end bushes and mounting (typ. 5-10 MN/m, docs/parameters.md)\n")
+    out = [
+        "# EXPRESS model file (modern format, docs/model-format.md).",
+        "# Written by examples/make_vehicles.py; parameter sources in docs/parameters.md.",
+        "# The car: car body CB, its seats of the secondary suspension, two instances of the",
+        "# bogie substructure (defined below the rail data).",
+        "",
+        "[model]", f'name = "{name}"', f'title = "{title}"', "",
+        "[parameters]", parameters,
+        "[bodies.CB]", 'label = "car body"', 'mass = "mc"', 'inertia = ["Icx", "Icy", "Icz"]',
+        'dofs = ["x", "y", "rx", "rz"]', 'position = [0, 0, "hc"]', "",
+        "[points]  # the car body's seats of the secondary suspension (and steering beams) above each bogie",
+    ]
+    instances = []
+    for index, (bogie, station, arm, wheelsets, levers) in enumerate(
+        (("T1", "lT", "-lLL", ("W1", "W2"), ("L1", "L2")), ("T2", "-lT", "lLL", ("W3", "W4"), ("L3", "L4"))), start=1
+    ):
+        out.append(f"CB_{bogie}L = " + _inline(body="CB", offset=(station, "b2", "h2 - hc")))
+        out.append(f"CB_{bogie}R = " + _inline(body="CB", offset=(station, "-b2", "h2 - hc")))
+        out.append(f"CB_{bogie}C = " + _inline(body="CB", offset=(station, 0, "h2 - hc")))
+        connect = {"seat_L": f"CB_{bogie}L", "seat_R": f"CB_{bogie}R", "seat_C": f"CB_{bogie}C"}
+        rename = {"T": bogie, "WF": wheelsets[0], "WR": wheelsets[1]}
+        if steered:
+            out.append(f"CB_{bogie}_beamL = " + _inline(body="CB", offset=(station, "bL", "ht + lLU - hc")))
+            out.append(f"CB_{bogie}_beamR = " + _inline(body="CB", offset=(station, "-bL", "ht + lLU - hc")))
+            connect.update(beam_L=f"CB_{bogie}_beamL", beam_R=f"CB_{bogie}_beamR")
+            rename.update(LL=levers[0], LR=levers[1])
+        instance = [f"[instances.{'front' if index == 1 else 'rear'}]", 'substructure = "bogie"',
+                    f'prefix = "{bogie}_"', f'station = "{station}"']
+        if steered:
+            comment = "front bogie" if index == 1 else "rear bogie: the front one turned end for end"
+            instance.append(f'parameters = {{ arm = "{arm}" }}  # {comment}')
+        instance.append("connect = { " + ", ".join(f'{k} = "{v}"' for k, v in connect.items()) + " }")
+        instance.append("rename = { " + ", ".join(f'{k} = "{v}"' for k, v in rename.items()) + " }")
+        instances += [""] + instance
+    out += instances + [""]
+    out.append(_rail_section(["W1", "W2", "W3", "W4"]))
+    out.append(_bogie_substructure(steered, yaw_bush))
     return "\n".join(out)
 
 
@@ -234,14 +385,16 @@ def main(argv=None) -> int:
         text = vehicle_toml(True, cars=args.cars)
         Path(args.output or f"train{args.cars}.toml").write_text(text, encoding="utf-8")
         return 0
-    (HERE / "forced-steering.toml").write_text(vehicle_toml(True), encoding="utf-8")
+    (HERE / "forced-steering.toml").write_text(car_toml(True), encoding="utf-8")
     sys.path.insert(0, str(HERE.parent / "src"))
     from express.io import load_model
     from express.io.classic_writer import model_to_classic
 
     classic, _ = model_to_classic(load_model(HERE / "forced-steering.toml"))
     (HERE / "forced-steering.exp").write_text(classic, encoding="utf-8")
-    (HERE / "conventional.toml").write_text(vehicle_toml(False), encoding="utf-8")
+    (HERE / "conventional.toml").write_text(car_toml(False), encoding="utf-8")
+    (HERE / "forced-steering-yaw-bush.toml").write_text(car_toml(True, yaw_bush=True), encoding="utf-8")
+    (HERE / "conventional-yaw-bush.toml").write_text(car_toml(False, yaw_bush=True), encoding="utf-8")
     return 0
 
 

@@ -115,9 +115,10 @@ def test_bad_clearances_are_refused_with_the_line(old, new, message):
 def with_lateral_bump_stops(model, gap: float):
     """The conventional car with a secondary lateral bump stop at each bogie, on the
     lateral damper's CPs (car body - bogie frame, at the air-spring height)."""
+    dampers = {e.id: e for e in model.elements}
     stops = [
-        Element(f"T{t}_stop", sp.Symbol("kstop"), sp.S.Zero, f"T{t}_dy_S", f"T{t}_dy_T", 1, "lateral bump stop",
-                None, gap=sp.Symbol("ystop"), progressive=sp.Symbol("kstop3"))
+        Element(f"T{t}_stop", sp.Symbol("kstop"), sp.S.Zero, dampers[f"T{t}_dy"].s_end, dampers[f"T{t}_dy"].t_end, 1,
+                "lateral bump stop", None, gap=sp.Symbol("ystop"), progressive=sp.Symbol("kstop3"))
         for t in (1, 2)
     ]
     parameters = {

@@ -77,7 +77,10 @@ else:  # pragma: no cover - exercised on Python 3.10 only
 
 __all__ = ["parse_toml_model", "read_toml_model", "WHEELSET_KEYS"]
 
-_TOP_KEYS = ("model", "parameters", "bodies", "grounds", "points", "elements", "pins", "rail", "gravity")
+_TOP_KEYS = (
+    "model", "parameters", "bodies", "grounds", "points", "elements", "pins", "rail", "gravity",
+    "substructures", "instances",
+)
 _BODY_KEYS = ("mass", "inertia", "dofs", "position", "label")
 _POINT_KEYS = ("body", "offset")
 _ELEMENT_KEYS = ("from", "to", "direction", "stiffness", "damping", "label", "series", "gap", "progressive")
@@ -496,6 +499,13 @@ def parse_toml_model(text: str, source: str = "<string>") -> Model:
     parameters = _parameters(reader, reader.table(data.get("parameters", {}), ("parameters",), "parameters"))
 
     bodies, grounds, points, elements, pins = _items(reader, data)
+    if "substructures" in data or "instances" in data:  # express.substructures
+        from .toml_substructures import read_substructures
+
+        extra, found = read_substructures(reader, data)
+        reader.problems.extend(found)
+        bodies, grounds, points = bodies + list(extra.bodies), grounds + list(extra.grounds), points + list(extra.points)
+        elements, pins = elements + list(extra.elements), pins + list(extra.pins)
     rail: RailSpec | None = None
     derivations: tuple[Derivation, ...] = ()
     if "rail" in data:
