@@ -178,5 +178,14 @@ def test_ride_above_the_critical_speed_exits_1_and_writes_nothing(capsys, tmp_pa
     assert not output.exists()
 
 
+def test_ride_help_lists_the_library_track_classes(capsys):
+    from express.analysis.ride.vehicle import TRACK_CLASSES
+    from express.cli import ride
+
+    assert ride.TRACK_CLASSES == TRACK_CLASSES
+    status, out, _ = run(capsys, "ride", "--help")
+    assert status == 0 and "ERRI-low" in out and "FRA-6" in out
+
+
 def test_ride_needs_rail_data(capsys, tmp_path):
     assert_input_error(capsys, "ride", valued_lever(tmp_path), "--track", "ERRI-low", mentions="no rail data")
