@@ -18,18 +18,20 @@ when other work competes for the CPUs (the CPU used by other processes is printe
    baseline ``express.analysis.stability.critical_speed`` (grid scan, bisection, mode
    label); ``fast_critical_speed`` with ``check = "grid"`` (same grid, Hopf point by
    Newton, bisection replayed: the same values, checked bit for bit) and with
-   ``check = "local"`` (each variant starts from the previous crossing, as the points
-   of a study chunk do; values checked against the baseline). Target >= 500/s.
+   ``check = "local"`` (each variant starts from the previous crossing, as neighbouring
+   points of a study do; values checked against the baseline). Target >= 500/s.
    Also: a study point as a worker evaluates it (``with_values`` + the local
    critical speed).
-2. **Parallel efficiency on 2 local workers**: the same grid study run with
-   ``workers=1`` (in process) and ``workers=2`` (a pool of 2 processes);
-   efficiency = T1 / (2 T2). Target >= 0.8.
+2. **Parallel efficiency on 2 local workers**: the points of a grid study evaluated by
+   a pool of 1 process and of 2 processes (the engine of ``express study``, no files);
+   efficiency = T1 / (2 T2). Target >= 0.8. The files of ``workers=1`` and ``workers=2``
+   are compared.
 3. **Overhead per point on a local Dask cluster** (``distributed.LocalCluster``, 2
-   worker processes, 1 thread each): (T_dask - T1 / 2) / N, with T1 the in-process
-   time. Target <= 5 ms.
-4. **Memory flat in the number of points**: peak RSS of the ``express study`` process
-   (not its workers) for 3 grid sizes of a cheap output; growth per 1000 points.
+   worker processes, 1 thread each, after a first run in which the workers build the
+   car): (T_dask - T1 / 2) / N. Target <= 5 ms.
+4. **Memory flat in the number of points**: peak RSS of the process running the study
+   (``run_study``, 2 workers; the workers not counted) for 3 grid sizes of a cheap
+   output; growth per 1000 points.
 
 The last line is ``evaluations_per_core=<x> parallel_efficiency=<y> dask_overhead_ms=<z> memory_mb_per_1000_points=<w>``.
 Exit code 0 even when a target is missed (``TARGET MISSED`` is printed).
@@ -177,42 +179,56 @@ check = "{check}"
     return path
 
 
+def _evaluate(spec, workers: int, scheduler: str | None = None) -> float:
+    """Wall time of evaluating every point (no files) on a pool of ``workers`` processes
+    (or a Dask cluster)."""
+    from express.analysis.study.runner import Engine, make_task
+    from express.analysis.study.sampling import study_points
+
+    points = study_points(spec)
+    with Engine(make_task(spec), workers, scheduler, in_process=False) as engine:
+        start = time.perf_counter()
+        for _ in engine.run(list(range(len(points))), points):
+            pass
+        return time.perf_counter() - start
+
+
 def parallel(folder: Path, count: int, runs: int) -> tuple[float, float, float]:
     from express.analysis.study.run import run_study
     from express.analysis.study.spec import read_study
 
     spec = read_study(_study_file(folder, count))
     n = len(spec.parameters[0].values) * len(spec.parameters[1].values)
-    one = _timed(lambda: run_study(spec, folder / "one.csv", workers=1), runs)[0]
-    two = _timed(lambda: run_study(spec, folder / "two.csv", workers=2), runs)[0]
+    one = statistics.median(_evaluate(spec, 1) for _ in range(runs))
+    two = statistics.median(_evaluate(spec, 2) for _ in range(runs))
+    run_study(spec, folder / "one.csv", workers=1)
+    run_study(spec, folder / "two.csv", workers=2)
     same = (folder / "one.csv").read_bytes() == (folder / "two.csv").read_bytes()
     efficiency = one / (2 * two)
-    print(f"2. parallel efficiency, grid study of {n} points (critical speed, check = grid):")
-    print(f"   1 worker {one:.2f} s ({1e3 * one / n:.1f} ms/point), 2 workers {two:.2f} s; "
+    print(f"2. parallel efficiency, grid study of {n} points (critical speed, check = grid), evaluation only:")
+    print(f"   pool of 1 process {one:.2f} s ({1e3 * one / n:.1f} ms/point), of 2 processes {two:.2f} s; "
           f"efficiency {efficiency:.2f} (target >= 0.8){_target(efficiency >= 0.8)}; same file: {same}")
     return efficiency, one, n
 
 
-def dask_overhead(folder: Path, count: int, one: float | None = None, n: int | None = None) -> float:
+def dask_overhead(folder: Path, count: int, one: float, n: int) -> float:
     from distributed import LocalCluster
 
     from express.analysis.study.run import run_study
     from express.analysis.study.spec import read_study
 
     spec = read_study(_study_file(folder, count))
-    points = len(spec.parameters[0].values) * len(spec.parameters[1].values)
-    if one is None or n != points:
-        one = _timed(lambda: run_study(spec, folder / "one.csv", workers=1), 1)[0]
     with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0") as cluster:
-        warm = run_study(spec, folder / "warm.csv", scheduler=cluster.scheduler_address)  # workers build the car
-        start = time.perf_counter()
-        run_study(spec, folder / "dask.csv", scheduler=cluster.scheduler_address)
-        wall = time.perf_counter() - start
+        warm = time.perf_counter()
+        run_study(spec, folder / "dask.csv", scheduler=cluster.scheduler_address)  # the workers build the car
+        warm = time.perf_counter() - warm
+        wall = statistics.median(_evaluate(spec, 2, cluster.scheduler_address) for _ in range(3))
     same = (folder / "dask.csv").read_bytes() == (folder / "one.csv").read_bytes()
-    overhead = (wall - one / 2) / points
-    print(f"3. local Dask cluster (2 worker processes, 1 thread each), {points} points: {wall:.2f} s "
-          f"(in process {one:.2f} s on 1 core; warm-up {warm.seconds:.1f} s incl. building the car on the workers)")
-    print(f"   overhead per point {1e3 * overhead:.2f} ms (target <= 5){_target(overhead <= 5e-3)}; same file: {same}")
+    overhead = (wall - one / 2) / n
+    print(f"3. local Dask cluster (2 worker processes, 1 thread each), {n} points: {wall:.2f} s "
+          f"(pool of 1 process {one:.2f} s; first run {warm:.1f} s incl. building the car on the workers)")
+    print(f"   overhead per point (T_dask - T_1 / 2) / N = {1e3 * overhead:.2f} ms (target <= 5)"
+          f"{_target(overhead <= 5e-3)}; same file: {same}")
     return overhead
 
 
@@ -221,7 +237,10 @@ def _peak_rss(arguments: list[str]) -> float:
     import psutil
 
     environment = dict(os.environ, PYTHONPATH=str(ROOT / "src"))
-    process = subprocess.Popen([sys.executable, "-m", "express", *arguments], env=environment,
+    script = ("import sys; from express.analysis.study.run import run_study; "
+              "from express.analysis.study.spec import read_study; "
+              "run_study(read_study(sys.argv[1]), sys.argv[2], workers=2)")
+    process = subprocess.Popen([sys.executable, "-c", script, *arguments], env=environment,
                                stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     watched = psutil.Process(process.pid)
     peak = 0
@@ -240,7 +259,7 @@ def memory(folder: Path, counts: list[int]) -> float:
     figures = []
     for count in counts:
         path = _study_file(folder, count, '["least_damping_ratio"]')
-        figures.append((count, _peak_rss(["study", str(path), "-o", str(folder / f"m{count}.csv"), "--workers", "2"])))
+        figures.append((count, _peak_rss([str(path), str(folder / f"m{count}.csv")])))
     slope = np.polyfit([c for c, _ in figures], [m for _, m in figures], 1)[0] * 1000
     print("4. peak RSS of the `express study` process (workers not counted): "
           + ", ".join(f"{c} points {m:.1f} MB" for c, m in figures))

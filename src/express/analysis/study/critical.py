@@ -24,14 +24,14 @@ crossing** (a Hopf point) besides, which the sensitivities need:
        value is that of :func:`~express.analysis.stability.critical_speed` (and of
        ``express critical-speed``) with the same options, bit for bit in practice.
    ``check = "local"``
-       with a starting guess (the crossing of a similar vehicle, e.g. the previous point
-       of a study), Newton's method starts from it and only ``v_min``, the grid speed
-       below the crossing and the speed just below it (``v* - tolerance / 4``) are
-       checked, with the direction of the crossing: a few eigenvalue problems instead of
-       tens. An instability confined to lower speeds that the guess does not lead to
-       (a window that opens between two study points below the tracked crossing) is
-       then not seen; without a guess, or when Newton's method fails or a check fails,
-       the grid check runs.
+       with a starting guess (the crossing of a similar vehicle: the previous point of a
+       study, :class:`CriticalSpeedSearch`), Newton's method starts from it and only the
+       grid speed below the crossing, the speed just below it (``v* (1 - 1e-6)``) and the
+       two grid speeds below that came closest to instability lately are checked, with
+       the direction of the crossing: 4 eigenvalue problems instead of about 40. A
+       heuristic: an instability window that opens at lower speeds away from the
+       watched speeds is not seen until the next full check (every 16 points, and
+       whenever Newton's method or a check fails).
 
 A vehicle already unstable at ``v_min`` or stable over the whole range is reported as
 the stability code reports it (``unstable_at_min``; ``speed`` None).
@@ -385,11 +385,11 @@ class CriticalSpeedSearch:
 
     With ``check = "local"`` it keeps, from one vehicle to the next, the last crossing
     (the starting guess of Newton's method) and, for each grid speed, the largest real
-    part seen there since the last full check: besides ``v_min``, the grid speed below
-    the crossing and the speed just below it, the :data:`WATCHED` grid speeds below the
-    crossing that came closest to instability are checked (an instability window that
-    opens at lower speeds is announced there by a mode approaching the axis), and every
-    :data:`REFRESH` points the whole grid. A heuristic: a window that opens away from the
+    part seen there since the last full check: besides the grid speed below the crossing
+    and the speed just below it, the :data:`WATCHED` grid speeds below the crossing
+    (``v_min`` among them) that came closest to instability are checked (an instability
+    window that opens at lower speeds, or at ``v_min``, is announced there by a mode
+    approaching the axis), and every :data:`REFRESH` points the whole grid. A heuristic: a window that opens away from the
     watched speeds is missed until the next full check; ``check = "grid"`` checks every
     grid speed every time.
 
@@ -413,11 +413,7 @@ class CriticalSpeedSearch:
     def __call__(self, vehicle: VehicleModel | StateBlocks) -> CriticalResult:
         blocks = vehicle if isinstance(vehicle, StateBlocks) else StateBlocks(vehicle)
         blocks.evaluations = 0
-        options, grid = self.options, self.grid
-        if self._sigma(blocks, 0) > options.threshold:
-            self.sigma[0] = np.nan
-            return CriticalResult(float(grid[0]), True, None, blocks.evaluations, "grid", _mode_frequency(blocks, grid[0]))
-        if options.check == "local" and self.crossing is not None and self.since_grid < REFRESH:
+        if self.options.check == "local" and self.crossing is not None and self.since_grid < REFRESH:
             result = self._local(blocks)
             if result is not None:
                 self.since_grid += 1
@@ -431,7 +427,10 @@ class CriticalSpeedSearch:
 
     def _grid(self, blocks: StateBlocks) -> CriticalResult:
         options, grid = self.options, self.grid
-        self.sigma[1:] = np.nan  # a full check starts the record again
+        self.sigma[:] = np.nan  # a full check starts the record again
+        if self._sigma(blocks, 0) > options.threshold:
+            self.sigma[0] = np.nan
+            return CriticalResult(float(grid[0]), True, None, blocks.evaluations, "grid", _mode_frequency(blocks, grid[0]))
         first = next((i for i in range(1, grid.size) if self._sigma(blocks, i) > options.threshold), None)
         if first is None:
             return CriticalResult(None, False, None, blocks.evaluations, "grid")
@@ -452,7 +451,7 @@ class CriticalSpeedSearch:
         if crossing is None or not (grid[0] < crossing.speed <= grid[-1]):
             return None
         i = _cell(grid, crossing.speed)
-        below = np.arange(1, i - 1)
+        below = np.arange(0, i - 1)
         seen = np.where(np.isnan(self.sigma[below]), np.inf, self.sigma[below])
         watched = below[np.argsort(-seen, kind="stable")[:WATCHED]]
         for j in [*watched.tolist(), i - 1] if i > 1 else []:

@@ -248,12 +248,15 @@ class Engine:
         Local processes (1: this process). Ignored with ``scheduler``.
     scheduler : str, optional
         Address of a Dask scheduler (``tcp://HOST:PORT``).
+    in_process : bool, optional
+        Evaluate in this process; default: when ``workers`` is 1.
     """
 
-    def __init__(self, task: StudyTask, workers: int = 1, scheduler: str | None = None):
+    def __init__(self, task: StudyTask, workers: int = 1, scheduler: str | None = None, in_process: bool | None = None):
         self.task = task
         self.workers = max(1, int(workers))
         self.scheduler = scheduler
+        self.in_process = self.workers == 1 if in_process is None else in_process
         self._pool = None
         self._client = None
         self._task_future = None
@@ -298,7 +301,7 @@ class Engine:
         chunks = _chunks(list(indices), np.asarray(vectors, dtype=float), size, blocked(self.task))
         if self._client is not None:
             yield from self._run_dask(chunks)
-        elif self.workers == 1:
+        elif self.in_process:
             for part, part_vectors in chunks:
                 yield evaluate_points(self.task, part, part_vectors)
         else:
