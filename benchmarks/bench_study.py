@@ -119,7 +119,7 @@ def evaluations(runs: int, quick: bool) -> float:
     count = len(vehicles)
     reference = [critical_speed(v) for v in vehicles]
     grid = [fast_critical_speed(v) for v in vehicles]
-    same = all((r.speed if r else None) == g.speed for r, g in zip(reference, grid))
+    same = all((r.speed if r else None) == g.speed for r, g in zip(reference, grid, strict=True))
     local_options = CriticalOptions(check="local")
 
     def local_sweep():
@@ -131,7 +131,7 @@ def evaluations(runs: int, quick: bool) -> float:
         return out
 
     local = local_sweep()
-    same_local = all((r.speed if r else None) == g.speed for r, g in zip(reference, local))
+    same_local = all((r.speed if r else None) == g.speed for r, g in zip(reference, local, strict=True))
     methods = {m: sum(1 for r in local if r.method == m) for m in ("local", "grid", "bisection")}
     timings = {
         "baseline critical_speed": _timed(lambda: [critical_speed(v) for v in vehicles], runs),
@@ -165,7 +165,7 @@ def evaluations(runs: int, quick: bool) -> float:
 
 
 def _study_file(folder: Path, count: int, outputs: str = '["critical_speed"]', check: str = "grid") -> Path:
-    side = max(2, int(round(count ** 0.5)))
+    side = max(2, round(count ** 0.5))
     path = folder / f"study-{count}-{check}.toml"
     path.write_text(f"""[study]
 model = "{MODEL}"

@@ -54,7 +54,7 @@ def test_same_value_as_the_stability_code(steered, changes) -> None:
 
 
 def test_same_value_with_other_options(conventional) -> None:
-    for options in (dict(v_min=5.0, v_max=80.0, tolerance_kmh=0.5, points=12), dict(v_max=200.0, tolerance_kmh=0.01)):
+    for options in ({"v_min": 5.0, "v_max": 80.0, "tolerance_kmh": 0.5, "points": 12}, {"v_max": 200.0, "tolerance_kmh": 0.01}):
         expected = critical_speed(conventional, **options)
         ours = CriticalOptions(v_min=options.get("v_min", 1.0), v_max=options["v_max"],
                                tolerance=options["tolerance_kmh"] / 3.6, points=options.get("points", 40))

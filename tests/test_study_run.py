@@ -105,7 +105,7 @@ def test_failing_point_is_recorded_and_the_study_goes_on(tmp_path: Path) -> None
     table = read_table(output)
     assert summary.points == 3 and summary.failed == 1
     assert math.isnan(table["critical_speed"][1]) and math.isnan(table["least_damping_ratio"][1])
-    assert table["error"][1] and "Rrail" in table["error"][1] or "radius" in table["error"][1]
+    assert (table["error"][1] and "Rrail" in table["error"][1]) or "radius" in table["error"][1]
     assert table["error"][0] == table["error"][2] == ""
     assert np.isfinite(table["critical_speed"][[0, 2]]).all()
 
@@ -218,7 +218,7 @@ def test_dead_worker_process_has_its_points_run_again(tmp_path: Path, slow_refer
     children = psutil.Process(process.pid).children()
     assert children, "no worker processes"
     children[0].send_signal(signal.SIGKILL)
-    out, err = process.communicate(timeout=600)
+    _out, err = process.communicate(timeout=600)
     assert process.returncode == 0, err
     assert output.read_bytes() == reference
 

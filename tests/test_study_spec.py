@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from express.analysis.study.sampling import grid_points, sample_points, saltelli_points
+from express.analysis.study.sampling import grid_points, saltelli_points, sample_points
 from express.analysis.study.spec import parse_study, read_study
 from express.cli import main
 from express.diagnostics import ModelError

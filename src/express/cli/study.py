@@ -80,7 +80,7 @@ def _plot(spec, output: Path, plot: Path) -> None:
     shape = tuple(len(r.values) for r in spec.parameters)
     unit = OUTPUTS[name][0]
     scale, shown = (common.KMH, "km/h") if unit == "m/s" else (1.0, unit)
-    axes = [(r.name, np.asarray(r.values), *_display(r)) for r in spec.parameters]
+    axes = [(r.name, np.asarray(r.values), *_display(r), r.scale) for r in spec.parameters]
     figure = figure_study_map(axes, table[name].reshape(shape), label=name, scale=scale, unit=shown,
                               title=spec.title or f"{spec.model.stem}: {name}")
     save_figure(figure, plot)

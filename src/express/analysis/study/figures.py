@@ -21,7 +21,7 @@ def _figure(figsize):
 
 
 def figure_study_map(
-    axes: Sequence[tuple[str, np.ndarray, float, str]], values: np.ndarray, *, label: str, title: str,
+    axes: Sequence[tuple], values: np.ndarray, *, label: str, title: str,
     scale: float = 1.0, unit: str = "",
 ):
     """A grid study's output over one parameter (a curve) or two (filled contours).
@@ -43,13 +43,12 @@ def figure_study_map(
     -------
     matplotlib.figure.Figure
     """
-    import matplotlib
-
-    from ..plots import STYLE
-
     import textwrap
 
+    import matplotlib
     from matplotlib.ticker import ScalarFormatter
+
+    from ..plots import STYLE
 
     def unpack(entry):
         name, grid, factor, shown_unit = entry[:4]
@@ -126,7 +125,7 @@ def figure_tornado(result, *, top: int = 15, change: float = 0.1, title: str = "
     with matplotlib.rc_context(STYLE):
         figure, axis = _figure((6.4, 0.8 + 0.32 * max(len(ranked), 1)))
         positions = np.arange(len(ranked))[::-1]
-        for y, s in zip(positions, ranked):
+        for y, s in zip(positions, ranked, strict=True):
             delta = change * s.value * s.derivative / KMH
             axis.barh(y, delta, color="#d62728", height=0.7)
             axis.barh(y, -delta, color="#1f77b4", height=0.7)

@@ -199,7 +199,7 @@ def _best(history: _History, spec: StudySpec) -> dict | None:
         return None
     pick = max if sense == "maximise" else min
     best = pick(feasible, key=lambda r: (history.output(r, name), -r["point"]))
-    return {"point": best["point"], "parameters": dict(zip(spec.names, best["values"])),
+    return {"point": best["point"], "parameters": dict(zip(spec.names, best["values"], strict=True)),
             "outputs": {n: history.output(best, n) for n in spec.outputs}, "objective": name, "sense": sense,
             "evaluations": len(history.records)}
 

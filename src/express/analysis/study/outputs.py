@@ -173,7 +173,7 @@ class PointOutputs:
         self.settings = settings
         self.groups = {OUTPUTS[name][1] for name in self.outputs}
         self.search = CriticalSpeedSearch(settings.critical)
-        self._track = None
+        self._track: Any = None
 
     def restart(self) -> None:
         """Forget the critical-speed search's state (at the start of a chunk)."""

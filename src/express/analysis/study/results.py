@@ -34,6 +34,7 @@ import os
 from collections.abc import Iterable, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any, TextIO
 
 import numpy as np
 
@@ -65,7 +66,7 @@ class Checkpoint:
     def __init__(self, path: Path, identity: dict):
         self.path = path
         self.identity = {"format": _HEADER, **identity}
-        self._stream = None
+        self._stream: TextIO | None = None
 
     def open(self, resume: bool) -> None:
         """Start (or, with ``resume``, continue) the checkpoint.
@@ -89,10 +90,10 @@ class Checkpoint:
                     "or its options changed); delete it to start again"
                 )
             self._truncate_torn_line()
-            self._stream = open(self.path, "a", encoding="utf-8")
+            self._stream = open(self.path, "a", encoding="utf-8")  # noqa: SIM115 - kept open: appended to until the study ends
         else:
             self.path.parent.mkdir(parents=True, exist_ok=True)
-            self._stream = open(self.path, "w", encoding="utf-8")
+            self._stream = open(self.path, "w", encoding="utf-8")  # noqa: SIM115 - kept open: appended to until the study ends
             self._write([self.identity])
 
     def _header(self) -> dict | None:
@@ -234,11 +235,12 @@ def netcdf_bytes(table: ResultTable, metadata: dict[str, str], grid: Sequence[Se
     import xarray as xr
 
     errors = np.array(table.error_column(), dtype=object)
+    data: dict[str, Any]
     if grid is not None:
         shape = tuple(len(axis) for axis in grid)
         dims = table.names
         coords = {name: (name, np.asarray(axis, dtype=float), {"units": table.units.get(name, "")})
-                  for name, axis in zip(table.names, grid)}
+                  for name, axis in zip(table.names, grid, strict=True)}
         data = {name: (dims, table.column(name).reshape(shape), {"units": OUTPUTS[name][0]}) for name in table.outputs}
         data["error"] = (dims, errors.reshape(shape), {})
         dataset = xr.Dataset(data, coords=coords)

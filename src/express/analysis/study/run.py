@@ -155,7 +155,7 @@ def run_study(
 
         count = spec.optimiser["population"] * len(spec.parameters)
         engine = Engine(task, min(workers, count), scheduler)
-        identity = {"key": task.key, "kind": spec.kind, "study": _digest(spec.text.encode()),
+        identity: dict[str, Any] = {"key": task.key, "kind": spec.kind, "study": _digest(spec.text.encode()),
                     "names": list(spec.names), "outputs": list(spec.outputs)}
         checkpoint = Checkpoint(checkpoint_path(output), identity)
         with engine:
@@ -164,7 +164,7 @@ def run_study(
         grid = None
     else:
         points = study_points(spec)
-        identity = {"key": task.key, "kind": spec.kind, "points": int(len(points)),
+        identity = {"key": task.key, "kind": spec.kind, "points": len(points),
                     "digest": _digest(np.ascontiguousarray(points).tobytes()),
                     "names": list(spec.names), "outputs": list(spec.outputs)}
         checkpoint = Checkpoint(checkpoint_path(output), identity)

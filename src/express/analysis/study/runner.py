@@ -158,11 +158,11 @@ class _Worker:
         differ in one parameter (neighbours along a grid line); otherwise it starts again.
         """
         vector = [float(x) for x in vector]
-        if self.previous is None or sum(a != b for a, b in zip(vector, self.previous)) > 1:
+        if self.previous is None or sum(a != b for a, b in zip(vector, self.previous, strict=True)) > 1:
             self.outputs.restart()
         self.previous = vector
         changes = dict(self.fixed)
-        changes.update(zip(self.names, (float(x) for x in vector)))
+        changes.update(zip(self.names, (float(x) for x in vector), strict=True))
         try:
             vehicle = self.base.with_values(changes)
             values, notes = self.outputs(vehicle)
@@ -204,7 +204,7 @@ def evaluate_points(task: StudyTask, indices: Sequence[int], vectors: Sequence[S
     record each. Each chunk starts a fresh critical-speed search."""
     worker = _worker(task)
     worker.restart()
-    return [worker.evaluate(i, v) for i, v in zip(indices, vectors)]
+    return [worker.evaluate(i, v) for i, v in zip(indices, vectors, strict=True)]
 
 
 def blocked(task: StudyTask) -> bool:
@@ -235,7 +235,7 @@ def _chunks(indices: Sequence[int], vectors: np.ndarray, size: int, aligned: boo
 
 def _failed(indices: Sequence[int], vectors: Sequence[Sequence[float]], outputs: int, message: str) -> list[dict]:
     return [{"point": int(i), "values": [float(x) for x in v], "outputs": [None] * outputs, "error": message}
-            for i, v in zip(indices, vectors)]
+            for i, v in zip(indices, vectors, strict=True)]
 
 
 class Engine:
@@ -257,9 +257,9 @@ class Engine:
         self.workers = max(1, int(workers))
         self.scheduler = scheduler
         self.in_process = self.workers == 1 if in_process is None else in_process
-        self._pool = None
-        self._client = None
-        self._task_future = None
+        self._pool: Any = None
+        self._client: Any = None
+        self._task_future: Any = None
 
     def __enter__(self) -> Engine:
         _worker(self.task)  # build the vehicle here: a bad model stops the study before any work
@@ -355,7 +355,7 @@ class Engine:
         for i in part:
             attempts[i] = attempts.get(i, 0) + 1
         if len(part) > 1 and attempts[part[0]] >= 2:
-            return [([i], [v]) for i, v in zip(part, vectors)][::-1]
+            return [([i], [v]) for i, v in zip(part, vectors, strict=True)][::-1]
         return [(part, vectors)]
 
     def _give_up(self, pending: list, attempts: dict[int, int]) -> Iterator[list[dict]]:

@@ -26,7 +26,7 @@ import numpy as np
 
 from .spec import ParameterRange, StudySpec
 
-__all__ = ["grid_points", "sample_points", "saltelli_points", "study_points", "to_ranges"]
+__all__ = ["grid_points", "saltelli_points", "sample_points", "study_points", "to_ranges"]
 
 
 def grid_points(ranges: Sequence[ParameterRange]) -> np.ndarray:

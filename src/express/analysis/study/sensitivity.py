@@ -44,9 +44,9 @@ from ...statespace import VehicleModel
 from .critical import CriticalOptions, StateBlocks, fast_critical_speed
 
 __all__ = [
-    "ParameterSensitivity",
     "CriticalSpeedSensitivity",
     "MatrixDerivatives",
+    "ParameterSensitivity",
     "critical_speed_sensitivity",
     "eigenvalue_derivatives",
     "parameter_rates",
@@ -145,7 +145,7 @@ class MatrixDerivatives:
         if self._function is None:
             return result
         numbers = self._function(*[float(values[name]) for name in self.equations.parameters])
-        for (name, key, i, j), number in zip(self.slots, numbers):
+        for (name, key, i, j), number in zip(self.slots, numbers, strict=True):
             blocks = result.setdefault(name, {k: np.zeros((self.n, self.n)) for k in ("M", "C", "K")})
             blocks[key][i, j] = number
         return result

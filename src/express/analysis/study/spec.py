@@ -405,7 +405,8 @@ def _range(check: _Checker, spec: dict, parameter, where, item, kind: str) -> Pa
         check.add(where, item, "a log scale needs positive bounds")
         return None
     if kind == "grid":
-        values = tuple((np.geomspace(low, high, count) if scale == "log" else np.linspace(low, high, count)).tolist())
+        number = int(count)  # type: ignore[arg-type]  # checked above
+        values = tuple((np.geomspace(low, high, number) if scale == "log" else np.linspace(low, high, number)).tolist())
         values = (low,) if count == 1 else values
     else:
         values = (low, high)
