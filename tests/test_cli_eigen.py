@@ -62,6 +62,7 @@ def test_eigen_bad_input_exits_2(capsys, argv, mentions):
     assert_input_error(capsys, *argv, mentions=mentions)
 
 
-def test_eigen_needs_rail_data(capsys, tmp_path):
-    """A model with values but no rail data: status 2 and a message saying what applies."""
-    assert_input_error(capsys, "eigen", valued_lever(tmp_path), mentions="no rail data")
+def test_eigen_without_rail_data(capsys, tmp_path):
+    """A model with values but no rail data (issue 11): its modes, no speed."""
+    status, out, _ = run(capsys, "eigen", str(valued_lever(tmp_path)))
+    assert status == 0 and "no rail data: independent of speed" in out

@@ -93,6 +93,7 @@ def test_frf_bad_input_exits_2(capsys, argv, mentions):
     assert_input_error(capsys, *argv, mentions=mentions)
 
 
-def test_frf_needs_rail_data(capsys, tmp_path):
-    """A model with values but no rail data: status 2 and a message saying what applies."""
-    assert_input_error(capsys, "frf", valued_lever(tmp_path), mentions="no rail data")
+def test_frf_without_rail_data(capsys, tmp_path):
+    """A model with values but no rail data (issue 11): the DOFs' response to each ground input."""
+    status, out, _ = run(capsys, "frf", str(valued_lever(tmp_path)), "--points", "3")
+    assert status == 0 and "B2.ry/G1.x" in out

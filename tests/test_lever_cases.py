@@ -191,3 +191,90 @@ def test_printed_case_3_would_turn_the_lever(lever):
     generated equations turn the lever positive, like case 1 -- not the zero of Fig. 3."""
     _, q2, static = simulate_step(lever, values_for(*TABLE_1[3]))
     assert float(static) > 0 and q2[-1] > 0
+
+
+# ------------------------------------------------------------ analyses without rail data
+
+
+def _lever_vehicle(damping: float):
+    """The lever of Table 1, case 1, as a numerical model (no rail data)."""
+    from express.io import load_model
+    from express.model import with_values
+    from express.statespace import vehicle_model
+
+    chosen = {name.name: float(value) for name, value in values_for(*TABLE_1[1]).items()}
+    chosen["c"] = damping
+    return vehicle_model(with_values(load_model(LEVER), chosen)), chosen
+
+
+def _closed_form_frequencies(lever, values):
+    """Roots of det(K - w^2 M) = 0 for the 2 x 2 lever (M diagonal), in Hz."""
+    M, K = (lever.matrices[name].subs({sp.Symbol(k): v for k, v in values.items()}) for name in ("M", "K"))
+    m1, m2 = float(M[0, 0]), float(M[1, 1])
+    k11, k12, k22 = float(K[0, 0]), float(K[0, 1]), float(K[1, 1])
+    s = k11 * m2 + k22 * m1
+    root = np.sqrt(s**2 - 4 * m1 * m2 * (k11 * k22 - k12**2))
+    return np.sqrt(np.array([(s - root), (s + root)]) / (2 * m1 * m2)) / (2 * np.pi)
+
+
+def test_lever_natural_frequencies_are_the_closed_form(lever):
+    from express.analysis.stability import eigen_analysis, natural_frequencies
+
+    vehicle, values = _lever_vehicle(damping=0.0)
+    expected = _closed_form_frequencies(lever, values)
+    np.testing.assert_allclose(natural_frequencies(vehicle), expected, rtol=1e-12)
+    result = eigen_analysis(vehicle)  # no speed needed: no rail data
+    assert np.isnan(result.speed)
+    frequencies = sorted(mode.frequency_hz for mode in result.modes)
+    np.testing.assert_allclose(frequencies, expected, rtol=1e-9)
+    assert all(abs(mode.damping_ratio) < 1e-9 for mode in result.modes)
+    assert "independent of the speed" in result.table()
+
+
+def test_damped_lever_keeps_the_natural_frequencies(lever):
+    """With the damper c: |lambda| of each mode is close to the undamped frequency and
+    the damping ratios are positive."""
+    from express.analysis.stability import eigen_analysis
+
+    vehicle, values = _lever_vehicle(damping=1000.0)
+    expected = _closed_form_frequencies(lever, values)
+    result = eigen_analysis(vehicle)
+    natural = sorted(mode.natural_frequency_hz for mode in result.modes)
+    np.testing.assert_allclose(natural, expected, rtol=1e-3)
+    assert all(0 < mode.damping_ratio < 0.05 for mode in result.modes)
+    assert {mode.kind for mode in result.modes} <= {"B1 yaw, B2 pitch", "B2 pitch, B1 yaw", "B1 yaw", "B2 pitch"}
+
+
+def test_lever_frf_to_ground_inputs_is_the_direct_solution(lever):
+    """H(w) = (K - w^2 M + i w C)^-1 (P + i w Pd) from the symbolic matrices, solved here."""
+    from express.analysis.frequency import ground_response
+
+    vehicle, values = _lever_vehicle(damping=1000.0)
+    frequencies = np.array([0.0, 5.0, 48.0, 200.0])
+    response = ground_response(vehicle, frequencies)
+    assert response.inputs == lever.inputs == ("G1.x", "G2.x", "G3.x")
+    substitution = {sp.Symbol(k): v for k, v in values.items()}
+    M, C, K, P, Pd = (np.array(lever.matrices[n].subs(substitution), dtype=float) for n in ("M", "C", "K", "P", "Pd"))
+    for k, f in enumerate(frequencies):
+        w = 2 * np.pi * f
+        expected = np.linalg.solve(K - w**2 * M + 1j * w * C, P + 1j * w * Pd)
+        np.testing.assert_allclose(response.H[k], expected, rtol=1e-10, atol=1e-14)
+    # static: the upper wall G1 moved by 1 m turns the lever by -kLU lLU / K22 ... checked against K
+    static = np.linalg.solve(K, P)
+    np.testing.assert_allclose(response.of("B2.ry", "G1.x")[0], static[1, 0], rtol=1e-12)
+
+
+def test_cli_eigen_and_frf_work_without_rail_data(capsys):
+    import json
+
+    from express.cli import main
+
+    settings = [f"--set={k}={v}" for k, v in _lever_vehicle(0.0)[1].items()]
+    assert main(["eigen", str(LEVER), "--json", *settings]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["speed"] is None and len(data["eigenvalues"]) == 4
+    assert all(len(pair) == 2 for pair in data["eigenvalues"])
+    assert main(["frf", str(LEVER), "--json", "--points", "3", "--dof", "B2.ry", *settings]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert set(data["outputs"]) == {"B2.ry/G1.x", "B2.ry/G2.x", "B2.ry/G3.x"}
+    assert data["outputs"]["B2.ry/G1.x"]["unit"] == "rad"

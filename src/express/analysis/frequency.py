@@ -51,7 +51,7 @@ import numpy as np
 
 from ..statespace import VehicleModel, point_lateral_row
 
-__all__ = ["FrequencyResponse", "frequency_response", "irregularity_delays"]
+__all__ = ["FrequencyResponse", "frequency_response", "irregularity_delays", "TransferFunctions", "ground_response"]
 
 
 @dataclass(frozen=True)
@@ -242,3 +242,124 @@ def frequency_response(
         wheelsets=tuple(w_.name for w_ in vehicle.wheelsets),
         irregularity=irregularity,
     )
+
+
+# ---------------------------------------------------------------------------------------
+# Any model: transfer functions from the ground inputs
+# ---------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class TransferFunctions:
+    """Steady response of every DOF to a unit sinusoid of each input, one at a time.
+
+    ``H[k, i, j]`` is the complex amplitude of DOF ``i`` [m or rad] per unit amplitude of
+    input ``j`` [m or rad] at ``frequencies[k]``: ``q_i = Im(H u_j exp(i w t))`` for
+    ``u_j = Im(exp(i w t))`` (the phase convention of the module docstring).
+
+    Attributes
+    ----------
+    frequencies : numpy.ndarray, shape (F,)
+        [Hz].
+    speed : float
+        [m/s] (nan for a model without rail data).
+    dofs : tuple of str
+        Length n.
+    inputs : tuple of str
+        Length m: the inputs of the columns.
+    H : numpy.ndarray, complex, shape (F, n, m)
+    """
+
+    frequencies: np.ndarray
+    speed: float
+    dofs: tuple[str, ...]
+    inputs: tuple[str, ...]
+    H: np.ndarray
+
+    def of(self, dof: str, input_name: str) -> np.ndarray:
+        """``H`` of one DOF and one input, shape (F,) (KeyError naming what exists)."""
+        if dof not in self.dofs:
+            raise KeyError(f"unknown DOF {dof!r}; DOFs: {', '.join(self.dofs)}")
+        if input_name not in self.inputs:
+            raise KeyError(f"unknown input {input_name!r}; inputs: {', '.join(self.inputs)}")
+        return self.H[:, self.dofs.index(dof), self.inputs.index(input_name)]
+
+
+def ground_inputs(vehicle: VehicleModel) -> tuple[str, ...]:
+    """The model's own inputs (ground motions ``<ground>.<axis>``), without the rail inputs."""
+    rail = set(vehicle.layout.inputs) if vehicle.layout is not None else set()
+    return tuple(name for name in vehicle.inputs if name not in rail)
+
+
+def ground_response(
+    vehicle: VehicleModel,
+    frequencies: Iterable[float],
+    *,
+    inputs: Iterable[str] | None = None,
+    speed: float | None = None,
+) -> TransferFunctions:
+    """Transfer functions of every DOF from the ground inputs (any model).
+
+    Solves ``(-w^2 M + i w C(v) + K) H = P(v) + i w Pd`` column by column: works with a
+    singular ``M`` (series elements' strokes) as long as the dynamic stiffness is not.
+
+    Parameters
+    ----------
+    vehicle : VehicleModel
+    frequencies : sequence of float, shape (F,)
+        [Hz], >= 0.
+    inputs : sequence of str, optional
+        Input names; by default every ground input (:func:`ground_inputs`).
+    speed : float, optional
+        [m/s], for a model with rail data (creep damping); the model's own by default.
+        Ignored without rail data.
+
+    Raises
+    ------
+    ValueError
+        For unknown inputs, a model without any input, bad frequencies or speed.
+    AnalysisError
+        At a frequency where the dynamic stiffness is singular.
+
+    Examples
+    --------
+    >>> from express.io import load_model
+    >>> from express.statespace import vehicle_model
+    >>> values = {"J1": 2.0, "J2": 0.5, "b": 0.4, "c": 300.0, "kLL": 5.5e6, "kLU": 5e5,
+    ...           "lLL": 0.06, "lLU": 0.3, "m": 20.0}
+    >>> from express.model import with_values
+    >>> lever = vehicle_model(with_values(load_model("examples/lever.exp"), values))
+    >>> tf = ground_response(lever, [0.0, 10.0])
+    >>> tf.inputs
+    ('G1.x', 'G2.x', 'G3.x')
+    >>> tf.H.shape
+    (2, 2, 3)
+    """
+    names = ground_inputs(vehicle) if inputs is None else tuple(inputs)
+    if not names:
+        raise ValueError("the model has no ground inputs (no element attached to a ground): nothing excites it")
+    unknown = [name for name in names if name not in vehicle.inputs]
+    if unknown:
+        raise ValueError(f"unknown input{'s' if len(unknown) > 1 else ''} {', '.join(unknown)}; "
+                         f"inputs: {', '.join(vehicle.inputs) or 'none'}")
+    rail = vehicle.layout is not None and bool(vehicle.wheelsets)
+    v = float(vehicle.speed if speed is None else speed) if rail else 1.0
+    if not v > 0:
+        raise ValueError(f"speed must be positive, got {v}")
+    f = np.atleast_1d(np.asarray(frequencies, dtype=float))
+    if f.ndim != 1 or not np.all(np.isfinite(f)) or np.any(f < 0):
+        raise ValueError("frequencies must be a 1-D sequence of finite values >= 0 [Hz]")
+    w = 2.0 * np.pi * f
+    columns = [vehicle.inputs.index(name) for name in names]
+    p = vehicle.forcing(v)[:, columns]
+    pd = vehicle.forcing_rate(v)[:, columns]
+    dynamic = (-(w**2)[:, None, None] * vehicle.mass[None] + (1j * w)[:, None, None] * vehicle.damping(v)[None]
+               + vehicle.stiffness[None].astype(complex))
+    rhs = p[None].astype(complex) + (1j * w)[:, None, None] * pd[None]
+    try:
+        h = np.linalg.solve(dynamic, rhs)
+    except np.linalg.LinAlgError:
+        from ..diagnostics import AnalysisError
+
+        raise AnalysisError("the dynamic stiffness -w^2 M + i w C + K is singular at one of the frequencies") from None
+    return TransferFunctions(f, v if rail else float("nan"), vehicle.dofs, names, h)

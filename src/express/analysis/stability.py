@@ -52,6 +52,7 @@ __all__ = [
     "EigenResult",
     "CriticalSpeed",
     "eigen_analysis",
+    "natural_frequencies",
     "modes_of",
     "root_locus",
     "max_real_part",
@@ -134,6 +135,12 @@ class Mode:
         """True when the real part is negative."""
         return self.real < 0.0
 
+    @property
+    def natural_frequency_hz(self) -> float:
+        """Undamped natural frequency ``|lambda| / (2 pi)`` [Hz] of an oscillatory mode
+        (for a real eigenvalue, its rate ``|lambda| / (2 pi)``)."""
+        return abs(self.eigenvalue) / (2.0 * np.pi)
+
     def describe(self) -> str:
         """Short human label: :attr:`kind` and the DOFs that dominate.
 
@@ -160,7 +167,7 @@ class EigenResult:
     Attributes
     ----------
     speed : float
-        [m/s].
+        [m/s]; nan for a model without rail data (its modes do not depend on it).
     modes : tuple of Mode
         One per conjugate pair (and one per real eigenvalue), sorted by descending real
         part: ``modes[0]`` is the least stable.
@@ -182,7 +189,7 @@ class EigenResult:
 
     @property
     def speed_kmh(self) -> float:
-        """Speed [km/h]."""
+        """Speed [km/h] (nan for a model without rail data)."""
         return self.speed * 3.6
 
     @property
@@ -214,7 +221,9 @@ class EigenResult:
 
     def table(self) -> str:
         """The rows as aligned text (one line per mode)."""
-        lines = [f"eigenvalues at {self.speed:.3f} m/s ({self.speed_kmh:.1f} km/h)",
+        where = (f"at {self.speed:.3f} m/s ({self.speed_kmh:.1f} km/h)" if self.speed == self.speed
+                 else "(no rail data: independent of the speed)")
+        lines = [f"eigenvalues {where}",
                  f"{'Re [1/s]':>12} {'Im [rad/s]':>12} {'f [Hz]':>9} {'zeta':>8}  mode"]
         for row in self.rows():
             lines.append(
@@ -350,6 +359,25 @@ def _classify(shares: np.ndarray, dofs: Sequence[str], frequency: float, damping
     return kind if oscillatory else f"{kind}, non-oscillatory"
 
 
+def _generic_label(shares: np.ndarray, dofs: Sequence[str], frequency: float) -> str:
+    """Label of a mode of a model without rail data: the bodies (or series elements)
+    holding at least 15 % of it with their main motion, e.g. ``"B1 yaw, B2 pitch"``."""
+    bodies: dict[str, dict[str, float]] = {}
+    for share, dof in zip(shares, dofs):
+        body, _, motion = dof.partition(".")
+        bodies.setdefault(body, {})
+        bodies[body][motion] = bodies[body].get(motion, 0.0) + float(share)
+    totals = {body: sum(parts.values()) for body, parts in bodies.items()}
+    chosen = [b for b in sorted(totals, key=lambda b: -totals[b]) if totals[b] >= 0.15][:3] or list(totals)[:1]
+    words = {**_MOTION_WORDS, "stroke": "damper stroke"}
+    parts = []
+    for body in chosen:
+        motion = max(sorted(bodies[body]), key=lambda m: bodies[body][m])
+        parts.append(f"{body} {words.get(motion, motion)}")
+    label = ", ".join(parts)
+    return label if frequency > 0.0 else f"{label}, non-oscillatory"
+
+
 def _dof_lengths(vehicle: VehicleModel) -> np.ndarray:
     """``l_i`` of :attr:`Mode.dominant`: 1 for translations, the radius of gyration
     ``sqrt(I / m)`` [m] for rotations."""
@@ -405,6 +433,7 @@ def modes_of(
     """
     n = vehicle.n
     dofs = vehicle.dofs
+    rail = vehicle.layout is not None and bool(vehicle.wheelsets)
     roles = _roles(vehicle)
     lengths = _dof_lengths(vehicle)
     keep = np.flatnonzero(eigenvalues.imag >= 0.0)
@@ -431,7 +460,7 @@ def modes_of(
                 frequency_hz=float(frequency),
                 damping_ratio=zeta,
                 dominant=dominant,
-                kind=_classify(shares, dofs, frequency, zeta, roles),
+                kind=_classify(shares, dofs, frequency, zeta, roles) if rail else _generic_label(shares, dofs, frequency),
                 body_shares=body_shares,
             )
         )
@@ -453,15 +482,17 @@ def _least_stable_mode(vehicle: VehicleModel, speed: float) -> Mode:
     return modes_of(vehicle, values, vectors, limit=1)[0]
 
 
-def eigen_analysis(vehicle: VehicleModel, speed: float) -> EigenResult:
-    """Every mode of the linear vehicle at one speed.
+def eigen_analysis(vehicle: VehicleModel, speed: float | None = None) -> EigenResult:
+    """Every mode of the linear vehicle at one speed (any model: without rail data the
+    modes do not depend on the speed).
 
     Parameters
     ----------
     vehicle : VehicleModel
         Numerical vehicle (:func:`express.statespace.vehicle_model`).
-    speed : float
-        Forward speed ``v`` [m/s], > 0.
+    speed : float, optional
+        Forward speed ``v`` [m/s], > 0; the model's own speed by default.  Ignored
+        for a model without rail data (:attr:`EigenResult.speed` is then nan).
 
     Returns
     -------
@@ -498,11 +529,40 @@ def eigen_analysis(vehicle: VehicleModel, speed: float) -> EigenResult:
          -0.2957    1023.3335   162.869   0.0003  steering lever, both bogies (L...
     ...
     """
+    if vehicle.layout is None or not vehicle.wheelsets:  # A does not depend on the speed
+        values, vectors = np.linalg.eig(vehicle.state_matrix(1.0))
+        return EigenResult(float("nan"), modes_of(vehicle, values, vectors))
+    speed = vehicle.speed if speed is None else speed
     if not speed > 0:
         raise ValueError(f"speed must be positive, got {speed}")
-    _check_speed_dependent(vehicle)
     values, vectors = np.linalg.eig(vehicle.state_matrix(float(speed)))
     return EigenResult(float(speed), modes_of(vehicle, values, vectors))
+
+
+def natural_frequencies(vehicle: VehicleModel) -> np.ndarray:
+    """Undamped natural frequencies ``sqrt(eig(M^-1 K)) / (2 pi)`` [Hz], ascending.
+
+    For a model without rail data (``K`` symmetric); with rail data ``K`` holds the
+    creep terms and the undamped problem has no physical meaning.
+
+    Raises
+    ------
+    ValueError
+        For a model with rail data or with first-order coordinates (series elements:
+        no mass, so no undamped oscillation of their own), or a negative eigenvalue
+        (an unstable static equilibrium, e.g. too much gravity stiffness).
+    """
+    if vehicle.layout is not None and vehicle.wheelsets:
+        raise ValueError("natural frequencies of a rail vehicle: its K holds creep terms; use eigen_analysis")
+    if vehicle.form.first_order.size:
+        raise ValueError("the model has first-order coordinates (series elements): use eigen_analysis")
+    import scipy.linalg
+
+    squares = scipy.linalg.eigh(0.5 * (vehicle.stiffness + vehicle.stiffness.T), vehicle.mass, eigvals_only=True)
+    tolerance = 1e-9 * max(1.0, float(np.abs(squares).max()) if squares.size else 1.0)
+    if np.any(squares < -tolerance):
+        raise ValueError("K is not positive semi-definite: the static equilibrium is unstable")
+    return np.sqrt(np.clip(squares, 0.0, None)) / (2.0 * np.pi)
 
 
 class _Pieces:

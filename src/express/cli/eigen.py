@@ -15,7 +15,8 @@ def add_parser(subparsers) -> None:
     parser = subparsers.add_parser(
         "eigen", help="eigenvalues and modes at one speed",
         description="Eigenvalues of A(v) of the linear vehicle on straight track: frequency, damping "
-        "ratio, dominant DOFs and a label for every mode, least stable first.",
+        "ratio, dominant DOFs and a label for every mode, least stable first. A model without rail data: its "
+        "modes (independent of the speed).",
     )
     common.add_model_arguments(parser)
     parser.add_argument("--speed", type=common.SPEED, metavar="SPEED", help=common.SPEED.help("running speed", "the model's speed"))
@@ -80,28 +81,33 @@ def _table(model: Path, overrides: dict[str, str], speed: float | None, as_json:
 
     from ..analysis.stability import eigen_analysis
 
-    vehicle = common.load_rail_vehicle(model, overrides, "eigen")
-    v = common.running_speed(vehicle, speed)
-    state_matrix = vehicle.state_matrix(v)
+    from ..statespace import load_vehicle
+
+    vehicle = load_vehicle(model, overrides)  # any model: without rail data A has no speed
+    rail = vehicle.layout is not None and bool(vehicle.wheelsets)
+    v = common.running_speed(vehicle, speed) if rail else None
+    state_matrix = vehicle.state_matrix(v if rail else 1.0)
     if not np.all(np.isfinite(state_matrix)):
-        raise AnalysisError(f"eigen: the state matrix A(v) at {v / common.KMH:g} km/h has non-finite entries")
+        raise AnalysisError("eigen: the state matrix A has non-finite entries")
     result = eigen_analysis(vehicle, v)
     eigenvalues = np.linalg.eigvals(state_matrix)
     eigenvalues = eigenvalues[np.lexsort((-eigenvalues.imag, -eigenvalues.real))]
     name = vehicle.equations.name
     if as_json:
         common.print_json({
-            "model": str(model), "speed": v, "speed_kmh": v / common.KMH, "stable": bool(result.stable),
+            "model": str(model), "speed": v, "speed_kmh": v / common.KMH if rail else None,
+            "stable": bool(result.stable),
             "eigenvalues": [[float(z.real), float(z.imag)] for z in eigenvalues],
             "modes": [
                 {"eigenvalue": [mode.real, mode.imag], "frequency_hz": mode.frequency_hz,
-                 "damping_ratio": mode.damping_ratio, "dominant": [[dof, share] for dof, share in mode.dominant],
+                 "natural_frequency_hz": mode.natural_frequency_hz, "damping_ratio": mode.damping_ratio, "dominant": [[dof, share] for dof, share in mode.dominant],
                  "label": mode.kind, "description": mode.describe()}
                 for mode in result.modes
             ],
         })
         return 0
-    print(f"{name}: {len(result.modes)} modes at {v / common.KMH:.1f} km/h ({v:.3f} m/s), least stable first; "
+    where = f"at {v / common.KMH:.1f} km/h ({v:.3f} m/s)" if rail else "(no rail data: independent of speed)"
+    print(f"{name}: {len(result.modes)} modes {where}, least stable first; "
           f"{'stable' if result.stable else 'UNSTABLE'}")
     header = f"{'Re [1/s]':>11} {'Im [rad/s]':>11} {'f [Hz]':>8} {'zeta':>8}  {'dominant DOFs (share)':<40} mode"
     print(header)

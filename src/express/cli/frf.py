@@ -23,7 +23,8 @@ def add_parser(subparsers) -> None:
         "frf", help="frequency response to a sinusoidal lateral irregularity (paper Fig. 10)",
         description="Steady-state response to yR = Y sin(2 pi f t) at the leading wheelset, delayed at "
         "the others. Reports the acceleration amplitude of the model's output points (e.g. the car-body "
-        "floor above the bogie centres) and the displacement amplitude of any --dof.",
+        "floor above the bogie centres) and the displacement amplitude of any --dof. A model without rail "
+        "data: the displacement of every --dof (default: all) for each ground input alone, named DOF/input.",
     )
     common.add_model_arguments(parser)
     parser.add_argument("--fmin", type=common.FMIN, default=0.1, metavar="F",
@@ -63,10 +64,13 @@ def run(
             transaction.declare(output)
         if plot is not None:
             transaction.declare(plot, binary=True)
-        vehicle = common.load_rail_vehicle(model, overrides, "frf")
-        v = common.running_speed(vehicle, speed)
+        from ..statespace import load_vehicle
+
+        vehicle = load_vehicle(model, overrides)  # any model: without rail data, from its ground inputs
+        rail = vehicle.layout is not None and bool(vehicle.wheelsets)
+        v = common.running_speed(vehicle, speed) if rail else float("nan")
         frequencies = np.geomspace(fmin, fmax, points)
-        series = _series(vehicle, dofs, frequencies, amplitude, v)
+        series = _series(vehicle, dofs, frequencies, amplitude, v) if rail else _ground_series(vehicle, dofs, frequencies, amplitude)
         if output is not None:
             columns, units = _columns(frequencies, series)
             write_csv(output, columns, units)
@@ -80,7 +84,8 @@ def run(
         peaks[name] = {"amplitude": float(np.abs(values[k])), "frequency_hz": float(frequencies[k]), "unit": unit}
     if as_json:
         common.print_json({
-            "model": str(model), "speed": v, "speed_kmh": v / common.KMH, "amplitude": amplitude,
+            "model": str(model), "speed": v if v == v else None, "speed_kmh": v / common.KMH if v == v else None,
+            "amplitude": amplitude,
             "frequencies": frequencies,
             "outputs": {name: {"unit": unit, "amplitude": np.abs(values), "phase_deg": np.degrees(np.angle(values))}
                         for name, (values, unit) in series.items()},
@@ -88,8 +93,9 @@ def run(
         })
         return 0
     stream = sys.stderr if output == "-" else sys.stdout
-    print(f"{vehicle.equations.name}: sinusoidal irregularity Y = {amplitude * 1e3:g} mm at {v / common.KMH:.1f} km/h, "
-          f"{fmin:g}-{fmax:g} Hz ({points} points)", file=stream)
+    where = f"sinusoidal irregularity Y = {amplitude * 1e3:g} mm at {v / common.KMH:.1f} km/h" if v == v else (
+        f"each ground input alone, amplitude {amplitude * 1e3:g} mm (DOF/input)")
+    print(f"{vehicle.equations.name}: {where}, {fmin:g}-{fmax:g} Hz ({points} points)", file=stream)
     print(f"  {'output':<14} {'peak amplitude':>18} {'at f [Hz]':>10}", file=stream)
     for name, peak in peaks.items():
         print(f"  {name:<14} {peak['amplitude']:12.4g} {peak['unit']:<5} {peak['frequency_hz']:10.3f}", file=stream)
@@ -122,6 +128,31 @@ def _series(vehicle: Any, dofs: list[str], frequencies: Any, amplitude: float, s
     return series
 
 
+def _ground_series(vehicle: Any, dofs: list[str], frequencies: Any, amplitude: float) -> dict:
+    """Without rail data: ``<dof>/<input>`` -> displacement amplitude of the DOF for the
+    input alone at ``amplitude`` (:func:`express.analysis.frequency.ground_response`)."""
+    import numpy as np
+
+    from ..analysis.frequency import ground_response
+
+    for dof in dofs:
+        if dof not in vehicle.dofs:
+            raise UsageError(f"--dof {dof}: unknown DOF; DOFs: {', '.join(vehicle.dofs)}")
+    try:
+        response = ground_response(vehicle, frequencies)
+    except ValueError as error:
+        raise UsageError(f"frf: {error}") from None
+    series: dict[str, tuple[Any, str]] = {}
+    for dof in dofs or vehicle.dofs:
+        for name in response.inputs:
+            unit = "rad" if dof.split(".")[-1].startswith("r") else "m"
+            series[f"{dof}/{name}"] = (amplitude * response.of(dof, name), unit)
+    for name, (values, _unit) in series.items():
+        if not np.all(np.isfinite(values)):
+            raise AnalysisError(f"frf: the response of {name} is not finite at some frequency")
+    return series
+
+
 def _columns(frequencies: Any, series: dict) -> tuple[dict, dict]:
     """CSV columns (SI, units in the header): frequency, then amplitude and phase of each."""
     import numpy as np
@@ -149,5 +180,6 @@ def _figure(vehicle: Any, frequencies: Any, series: dict, amplitude: float, spee
     else:
         curves = [{"label": f"{n} [{series[n][1]}]", "values": np.abs(series[n][0])} for n in series]
         ylabel = "displacement amplitude"
-    title = f"{vehicle.equations.name}: response to Y = {amplitude * 1e3:g} mm at {speed / common.KMH:.0f} km/h"
+    title = (f"{vehicle.equations.name}: response to Y = {amplitude * 1e3:g} mm at {speed / common.KMH:.0f} km/h"
+             if speed == speed else f"{vehicle.equations.name}: response to each ground input ({amplitude * 1e3:g} mm)")
     save_figure(figure_frequency_response(frequencies, curves, ylabel=ylabel, title=title), plot)
