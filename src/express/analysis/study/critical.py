@@ -27,11 +27,11 @@ crossing** (a Hopf point) besides, which the sensitivities need:
        with a starting guess (the crossing of a similar vehicle: the previous point of a
        study, :class:`CriticalSpeedSearch`), Newton's method starts from it and only the
        grid speed below the crossing, the speed just below it (``v* (1 - 1e-6)``) and the
-       two grid speeds below that came closest to instability lately are checked, with
-       the direction of the crossing: 4 eigenvalue problems instead of about 40. A
+       grid speed below that came closest to instability lately are checked, with the
+       direction of the crossing: 3 eigenvalue problems instead of about 40. A
        heuristic: an instability window that opens at lower speeds away from the
-       watched speeds is not seen until the next full check (every 16 points, and
-       whenever Newton's method or a check fails).
+       watched speed is not seen until the next full check (every :data:`REFRESH`
+       points, and whenever Newton's method or a check fails).
 
 A vehicle already unstable at ``v_min`` or stable over the whole range is reported as
 the stability code reports it (``unstable_at_min``; ``speed`` None).
@@ -43,10 +43,15 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
+import scipy.linalg
 
 from ...statespace import VehicleModel
 
 __all__ = ["CriticalOptions", "CriticalResult", "CriticalSpeedSearch", "HopfPoint", "StateBlocks", "fast_critical_speed", "hopf_point"]
+
+#: Relative step of ``s = 1/v`` below which Newton's method keeps its Jacobian (chord
+#: steps: one LU factorization serves the last iterations).
+_CHORD = 1e-5
 
 #: Relative distance of a bisection midpoint from the crossing below which the midpoint
 #: is decided by solving the eigenvalue problem rather than by comparison.
@@ -217,19 +222,24 @@ def hopf_point(
     top, bottom = slice(0, size), slice(size, 2 * size)
     jacobian[2 * size, top], jacobian[2 * size, bottom] = cr, ci
     jacobian[2 * size + 1, top], jacobian[2 * size + 1, bottom] = -ci, cr
+    factors = None
     for _ in range(iterations):
         b = blocks.a0 + blocks.a1 * s - threshold * identity
         residual = np.concatenate([b @ xr + w * xi, b @ xi - w * xr, [cr @ xr + ci @ xi - 1.0, cr @ xi - ci @ xr]])
-        jacobian[top, top], jacobian[top, bottom] = b, w * identity
-        jacobian[bottom, top], jacobian[bottom, bottom] = -w * identity, b
-        jacobian[top, 2 * size], jacobian[bottom, 2 * size] = xi, -xr
-        jacobian[top, 2 * size + 1], jacobian[bottom, 2 * size + 1] = blocks.a1 @ xr, blocks.a1 @ xi
-        try:
-            step = np.linalg.solve(jacobian, -residual)
-        except np.linalg.LinAlgError:
-            return None
+        if factors is None:  # Newton's Jacobian; kept once the steps are small (chord steps)
+            jacobian[top, top], jacobian[top, bottom] = b, w * identity
+            jacobian[bottom, top], jacobian[bottom, bottom] = -w * identity, b
+            jacobian[top, 2 * size], jacobian[bottom, 2 * size] = xi, -xr
+            jacobian[top, 2 * size + 1], jacobian[bottom, 2 * size + 1] = blocks.a1 @ xr, blocks.a1 @ xi
+            try:
+                factors = scipy.linalg.lu_factor(jacobian, check_finite=False)
+            except (np.linalg.LinAlgError, ValueError):
+                return None
+        step = scipy.linalg.lu_solve(factors, -residual, check_finite=False)
         if not np.all(np.isfinite(step)):
             return None
+        if abs(step[2 * size + 1]) > _CHORD * s:
+            factors = None
         xr += step[top]
         xi += step[bottom]
         w += step[2 * size]
@@ -374,10 +384,10 @@ def fast_critical_speed(
 
 
 #: ``check = "local"``: grid speeds below the crossing checked besides the one just
-#: below it, chosen by the largest real part last seen there (unknown ones first).
-WATCHED = 2
+#: below it, chosen by the largest real part seen there lately (unknown ones first).
+WATCHED = 1
 #: ``check = "local"``: points after which the whole grid is checked again.
-REFRESH = 16
+REFRESH = 64
 
 
 class CriticalSpeedSearch:

@@ -51,7 +51,7 @@ MAX_ATTEMPTS = 3
 #: neighbour of the one before (more than one parameter changed): a point's result then
 #: depends only on the points of its block, whatever worker, chunk or resumed run
 #: evaluates it.
-BLOCK = 16
+BLOCK = 64
 
 
 @dataclass(frozen=True)
