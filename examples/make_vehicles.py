@@ -334,8 +334,8 @@ def car_toml(steered: bool = True, yaw_bush: bool = False) -> str:
         title += "; yaw dampers with series bush stiffness"
     parameters = _parameters(conventional=not steered)
     if yaw_bush:
-        parameters += ('kyaw = { value = 6.0e6, unit = "N/m" }  # est: series stiffness of a yaw damper\'s '
-                       "end bushes and mounting (typ. 5-10 MN/m, docs/parameters.md)\n")
+        parameters += ('kyaw = { value = 1.0e7, unit = "N/m" }  # series stiffness of a yaw damper (bushes, '
+                       "mounting, oil): 10 MN/m as in Hindawi MPE 2019, Table 2 (docs/parameters.md)\n")
     out = [
         "# EXPRESS model file (modern format, docs/model-format.md).",
         "# Written by examples/make_vehicles.py; parameter sources in docs/parameters.md.",
