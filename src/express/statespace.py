@@ -30,6 +30,7 @@ from .first_order import FirstOrderError, StateForm, state_form
 from .model import Model
 from .parameters import expression_value, override_values, undefined_name_problems, with_values
 from .rail.build import RailLayout, generate_vehicle, rail_layout
+from .threads import limited_blas
 from .units import KMH
 
 __all__ = [
@@ -170,6 +171,7 @@ class VehicleModel:
         """State-space ``Bd`` of the input rates ``u'`` at speed ``v`` [m/s], shape (N, m)."""
         return self.form.bd.copy()
 
+    @limited_blas
     def with_values(self, changes: Mapping[str, float | str]) -> VehicleModel:
         """The same vehicle with some parameter values changed, re-evaluated
         numerically from the compiled matrices (about a millisecond; no regeneration).
@@ -201,6 +203,7 @@ class VehicleModel:
             f"{len(self.wheelsets)} wheelsets{speed}>"
         )
 
+    @limited_blas
     def eigenvalues(self, v: float) -> np.ndarray:
         """Eigenvalues of ``A(v)`` [1/s], shape (2n,)."""
         return np.linalg.eigvals(self.state_matrix(v))
@@ -318,6 +321,7 @@ def _speed_split(
     return base, c1, p2
 
 
+@limited_blas
 def vehicle_model(model: Model, *, with_rail: bool = True) -> VehicleModel:
     """Generate and evaluate a model's equations at its parameter values.
 

@@ -50,6 +50,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..statespace import VehicleModel, point_lateral_row
+from ..threads import limited_blas
 
 __all__ = ["FrequencyResponse", "frequency_response", "irregularity_delays", "TransferFunctions", "ground_response"]
 
@@ -154,6 +155,7 @@ def irregularity_delays(vehicle: VehicleModel, speed: float) -> np.ndarray:
     return (stations.max() - stations) / speed
 
 
+@limited_blas
 def frequency_response(
     vehicle: VehicleModel,
     frequencies: Iterable[float],
@@ -291,6 +293,7 @@ def ground_inputs(vehicle: VehicleModel) -> tuple[str, ...]:
     return tuple(name for name in vehicle.inputs if name not in rail)
 
 
+@limited_blas
 def ground_response(
     vehicle: VehicleModel,
     frequencies: Iterable[float],

@@ -41,6 +41,7 @@ from ..rail.nonlinear import wheelset_forces
 from ..rail.track import Track
 from ..topology import classify_bodies
 from ..statespace import VehicleModel
+from ..threads import limited_blas
 from ..clearance import clearance_force, clearances_of
 from .integrator import discretize, march
 
@@ -219,6 +220,7 @@ def _terminal_progress(stream=None):
     return show
 
 
+@limited_blas
 def simulate(
     vehicle: VehicleModel,
     track: Track,

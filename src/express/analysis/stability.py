@@ -46,6 +46,7 @@ import numpy as np
 from ..topology import Topology, classify_bodies
 from ..parameters import expression_value
 from ..statespace import VehicleModel
+from ..threads import limited_blas
 
 __all__ = [
     "Mode",
@@ -482,6 +483,7 @@ def _least_stable_mode(vehicle: VehicleModel, speed: float) -> Mode:
     return modes_of(vehicle, values, vectors, limit=1)[0]
 
 
+@limited_blas
 def eigen_analysis(vehicle: VehicleModel, speed: float | None = None) -> EigenResult:
     """Every mode of the linear vehicle at one speed (any model: without rail data the
     modes do not depend on the speed).
@@ -539,6 +541,7 @@ def eigen_analysis(vehicle: VehicleModel, speed: float | None = None) -> EigenRe
     return EigenResult(float(speed), modes_of(vehicle, values, vectors))
 
 
+@limited_blas
 def natural_frequencies(vehicle: VehicleModel) -> np.ndarray:
     """Undamped natural frequencies ``sqrt(eig(M^-1 K)) / (2 pi)`` [Hz], ascending.
 
@@ -593,6 +596,7 @@ def _speeds(speeds: Iterable[float] | float) -> np.ndarray:
     return array
 
 
+@limited_blas
 def root_locus(vehicle: VehicleModel, speeds: Iterable[float]) -> np.ndarray:
     """Eigenvalues of ``A(v)`` at every speed.
 
@@ -632,6 +636,7 @@ def root_locus(vehicle: VehicleModel, speeds: Iterable[float]) -> np.ndarray:
     return np.take_along_axis(values, order, axis=-1)
 
 
+@limited_blas
 def max_real_part(vehicle: VehicleModel, speeds: Iterable[float]) -> np.ndarray:
     """Largest real part of the eigenvalues [1/s] at every speed, shape (S,)."""
     _check_speed_dependent(vehicle)
@@ -639,6 +644,7 @@ def max_real_part(vehicle: VehicleModel, speeds: Iterable[float]) -> np.ndarray:
     return _Pieces(vehicle).eigenvalues(v).real.max(axis=1)
 
 
+@limited_blas
 def critical_speed(
     vehicle: VehicleModel,
     *,
@@ -732,6 +738,7 @@ def critical_speed(
     return CriticalSpeed(speed, mode, False, (lo, hi), evaluations + 1)
 
 
+@limited_blas
 def critical_speed_vs_conicity(
     vehicle: VehicleModel,
     conicities: Iterable[float],

@@ -22,7 +22,6 @@ from __future__ import annotations
 
 import argparse
 import contextlib
-import importlib
 import os
 import sys
 import traceback
@@ -69,19 +68,14 @@ def build_parser() -> argparse.ArgumentParser:
 
 @contextlib.contextmanager
 def _one_blas_thread(numeric: bool) -> Iterator[None]:
-    """BLAS on one thread while a numerical command runs (restored afterwards).
-
-    threadpoolctl acts on the libraries already loaded, so NumPy's and SciPy's BLAS are
-    loaded first; commands that compute nothing numerical skip all of it.
-    """
+    """BLAS on one thread while a numerical command runs (restored afterwards;
+    :mod:`express.threads`); commands that compute nothing numerical skip all of it."""
     if not numeric:
         yield
         return
-    for module in ("numpy", "scipy.linalg"):  # each loads its own BLAS
-        importlib.import_module(module)
-    from threadpoolctl import threadpool_limits
+    from ..threads import blas_threads  # the library's own limit (EXPRESS_BLAS_THREADS)
 
-    with threadpool_limits(limits=1, user_api="blas"):
+    with blas_threads():
         yield
 
 
