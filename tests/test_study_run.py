@@ -110,9 +110,11 @@ def test_failing_point_is_recorded_and_the_study_goes_on(tmp_path: Path) -> None
     assert np.isfinite(table["critical_speed"][[0, 2]]).all()
 
 
-def test_resume_after_a_crash_computes_only_the_missing_points(tmp_path: Path, monkeypatch) -> None:
-    spec = read_study(_study(tmp_path, GRID.replace("count = 2", "count = 4")))
+@pytest.mark.parametrize("check", ["grid", "local"])
+def test_resume_after_a_crash_computes_only_the_missing_points(tmp_path: Path, monkeypatch, check: str) -> None:
+    spec = read_study(_study(tmp_path, GRID.replace("count = 2", "count = 4") + f'[study.options]\ncheck = "{check}"\n'))
     reference = tmp_path / "reference.csv"
+    monkeypatch.setattr(runner, "BLOCK", 3)  # blocks of the local check: 3 points
     run_study(spec, reference, workers=1)
     output = tmp_path / "crashed.csv"
     original = runner.Engine.run
@@ -128,13 +130,18 @@ def test_resume_after_a_crash_computes_only_the_missing_points(tmp_path: Path, m
     with pytest.raises(KeyboardInterrupt):
         run_study(spec, output, workers=1)
     checkpoint = checkpoint_path(output)
-    assert not output.exists() and len(checkpoint.read_text().splitlines()) == 1 + 4
+    done = 4 if check == "grid" else 6  # chunks of 2 points, or blocks of 3
+    assert not output.exists() and len(checkpoint.read_text().splitlines()) == 1 + done
     with open(checkpoint, "a") as stream:
         stream.write('{"point": 7, "values": [0.1, 2')  # a line cut short by the crash
+    if check == "local":  # a block of which only some points were written is run again whole
+        lines = checkpoint.read_text().splitlines(keepends=True)
+        checkpoint.write_text("".join(lines[:-2]))
+        done = 3
     monkeypatch.setattr(runner.Engine, "run", original)
     assert main(["study", str(spec.path), "-o", str(output)]) == 2  # a checkpoint exists: --resume or delete it
     summary = run_study(spec, output, workers=1, resume=True)
-    assert summary.computed == 12 - 4
+    assert summary.computed == 12 - done
     assert output.read_bytes() == reference.read_bytes()
     assert not checkpoint.exists()
 

@@ -23,9 +23,10 @@ import numpy as np
 
 from ... import __version__
 from ...diagnostics import UsageError
+from . import runner
 from .outputs import OUTPUTS
 from .results import FORMATS, Checkpoint, ResultTable, checkpoint_path, result_bytes
-from .runner import BLOCK, Engine, blocked, make_task
+from .runner import Engine, blocked, make_task
 from .sampling import study_points
 from .spec import StudySpec
 
@@ -199,8 +200,10 @@ def _evaluate(engine: Engine, checkpoint: Checkpoint, points: np.ndarray, spec: 
             raise UsageError(f"{checkpoint.path}: the checkpoint does not match the study's points; delete it to start again")
         done[i] = True
     if blocked(engine.task):  # a block counts as done only when all its points are
-        whole = np.add.reduceat(done, np.arange(0, count, BLOCK)) == np.diff(np.append(np.arange(0, count, BLOCK), count))
-        done = np.repeat(whole, BLOCK)[:count]
+        block = runner.BLOCK
+        starts = np.arange(0, count, block)
+        whole = np.add.reduceat(done, starts) == np.diff(np.append(starts, count))
+        done = np.repeat(whole, block)[:count]
     todo = np.flatnonzero(~done)
     bar = _progress(count, count - len(todo), progress)
     try:
