@@ -440,9 +440,7 @@ def _element(reader: _Reader, element_id: str, path: tuple[str, ...], item: str,
         series = False
     gap = None
     if "gap" in spec:
-        gap = reader.expression(spec["gap"], path + ("gap",), item, "gap")
-        if gap.is_Number and gap < 0:
-            reader.problem(path + ("gap",), item, f"gap must be >= 0, got {_show(spec['gap'])}")
+        gap = reader.expression(spec["gap"], path + ("gap",), item, "gap")  # >= 0: check_model
     return Element(
         element_id,
         reader.expression(spec.get("stiffness", 0), path + ("stiffness",), item, "stiffness"),
