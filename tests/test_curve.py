@@ -85,3 +85,58 @@ def test_cant_deficiency_of_the_whole_vehicle():
     expected = -mass * (v**2 / radius - parameters["g"] * cant / parameters["G"])
     assert total == pytest.approx(expected, rel=1e-12)
     assert total < 0  # towards the outside of a left curve
+
+
+def _pairwise_groups(model) -> list[tuple[str, ...]]:
+    """The grouping by comparing every pair of positions (the definition)."""
+    groups: list[tuple[sp.Expr, list[str]]] = []
+    for body in model.bodies:
+        position = sp.sympify(body.position[0])
+        for existing, members in groups:
+            if sp.expand(existing - position) == 0:
+                members.append(body.id)
+                break
+        else:
+            groups.append((position, [body.id]))
+    return [tuple(members) for _, members in groups]
+
+
+@pytest.mark.parametrize(
+    "positions, expected",
+    [
+        (["lT - a - Lc", "-(Lc + a) + lT", "lT"], [("B0", "B1"), ("B2",)]),
+        (["3/2", "1.5", "0", "0.0"], [("B0", "B1"), ("B2", "B3")]),
+        (["lT", "1.0*lT", "2*lT/2", "lT/2", "0.5*lT"], [("B0", "B1", "B2"), ("B3", "B4")]),
+        (["lT + a - a", "lT", "a"], [("B0", "B1"), ("B2",)]),
+        (["2*(lT + a)", "2*lT + 2*a", "2*lT + a"], [("B0", "B1"), ("B2",)]),
+    ],
+)
+def test_stations_group_equal_positions_whatever_their_form(positions, expected):
+    """Grouped by a dictionary, as by comparing every pair: equal positions written in
+    different forms share a station, in file order."""
+    import dataclasses
+
+    from express.expressions import parse_expression
+
+    body = MODEL.bodies[0]
+    bodies = tuple(
+        dataclasses.replace(body, id=f"B{i}", position=(parse_expression(text), *body.position[1:]))
+        for i, text in enumerate(positions)
+    )
+    model = dataclasses.replace(MODEL, bodies=bodies)
+    assert [s.bodies for s in stations(model)] == expected == _pairwise_groups(model)
+    assert [s.name for s in stations(model)] == [group[0] for group in expected]
+
+
+def test_stations_of_a_train_are_those_of_the_pairwise_definition(tmp_path):
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("make_vehicles", "examples/make_vehicles.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    path = tmp_path / "train.toml"
+    path.write_text(module.vehicle_toml(True, cars=3), encoding="utf-8")
+    train = load_model(path)
+    grouped = stations(train)
+    assert [s.bodies for s in grouped] == _pairwise_groups(train)
+    assert len(grouped) == 3 * len(stations(MODEL))
