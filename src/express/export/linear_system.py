@@ -71,7 +71,8 @@ def linear_system(vehicle: VehicleModel, speed: float) -> LinearSystem:
     a = vehicle.state_matrix(speed)
     b = vehicle.input_matrix(speed)
     bd = vehicle.input_rate_matrix(speed)
-    names = tuple(vehicle.dofs) + tuple(f"{dof}_dot" for dof in vehicle.dofs)
+    # state [q; q_D'] (express.first_order): series elements' strokes have no rate state
+    names = tuple(vehicle.dofs) + tuple(f"{vehicle.dofs[i]}_dot" for i in vehicle.form.massive)
     return LinearSystem(
         A=a,
         B=b + a @ bd,
