@@ -213,8 +213,7 @@ def test_numba_feedback_matches_wheelset_forces(flange, saturation):
     for k in range(steps):
         x = rng.uniform(-1, 1, 2 * n) * np.array([0.012, 0.008, 0.012, 0.008, 0.1] * 2) * np.r_[np.ones(n), 20 * np.ones(n)]
         z = np.zeros(4)
-        no_stops = (np.zeros((0, 2 * n)), np.zeros((steps, 0)), np.zeros(0), np.zeros(0), np.zeros(0))
-        _feedback(x, n + iy, n + ipsi, k, iy, ipsi, y_rail, rho, V, *arrays, limit, flange, saturation, *no_stops, z)
+        _feedback(x, n + iy, n + ipsi, k, iy, ipsi, y_rail, rho, V, *arrays, limit, flange, saturation, z)
         out = wheelset_forces(x[iy], x[ipsi], x[n + iy], x[n + ipsi], y_rail[k], rho[k], V, ws,
                               flange=flange, saturation=saturation)
         np.testing.assert_allclose(z[:2], out["flange"] + out["lateral_correction"], rtol=1e-9, atol=1e-6)

@@ -62,7 +62,7 @@ def discretize(a: np.ndarray, dt: float) -> tuple[np.ndarray, np.ndarray, np.nda
 
 
 @njit(cache=True, fastmath=False)
-def _feedback(x, ivy, ivpsi, k, iy, ipsi, y_rail, rho, speed, f1, f2, conicity, r0, b, clearance, k_rail, limit, flange, saturation, stop_rows, stop_offset, stop_gap, stop_k, stop_k3, z):
+def _feedback(x, ivy, ivpsi, k, iy, ipsi, y_rail, rho, speed, f1, f2, conicity, r0, b, clearance, k_rail, limit, flange, saturation, z):
     count = iy.size
     for j in range(count):
         y = x[iy[j]]
@@ -89,29 +89,37 @@ def _feedback(x, ivy, ivpsi, k, iy, ipsi, y_rail, rho, speed, f1, f2, conicity, 
                 dy = relative + clearance[j]
         z[j] = -k_rail[j] * dy + (factor - 1.0) * (-2.0 * f2[j] * xi_y)
         z[count + j] = (factor - 1.0) * (-2.0 * b[j] * f1[j] * xi_x)
-    # bump stops (express.clearance): -F beyond the gap
-    for s in range(stop_gap.size):
-        delta = stop_offset[k, s]
+
+
+@njit(cache=True, fastmath=False)
+def _bump_stops(x, k, rows, offset, gap, stiffness, progressive, first, z):
+    """Bump-stop forces ``-F`` (express.clearance) into ``z[first:]``."""
+    for s in range(gap.size):
+        delta = offset[k, s]
         for i in range(x.size):
-            delta += stop_rows[s, i] * x[i]
+            delta += rows[s, i] * x[i]
         e = 0.0
-        if delta > stop_gap[s]:
-            e = delta - stop_gap[s]
-        elif delta < -stop_gap[s]:
-            e = delta + stop_gap[s]
-        z[2 * count + s] = -(stop_k[s] * e + stop_k3[s] * e * e * e)
+        if delta > gap[s]:
+            e = delta - gap[s]
+        elif delta < -gap[s]:
+            e = delta + gap[s]
+        z[first + s] = -(stiffness[s] * e + progressive[s] * e * e * e)
 
 
 @njit(cache=True, fastmath=True)
 def _march(phi, drive, g0, g1, x0, first, last, states, ivy, ivpsi, iy, ipsi, y_rail, rho, speed, f1, f2, conicity, r0, b, clearance, k_rail, limit, flange, saturation, stop_rows, stop_offset, stop_gap, stop_k, stop_k3):
     size = x0.size
     nz = g0.shape[1]
+    stops = stop_gap.size > 0
+    wheel = 2 * iy.size
     x = x0.copy()
     z = np.zeros(nz)
     z_next = np.zeros(nz)
     base = np.zeros(size)
     trial = np.zeros(size)
-    _feedback(x, ivy, ivpsi, first, iy, ipsi, y_rail, rho, speed, f1, f2, conicity, r0, b, clearance, k_rail, limit, flange, saturation, stop_rows, stop_offset, stop_gap, stop_k, stop_k3, z)
+    _feedback(x, ivy, ivpsi, first, iy, ipsi, y_rail, rho, speed, f1, f2, conicity, r0, b, clearance, k_rail, limit, flange, saturation, z)
+    if stops:
+        _bump_stops(x, first, stop_rows, stop_offset, stop_gap, stop_k, stop_k3, wheel, z)
     for k in range(first, last):
         for i in range(size):
             total = drive[k, i]
@@ -122,13 +130,17 @@ def _march(phi, drive, g0, g1, x0, first, last, states, ivy, ivpsi, iy, ipsi, y_
             for j in range(nz):
                 held += g0[i, j] * z[j]
             trial[i] = total + held
-        _feedback(trial, ivy, ivpsi, k + 1, iy, ipsi, y_rail, rho, speed, f1, f2, conicity, r0, b, clearance, k_rail, limit, flange, saturation, stop_rows, stop_offset, stop_gap, stop_k, stop_k3, z_next)
+        _feedback(trial, ivy, ivpsi, k + 1, iy, ipsi, y_rail, rho, speed, f1, f2, conicity, r0, b, clearance, k_rail, limit, flange, saturation, z_next)
+        if stops:
+            _bump_stops(trial, k + 1, stop_rows, stop_offset, stop_gap, stop_k, stop_k3, wheel, z_next)
         for i in range(size):
             total = base[i]
             for j in range(nz):
                 total += g0[i, j] * z[j] + g1[i, j] * (z_next[j] - z[j])
             x[i] = total
-        _feedback(x, ivy, ivpsi, k + 1, iy, ipsi, y_rail, rho, speed, f1, f2, conicity, r0, b, clearance, k_rail, limit, flange, saturation, stop_rows, stop_offset, stop_gap, stop_k, stop_k3, z)
+        _feedback(x, ivy, ivpsi, k + 1, iy, ipsi, y_rail, rho, speed, f1, f2, conicity, r0, b, clearance, k_rail, limit, flange, saturation, z)
+        if stops:
+            _bump_stops(x, k + 1, stop_rows, stop_offset, stop_gap, stop_k, stop_k3, wheel, z)
         for i in range(size):
             states[k + 1, i] = x[i]
     return x
