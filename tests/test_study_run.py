@@ -289,3 +289,42 @@ v_max = "600 km/h"
     table = read_table(files["grid"])
     assert table["critical_speed"].min() < 25 < 80 < table["critical_speed"].max()  # both regimes present
     assert files["local"].read_bytes() == files["grid"].read_bytes()
+
+
+def test_track_frf_and_damping_outputs_equal_the_analyses(tmp_path: Path) -> None:
+    """The outputs other than the critical speed, against the library calls they stand for."""
+    from express.analysis.frequency import frequency_response
+    from express.analysis.simulate import simulate
+    from express.rail.track import paper_curve
+    from express.statespace import load_vehicle
+
+    body = """outputs = ["max_Q", "max_QP", "max_lever_angle", "frf_peak_acceleration", "frf_peak_frequency",
+           "least_damping_ratio", "least_damping_frequency"]
+[study.parameters]
+mc = { values = ["30 t", "45 t"] }
+[study.options]
+speed = "100 km/h"
+dt = 0.01
+frf_points = 50
+"""
+    output = tmp_path / "other.csv"
+    run_study(read_study(_study(tmp_path, body)), output, workers=1)
+    table = read_table(output)
+    for row, mass in enumerate((30e3, 45e3)):
+        vehicle = load_vehicle(MODEL, {"mc": mass})
+        speed = 100 / 3.6
+        maxima = simulate(vehicle, paper_curve(), speed=speed, dt=0.01, progress=False).max_abs()
+        assert table["max_Q"][row] == max(v for k, v in maxima.items() if k[1:].isdigit() and k[0] == "Q")
+        assert table["max_QP"][row] == max(v for k, v in maxima.items() if k.startswith("QP"))
+        assert table["max_lever_angle"][row] == max(v for k, v in maxima.items() if k.startswith("theta_"))
+        frequencies = np.geomspace(0.1, 20.0, 50)
+        response = frequency_response(vehicle, frequencies, amplitude=1e-3, speed=speed)
+        first = vehicle.model.rail.outputs[0].name
+        amplitude = np.abs(response.acceleration_of(first))
+        assert table["frf_peak_acceleration"][row] == amplitude.max()
+        assert table["frf_peak_frequency"][row] == frequencies[np.argmax(amplitude)]
+        eigenvalues = np.linalg.eigvals(vehicle.state_matrix(speed))
+        ratios = -eigenvalues.real / np.abs(eigenvalues)
+        assert table["least_damping_ratio"][row] == ratios.min()
+        assert table["least_damping_frequency"][row] == pytest.approx(abs(eigenvalues[np.argmin(ratios)].imag) / (2 * np.pi))
+    assert table["error"] == ["", ""]
