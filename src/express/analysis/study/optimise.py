@@ -63,7 +63,8 @@ class _History:
 
     def evaluate(self, unit_points: np.ndarray) -> list[dict]:
         """Records of the points (unit cube, shape (S, D)), new ones evaluated together."""
-        vectors = to_ranges(np.atleast_2d(unit_points), self.spec.parameters)
+        # COBYLA may step slightly outside its bounds: evaluate on the bounds instead
+        vectors = to_ranges(np.clip(np.atleast_2d(unit_points), 0.0, 1.0), self.spec.parameters)
         wanted: list[dict | None] = []
         new_indices, new_vectors = [], []
         for vector in vectors:
