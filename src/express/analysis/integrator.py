@@ -92,12 +92,13 @@ def _feedback(x, ivy, ivpsi, k, iy, ipsi, y_rail, rho, speed, f1, f2, conicity, 
 
 
 @njit(cache=True, fastmath=False)
-def _bump_stops(x, k, rows, offset, gap, stiffness, progressive, first, z):
-    """Bump-stop forces ``-F`` (express.clearance) into ``z[first:]``."""
+def _bump_stops(x, k, index, coefficient, offset, gap, stiffness, progressive, first, z):
+    """Bump-stop forces ``-F`` (express.clearance) into ``z[first:]``; the deflection
+    of stop ``s`` is ``sum coefficient[s, :] x[index[s, :]]`` (its few nonzero terms)."""
     for s in range(gap.size):
         delta = offset[k, s]
-        for i in range(x.size):
-            delta += rows[s, i] * x[i]
+        for i in range(index.shape[1]):
+            delta += coefficient[s, i] * x[index[s, i]]
         e = 0.0
         if delta > gap[s]:
             e = delta - gap[s]
@@ -107,7 +108,7 @@ def _bump_stops(x, k, rows, offset, gap, stiffness, progressive, first, z):
 
 
 @njit(cache=True, fastmath=True)
-def _march(phi, drive, g0, g1, x0, first, last, states, ivy, ivpsi, iy, ipsi, y_rail, rho, speed, f1, f2, conicity, r0, b, clearance, k_rail, limit, flange, saturation, stop_rows, stop_offset, stop_gap, stop_k, stop_k3):
+def _march(phi, drive, g0, g1, x0, first, last, states, ivy, ivpsi, iy, ipsi, y_rail, rho, speed, f1, f2, conicity, r0, b, clearance, k_rail, limit, flange, saturation, stop_index, stop_coefficient, stop_offset, stop_gap, stop_k, stop_k3):
     size = x0.size
     nz = g0.shape[1]
     stops = stop_gap.size > 0
@@ -119,7 +120,7 @@ def _march(phi, drive, g0, g1, x0, first, last, states, ivy, ivpsi, iy, ipsi, y_
     trial = np.zeros(size)
     _feedback(x, ivy, ivpsi, first, iy, ipsi, y_rail, rho, speed, f1, f2, conicity, r0, b, clearance, k_rail, limit, flange, saturation, z)
     if stops:
-        _bump_stops(x, first, stop_rows, stop_offset, stop_gap, stop_k, stop_k3, wheel, z)
+        _bump_stops(x, first, stop_index, stop_coefficient, stop_offset, stop_gap, stop_k, stop_k3, wheel, z)
     for k in range(first, last):
         for i in range(size):
             total = drive[k, i]
@@ -132,7 +133,7 @@ def _march(phi, drive, g0, g1, x0, first, last, states, ivy, ivpsi, iy, ipsi, y_
             trial[i] = total + held
         _feedback(trial, ivy, ivpsi, k + 1, iy, ipsi, y_rail, rho, speed, f1, f2, conicity, r0, b, clearance, k_rail, limit, flange, saturation, z_next)
         if stops:
-            _bump_stops(trial, k + 1, stop_rows, stop_offset, stop_gap, stop_k, stop_k3, wheel, z_next)
+            _bump_stops(trial, k + 1, stop_index, stop_coefficient, stop_offset, stop_gap, stop_k, stop_k3, wheel, z_next)
         for i in range(size):
             total = base[i]
             for j in range(nz):
@@ -140,7 +141,7 @@ def _march(phi, drive, g0, g1, x0, first, last, states, ivy, ivpsi, iy, ipsi, y_
             x[i] = total
         _feedback(x, ivy, ivpsi, k + 1, iy, ipsi, y_rail, rho, speed, f1, f2, conicity, r0, b, clearance, k_rail, limit, flange, saturation, z)
         if stops:
-            _bump_stops(x, k + 1, stop_rows, stop_offset, stop_gap, stop_k, stop_k3, wheel, z)
+            _bump_stops(x, k + 1, stop_index, stop_coefficient, stop_offset, stop_gap, stop_k, stop_k3, wheel, z)
         for i in range(size):
             states[k + 1, i] = x[i]
     return x
@@ -181,8 +182,15 @@ def march(phi, drive, g0, g1, x0, wheel_rail, *, flange=True, saturation=True, p
     half = x0.size // 2
     ivy = np.ascontiguousarray(w.get("ivy", half + w["iy"]), dtype=np.int64)
     ivpsi = np.ascontiguousarray(w.get("ivpsi", half + w["ipsi"]), dtype=np.int64)
+    rows = np.asarray(w.get("stop_rows", np.zeros((0, x0.size))), dtype=float)
+    width = max([1] + [int(np.count_nonzero(row)) for row in rows])
+    index = np.zeros((rows.shape[0], width), dtype=np.int64)
+    coefficient = np.zeros((rows.shape[0], width))
+    for s, row in enumerate(rows):  # the few nonzero terms of each deflection
+        nonzero = np.flatnonzero(row)
+        index[s, : nonzero.size], coefficient[s, : nonzero.size] = nonzero, row[nonzero]
     stops = (
-        np.ascontiguousarray(w.get("stop_rows", np.zeros((0, x0.size))), dtype=float),
+        index, coefficient,
         np.ascontiguousarray(w.get("stop_offset", np.zeros((steps + 1, 0))), dtype=float),
         *(np.ascontiguousarray(w.get(key, np.zeros(0)), dtype=float) for key in ("stop_gap", "stop_k", "stop_k3")),
     )
