@@ -9,6 +9,11 @@ coordinate without mass (its row of ``M`` is zero) but with damping, a first-ord
 state (``docs/model-format.md``).  Clearance elements (bump stops) are not in the
 matrices; :attr:`EquationsOfMotion.clearances` describes them for the nonlinear
 simulation.
+
+:attr:`EquationsOfMotion.derivation` keeps how the derived parameters follow from the
+given ones (the model's parameter graph in evaluation order): closed forms
+(:class:`DerivedParameter`) and function nodes such as Kalker's creep coefficients
+(:class:`DerivationCall`), so that an export can compute them instead of freezing them.
 """
 
 from __future__ import annotations
@@ -16,6 +21,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import sympy as sp
+
+from .model import Derivation, Model
 
 #: Order in which matrices are exported when present.
 MATRIX_ORDER = ("M", "C", "K", "P", "Pd")
@@ -56,6 +63,88 @@ class ClearanceTerm:
 
 
 @dataclass(frozen=True)
+class DerivedParameter:
+    """A derivation step ``name = expression``: a closed form of other parameters.
+
+    Attributes
+    ----------
+    name : str
+        The derived parameter (``"P0"``).
+    expression : sympy.Expr
+        Its definition in SI (``g*(mc + 2*mt + 4*mw)/8``).
+    """
+
+    name: str
+    expression: sp.Expr
+
+
+@dataclass(frozen=True)
+class DerivationCall:
+    """A derivation step computed by a named function without a closed form.
+
+    ``[rail.creep]`` is ``DerivationCall("kalker", "rail.creep", (("wheel_load", P0),
+    ...), (("f11", "f1"), ("f22", "f2")))``: f1, f2 from the Hertz ellipse and
+    Kalker's table (:func:`express.rail.contact.creep_coefficients`).
+
+    Attributes
+    ----------
+    kind : str
+        Name of the function (``"kalker"``).
+    item : str
+        Where the model defines it (``"rail.creep"``).
+    inputs : tuple of (str, sympy.Expr)
+        The function's arguments (SI) as expressions of parameters, in order.
+    outputs : tuple of (str, str)
+        ``(result key, parameter name)`` of every result that sets a parameter.
+    """
+
+    kind: str
+    item: str
+    inputs: tuple[tuple[str, sp.Expr], ...]
+    outputs: tuple[tuple[str, str], ...]
+
+
+#: One step of :attr:`EquationsOfMotion.derivation`.
+DerivationStep = DerivedParameter | DerivationCall
+
+
+def derivation_steps(model: Model) -> tuple[DerivationStep, ...]:
+    """The derived parameters of ``model`` as steps, each after everything it uses.
+
+    Parameters
+    ----------
+    model : express.model.Model
+        A resolved model.
+
+    Returns
+    -------
+    tuple of DerivedParameter or DerivationCall
+        From :func:`express.parameters.evaluation_order`; a parameter given a value
+        explicitly (``--set P0=...``) is no longer derived and has no step, and a
+        function step keeps only the outputs it still sets.
+
+    Raises
+    ------
+    ModelError
+        For a cycle or an undefined name in the graph.
+    """
+    from .parameters import evaluation_order
+
+    steps: list[DerivationStep] = []
+    for node in evaluation_order(model):
+        if isinstance(node, Derivation):
+            outputs = tuple(
+                (key, name) for key, name, _ in node.outputs
+                if name in model.parameters and model.parameters[name].derived_by == node.item
+            )
+            inputs = tuple((argument, sp.sympify(expression)) for argument, expression, _ in node.inputs)
+            steps.append(DerivationCall(node.kind, node.item, inputs, outputs))
+        else:
+            steps.append(DerivedParameter(node.name, sp.sympify(node.expression)))
+    return tuple(steps)
+
+
+@dataclass(frozen=True)
 class EquationsOfMotion:
     """Symbolic linear equations of motion of a model.
 
@@ -80,6 +169,10 @@ class EquationsOfMotion:
         Unit the value was given in, by name (informative).
     clearances : tuple of ClearanceTerm
         Clearance elements (bump stops) for the nonlinear simulation; not in the matrices.
+    derivation : tuple of DerivedParameter or DerivationCall
+        How the derived parameters follow from the given ones, in evaluation order
+        (:func:`derivation_steps`); empty when every parameter is given. ``values``
+        holds the derived values too, computed from the given ones.
     """
 
     name: str
@@ -91,6 +184,7 @@ class EquationsOfMotion:
     values: dict[str, float] = field(default_factory=dict)
     units: dict[str, str] = field(default_factory=dict)
     clearances: tuple[ClearanceTerm, ...] = ()
+    derivation: tuple[DerivationStep, ...] = ()
 
     @property
     def M(self) -> sp.ImmutableMatrix:  # noqa: N802 - the domain's name

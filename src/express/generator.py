@@ -23,7 +23,7 @@ import sympy as sp
 
 from .algebra import ExactDomain, inverted_symbols, needs_fractions
 from .diagnostics import ModelError, Problem
-from .equations import STROKE, ClearanceTerm, EquationsOfMotion
+from .equations import STROKE, ClearanceTerm, EquationsOfMotion, derivation_steps
 from .kinematics import end_motion, generalized_coordinates
 from .model import AXES, DOF_NAMES, Model, check_model
 from .parameters import display_unit
@@ -442,6 +442,7 @@ def _generate(model: Model, keep_virtual: bool, added: AddedTerms, domain: Exact
             if display_unit(p) and name not in virtual_only
         },
         clearances=tuple(clearances),
+        derivation=derivation_steps(model),
     )
     warnings = []
     by_id = {body.id: body for body in model.bodies}
