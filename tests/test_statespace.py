@@ -93,3 +93,28 @@ def test_single_wheelset_hunting_frequency():
     frequency = np.abs(vehicle.eigenvalues(v).imag).max() / (2 * np.pi)
     expected = v / (2 * np.pi * np.sqrt(0.43 * 0.56 / 0.1))
     assert frequency == pytest.approx(expected, rel=0.01)
+
+
+@pytest.mark.parametrize("changes", [{"Gamma": 0.23}, {"mc": 31500.0}, {"mw": "1.6 t", "Gamma": 0.05}])
+def test_with_values_equals_a_fresh_evaluation_exactly(vehicle, changes):
+    """Re-evaluation through the compiled functions (derived parameters following: a
+    new mass moves the wheel load and the creep coefficients) gives exactly the arrays
+    and wheelset data of a vehicle generated from scratch with those values."""
+    from express.parameters import with_values
+
+    changed = vehicle.with_values(changes)
+    fresh = vehicle_model(with_values(vehicle.model, changes))
+    for name in ("mass", "stiffness", "damping_base", "damping_creep", "forcing_base", "forcing_speed2",
+                 "forcing_rate_matrix", "station_positions"):
+        assert np.array_equal(getattr(changed, name), getattr(fresh, name)), name
+    assert changed.wheelsets == fresh.wheelsets and changed.speed == fresh.speed
+    assert changed.values == fresh.values
+    assert np.array_equal(changed.state_matrix(30.0), fresh.state_matrix(30.0))
+    if "mc" in changes:  # derived: the wheel load and the creep coefficients follow
+        assert changed.wheelsets[0].wheel_load > vehicle.wheelsets[0].wheel_load
+        assert changed.wheelsets[0].f1 > vehicle.wheelsets[0].f1
+
+
+def test_with_values_reports_a_division_by_zero_as_a_model_error(vehicle):
+    with pytest.raises(ModelError, match=r"not finite|division by zero"):
+        vehicle.with_values({"G": 0.0})

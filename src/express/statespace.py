@@ -28,6 +28,7 @@ from .diagnostics import ModelError, Problem
 from .equations import EquationsOfMotion
 from .first_order import FirstOrderError, StateForm, state_form
 from .model import Model
+from .numeric import CompiledExpressions, CompiledMatrices, compile_matrices
 from .parameters import expression_value, override_values, undefined_name_problems, with_values
 from .rail.build import RailLayout, generate_vehicle, rail_layout
 from .threads import limited_blas
@@ -116,6 +117,7 @@ class VehicleModel:
     # how it was evaluated, for with_values (set by _evaluate_vehicle)
     _evaluator: Any = field(default=None, repr=False, compare=False)
     _speed_name: str | None = field(default=None, repr=False, compare=False)
+    _rail_numbers: Any = field(default=None, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         # x = [q; q_D'] (express.first_order): [q; q'] unless series elements add
@@ -194,7 +196,10 @@ class VehicleModel:
         if self.model is None:
             raise ValueError("this VehicleModel has no model to re-evaluate")
         model = with_values(self.model, changes)
-        return _evaluate_vehicle(model, self.equations, self._evaluator, self._speed_name, self.layout is not None)
+        return _evaluate_vehicle(
+            model, self.equations, self._evaluator, self._speed_name, self.layout is not None, self.layout,
+            self._rail_numbers,
+        )
 
     def __repr__(self) -> str:
         speed = f", v = {self.speed / KMH:.6g} km/h" if self.speed == self.speed else ""
@@ -244,81 +249,24 @@ def _invert_mass(mass: np.ndarray, equations: EquationsOfMotion, model: Model | 
     return np.linalg.inv(mass)
 
 
-class _MatrixEvaluator:
-    """Compiled numerical evaluation of every matrix of a set of equations."""
-
-    def __init__(self, equations: EquationsOfMotion):
-        self.equations = equations
-        self.symbols = [sp.Symbol(name) for name in equations.parameters]
-        self.functions = {}
-        for key, matrix in equations.matrices.items():
-            entries = [(i, j, value) for (i, j), value in matrix.todok().items()]
-            function = sp.lambdify(self.symbols, [value for _, _, value in entries], modules="math")
-            self.functions[key] = (matrix.shape, entries, function)
-
-    def __call__(self, values: dict[str, float]) -> dict[str, np.ndarray]:
-        missing = [name for name in self.equations.parameters if name not in values]
-        if missing:
-            raise ValueError(f"no value for parameter{'s' if len(missing) > 1 else ''} {', '.join(missing)}")
-        arguments = [float(values[name]) for name in self.equations.parameters]
-        result = {}
-        for key, (shape, entries, function) in self.functions.items():
-            array = np.zeros(shape)
-            for (i, j, _), number in zip(entries, function(*arguments), strict=False):
-                array[i, j] = number
-            result[key] = array
-        return result
-
-
-def evaluate_matrices(equations: EquationsOfMotion, values: dict[str, float]) -> dict[str, np.ndarray]:
-    """Every matrix of ``equations`` as float arrays at ``values``.
+def evaluate_matrices(equations: EquationsOfMotion, values: Mapping[str, float]) -> dict[str, np.ndarray]:
+    """Every matrix of ``equations`` as float arrays at ``values`` (compiled once for
+    this call; keep a :func:`express.numeric.compile_matrices` to evaluate often).
 
     Raises
     ------
     ValueError
-        Naming the parameters that have no value.
+        Naming the parameters that have no value, or for entries that are not finite.
     """
-    return _MatrixEvaluator(equations)(values)
+    compiled = compile_matrices(equations)
+    return compiled(compiled.vector(values))
 
 
-def _speed_split(
-    equations: EquationsOfMotion,
-    values: dict[str, float],
-    speed_name: str | None,
-    evaluate: _MatrixEvaluator | None = None,
-):
-    """Evaluate at two speeds and separate ``C0 + C1/v`` and ``P0 + P2 v**2``."""
-    evaluate = evaluate or _MatrixEvaluator(equations)
-    if speed_name is None or speed_name not in equations.parameters:
-        matrices = evaluate(values)
-        n = len(equations.dofs)
-        m = len(equations.inputs)
-        zeros_c = np.zeros((n, n))
-        zeros_p = np.zeros((n, m))
-        return matrices, zeros_c, zeros_p
-    at = {v: evaluate({**values, speed_name: v}) for v in (1.0, 2.0, 3.0)}
-    c1 = 2.0 * (at[1.0]["C"] - at[2.0]["C"])
-    c0 = at[1.0]["C"] - c1
-    m = len(equations.inputs)
-    n = len(equations.dofs)
-    p1 = at[1.0].get("P", np.zeros((n, m)))
-    p2 = (at[2.0].get("P", np.zeros((n, m))) - p1) / 3.0
-    p0 = p1 - p2
-    check_c = c0 + c1 / 3.0
-    check_p = p0 + p2 * 9.0
-    scale = max(1.0, np.abs(at[3.0]["C"]).max(), np.abs(at[3.0].get("P", np.zeros(1))).max())
-    if (
-        np.abs(check_c - at[3.0]["C"]).max() > 1e-9 * scale
-        or np.abs(check_p - at[3.0].get("P", np.zeros((n, m)))).max() > 1e-9 * scale
-        or np.abs(at[1.0]["K"] - at[2.0]["K"]).max() > 1e-9 * max(1.0, np.abs(at[1.0]["K"]).max())
-        or np.abs(at[1.0]["M"] - at[2.0]["M"]).max() > 0
-    ):
-        raise ValueError(
-            f"the speed {speed_name!r} enters the matrices other than as C0 + C1/v and P0 + P2 v^2"
-        )
-    base = dict(at[1.0])
-    base["C"], base["P"] = c0, p0
-    return base, c1, p2
+def _speed_split(compiled: CompiledMatrices, values: Mapping[str, float]) -> tuple[dict[str, np.ndarray], np.ndarray, np.ndarray]:
+    """``(matrices with C0 and P0, C1, P2)`` at ``values`` (the speed's value unused)."""
+    vector = compiled.vector({**values, compiled.speed: 0.0} if compiled.speed else values)
+    split = compiled.speed_split(vector)
+    return split.matrices, split.damping_creep, split.forcing_speed2
 
 
 @limited_blas
@@ -345,29 +293,33 @@ def vehicle_model(model: Model, *, with_rail: bool = True) -> VehicleModel:
     speed_name = None
     if with_rail and model.rail is not None and isinstance(model.rail.speed, sp.Symbol):
         speed_name = model.rail.speed.name
-    return _evaluate_vehicle(model, equations, _MatrixEvaluator(equations), speed_name, with_rail)
+    return _evaluate_vehicle(model, equations, compile_matrices(equations, speed_name), speed_name, with_rail)
 
 
-def _evaluate_vehicle(model, equations, evaluator, speed_name, with_rail=True) -> VehicleModel:
+def _evaluate_vehicle(
+    model, equations, evaluator, speed_name, with_rail=True, layout=None, rail_numbers_of=None
+) -> VehicleModel:
+    """The numerical vehicle at ``model``'s values (``layout``: the rail layout, which
+    does not depend on the values, when known already)."""
     values = model.values()
     missing = [name for name in equations.parameters if name not in values]
     if missing:
         raise ModelError(undefined_name_problems(model, missing) or _missing(model, missing))
     try:
-        base, c1, p2 = _speed_split(equations, values, speed_name, evaluator)
+        base, c1, p2 = _speed_split(evaluator, values)
     except ValueError as error:
         raise ModelError([Problem(model.source, None, "parameters", str(error))]) from None
     n, m = len(equations.dofs), len(equations.inputs)
-    layout = None
     wheelsets: tuple[WheelsetData, ...] = ()
     stations = np.zeros(0)
     speed = float("nan")
+    rail_numbers = None
     if with_rail and model.rail is not None and equations.inputs:
-        layout = rail_layout(model)
-        numeric = _numeric(model, values)
-        speed = numeric(model.rail.speed, "rail", "speed")
-        wheelsets = tuple(_wheelset_data(w, model, equations, numeric) for w in model.rail.wheelsets)
-        stations = np.array([numeric(s.position, "station", "position") for s in layout.stations])
+        layout = layout or rail_layout(model)
+        rail_numbers = rail_numbers_of or _RailNumbers(model, equations, layout)
+        speed, wheelsets, stations = rail_numbers(model, values)
+    else:
+        layout = None
     vehicle = VehicleModel(
         equations=equations,
         values=values,
@@ -386,19 +338,44 @@ def _evaluate_vehicle(model, equations, evaluator, speed_name, with_rail=True) -
     )
     vehicle._evaluator = evaluator
     vehicle._speed_name = speed_name
+    vehicle._rail_numbers = rail_numbers
     return vehicle
 
 
-def _wheelset_data(wheelset, model: Model, equations: EquationsOfMotion, numeric) -> WheelsetData:
-    item = f"wheelset {wheelset.body}"
-    keys = ("f1", "f2", "conicity", "r0", "b", "flange_clearance", "rail_stiffness", "friction", "wheel_load")
-    return WheelsetData(
-        name=wheelset.body,
-        y=equations.dofs.index(f"{wheelset.body}.y"),
-        psi=equations.dofs.index(f"{wheelset.body}.rz"),
-        station=numeric(model.body(wheelset.body).position[0], f"body {wheelset.body}", "position"),
-        **{key: numeric(getattr(wheelset, key), item, key) for key in keys},
-    )
+class _RailNumbers:
+    """The speed, the wheelsets' data and the station positions of a model, compiled
+    once into one function of the parameter values (the layout does not depend on them)."""
+
+    KEYS = ("f1", "f2", "conicity", "r0", "b", "flange_clearance", "rail_stiffness", "friction", "wheel_load")
+
+    def __init__(self, model: Model, equations: EquationsOfMotion, layout: RailLayout):
+        rail = model.rail
+        assert rail is not None
+        # (expression, item, what) of every number, for the compiled function and the errors
+        self.uses = [(rail.speed, "rail", "speed")]
+        self.wheelsets = []
+        for wheelset in rail.wheelsets:
+            name = wheelset.body
+            self.wheelsets.append((name, equations.dofs.index(f"{name}.y"), equations.dofs.index(f"{name}.rz")))
+            self.uses.append((model.body(name).position[0], f"body {name}", "position"))
+            self.uses += [(getattr(wheelset, key), f"wheelset {name}", key) for key in self.KEYS]
+        self.uses += [(station.position, "station", "position") for station in layout.stations]
+        self.compiled = CompiledExpressions([expression for expression, _, _ in self.uses])
+
+    def __call__(self, model: Model, values: Mapping[str, float]) -> tuple[float, tuple[WheelsetData, ...], np.ndarray]:
+        """``(speed, wheelsets, station positions)`` at ``values``; a ModelError naming
+        the item (file and line) and the missing name or the division by zero."""
+        try:
+            numbers = self.compiled(values).tolist()
+        except (KeyError, ValueError):  # evaluated one by one for the precise error
+            numeric = _numeric(model, values)
+            numbers = [numeric(expression, item, what) for expression, item, what in self.uses]
+        per = 1 + len(self.KEYS)
+        wheelsets = tuple(
+            WheelsetData(name, y, psi, numbers[1 + k * per], *numbers[2 + k * per : 1 + (k + 1) * per])
+            for k, (name, y, psi) in enumerate(self.wheelsets)
+        )
+        return numbers[0], wheelsets, np.array(numbers[1 + len(wheelsets) * per :], dtype=float)
 
 
 def _missing(model: Model, names: list[str]) -> list[Problem]:

@@ -86,7 +86,7 @@ def _blas_controller() -> Any:
 
 
 @contextlib.contextmanager
-def blas_threads(limit: int | None | str = "default") -> Iterator[None]:
+def blas_threads(limit: int | str | None = "default") -> Iterator[None]:
     """Run the body with BLAS limited to ``limit`` threads, restored afterwards.
 
     Parameters

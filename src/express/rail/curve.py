@@ -28,7 +28,7 @@ import sympy as sp
 
 from ..model import Model
 
-__all__ = ["Station", "stations", "curvature_point_inputs", "cant_deficiency_forces"]
+__all__ = ["Station", "cant_deficiency_forces", "curvature_point_inputs", "stations"]
 
 
 @dataclass(frozen=True)

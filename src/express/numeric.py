@@ -1,0 +1,292 @@
+"""Numerical matrices of a set of equations, compiled once per model.
+
+The symbolic M, C, K, P, Pd (and any further matrix) are turned into one generated
+NumPy-free Python function of the parameter vector: the non-zero entries are
+collected, identical entries evaluated once (the cars of a train share theirs), and
+the common subexpressions of what remains shared (:func:`sympy.cse`, through
+:func:`sympy.lambdify`).  A call costs a few microseconds per distinct entry and a
+scatter into zero arrays, whatever the number of cars; no ``subs`` or ``xreplace``
+is ever used per point.
+
+The speed ``v`` is kept apart: the entries that contain it have their own function,
+evaluated at three speeds to separate ``C = C0 + C1 / v`` and ``P = P0 + P2 v**2``
+(checked at the third speed), which is how :class:`express.statespace.VehicleModel`
+gets ``A(v) = A0 + A1 / v`` exactly.
+
+Examples
+--------
+>>> from express.io import load_model
+>>> from express.rail.build import generate_vehicle
+>>> equations = generate_vehicle(load_model("examples/conventional.toml")).equations
+>>> compiled = compile_matrices(equations, speed="v")
+>>> split = compiled.speed_split(compiled.vector(equations.values))
+>>> split.matrices["M"].shape, split.damping_creep.shape
+((20, 20), (20, 20))
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import sympy as sp
+
+from .equations import EquationsOfMotion
+
+__all__ = ["CompiledMatrices", "SpeedSplit", "compile_matrices"]
+
+#: The three speeds [m/s] at which the speed-dependent entries are evaluated.
+SPLIT_SPEEDS = (1.0, 2.0, 3.0)
+
+
+@dataclass(frozen=True)
+class SpeedSplit:
+    """Matrices with the speed kept apart.
+
+    Attributes
+    ----------
+    matrices : dict of str to numpy.ndarray
+        Every matrix, with ``C`` the speed-independent part ``C0`` and ``P`` the part
+        ``P0`` (the others do not depend on the speed).
+    damping_creep : numpy.ndarray, shape (n, n)
+        ``C1`` in ``C(v) = C0 + C1 / v``.
+    forcing_speed2 : numpy.ndarray, shape (n, m)
+        ``P2`` in ``P(v) = P0 + P2 v**2``.
+    """
+
+    matrices: dict[str, np.ndarray]
+    damping_creep: np.ndarray
+    forcing_speed2: np.ndarray
+
+
+class _Entries:
+    """Distinct non-zero entries compiled into one function of the parameters."""
+
+    def __init__(self, expressions: Sequence[sp.Expr], symbols: Sequence[sp.Symbol]):
+        self.size = len(expressions)
+        # floats as exact fractions: the code printer would round them to 15 digits
+        exact = [e.xreplace({f: sp.Rational(f) for f in e.atoms(sp.Float)}) for e in expressions]
+        self.function = sp.lambdify(list(symbols), exact, modules="math", cse=True) if expressions else None
+
+    def __call__(self, arguments: Sequence[float]) -> np.ndarray:
+        if self.function is None:
+            return np.zeros(0)
+        try:
+            values = self.function(*arguments)
+        except (ZeroDivisionError, OverflowError) as error:
+            raise ValueError(f"a value is not finite at these parameter values ({error})") from None
+        return np.array(values, dtype=float).reshape(self.size)
+
+
+class CompiledMatrices:
+    """Every matrix of ``equations`` as compiled functions of the parameter vector.
+
+    Build with :func:`compile_matrices`.
+
+    Attributes
+    ----------
+    parameters : tuple of str
+        Names of the parameters, in the order of the vector :meth:`vector` builds
+        (the equations' parameters, the speed included).
+    speed : str or None
+        The parameter kept apart as the speed, when it appears in the matrices.
+    shapes : dict of str to tuple of int
+        Shape of every matrix.
+    """
+
+    def __init__(self, equations: EquationsOfMotion, speed: str | None = None):
+        self.parameters = tuple(equations.parameters)
+        self.speed = speed if speed in self.parameters else None
+        self.shapes = {key: tuple(matrix.shape) for key, matrix in equations.matrices.items()}
+        symbols = [sp.Symbol(name) for name in self.parameters]
+        speed_symbol = sp.Symbol(self.speed) if self.speed else None
+        distinct: dict[sp.Expr, tuple[bool, int]] = {}  # expression -> (with speed, index)
+        lists: tuple[list[sp.Expr], list[sp.Expr]] = ([], [])
+        self._scatter: dict[str, tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]] = {}
+        for key, matrix in equations.matrices.items():
+            places: tuple[list[int], list[int]] = ([], [])
+            sources: tuple[list[int], list[int]] = ([], [])
+            for (i, j), expression in sorted(matrix.todok().items()):
+                if expression == 0:
+                    continue
+                if expression not in distinct:
+                    with_speed = speed_symbol is not None and speed_symbol in expression.free_symbols
+                    distinct[expression] = (with_speed, len(lists[with_speed]))
+                    lists[with_speed].append(expression)
+                with_speed, index = distinct[expression]
+                places[with_speed].append(i * self.shapes[key][1] + j)
+                sources[with_speed].append(index)
+            self._scatter[key] = tuple(np.array(x, dtype=np.intp) for x in (*places, *sources))  # type: ignore[assignment]
+        self._constant = _Entries(lists[False], symbols)
+        self._speed_dependent = _Entries(lists[True], symbols)
+        self._speed_position = self.parameters.index(self.speed) if self.speed else -1
+
+    @property
+    def distinct_entries(self) -> int:
+        """Number of distinct non-zero entries compiled (over every matrix)."""
+        return self._constant.size + self._speed_dependent.size
+
+    def vector(self, values: Mapping[str, float]) -> np.ndarray:
+        """The parameter vector of ``values`` (SI floats by name), shape (len(parameters),).
+
+        Raises
+        ------
+        ValueError
+            Naming the parameters that have no value.
+        """
+        missing = [name for name in self.parameters if name not in values]
+        if missing:
+            raise ValueError(f"no value for parameter{'s' if len(missing) > 1 else ''} {', '.join(missing)}")
+        return np.array([float(values[name]) for name in self.parameters], dtype=float)
+
+    def _assemble(self, constant: np.ndarray, speed_dependent: np.ndarray) -> dict[str, np.ndarray]:
+        result = {}
+        for key, (places0, places1, sources0, sources1) in self._scatter.items():
+            flat = np.zeros(self.shapes[key][0] * self.shapes[key][1])
+            flat[places0] = constant[sources0]
+            flat[places1] = speed_dependent[sources1]
+            result[key] = flat.reshape(self.shapes[key])
+        return result
+
+    def __call__(self, parameters: Sequence[float] | np.ndarray) -> dict[str, np.ndarray]:
+        """Every matrix at the parameter vector ``parameters`` (the speed included).
+
+        Raises
+        ------
+        ValueError
+            When an entry is not finite there (a division by zero).
+        """
+        arguments = [float(x) for x in parameters]
+        return self._check_finite(self._assemble(self._constant(arguments), self._speed_dependent(arguments)))
+
+    def speed_split(self, parameters: Sequence[float] | np.ndarray) -> SpeedSplit:
+        """The matrices with ``C = C0 + C1 / v`` and ``P = P0 + P2 v**2`` separated.
+
+        The speed's own value in ``parameters`` is ignored.
+
+        Raises
+        ------
+        ValueError
+            When the speed enters the matrices otherwise (checked at a third speed), or
+            an entry is not finite.
+        """
+        arguments = [float(x) for x in parameters]
+        constant = self._constant(arguments)
+        if self.speed is None or self._speed_dependent.size == 0:
+            matrices = self._check_finite(self._assemble(constant, np.zeros(self._speed_dependent.size)))
+            return SpeedSplit(matrices, self._zeros("C"), self._zeros("P"))
+        at = []
+        for speed in SPLIT_SPEEDS:
+            arguments[self._speed_position] = speed
+            at.append(self._speed_dependent(arguments))
+        return self._split(constant, at)
+
+    def _split(self, constant: np.ndarray, at: list[np.ndarray]) -> SpeedSplit:
+        """Separate the speed on the entry vectors (no dense work beyond one assembly)."""
+        one, two, three = at
+        for values in (constant, *at):
+            if not np.all(np.isfinite(values)):
+                raise ValueError("the matrices are not finite at these parameter values (division by zero or overflow)")
+        base_values: dict[str, np.ndarray] = {}
+        extra: dict[str, np.ndarray] = {}
+        scale = 1.0
+        for key in ("C", "P"):  # the check's scale: the largest entry of C(3) and P(3)
+            if key in self._scatter:
+                _, _, sources0, sources1 = self._scatter[key]
+                scale = max(scale, _largest(constant[sources0]), _largest(three[sources1]))
+        wrong = False
+        for key, (_, _, sources0, sources1) in self._scatter.items():
+            s1, s2, s3 = one[sources1], two[sources1], three[sources1]
+            if key == "C":
+                creep = 2.0 * (s1 - s2)
+                base_values[key], extra[key] = s1 - creep, creep
+                wrong |= _largest(base_values[key] + creep / 3.0 - s3) > 1e-9 * scale
+            elif key == "P":
+                speed2 = (s2 - s1) / 3.0
+                base_values[key], extra[key] = s1 - speed2, speed2
+                wrong |= _largest(base_values[key] + speed2 * 9.0 - s3) > 1e-9 * scale
+            else:
+                base_values[key] = s1
+                size = max(_largest(constant[sources0]), _largest(s1))
+                wrong |= _largest(s1 - s2) > (0.0 if key == "M" else 1e-9 * max(1.0, size))
+        if wrong:
+            raise ValueError(f"the speed {self.speed!r} enters the matrices other than as C0 + C1/v and P0 + P2 v^2")
+        matrices = {}
+        for key, (places0, places1, sources0, _) in self._scatter.items():
+            flat = np.zeros(self.shapes[key][0] * self.shapes[key][1])
+            flat[places0] = constant[sources0]
+            flat[places1] = base_values[key]
+            matrices[key] = flat.reshape(self.shapes[key])
+        return SpeedSplit(matrices, self._speed_part("C", extra), self._speed_part("P", extra))
+
+    def _speed_part(self, key: str, extra: dict[str, np.ndarray]) -> np.ndarray:
+        result = self._zeros(key)
+        if key in extra:
+            result.reshape(-1)[self._scatter[key][1]] = extra[key]
+        return result
+
+    def _zeros(self, key: str) -> np.ndarray:
+        n = self.shapes["M"][0]
+        if key == "P":
+            return np.zeros(self.shapes.get("P", (n, 0)))
+        return np.zeros((n, n))
+
+    @staticmethod
+    def _check_finite(matrices: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+        for key, array in matrices.items():
+            if not np.all(np.isfinite(array)):
+                raise ValueError(f"matrix {key} is not finite at these parameter values (division by zero or overflow)")
+        return matrices
+
+
+def compile_matrices(equations: EquationsOfMotion, speed: str | None = None) -> CompiledMatrices:
+    """Compile every matrix of ``equations`` (see the module docstring).
+
+    Parameters
+    ----------
+    equations : EquationsOfMotion
+    speed : str, optional
+        Name of the speed parameter to keep apart (ignored when the matrices do not
+        contain it).
+    """
+    return CompiledMatrices(equations, speed)
+
+
+def _largest(values: np.ndarray) -> float:
+    """Largest absolute value (0 for none)."""
+    return float(np.abs(values).max(initial=0.0))
+
+
+class CompiledExpressions:
+    """A list of scalar parameter expressions compiled into one function (shared
+    subexpressions computed once), evaluated from values by name.
+
+    Examples
+    --------
+    >>> a, b = sp.symbols("a b")
+    >>> compiled = CompiledExpressions([a + b, (a + b) * 2, sp.Integer(3)])
+    >>> compiled({"a": 1.0, "b": 0.5}).tolist()
+    [1.5, 3.0, 3.0]
+    """
+
+    def __init__(self, expressions: Sequence[sp.Expr]):
+        expressions = [sp.sympify(e) for e in expressions]
+        self.size = len(expressions)
+        self.names = tuple(sorted({s.name for e in expressions for s in e.free_symbols}))
+        self._entries = _Entries(expressions, [sp.Symbol(name) for name in self.names])
+
+    def __call__(self, values: Mapping[str, float]) -> np.ndarray:
+        """Values of the expressions, shape (size,).
+
+        Raises
+        ------
+        KeyError
+            Naming the first parameter without a value.
+        ValueError
+            When a value is not finite (division by zero, overflow).
+        """
+        result = self._entries([float(values[name]) for name in self.names])
+        if not np.all(np.isfinite(result)):
+            raise ValueError("an expression is not finite at these parameter values")
+        return result
