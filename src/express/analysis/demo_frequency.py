@@ -64,14 +64,13 @@ class FloorResponse:
 
 def _point_place(car, name: str) -> tuple[float, float]:
     """(x, height above rail) of an output point [m], from the model's expressions."""
-    import sympy as sp
+    from ..parameters import expression_value
 
     model = car.model
     point = next(p for p in model.rail.outputs if p.name == name)
-    values = {sp.Symbol(k): v for k, v in car.values.items()}
 
     def number(expression) -> float:
-        return float(sp.sympify(expression).xreplace(values))
+        return expression_value(expression, car.values)
 
     position = model.body(point.body).position
     return number(position[0]) + number(point.offset[0]), number(position[2]) + number(point.offset[2])
