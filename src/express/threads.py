@@ -105,8 +105,15 @@ def blas_threads(limit: int | str | None = "default") -> Iterator[None]:
         if not outermost or limit is None:
             yield
             return
-        with _blas_controller().limit(limits=int(limit), user_api="blas"):
+        libraries = _blas_controller().lib_controllers
+        original = [library.num_threads for library in libraries]
+        try:
+            for library in libraries:
+                library.set_num_threads(int(limit))
             yield
+        finally:
+            for library, threads in zip(libraries, original, strict=True):
+                library.set_num_threads(threads)
     finally:
         with _lock:
             _depth -= 1

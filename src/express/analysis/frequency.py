@@ -52,7 +52,10 @@ import numpy as np
 from ..statespace import VehicleModel, point_lateral_row
 from ..threads import limited_blas
 
-__all__ = ["FrequencyResponse", "frequency_response", "irregularity_delays", "TransferFunctions", "ground_response"]
+__all__ = [
+    "FrequencyResponse", "TransferFunctions", "dynamic_stiffness", "frequency_response", "ground_response",
+    "irregularity_delays",
+]
 
 
 @dataclass(frozen=True)
@@ -148,6 +151,21 @@ class FrequencyResponse:
         return rows
 
 
+def dynamic_stiffness(vehicle: VehicleModel, omega: np.ndarray, speed: float) -> np.ndarray:
+    """``-w^2 M + i w C(v) + K`` at every circular frequency, shape (F, n, n), complex.
+
+    Built in place (real part ``K - w^2 M``, imaginary part ``w C``): one complex array
+    and no complex temporaries, which is most of the cost of a solve over a few hundred
+    frequencies of a small model.
+    """
+    w = np.asarray(omega, dtype=float)[:, None, None]
+    result = np.empty((w.shape[0], vehicle.n, vehicle.n), dtype=complex)
+    np.multiply(-(w**2), vehicle.mass, out=result.real)
+    result.real += vehicle.stiffness
+    np.multiply(w, vehicle.damping(speed), out=result.imag)
+    return result
+
+
 def irregularity_delays(vehicle: VehicleModel, speed: float) -> np.ndarray:
     """``t_n = (x_lead - x_n) / v`` [s] for every wheelset, the leading one (largest x)
     at 0. Shape (n_wheelsets,)."""
@@ -216,11 +234,7 @@ def frequency_response(
     pd = vehicle.forcing_rate(v)[:, columns]
     # (F, n): (P + i w Pd) U
     rhs = irregularity @ p.T + (1j * w[:, None]) * (irregularity @ pd.T)
-    stiffness = (
-        -(w**2)[:, None, None] * vehicle.mass[None]
-        + (1j * w)[:, None, None] * vehicle.damping(v)[None]
-        + vehicle.stiffness[None].astype(complex)
-    )
+    stiffness = dynamic_stiffness(vehicle, w, v)
     try:
         X = np.linalg.solve(stiffness, rhs[..., None])[..., 0]
     except np.linalg.LinAlgError:
@@ -356,8 +370,7 @@ def ground_response(
     columns = [vehicle.inputs.index(name) for name in names]
     p = vehicle.forcing(v)[:, columns]
     pd = vehicle.forcing_rate(v)[:, columns]
-    dynamic = (-(w**2)[:, None, None] * vehicle.mass[None] + (1j * w)[:, None, None] * vehicle.damping(v)[None]
-               + vehicle.stiffness[None].astype(complex))
+    dynamic = dynamic_stiffness(vehicle, w, v)
     rhs = p[None].astype(complex) + (1j * w)[:, None, None] * pd[None]
     try:
         h = np.linalg.solve(dynamic, rhs)
