@@ -3,6 +3,12 @@
     python examples/make_vehicles.py            # rewrites the example files
     python examples/make_vehicles.py --cars 10 -o train.toml   # a train, for benchmarks
 
+The single cars (``car_toml``) are written as one screen of car (car body, its seats,
+two instances of a bogie substructure, rail data) plus the bogie substructure; with
+``yaw_bush=True`` the yaw dampers are series elements with their bush stiffness
+(``*-yaw-bush.toml``).  ``vehicle_toml`` writes the same car with every item spelled out
+(trains; the reference of ``tests/test_substructures.py``).
+
 The paper's forced-steering car (Figs. 7 and 8): car body CB (x, y, roll, yaw), bogie
 frames T1, T2 (x, y, roll, yaw), wheelsets W1..W4 (y, yaw) and steering levers
 L1..L4 (pitch-axis rotation ry, plus the virtual longitudinal DOF x at the pin):

@@ -56,9 +56,9 @@ damping = "c"
 def test_anti_roll_bar_between_two_bodies():
     eom = generate(_model(TWO_BODIES)).equations
     assert eom.dofs == ("B1.rx", "B2.rx")
-    assert eom.K == sp.Matrix([[k, -k], [-k, k]])
-    assert eom.C == sp.Matrix([[c, -c], [-c, c]])
-    assert eom.M == sp.Matrix([[J1, 0], [0, J2]])
+    assert sp.Matrix([[k, -k], [-k, k]]) == eom.K
+    assert sp.Matrix([[c, -c], [-c, c]]) == eom.C
+    assert sp.Matrix([[J1, 0], [0, J2]]) == eom.M
     assert eom.inputs == ()
 
 
@@ -89,7 +89,7 @@ damping = "c"
     row = eom.dofs.index(f"B1.{axis}")
     expected_k = sp.zeros(4, 4)
     expected_k[row, row] = k
-    assert eom.K == expected_k
+    assert expected_k == eom.K
     assert eom.inputs == (f"G1.{axis}",)
     # M q'' + C q' + K q = P u + Pd u':  k (theta_G - theta) and c (theta_G' - theta')
     assert eom.matrices["P"][row, 0] == k and eom.matrices["Pd"][row, 0] == c
@@ -143,7 +143,7 @@ stiffness = "k"
 """
     eom = generate(_model(text)).equations
     assert eom.dofs == ("B.z", "B.rx")
-    assert eom.K == sp.Matrix([[2 * kb, 0], [0, 2 * kb * b**2 + k]])
+    assert sp.Matrix([[2 * kb, 0], [0, 2 * kb * b**2 + k]]) == eom.K
 
 
 def test_bogie_rotational_stiffness_in_a_vehicle_frame():
@@ -153,7 +153,7 @@ def test_bogie_rotational_stiffness_in_a_vehicle_frame():
     )
     eom = generate(_model(text)).equations
     assert eom.dofs == ("B1.rz", "B2.rz")
-    assert eom.K == sp.Matrix([[k, -k], [-k, k]])
+    assert sp.Matrix([[k, -k], [-k, k]]) == eom.K
 
 
 @pytest.mark.parametrize(

@@ -79,9 +79,9 @@ def assert_same_values(actual, expected, rtol):
 def test_maxwell_matrices_are_the_energy_forms():
     eom = generate(parse_toml_model(MAXWELL, "maxwell.toml")).equations
     assert eom.dofs == ("B.x", "maxwell.stroke")
-    assert eom.M == sp.Matrix([[m, 0], [0, 0]])
-    assert eom.C == sp.Matrix([[0, 0], [0, c]])
-    assert eom.K == sp.Matrix([[k0 + k, -k], [-k, k]])
+    assert sp.Matrix([[m, 0], [0, 0]]) == eom.M
+    assert sp.Matrix([[0, 0], [0, c]]) == eom.C
+    assert sp.Matrix([[k0 + k, -k], [-k, k]]) == eom.K
     # ground motion u = G.x: the spring k0 and the series spring pull on B through u
     assert eom.inputs == ("G.x",)
     assert eom.matrices["P"] == sp.Matrix([[k0 + k], [-k]])

@@ -131,7 +131,7 @@ def test_python_api_and_toml_agree():
     _same_equations(generate_vehicle(model).equations, generate_vehicle(built).equations)
     eom = generate_vehicle(model).equations
     k1, kc = sp.symbols("k1 kc")
-    assert eom.K == sp.Matrix([[3 * k1, -k1, -2 * k1], [-k1, k1 + kc, 0], [-2 * k1, 0, 2 * k1 + kc]])
+    assert sp.Matrix([[3 * k1, -k1, -2 * k1], [-k1, k1 + kc, 0], [-2 * k1, 0, 2 * k1 + kc]]) == eom.K
     assert eom.inputs == ("A_rail.y", "B_rail.y")
 
 

@@ -20,7 +20,7 @@ import numpy as np
 from .equations import EquationsOfMotion
 from .parameters import expression_value
 
-__all__ = ["Clearances", "clearances_of", "clearance_force"]
+__all__ = ["Clearances", "clearance_force", "clearances_of"]
 
 
 @dataclass(frozen=True)

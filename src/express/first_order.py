@@ -33,7 +33,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["StateForm", "state_form", "FirstOrderError"]
+__all__ = ["FirstOrderError", "StateForm", "state_form"]
 
 
 class FirstOrderError(ValueError):

@@ -38,7 +38,7 @@ from .diagnostics import ModelError, Problem
 from .kinematics import point_motion
 from .model import AXES, DOF_NAMES, Model
 
-__all__ = ["static_preloads", "gravity_stiffness", "element_length"]
+__all__ = ["element_length", "gravity_stiffness", "static_preloads"]
 
 #: Relative size of the random perturbation of the parameters used to find which
 #: coordinates move in the static equilibrium (structural zeros stay zero).
@@ -109,7 +109,7 @@ def static_preloads(model: Model) -> dict[str, sp.Expr]:
         k_aa = stiffness.extract(active, active)
         f_a = load.extract(active, [0])
         solution = _exact_solve(k_aa, f_a)
-        for index, value in zip(active, solution):
+        for index, value in zip(active, solution, strict=True):
             q_static[index, 0] = value
     _check_solution(model, numbers, points, stiffness, load, q_static, symbols, n)
     displacement = (t * q_static).applyfunc(sp.cancel)  # full static coordinates
@@ -145,17 +145,20 @@ def _solve_numeric(model: Model, static: Model, dofs, k_num: np.ndarray, f_num: 
     residual = np.linalg.norm(k_num @ q - f_num)
     if residual <= 1e-8 * max(np.linalg.norm(f_num), 1e-300):
         return q
-    # which weights are not carried: the load's part in the null space of K
+    # which weights are not carried: a body's own load with a part in the null space of K
     _, singular, vt = np.linalg.svd(k_num)
     null = vt[singular <= 1e-10 * singular.max()] if singular.size else vt
-    unsupported = sorted({dofs[i].split(".")[0] for row in null for i in np.flatnonzero(np.abs(row) > 1e-6)
-                          if abs(row @ f_num) > 1e-8 * np.linalg.norm(f_num) and dofs[i].endswith((".z", ".rx", ".ry"))})
-    names = ", ".join(unsupported) or "some bodies"
-    raise ModelError([Problem(
-        model.source, None, "gravity",
-        f"no element carries the weight of {names}: add supports along z (or leave out [gravity]); "
-        "the static equilibrium of the full 3-D model has no solution",
-    )])
+    unsupported = sorted({
+        dofs[i].split(".")[0] for i in np.flatnonzero(f_num)
+        if np.linalg.norm(null[:, i]) > 1e-6  # e_i (this body's weight) is not in the range of K
+    })
+    lines = {body.id: body.line for body in model.bodies}
+    raise ModelError([
+        Problem(model.source, lines.get(name), f"body {name}",
+                "gravity: no element carries its weight in the full 3-D model (add an element along z, "
+                "or leave out [gravity])")
+        for name in unsupported or ["?"]
+    ])
 
 
 def _independent(indices: list[int], k_num: np.ndarray) -> list[int]:

@@ -36,7 +36,7 @@ import sympy as sp
 from .diagnostics import Problem
 from .model import Body, ConnectionPoint, Element, Ground, Model, PinnedJoint
 
-__all__ = ["Substructure", "Instance", "Items", "instantiate", "expand", "with_instances"]
+__all__ = ["Instance", "Items", "Substructure", "expand", "instantiate", "with_instances"]
 
 
 @dataclass(frozen=True)

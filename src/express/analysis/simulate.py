@@ -37,15 +37,15 @@ from pathlib import Path
 
 import numpy as np
 
+from ..clearance import clearance_force, clearances_of
 from ..rail.nonlinear import wheelset_forces
 from ..rail.track import Track
-from ..topology import classify_bodies
 from ..statespace import VehicleModel
 from ..threads import limited_blas
-from ..clearance import clearance_force, clearances_of
+from ..topology import classify_bodies
 from .integrator import discretize, march
 
-__all__ = ["SimulationResult", "simulate", "bogie_of_wheelsets", "lever_bodies", "TrackInputs", "track_inputs"]
+__all__ = ["SimulationResult", "TrackInputs", "bogie_of_wheelsets", "lever_bodies", "simulate", "track_inputs"]
 
 
 @dataclass

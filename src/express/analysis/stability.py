@@ -43,22 +43,22 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..topology import Topology, classify_bodies
 from ..parameters import expression_value
 from ..statespace import VehicleModel
 from ..threads import limited_blas
+from ..topology import Topology, classify_bodies
 
 __all__ = [
-    "Mode",
-    "EigenResult",
     "CriticalSpeed",
-    "eigen_analysis",
-    "natural_frequencies",
-    "modes_of",
-    "root_locus",
-    "max_real_part",
+    "EigenResult",
+    "Mode",
     "critical_speed",
     "critical_speed_vs_conicity",
+    "eigen_analysis",
+    "max_real_part",
+    "modes_of",
+    "natural_frequencies",
+    "root_locus",
 ]
 
 #: Number of DOFs listed in :attr:`Mode.dominant`.

@@ -47,7 +47,7 @@ def _names(reader, value: Any, path: tuple[str, ...], item: str, what: str) -> t
 
 def _string_table(reader, value: Any, path: tuple[str, ...], item: str, what: str) -> dict[str, str]:
     table = reader.table(value, path, item)
-    return {key: reader.name(v, path + (key,), item, f"{what}.{key}") for key, v in table.items()}
+    return {key: reader.name(v, (*path, key), item, f"{what}.{key}") for key, v in table.items()}
 
 
 def read_substructures(reader, data: dict) -> tuple[Items, list]:
@@ -81,8 +81,8 @@ def read_substructures(reader, data: dict) -> tuple[Items, list]:
         bodies, grounds, points, elements, pins = _items(reader, spec, path)
         substructures[name] = Substructure(
             name,
-            parameters=_names(reader, spec.get("parameters", []), path + ("parameters",), item, "parameters"),
-            connectors=_names(reader, spec.get("connectors", []), path + ("connectors",), item, "connectors"),
+            parameters=_names(reader, spec.get("parameters", []), (*path, "parameters"), item, "parameters"),
+            connectors=_names(reader, spec.get("connectors", []), (*path, "connectors"), item, "connectors"),
             bodies=tuple(bodies), grounds=tuple(grounds), points=tuple(points),
             elements=tuple(elements), pins=tuple(pins),
             label=str(spec.get("label", "")),
@@ -100,17 +100,17 @@ def read_substructures(reader, data: dict) -> tuple[Items, list]:
             reader.problem(path, item, 'missing "substructure"')
         prefix = spec.get("prefix", "")
         if not isinstance(prefix, str) or (prefix and not re.fullmatch(r"[A-Za-z][A-Za-z0-9_]*", prefix)):
-            reader.problem(path + ("prefix",), item, f"prefix must be letters, digits and _, got {prefix!r}")
+            reader.problem((*path, "prefix"), item, f"prefix must be letters, digits and _, got {prefix!r}")
             prefix = ""
-        parameters = reader.table(spec.get("parameters", {}), path + ("parameters",), item)
+        parameters = reader.table(spec.get("parameters", {}), (*path, "parameters"), item)
         instances.append(Instance(
             identifier,
-            reader.name(spec.get("substructure", "?"), path + ("substructure",), item, "substructure"),
+            reader.name(spec.get("substructure", "?"), (*path, "substructure"), item, "substructure"),
             prefix=prefix,
-            station=reader.expression(spec.get("station", 0), path + ("station",), item, "station"),
-            parameters={k: reader.expression(v, path + ("parameters", k), item, f"parameters.{k}") for k, v in parameters.items()},
-            connect=_string_table(reader, spec.get("connect", {}), path + ("connect",), item, "connect"),
-            rename=_string_table(reader, spec.get("rename", {}), path + ("rename",), item, "rename"),
+            station=reader.expression(spec.get("station", 0), (*path, "station"), item, "station"),
+            parameters={k: reader.expression(v, (*path, "parameters", k), item, f"parameters.{k}") for k, v in parameters.items()},
+            connect=_string_table(reader, spec.get("connect", {}), (*path, "connect"), item, "connect"),
+            rename=_string_table(reader, spec.get("rename", {}), (*path, "rename"), item, "rename"),
             line=reader.line(*path),
         ))
     return expand(substructures, instances, reader.source)
