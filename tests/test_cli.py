@@ -83,6 +83,14 @@ def test_command_line_mistakes_are_one_line_and_status_2(capsys, argv, mentions)
     assert mentions in err
 
 
+def _command_names() -> list[str]:
+    parser = cli.build_parser()
+    return sorted(next(a for a in parser._actions if a.dest == "command").choices)
+
+
+HEAVY = ("sympy", "scipy", "matplotlib", "numba")
+
+
 @pytest.mark.parametrize("argv", [["--help"], ["--version"], ["generate", "--help"], ["simulate", "--help"],
                                   ["critical-speed", "--help"]])
 def test_help_and_version_import_neither_sympy_scipy_nor_matplotlib(argv):
@@ -93,12 +101,34 @@ def test_help_and_version_import_neither_sympy_scipy_nor_matplotlib(argv):
         "from express.cli import main\n"
         "with contextlib.redirect_stdout(io.StringIO()):\n"
         f"    status = main({argv!r})\n"
-        "heavy = sorted(m for m in ('sympy', 'scipy', 'matplotlib', 'numba') if m in sys.modules)\n"
+        f"heavy = sorted(m for m in {HEAVY!r} if m in sys.modules)\n"
         "print(status, heavy)\n"
     )
     done = fresh_python(code)
     assert done.returncode == 0, done.stderr
     assert done.stdout.strip() == "0 []"
+
+
+def test_every_commands_help_imports_no_heavy_library():
+    """``express COMMAND --help`` for every command, one after the other in one fresh
+    interpreter: the heavy libraries are still absent after the last one (modules only
+    accumulate, so none was imported by any), and each help printed and exited 0."""
+    names = _command_names()
+    assert len(names) >= 15
+    code = (
+        "import sys, contextlib, io\n"
+        "from express.cli import main\n"
+        f"for name in {names!r}:\n"
+        "    out = io.StringIO()\n"
+        "    with contextlib.redirect_stdout(out):\n"
+        "        status = main([name, '--help'])\n"
+        f"    heavy = sorted(m for m in {HEAVY!r} if m in sys.modules)\n"
+        "    print(name, status, 'usage:' in out.getvalue(), heavy)\n"
+    )
+    done = fresh_python(code)
+    assert done.returncode == 0, done.stderr
+    lines = done.stdout.splitlines()
+    assert lines == [f"{name} 0 True []" for name in names]
 
 
 def test_importing_the_cli_does_not_touch_the_environment():
