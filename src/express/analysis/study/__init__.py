@@ -10,13 +10,17 @@ sampling
 outputs
     The quantities computed at every point (critical speed, damping, Q/P, FRF peak).
 runner
-    Evaluation of the points on local processes or a Dask cluster, with a checkpoint.
+    Evaluation of the points on local processes or a Dask cluster.
+run
+    A study end to end: checkpoint, resume, the final file (``express study``).
 results
-    The results file: CSV, Parquet or netCDF.
+    The checkpoint and the results file: CSV, Parquet or netCDF.
 critical
     Fast critical speed (exact crossing, same reported value as the stability code).
 sensitivity
     Exact derivatives of eigenvalues and of the critical speed.
 optimise
     Bounded optimisation with constraints; Sobol indices.
+figures
+    Critical-speed map and tornado chart.
 """
