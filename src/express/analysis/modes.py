@@ -1,0 +1,388 @@
+"""Modes of the linear vehicle: eigenvalue records, participation and labels.
+
+A mode is one eigenvalue of ``A(v)`` with what moves in it: the participation share of
+every DOF (rotations weighed by the body's radius of gyration, so that radians compare
+with metres) and a short label from documented heuristics on the bodies' roles
+(:mod:`express.topology`): hunting, wheelset, bogie frame, steering lever or car-body
+modes.  :func:`modes_of` builds them; :mod:`express.analysis.stability` finds the modes
+at a speed and the critical speed.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..parameters import expression_value
+from ..statespace import VehicleModel
+from ..topology import Topology, classify_bodies
+
+__all__ = ["DOMINANT_COUNT", "EigenResult", "Mode", "modes_of"]
+
+#: Number of DOFs listed in :attr:`Mode.dominant`.
+DOMINANT_COUNT = 4
+#: Length [m] by which a rotation [rad] is multiplied before it is compared with a
+#: translation [m] when the body's mass or inertia is unknown (or zero).
+REFERENCE_LENGTH = 1.0
+
+_MOTION_WORDS = {"x": "longitudinal", "y": "sway", "z": "bounce", "rx": "roll", "ry": "pitch", "rz": "yaw"}
+_FRAME_WORDS = {"x": "longitudinal", "y": "lateral", "z": "vertical", "rx": "roll", "ry": "pitch", "rz": "yaw"}
+
+
+# ---------------------------------------------------------------------------------------
+# Modes
+# ---------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Mode:
+    """One eigenvalue of ``A(v)`` and what moves in it.
+
+    Attributes
+    ----------
+    eigenvalue : complex
+        ``lambda = Re + j Im`` [1/s]; the free motion is ``exp(lambda t)``. Only the
+        member with ``Im >= 0`` of a conjugate pair is kept.
+    frequency_hz : float
+        Damped natural frequency ``Im / (2 pi)`` [Hz] (0 for a real eigenvalue).
+    damping_ratio : float
+        ``-Re / |lambda|`` [-]: positive when the mode decays, negative when it grows,
+        0 for a zero eigenvalue.
+    dominant : tuple of (str, float)
+        Up to :data:`DOMINANT_COUNT` DOFs with the largest share of the displacement part
+        ``phi`` of the eigenvector, largest first, with their share in [0, 1]:
+        ``share_i = |l_i phi_i|^2 / sum_j |l_j phi_j|^2`` with ``l = 1`` for a
+        translation and, for a rotation, ``l`` = the body's radius of gyration about
+        that axis, ``sqrt(I / m)`` [m], so that radians compare with metres (a rotation
+        counts as the displacement of the body's inertia-equivalent point: 0.65 m for a
+        wheelset's yaw, 6 m for the car body's). The shares of all DOFs sum to 1, so
+        those listed sum to at most 1.
+    kind : str
+        Short label of the mode (see :meth:`describe`), e.g. ``"hunting, front bogie"``.
+    body_shares : tuple of (str, float)
+        Share of every body (sum of its DOFs' shares), largest first.
+
+    Examples
+    --------
+    >>> mode = Mode(complex(-0.5, 20.0), 20.0 / (2 * np.pi), 0.025,
+    ...             (("W1.y", 0.4), ("W2.y", 0.3), ("T1.rz", 0.2)), "hunting, front bogie")
+    >>> mode.describe()
+    'hunting, front bogie (W1.y, W2.y, T1.rz)'
+    >>> round(mode.frequency_hz, 3), mode.stable
+    (3.183, True)
+    """
+
+    eigenvalue: complex
+    frequency_hz: float
+    damping_ratio: float
+    dominant: tuple[tuple[str, float], ...]
+    kind: str = ""
+    body_shares: tuple[tuple[str, float], ...] = field(default=(), repr=False)
+
+    @property
+    def real(self) -> float:
+        """Real part of the eigenvalue [1/s] (growth rate when positive)."""
+        return float(self.eigenvalue.real)
+
+    @property
+    def imag(self) -> float:
+        """Imaginary part of the eigenvalue [rad/s]."""
+        return float(self.eigenvalue.imag)
+
+    @property
+    def stable(self) -> bool:
+        """True when the real part is negative."""
+        return self.real < 0.0
+
+    @property
+    def natural_frequency_hz(self) -> float:
+        """Undamped natural frequency ``|lambda| / (2 pi)`` [Hz] of an oscillatory mode
+        (for a real eigenvalue, its rate ``|lambda| / (2 pi)``)."""
+        return abs(self.eigenvalue) / (2.0 * np.pi)
+
+    def describe(self) -> str:
+        """Short human label: :attr:`kind` and the DOFs that dominate.
+
+        The DOFs listed are those of :attr:`dominant` with at least 10 % of the
+        displacement (at most three; at least the first).
+
+        Returns
+        -------
+        str
+            E.g. ``"hunting, front bogie (W1.y, W2.y, T1.rz)"`` or
+            ``"car body sway/roll (CB.y, CB.rx)"``.
+        """
+        names = [name for name, share in self.dominant[:3] if share >= 0.1] or [
+            name for name, _ in self.dominant[:1]
+        ]
+        kind = self.kind or "mode"
+        return f"{kind} ({', '.join(names)})" if names else kind
+
+
+@dataclass(frozen=True)
+class EigenResult:
+    """Every mode of the vehicle at one speed.
+
+    Attributes
+    ----------
+    speed : float
+        [m/s]; nan for a model without rail data (its modes do not depend on it).
+    modes : tuple of Mode
+        One per conjugate pair (and one per real eigenvalue), sorted by descending real
+        part: ``modes[0]`` is the least stable.
+
+    Examples
+    --------
+    >>> from express.io import load_model
+    >>> from express.statespace import vehicle_model
+    >>> from express.analysis.stability import eigen_analysis
+    >>> car = vehicle_model(load_model("examples/conventional.toml"))
+    >>> result = eigen_analysis(car, 30.0)
+    >>> result.stable, len(result.modes) <= 2 * car.n
+    (True, True)
+    >>> sorted(result.rows()[0])
+    ['damping_ratio', 'description', 'frequency_hz', 'imag', 'real']
+    """
+
+    speed: float
+    modes: tuple[Mode, ...]
+
+    @property
+    def speed_kmh(self) -> float:
+        """Speed [km/h] (nan for a model without rail data)."""
+        return self.speed * 3.6
+
+    @property
+    def max_real(self) -> float:
+        """Largest real part [1/s]."""
+        return max(mode.real for mode in self.modes)
+
+    @property
+    def stable(self) -> bool:
+        """True when every mode decays."""
+        return self.max_real < 0.0
+
+    def rows(self) -> list[dict[str, float | str]]:
+        """One dict per mode, least stable first, for printing or CSV.
+
+        Keys: ``real`` [1/s], ``imag`` [rad/s], ``frequency_hz`` [Hz],
+        ``damping_ratio`` [-], ``description`` (:meth:`Mode.describe`).
+        """
+        return [
+            {
+                "real": mode.real,
+                "imag": mode.imag,
+                "frequency_hz": mode.frequency_hz,
+                "damping_ratio": mode.damping_ratio,
+                "description": mode.describe(),
+            }
+            for mode in self.modes
+        ]
+
+    def table(self) -> str:
+        """The rows as aligned text (one line per mode)."""
+        where = (f"at {self.speed:.3f} m/s ({self.speed_kmh:.1f} km/h)" if self.speed == self.speed
+                 else "(no rail data: independent of the speed)")
+        lines = [f"eigenvalues {where}",
+                 f"{'Re [1/s]':>12} {'Im [rad/s]':>12} {'f [Hz]':>9} {'zeta':>8}  mode"]
+        for row in self.rows():
+            lines.append(
+                f"{row['real']:12.4f} {row['imag']:12.4f} {row['frequency_hz']:9.3f} "
+                f"{row['damping_ratio']:8.4f}  {row['description']}"
+            )
+        return "\n".join(lines)
+
+
+# Body roles for the labels
+# ---------------------------------------------------------------------------------------
+
+
+def _roles(vehicle: VehicleModel) -> Topology:
+    """The role of every body (:func:`express.topology.classify_bodies`); without a
+    model, the wheelsets are known from the rail data and every other body is a car body."""
+    model = vehicle.model
+    if model is None:
+        wheelsets = {w.name for w in vehicle.wheelsets}
+        role = {}
+        for dof in vehicle.dofs:
+            body = dof.split(".")[0]
+            role.setdefault(body, "wheelset" if body in wheelsets else "body")
+        return Topology(role, {}, {}, ())
+    return classify_bodies(model, lambda body: _station(model, body))
+
+
+def _station(model, body_id: str) -> float:
+    try:
+        return expression_value(model.body(body_id).position[0], model.values())
+    except (KeyError, TypeError, ValueError):
+        return 0.0
+
+
+def _classify(shares: np.ndarray, dofs: Sequence[str], frequency: float, damping_ratio: float, roles: Topology) -> str:
+    """Label a mode from the share of each DOF (heuristics of :func:`eigen_analysis`)."""
+    by_role: dict[str, float] = {}
+    by_group: dict[str, float] = {}
+    body_dofs: dict[str, float] = {}
+    frame_dofs: dict[str, float] = {}
+    wheel_dofs: dict[str, float] = {}
+    for share, dof in zip(shares, dofs, strict=True):
+        body, _, motion = dof.partition(".")
+        r = roles.role.get(body, "body")
+        by_role[r] = by_role.get(r, 0.0) + share
+        if r == "body":
+            body_dofs[motion] = body_dofs.get(motion, 0.0) + share
+        else:
+            g = roles.group(body)
+            by_group[g] = by_group.get(g, 0.0) + share
+            if r == "bogie":
+                frame_dofs[motion] = frame_dofs.get(motion, 0.0) + share
+            elif r == "wheelset":
+                wheel_dofs[motion] = wheel_dofs.get(motion, 0.0) + share
+    gear = sum(by_group.values())
+    oscillatory = frequency > 0.0
+
+    def where() -> str:
+        if not by_group:
+            return ""
+        top = max(sorted(by_group), key=lambda g: by_group[g])
+        if top and by_group[top] >= 0.75 * gear:
+            return roles.bogie_label(top)
+        if len([g for g in by_group if g]) >= 2:
+            return "both bogies" if len(roles.bogies) == 2 else "all bogies"
+        return ""
+
+    def words(parts: dict[str, float], vocabulary: dict[str, str]) -> str:
+        total = sum(parts.values()) or 1.0
+        chosen = [m for m in sorted(parts, key=lambda m: -parts[m]) if parts[m] >= 0.15 * total]
+        return "/".join(vocabulary.get(m, m) for m in chosen[:2])
+
+    place = where()
+    suffix = f", {place}" if place else ""
+    if by_role.get("lever", 0.0) >= 0.5:
+        return f"steering lever{suffix}"
+    if gear >= 0.5:
+        wheels = by_role.get("wheelset", 0.0)
+        if wheels >= 0.5 * gear:
+            if not oscillatory:
+                return f"wheelset creep, non-oscillatory{suffix}"
+            if damping_ratio < 0.5 and wheel_dofs.get("y", 0.0) >= wheel_dofs.get("rz", 0.0):
+                return f"hunting{suffix}"
+            return f"wheelset {words(wheel_dofs, _FRAME_WORDS)}{suffix}"
+        motion = words(frame_dofs, _FRAME_WORDS)
+        return f"bogie frame {motion}{suffix}".replace("  ", " ")
+    motion = words(body_dofs, _MOTION_WORDS)
+    kind = f"car body {motion}" if motion else "car body"
+    return kind if oscillatory else f"{kind}, non-oscillatory"
+
+
+def _generic_label(shares: np.ndarray, dofs: Sequence[str], frequency: float) -> str:
+    """Label of a mode of a model without rail data: the bodies (or series elements)
+    holding at least 15 % of it with their main motion, e.g. ``"B1 yaw, B2 pitch"``."""
+    bodies: dict[str, dict[str, float]] = {}
+    for share, dof in zip(shares, dofs, strict=True):
+        body, _, motion = dof.partition(".")
+        bodies.setdefault(body, {})
+        bodies[body][motion] = bodies[body].get(motion, 0.0) + float(share)
+    totals = {body: sum(parts.values()) for body, parts in bodies.items()}
+    chosen = [b for b in sorted(totals, key=lambda b: -totals[b]) if totals[b] >= 0.15][:3] or list(totals)[:1]
+    words = {**_MOTION_WORDS, "stroke": "damper stroke"}
+    parts = []
+    for body in chosen:
+        motion = max(sorted(bodies[body]), key=lambda m: bodies[body][m])
+        parts.append(f"{body} {words.get(motion, motion)}")
+    label = ", ".join(parts)
+    return label if frequency > 0.0 else f"{label}, non-oscillatory"
+
+
+def _dof_lengths(vehicle: VehicleModel) -> np.ndarray:
+    """``l_i`` of :attr:`Mode.dominant`: 1 for translations, the radius of gyration
+    ``sqrt(I / m)`` [m] for rotations."""
+    model = vehicle.model
+    values = model.values() if model is not None else {}
+    bodies = {body.id: body for body in model.bodies} if model is not None else {}
+    axis = {"rx": 0, "ry": 1, "rz": 2}
+    lengths = np.ones(vehicle.n)
+    for i, dof in enumerate(vehicle.dofs):
+        name, _, motion = dof.partition(".")
+        if motion not in axis:
+            continue
+        lengths[i] = REFERENCE_LENGTH
+        body = bodies.get(name)
+        if body is None:
+            continue
+        try:
+            mass = expression_value(body.mass, values)
+            inertia = expression_value(body.inertia[axis[motion]], values)
+        except (KeyError, TypeError, ValueError):
+            continue
+        if mass > 0 and inertia > 0:
+            lengths[i] = np.sqrt(inertia / mass)
+    return lengths
+
+
+def _participation(phi: np.ndarray, lengths: np.ndarray) -> np.ndarray:
+    weight = np.abs(phi * lengths) ** 2
+    total = weight.sum()
+    return weight / total if total > 0 else weight
+
+
+def modes_of(
+    vehicle: VehicleModel, eigenvalues: np.ndarray, eigenvectors: np.ndarray, *, limit: int | None = None
+) -> tuple[Mode, ...]:
+    """Build the :class:`Mode` records of eigenpairs of ``A`` (state ``[q; q']``).
+
+    Parameters
+    ----------
+    vehicle : VehicleModel
+        Gives the DOF names and the body roles for the labels.
+    eigenvalues : numpy.ndarray, shape (2n,)
+    eigenvectors : numpy.ndarray, shape (2n, 2n)
+        Columns are the eigenvectors, as from :func:`numpy.linalg.eig`.
+    limit : int, optional
+        Build only the ``limit`` least stable modes.
+
+    Returns
+    -------
+    tuple of Mode
+        One per conjugate pair (the member with ``Im >= 0``) and per real eigenvalue,
+        sorted by descending real part.
+    """
+    n = vehicle.n
+    dofs = vehicle.dofs
+    rail = vehicle.layout is not None and bool(vehicle.wheelsets)
+    roles = _roles(vehicle)
+    lengths = _dof_lengths(vehicle)
+    keep = np.flatnonzero(eigenvalues.imag >= 0.0)
+    order = keep[np.lexsort((-eigenvalues.imag[keep], -eigenvalues.real[keep]))]
+    if limit is not None:
+        order = order[:limit]
+    modes = []
+    for k in order:
+        lam = complex(eigenvalues[k])
+        shares = _participation(eigenvectors[:n, k], lengths)
+        ranked = np.argsort(-shares, kind="stable")
+        dominant = tuple((dofs[i], float(shares[i])) for i in ranked[:DOMINANT_COUNT])
+        bodies: dict[str, float] = {}
+        for share, dof in zip(shares, dofs, strict=True):
+            body = dof.partition(".")[0]
+            bodies[body] = bodies.get(body, 0.0) + float(share)
+        body_shares = tuple(sorted(bodies.items(), key=lambda item: -item[1]))
+        magnitude = abs(lam)
+        frequency = lam.imag / (2.0 * np.pi)
+        zeta = float(-lam.real / magnitude) if magnitude > 0 else 0.0
+        modes.append(
+            Mode(
+                eigenvalue=lam,
+                frequency_hz=float(frequency),
+                damping_ratio=zeta,
+                dominant=dominant,
+                kind=_classify(shares, dofs, frequency, zeta, roles) if rail else _generic_label(shares, dofs, frequency),
+                body_shares=body_shares,
+            )
+        )
+    return tuple(modes)
+
+
+# ---------------------------------------------------------------------------------------
