@@ -121,7 +121,8 @@ def run_octave(
     Returns
     -------
     dict of str to numpy.ndarray
-        Every output of the function, by output name, as float arrays.
+        Every output of the function, by output name, as float arrays; a struct output
+        ``values`` of scalars gives one 1 x 1 array per field, ``"values.<field>"``.
 
     Raises
     ------
@@ -144,9 +145,15 @@ def run_octave(
         lines.append(f"[{', '.join(outputs)}] = {name}(p__);")
     for out in outputs:
         lines += [
+            f"if isstruct({out})",  # a struct of scalars: one 1 x 1 result per field
+            f"  for f__ = fieldnames({out})'",
+            f"    fprintf('@@ %s.%s 1 1\\n', {_quote(out)}, f__{{1}}); fprintf('%.17g\\n', {out}.(f__{{1}}));",
+            "  end",
+            "else",
             f"if ~isreal({out}) || ~isnumeric({out}), error('{out} is not real'); end",
             f"fprintf('@@ %s %d %d\\n', {_quote(out)}, size({out}, 1), size({out}, 2));",
             f"fprintf('%.17g\\n', full({out}).');",
+            "end",
         ]
     with tempfile.TemporaryDirectory(prefix="express-octave-") as tmp:
         driver = Path(tmp) / "express_driver.m"
@@ -181,7 +188,7 @@ def _parse(stdout: str, outputs: list[str]) -> dict[str, np.ndarray]:
         numbers = [float(tokens[k + i]) for i in range(rows * cols)]
         k += rows * cols
         result[name] = np.array(numbers, dtype=float).reshape(rows, cols)
-    missing = [o for o in outputs if o not in result]
+    missing = [o for o in outputs if o not in result and not any(k.startswith(o + ".") for k in result)]
     if missing:
         raise RuntimeError(f"octave printed no value for {missing}:\n{stdout}")
     return result

@@ -15,7 +15,10 @@ The output is a *fragment*: no ``\documentclass``, no preamble, no
 
 The fragment sets the counter ``MaxMatrixCols`` to 20 (amsmath's default is 10). A
 matrix or vector with more than 20 columns is split into blocks of at most 20 columns,
-each labelled with its column range, so that every block stays printable.
+each labelled with its column range, so that every block stays printable. A matrix with
+more than :data:`MAX_MATRIX_ROWS` rows (a long train) is instead listed entry by entry,
+``K_{\mathrm{B1}.y,\,\mathrm{B2}.y} &= ...``, non-zero entries only, in an ``align*``
+allowed to break across pages; the cost of the export then follows the non-zero entries.
 
 Parameter names are typeset as ``letter_{rest}``: ``kLU`` -> ``k_{LU}``, ``J1`` ->
 ``J_{1}``, ``Icz`` -> ``I_{cz}``; a Greek letter name stands for the letter, alone or as
@@ -29,15 +32,19 @@ from __future__ import annotations
 
 import re
 
+import sympy as sp
 from sympy.printing.latex import LatexPrinter, greek_letters_set, translate
 
 from express.equations import EquationsOfMotion
-from express.export.json_export import matrix_items, parameter_symbols, shown_value
+from express.export.json_export import matrix_entries, matrix_items, parameter_symbols, shown_value
 
-__all__ = ["MAX_COLUMNS", "latex_dof_name", "latex_symbol_name", "to_latex"]
+__all__ = ["MAX_COLUMNS", "MAX_MATRIX_ROWS", "latex_dof_name", "latex_symbol_name", "to_latex"]
 
 #: Matrices wider than this are split into column blocks.
 MAX_COLUMNS = 20
+#: Matrices with more rows than this are listed entry by entry (non-zero entries only):
+#: a ``bmatrix`` that tall cannot be printed, and its zeros would cost ``n**2``.
+MAX_MATRIX_ROWS = 100
 
 _GREEK = sorted(
     greek_letters_set | {g.capitalize() for g in greek_letters_set} | {"lamda", "Lamda"},
@@ -206,10 +213,42 @@ def to_latex(eom: EquationsOfMotion) -> str:
     out.extend(_equation("q", [[latex_dof_name(d) for d in eom.dofs]], "^{T}"))
     if m:
         out.extend(_equation("u", [[latex_dof_name(u) for u in eom.inputs]], "^{T}"))
+    cache: dict[sp.Expr, str] = {}
+
+    def tex(value: sp.Expr) -> str:  # repeated entries are typeset once
+        if value not in cache:
+            cache[value] = printer.doprint(value)
+        return cache[value]
+
     for key, mat in items:
-        cells = [[printer.doprint(mat[i, j]) for j in range(mat.cols)] for i in range(mat.rows)]
         if mat.rows == 0 or mat.cols == 0:
             out.append(f"% {key} is empty ({mat.rows} x {mat.cols})")
             continue
+        entries = matrix_entries(mat)
+        if mat.rows > MAX_MATRIX_ROWS:
+            out.extend(_listing(eom, key, mat, entries, tex))
+            continue
+        zero = tex(sp.S.Zero)
+        cells = [[zero] * mat.cols for _ in range(mat.rows)]
+        for i, j, value in entries:
+            cells[i][j] = tex(value)
         out.extend(_equation(_matrix_name(key), cells))
     return "\n".join(out) + "\n"
+
+
+def _listing(eom: EquationsOfMotion, key: str, mat: sp.MatrixBase, entries: list, tex) -> list[str]:
+    """A matrix too tall for a ``bmatrix``: its non-zero entries, one per line, labelled
+    by row and column names, in an ``align*`` that may break across pages."""
+    rows = [latex_dof_name(d) for d in eom.dofs]
+    cols = [latex_dof_name(u) for u in eom.inputs] if key in ("P", "Pd") or mat.cols != mat.rows else rows
+    if len(cols) != mat.cols:
+        cols = [str(j + 1) for j in range(mat.cols)]
+    name = _matrix_name(key)
+    out = [f"% {key} ({mat.rows} x {mat.cols}): {len(entries)} non-zero entries, listed "
+           f"(more than {MAX_MATRIX_ROWS} rows)"]
+    if not entries:
+        return out + [r"\begin{equation*}", f"{name} = 0", r"\end{equation*}"]
+    out += [r"{\allowdisplaybreaks", r"\begin{align*}"]
+    lines = [f"  {name}_{{{rows[i]},\\,{cols[j]}}} &= {tex(value)}" for i, j, value in entries]
+    out.append(" \\\\\n".join(lines))
+    return out + [r"\end{align*}}"]

@@ -24,6 +24,39 @@ function, no subfunctions::
 ``P`` and ``Pd`` (and further matrices, sorted by name) are extra outputs when present.
 The struct ``p`` has one field per parameter, named exactly as the parameter (a field
 named like a keyword is read as ``p.('end')``, which MATLAB and Octave both accept).
+Only the non-zero entries are written (read from the matrices' sparse storage, each
+distinct entry printed once), so the cost follows their number, not ``n**2``.
+
+Derived parameters
+------------------
+When the model derives parameters from others (the record's
+:attr:`~express.equations.EquationsOfMotion.derivation`), the function takes the
+*given* parameters only (``p`` and the default struct hold those) and computes the
+derived ones after unpacking them, before the matrices::
+
+    function [M, C, K, P, Pd, values] = NAME(p)
+    ...
+    % Derived parameters: computed from the given ones unless set in p.
+    if isfield(p, 'P0'), P0 = p.P0; else, P0 = g.*(mc + 2*mt + 4*mw)/8; end
+    if ~(isfield(p, 'f1') && isfield(p, 'f2'))
+        [kalker_f11, kalker_f22] = kalker_creep(P0, r0, Rrail, Emod, nu);  % rail.creep
+    end
+    if isfield(p, 'f1'), f1 = p.f1; else, f1 = kalker_f11; end
+    ...
+    if nargout > 5
+        values = struct();             % every parameter value used
+        values.Emod = Emod;
+        ...
+    end
+    end
+
+    function [f11, f22] = kalker_creep(...)   % local functions after the main one
+    ...
+
+A derived parameter set in ``p`` is used as given. The creep coefficients are computed
+by the local function ``kalker_creep`` (Hertz ellipse and Kalker's table as literal
+arrays, :mod:`express.export.kalker_code`). Without derived parameters the file is as
+before: one function, no ``values`` output.
 
 Local names
 -----------
@@ -46,8 +79,10 @@ from typing import Any
 import sympy as sp
 from sympy.printing.octave import OctaveCodePrinter
 
-from express.equations import EquationsOfMotion
-from express.export.json_export import matrix_items, parameter_symbols, shown_value
+from express.equations import DerivationCall, DerivationStep, DerivedParameter, EquationsOfMotion
+from express.export.derivation import FUNCTIONS, DerivationPlan, derivation_plan
+from express.export.json_export import matrix_entries, matrix_items, parameter_symbols, shown_value
+from express.export.kalker_code import KALKER_MATLAB_FUNCTIONS, matlab_kalker
 
 __all__ = [
     "MATLAB_KEYWORDS",
@@ -84,6 +119,10 @@ MATLAB_RESERVED_FUNCTIONS = frozenset(
 )
 
 _IDENT = re.compile(r"[A-Za-z][A-Za-z0-9_]*\Z")
+#: Last output of a function with derived parameters: every parameter value used.
+VALUES_OUTPUT = "values"
+#: The local function computing each derivation kind (:mod:`express.export.kalker_code`).
+_CALLS = {"kalker": KALKER_MATLAB_FUNCTIONS[0]}
 _MAX_LEN = 63  # namelengthmax
 
 
@@ -204,9 +243,9 @@ def _literal(value: float) -> str:
     return repr(value)
 
 
-def _field(par: str) -> str:
+def _field(par: str, struct: str = "p") -> str:
     """``p.name``, or the dynamic form ``p.('end')`` for keywords (MATLAB rejects those)."""
-    return f"p.{par}" if par not in MATLAB_KEYWORDS else f"p.('{par}')"
+    return f"{struct}.{par}" if par not in MATLAB_KEYWORDS else f"{struct}.('{par}')"
 
 
 def _comment(text: Any) -> str:
@@ -217,6 +256,7 @@ def symbol_renaming(
     eom: EquationsOfMotion,
     items: list[tuple[str, sp.ImmutableMatrix]],
     locals_: dict[str, str],
+    extra: Iterable[sp.Expr] = (),
 ) -> dict[sp.Symbol, sp.Symbol]:
     """Substitution (for ``xreplace``) of the renamed parameters by their local names.
 
@@ -228,18 +268,80 @@ def symbol_renaming(
         Its matrices, from :func:`~express.export.json_export.matrix_items`.
     locals_ : dict of str to str
         Local name by parameter name, from :func:`local_names`.
+    extra : iterable of sympy.Expr, optional
+        Further expressions written as code (the derivation steps).
 
     Returns
     -------
     dict of sympy.Symbol to sympy.Symbol
         Only the parameters whose local name differs from their name.
     """
+    found = {name: set(symbols) for name, symbols in parameter_symbols(eom, items).items()}
+    for expression in extra:
+        for sym in sp.sympify(expression).free_symbols:
+            found.setdefault(sym.name, set()).add(sym)
     mapping: dict[sp.Symbol, sp.Symbol] = {}
-    for name, symbols in parameter_symbols(eom, items).items():
-        if locals_[name] != name:
-            for sym in symbols:
+    for name, symbols in found.items():
+        if locals_.get(name, name) != name:
+            for sym in sorted(symbols, key=sp.default_sort_key):
                 mapping[sym] = sp.Symbol(locals_[name])
     return mapping
+
+
+def step_expressions(plan: DerivationPlan) -> list[sp.Expr]:
+    """Every expression the derivation steps of ``plan`` write as code."""
+    found: list[sp.Expr] = []
+    for step in plan.steps:
+        if isinstance(step, DerivedParameter):
+            found.append(step.expression)
+        else:
+            found += [expression for _, expression in step.inputs]
+    return found
+
+
+def exported_names(eom: EquationsOfMotion, plan: DerivationPlan) -> list[str]:
+    """Names an export handles: the record's parameters, then (sorted) the given and
+    derived ones only the derivation uses."""
+    names = list(eom.parameters)
+    return names + sorted((set(plan.given) | set(plan.derived)) - set(names))
+
+
+def call_temporaries(plan: DerivationPlan, taken: Iterable[str]) -> dict[tuple[int, str], str]:
+    """Local name of each result of each function step: ``kalker_f11`` (``_2`` ... for a
+    second call of the same kind), not one of ``taken``."""
+    used = set(taken)
+    names: dict[tuple[int, str], str] = {}
+    count: dict[str, int] = {}
+    for k, step in enumerate(plan.steps):
+        if isinstance(step, DerivedParameter):
+            continue
+        count[step.kind] = count.get(step.kind, 0) + 1
+        for key in FUNCTIONS[step.kind][1]:
+            candidate = f"{step.kind}_{key}" + (f"_{count[step.kind]}" if count[step.kind] > 1 else "")
+            while candidate in used:
+                candidate += "_"
+            used.add(candidate)
+            names[(k, key)] = candidate
+    return names
+
+
+class _Code:
+    """``expr -> MATLAB text`` with the renaming applied, each distinct entry printed once."""
+
+    def __init__(self, rename: dict[sp.Symbol, sp.Symbol]) -> None:
+        self.printer = _Printer({"strict": True})
+        self.rename = rename
+        self.cache: dict[sp.Expr, str] = {}
+
+    def __call__(self, expr: sp.Expr) -> str:
+        text = self.cache.get(expr)
+        if text is None:
+            try:
+                text = self.printer.doprint(expr.xreplace(self.rename) if self.rename else expr)
+            except NotImplementedError as exc:
+                raise ValueError(f"cannot write {sp.sstr(expr)!r} in MATLAB: {exc}") from exc
+            self.cache[expr] = text
+        return text
 
 
 def to_matlab(eom: EquationsOfMotion, name: str | None = None) -> str:
@@ -256,14 +358,16 @@ def to_matlab(eom: EquationsOfMotion, name: str | None = None) -> str:
     -------
     str
         Source of the function file ``function [M, C, K, ...] = NAME(p)``; see the module
-        docstring for its layout.
+        docstring for its layout. Only the non-zero entries are written, so the cost
+        follows their number.
 
     Raises
     ------
     ValueError
         If ``name``, a parameter name or a matrix name is not a valid MATLAB identifier
         (letters, digits and underscores, starting with a letter, at most 63 characters,
-        not a keyword), or if an entry uses a function Octave cannot express.
+        not a keyword), if an entry uses a function Octave cannot express, or if a
+        derivation step cannot be written.
     """
     fname = eom.name if name is None else name
     if not is_matlab_identifier(fname):
@@ -274,35 +378,78 @@ def to_matlab(eom: EquationsOfMotion, name: str | None = None) -> str:
     items = matrix_items(eom)
     outputs = [key for key, _ in items]
     for key in outputs:
-        if not is_matlab_identifier(key) or key == "p":
+        if not is_matlab_identifier(key) or key == "p" or key == VALUES_OUTPUT:
             raise ValueError(f"matrix name {key!r} cannot be a MATLAB output name")
-    for par in eom.parameters:
+    plan = derivation_plan(eom)
+    names = exported_names(eom, plan)
+    for par in names:
         if not (_IDENT.match(par) and len(par) <= _MAX_LEN):
             raise ValueError(
                 f"parameter name {par!r} cannot be a MATLAB struct field name "
                 "(letters, digits and underscores, starting with a letter, at most 63 "
                 "characters)"
             )
-    locals_ = matlab_local_names(eom.parameters, outputs)
-    rename = symbol_renaming(eom, items, locals_)
-    printer = _Printer({"strict": True})
+    reserved = list(outputs)
+    if plan.steps:
+        reserved += [VALUES_OUTPUT, *KALKER_MATLAB_FUNCTIONS]
+    locals_ = matlab_local_names(names, reserved)
+    code = _Code(symbol_renaming(eom, items, locals_, step_expressions(plan)))
+    given = plan.given if plan.steps else eom.parameters
+    out = _header(eom, fname, items, plan, locals_)
+    if given and all(par in eom.values for par in given):
+        out += ["", "if nargin < 1", "    % Default parameter values (SI units).", "    p = struct();"]
+        out += [f"    {_field(par)} = {_literal(float(eom.values[par]))};" for par in given]
+        out.append("end")
+    if given:
+        out.append("")
+        out += [f"{locals_[par]} = {_field(par)};" for par in given]
+    if plan.steps:
+        out += _derivation_code(plan, locals_, code)
+    for key, mat in items:
+        out += ["", f"{key} = zeros({mat.rows}, {mat.cols});"]
+        entries = matrix_entries(mat)
+        lookup = {(i, j): value for i, j, value in entries}
+        for i, j, entry in entries:
+            if j < i and lookup.get((j, i)) == entry:
+                out.append(f"{key}({i + 1}, {j + 1}) = {key}({j + 1}, {i + 1});")
+            else:
+                out.append(f"{key}({i + 1}, {j + 1}) = {code(entry)};")
+    if plan.steps:
+        out += ["", f"if nargout > {len(outputs)}", f"    {VALUES_OUTPUT} = struct();"]
+        out += [f"    {_field(par, VALUES_OUTPUT)} = {locals_[par]};" for par in (*plan.given, *plan.derived)]
+        out.append("end")
+    out += ["", "end"]
+    text = "\n".join(out) + "\n"
+    if any(isinstance(step, DerivationCall) for step in plan.steps):
+        text += matlab_kalker()
+    return text
 
-    def code(expr: sp.Expr) -> str:
-        try:
-            return printer.doprint(expr.xreplace(rename) if rename else expr)
-        except NotImplementedError as exc:
-            raise ValueError(f"cannot write {sp.sstr(expr)!r} in MATLAB: {exc}") from exc
 
+def _header(
+    eom: EquationsOfMotion,
+    fname: str,
+    items: list[tuple[str, sp.ImmutableMatrix]],
+    plan: DerivationPlan,
+    locals_: dict[str, str],
+) -> list[str]:
+    """The function line and the help text."""
     n, m = len(eom.dofs), len(eom.inputs)
-    out = [f"function [{', '.join(outputs)}] = {fname}(p)"]
+    outputs = [key for key, _ in items]
+    given = plan.given if plan.steps else eom.parameters
+    signature = outputs + ([VALUES_OUTPUT] if plan.steps else [])
+    out = [f"function [{', '.join(signature)}] = {fname}(p)"]
     h = out.append
     h(f"%{fname.upper()}  Equations of motion of the model {_comment(eom.name)!r}.")
     lhs = "M q'' + C q' + K q"
     h(f"%   {lhs} = P u + Pd u'" if m else f"%   {lhs} = 0")
     h(f"%   [{', '.join(outputs)}] = {fname}(p) returns the matrices for the")
     h("%   parameter struct p (one field per parameter, SI units).")
-    if eom.parameters and all(par in eom.values for par in eom.parameters):
+    if given and all(par in eom.values for par in given):
         h(f"%   {fname}() uses the default values listed below.")
+    if plan.steps:
+        h("%   The derived parameters are computed from the given ones (a derived")
+        h("%   parameter set in p is used as given); the last output, values, holds")
+        h("%   every parameter value used, given and derived.")
     h("%")
     h("%   Generated by EXPRESS; do not edit.")
     h("%")
@@ -314,9 +461,10 @@ def to_matlab(eom: EquationsOfMotion, name: str | None = None) -> str:
     h(f"%   Inputs u ({m}):" + ("" if m else " none"))
     for k, inp in enumerate(eom.inputs, 1):
         h(f"%     {k:>4}  {_comment(inp)}")
-    h(f"%   Parameters ({len(eom.parameters)})" + (", in the unit of the model file:" if eom.parameters else ": none"))
-    width = max((len(par) for par in eom.parameters), default=0)
-    for par in eom.parameters:
+    title = "Given parameters" if plan.steps else "Parameters"
+    h(f"%   {title} ({len(given)})" + (", in the unit of the model file:" if given else ": none"))
+    width = max((len(par) for par in given), default=0)
+    for par in given:
         line = f"%     {par:<{width}}"
         shown = shown_value(eom, par)
         if shown is not None:
@@ -324,33 +472,52 @@ def to_matlab(eom: EquationsOfMotion, name: str | None = None) -> str:
         if locals_[par] != par:
             line += f"  (local variable {locals_[par]})"
         out.append(line.rstrip())
+    if plan.steps:
+        h(f"%   Derived parameters ({len(plan.derived)}), computed here unless set in p:")
+        for step in plan.steps:
+            h(f"%     {_comment(_step_text(step))}")
+        renamed = [par for par in plan.derived if locals_[par] != par]
+        for par in renamed:
+            h(f"%     ({par}: local variable {locals_[par]})")
     for key, mat in items:
         h(f"%   {key}: {mat.rows} x {mat.cols}")
-    if eom.parameters and all(par in eom.values for par in eom.parameters):
-        h("")
-        h("if nargin < 1")
-        h("    % Default parameter values (SI units).")
-        h("    p = struct();")
-        for par in eom.parameters:
-            h(f"    {_field(par)} = {_literal(float(eom.values[par]))};")
-        h("end")
-    if eom.parameters:
-        h("")
-        for par in eom.parameters:
-            h(f"{locals_[par]} = {_field(par)};")
-    for key, mat in items:
-        h("")
-        h(f"{key} = zeros({mat.rows}, {mat.cols});")
-        for i in range(mat.rows):
-            for j in range(mat.cols):
-                entry = mat[i, j]
-                if entry == 0:
-                    continue
-                if j < i and j < mat.rows and i < mat.cols and entry == mat[j, i]:
-                    h(f"{key}({i + 1}, {j + 1}) = {key}({j + 1}, {i + 1});")
-                else:
-                    h(f"{key}({i + 1}, {j + 1}) = {code(entry)};")
-    h("")
-    h("end")
-    return "\n".join(out) + "\n"
+    return out
 
+
+def _step_text(step: DerivationStep) -> str:
+    """A derivation step for the help text: ``P0 = g*(mc + 2*mt + 4*mw)/8``."""
+    if isinstance(step, DerivedParameter):
+        return f"{step.name} = {sp.sstr(step.expression)}"
+    results = dict(step.outputs)
+    arguments = dict(step.inputs)
+    lhs = ", ".join(f"{results[key]} = {key}" for key in FUNCTIONS[step.kind][1] if key in results)
+    call = ", ".join(sp.sstr(arguments[argument]) for argument in FUNCTIONS[step.kind][0])
+    return f"{lhs} of {_CALLS[step.kind]}({call})  ({step.item})"
+
+
+def _derivation_code(plan: DerivationPlan, locals_: dict[str, str], code: _Code) -> list[str]:
+    """Each derived parameter from p when set there, else computed."""
+    out = ["", "% Derived parameters: computed from the given ones unless set in p."]
+    temporaries = call_temporaries(plan, set(locals_.values()) | set(KALKER_MATLAB_FUNCTIONS))
+    for k, step in enumerate(plan.steps):
+        if isinstance(step, DerivedParameter):
+            local = locals_[step.name]
+            out.append(f"if isfield(p, '{step.name}'), {local} = {_field(step.name)}; "
+                       f"else, {local} = {code(step.expression)}; end")
+            continue
+        arguments, results = FUNCTIONS[step.kind]
+        given_here = " && ".join(f"isfield(p, '{name}')" for _, name in step.outputs)
+        inputs = dict(step.inputs)
+        mapped = dict(step.outputs)
+        targets = [temporaries[(k, key)] if key in mapped else "~" for key in results]
+        while targets and targets[-1] == "~":
+            targets.pop()
+        call = ", ".join(code(sp.sympify(inputs[argument])) for argument in arguments)
+        out.append(f"if ~({given_here})" if len(step.outputs) > 1 else f"if ~{given_here}")
+        out.append(f"    [{', '.join(targets)}] = {_CALLS[step.kind]}({call});  % {step.item}")
+        out.append("end")
+        for key, name in step.outputs:
+            local = locals_[name]
+            out.append(f"if isfield(p, '{name}'), {local} = {_field(name)}; "
+                       f"else, {local} = {temporaries[(k, key)]}; end")
+    return out

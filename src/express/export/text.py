@@ -2,7 +2,8 @@
 
 This module owns :func:`to_text` and :func:`is_symmetric`. The view lists the model name,
 the DOFs (numbered), the eliminated DOFs, the inputs, the parameters with their values and
-units, then each matrix entry by entry, non-zero entries only, labelled by row and column
+units, then each matrix entry by entry, non-zero entries only (read from the matrix's
+sparse storage, so the cost follows their number), labelled by row and column
 names::
 
     K[B1.rz, B2.ry] = b*(kLU*lLU - kLL*lLL)
@@ -16,7 +17,7 @@ from __future__ import annotations
 import sympy as sp
 
 from express.equations import EquationsOfMotion
-from express.export.json_export import matrix_items, parameter_symbols, shown_value
+from express.export.json_export import matrix_entries, matrix_items, parameter_symbols, shown_value
 
 __all__ = ["is_symmetric", "to_text"]
 
@@ -33,15 +34,17 @@ def is_symmetric(mat: sp.MatrixBase) -> bool:
     -------
     bool
         True if square and every pair ``(i, j)``, ``(j, i)`` is structurally equal or
-        has a difference that expands to zero.
+        has a difference that expands to zero. Only the non-zero entries are visited.
     """
     if mat.rows != mat.cols:
         return False
-    for i in range(mat.rows):
-        for j in range(i + 1, mat.cols):
-            a, b = mat[i, j], mat[j, i]
-            if a != b and sp.expand(a - b) != 0:
-                return False
+    entries = {(i, j): value for i, j, value in matrix_entries(mat)}
+    for (i, j), a in entries.items():
+        if i == j:
+            continue
+        b = entries.get((j, i), sp.S.Zero)
+        if a != b and sp.expand(a - b) != 0:
+            return False
     return True
 
 
@@ -81,6 +84,13 @@ def to_text(eom: EquationsOfMotion) -> str:
     """
     items = matrix_items(eom)
     parameter_symbols(eom, items)
+    cache: dict[sp.Expr, str] = {}
+
+    def text(value: sp.Expr) -> str:  # repeated entries are printed once
+        if value not in cache:
+            cache[value] = sp.sstr(value)
+        return cache[value]
+
     m = len(eom.inputs)
     out = [
         f"Model {eom.name}: M q'' + C q' + K q = " + ("P u + Pd u'" if m else "0"),
@@ -107,10 +117,9 @@ def to_text(eom: EquationsOfMotion) -> str:
             header += ", symmetric: upper triangle shown"
         rows, cols = _labels(eom, key, mat.rows, mat.cols)
         entries = [
-            f"  {key}[{rows[i]}, {cols[j]}] = {sp.sstr(mat[i, j])}"
-            for i in range(mat.rows)
-            for j in range(i if symmetric else 0, mat.cols)
-            if mat[i, j] != 0
+            f"  {key}[{rows[i]}, {cols[j]}] = {text(value)}"
+            for i, j, value in matrix_entries(mat)
+            if not symmetric or j >= i
         ]
         out.append(header + ("" if entries else ": all zero"))
         out.extend(entries)
