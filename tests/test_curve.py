@@ -45,7 +45,7 @@ def test_lateral_term_above_the_bogie_matches_the_exact_geometry(shape, toleranc
     track = paper_curve(shape=shape)
     lead = 7.2 + 1.15  # the leading wheelset is lT + a ahead of the car body
     s = np.linspace(0.0, track.length, 4001) - lead
-    generated = _generated_offset("T1_sxL_S", 1, track, s)
+    generated = _generated_offset("CB_T1L", 1, track, s)
     exact = -np.asarray(track.lateral_offset_exact(s, 7.2))
     steady = 7.2**2 / (2 * 400.0)
     one_station = -track.curvature(s) * 7.2**2 / 2
@@ -63,7 +63,7 @@ def test_longitudinal_term_is_the_turn_of_the_track():
     theta(s))``, to within 1 % of its steady value on the sine-ramp curve."""
     track = paper_curve()
     s = np.linspace(-20.0, track.length, 3001)
-    generated = _generated_offset("L1_upper_T", 0, track, s)
+    generated = _generated_offset("CB_T1_beamL", 0, track, s)
     exact = 1.0 * (np.asarray(track.heading(s + 7.2)) - np.asarray(track.heading(s)))
     steady = 1.0 * 7.2 / 400.0
     assert np.max(np.abs(generated - exact)) < 0.01 * steady
