@@ -20,8 +20,8 @@ import sympy as sp
 
 from express.equations import EquationsOfMotion
 from express.export import FORMATS, SUFFIXES, default_suffix
-from express.export.json_export import matrix_items
-from express.export.latex import latex_dof_name, latex_symbol_name, to_latex
+from express.export.json_export import dense_rows, matrix_entries, matrix_items
+from express.export.latex import MAX_MATRIX_ROWS, latex_dof_name, latex_symbol_name, to_latex
 from express.export.matlab import is_matlab_identifier, matlab_local_names, to_matlab
 from express.export.python_module import to_python
 from express.export.text import to_text
@@ -229,25 +229,70 @@ def test_matrix_items_order_and_shapes():
 # --------------------------------------------------------------------------- JSON
 
 
+#: The lever's matrices as JSON version 1 wrote them (dense rows), for the readers.
+LEVER_V1 = {
+    "M": [["J1 + b**2*m", "0"], ["0", "J2"]],
+    "C": [["b**2*c", "0"], ["0", "0"]],
+    "K": [["b**2*(kLL + kLU)", "b*(-kLL*lLL + kLU*lLU)"],
+          ["b*(-kLL*lLL + kLU*lLU)", "kLL*lLL**2 + kLU*lLU**2"]],
+}
+
+
 def test_json_lever_contract():
+    """Version 2 (format change, conventions.md): the keys in order, matrices as their
+    non-zero entries [i, j, text], 0-based and row-major, one entry per line."""
     text = to_json(lever_eom())
     doc = json.loads(text)
-    assert list(doc) == ["dofs", "eliminated", "parameters", "M", "C", "K", "values", "units"]
+    assert list(doc) == ["format", "version", "dofs", "eliminated", "parameters", "M", "C", "K",
+                         "values", "units", "given", "derivation"]
+    assert doc["format"] == "express-equations" and doc["version"] == 2
     assert doc["dofs"] == ["B1.rz", "B2.ry"]
     assert doc["eliminated"] == ["B2.x"]
     assert doc["parameters"] == ["J1", "J2", "b", "c", "kLL", "kLU", "lLL", "lLU", "m"]
-    assert doc["M"] == [["J1 + b**2*m", "0"], ["0", "J2"]]
-    assert doc["C"] == [["b**2*c", "0"], ["0", "0"]]
+    assert doc["M"] == {"shape": [2, 2], "entries": [[0, 0, "J1 + b**2*m"], [1, 1, "J2"]]}
+    assert doc["C"] == {"shape": [2, 2], "entries": [[0, 0, "b**2*c"]]}
     assert doc["values"]["kLU"] == 3.1e5 and doc["units"]["J1"] == "kg m^2"
-    assert text == json.dumps(doc, indent=2, ensure_ascii=False) + "\n"
+    assert doc["given"] == doc["parameters"] and doc["derivation"] == []
+    lines = text.splitlines()
+    assert '      [0, 0, "J1 + b**2*m"],' in lines and '      [1, 1, "J2"]' in lines
+    assert text.endswith("}\n") and '"0"' not in text
+
+
+@pytest.mark.parametrize("key", ["M", "C", "K"])
+def test_json_dense_rows_read_both_versions(key):
+    """The dense form stays readable: ``dense_rows`` gives the version 1 rows from a
+    version 2 document and passes version 1 rows through."""
+    doc = json.loads(to_json(lever_eom()))
+    assert dense_rows(doc[key]) == LEVER_V1[key]
+    assert dense_rows(LEVER_V1[key]) == LEVER_V1[key]
+
+
+@pytest.mark.parametrize("bad", [{"shape": [2, 2]}, {"entries": []}, "K",
+                                 {"shape": [1, 1], "entries": [[1, 0, "a"]]}])
+def test_json_dense_rows_rejects_other_forms(bad):
+    with pytest.raises(ValueError):
+        dense_rows(bad)
+
+
+def test_json_writes_only_non_zero_entries():
+    """A 60-body chain: K has 60 + 2*59 entries in the file, no zeros; the size
+    follows the non-zero entries (a 120-body chain is about twice as large)."""
+    doc = json.loads(to_json(chain_eom(60)))
+    assert doc["K"]["shape"] == [60, 60] and len(doc["K"]["entries"]) == 60 + 2 * 59
+    assert len(doc["M"]["entries"]) == 60
+    assert all(text != "0" for _, _, text in doc["K"]["entries"])
+    assert [e[:2] for e in doc["K"]["entries"]] == sorted(e[:2] for e in doc["K"]["entries"])
+    small, large = len(to_json(chain_eom(60))), len(to_json(chain_eom(120)))
+    assert 1.8 < large / small < 2.2
 
 
 def test_json_inputs_key_order():
     doc = json.loads(to_json(inputs_eom()))
-    assert list(doc) == ["dofs", "eliminated", "parameters", "M", "C", "K", "inputs", "P",
-                         "Pd", "G", "values", "units"]
+    assert list(doc) == ["format", "version", "dofs", "eliminated", "parameters", "M", "C", "K",
+                         "inputs", "P", "Pd", "G", "values", "units", "given", "derivation"]
     assert doc["inputs"] == ["G1.y", "yR1"]
-    assert len(doc["P"]) == 3 and all(len(row) == 2 for row in doc["P"])
+    assert doc["P"]["shape"] == [3, 2]
+    assert len(dense_rows(doc["P"])) == 3 and all(len(row) == 2 for row in dense_rows(doc["P"]))
     assert list(doc["values"]) == sorted(doc["values"])
 
 
@@ -256,8 +301,17 @@ def test_json_inputs_without_input_matrices():
     record = EquationsOfMotion(lever.name, lever.dofs, lever.eliminated, ("G1.x",),
                                lever.matrices, lever.parameters)
     doc = json.loads(to_json(record))
-    assert list(doc) == ["dofs", "eliminated", "parameters", "M", "C", "K", "inputs",
-                         "values", "units"]
+    assert list(doc) == ["format", "version", "dofs", "eliminated", "parameters", "M", "C", "K",
+                         "inputs", "values", "units", "given", "derivation"]
+
+
+def test_json_refuses_a_matrix_named_like_a_key():
+    lever = lever_eom()
+    record = EquationsOfMotion(lever.name, lever.dofs, lever.eliminated, (),
+                               dict(lever.matrices, values=sp.ImmutableMatrix([[1, 0], [0, 1]])),
+                               lever.parameters)
+    with pytest.raises(ValueError, match="'values' is a key of the JSON document"):
+        to_json(record)
 
 
 @pytest.mark.parametrize("record", sorted(RECORDS))
@@ -265,12 +319,30 @@ def test_json_round_trip(record):
     eom = RECORDS[record]()
     doc = json.loads(to_json(eom))
     for key, mat in eom.matrices.items():
-        rows = doc[key]
+        rows = dense_rows(doc[key])
         assert len(rows) == mat.rows and all(len(row) == mat.cols for row in rows)
         for i in range(mat.rows):
             for j in range(mat.cols):
                 back = _parse(rows[i][j], doc["parameters"])
                 assert sp.simplify(back - _plain(mat[i, j])) == 0, (key, i, j, rows[i][j])
+
+
+@pytest.mark.parametrize("record", [*sorted(RECORDS), "keywords", "units"])
+@pytest.mark.parametrize("fmt", list(FORMATS))
+def test_sparse_matrices_give_the_same_bytes(fmt, record):
+    """Records holding SymPy sparse matrices (entries keyed by DOF pair) export to the
+    very same text as with dense ones."""
+    eom = {"keywords": keyword_eom, "units": units_eom, **RECORDS}[record]()
+    sparse = {key: sp.ImmutableSparseMatrix(mat) for key, mat in eom.matrices.items()}
+    record_sparse = EquationsOfMotion(eom.name, eom.dofs, eom.eliminated, eom.inputs, sparse,
+                                      eom.parameters, eom.values, eom.units)
+    assert FORMATS[fmt](record_sparse) == FORMATS[fmt](eom)
+
+
+def test_matrix_entries_row_major_non_zeros():
+    K = sp.ImmutableSparseMatrix(3, 3, {(2, 0): sp.Symbol("a"), (0, 2): 2, (1, 1): sp.Symbol("b")})
+    assert matrix_entries(K) == [(0, 2, 2), (1, 1, sp.Symbol("b")), (2, 0, sp.Symbol("a"))]
+    assert matrix_entries(sp.ImmutableMatrix(sp.zeros(4, 4))) == []
 
 
 def test_json_rejects_non_finite_value():
@@ -532,3 +604,17 @@ def test_unreadable_unit_is_shown_as_si():
     eom = units_eom()
     eom.units["cx1"] = "widgets"
     assert "  cx1   = 15000.0 SI" in to_text(eom).splitlines()
+
+
+def test_latex_tall_matrices_are_listed_entry_by_entry():
+    """More than MAX_MATRIX_ROWS rows: the non-zero entries, one per line, labelled by
+    DOF names; the cost follows them (no bmatrix of zeros)."""
+    n = MAX_MATRIX_ROWS + 20
+    text = to_latex(chain_eom(n))
+    assert r"\begin{bmatrix}" in text  # the DOF vector q is still typeset
+    assert f"% K ({n} x {n}): {n + 2 * (n - 1)} non-zero entries, listed" in text
+    assert r"  K_{\mathrm{B1}.y,\,\mathrm{B2}.y} &= - k \\" in text
+    assert text.count(r"\begin{align*}") == text.count(r"\end{align*}}") + 1
+    rows = [ln for ln in text.splitlines() if ln.startswith("  K_{")]
+    assert len(rows) == n + 2 * (n - 1)
+    assert to_latex(chain_eom(MAX_MATRIX_ROWS)).count(r"\begin{bmatrix}") > 3
