@@ -406,12 +406,11 @@ def _generate(model: Model, keep_virtual: bool, added: AddedTerms, domain: Exact
 
     n, m = len(reduced), len(inputs)
 
-    def build(entries: dict[tuple[int, int], object], columns: int) -> sp.ImmutableMatrix:
-        flat = [sp.S.Zero] * (n * columns)
-        for (i, j), value in entries.items():
-            if value:
-                flat[i * columns + j] = domain.readable(value)
-        return sp.ImmutableMatrix(n, columns, flat)
+    def build(entries: dict[tuple[int, int], object], columns: int) -> sp.ImmutableSparseMatrix:
+        # sparse: the cost follows the non-zeros (a train's matrices are > 99 % zeros)
+        return sp.ImmutableSparseMatrix(
+            n, columns, {key: domain.readable(value) for key, value in sorted(entries.items()) if value}
+        )
 
     matrices = {"M": build(mass, n), "C": build(damping, n), "K": build(stiffness, n)}
     if inputs:
@@ -469,10 +468,10 @@ def _generate(model: Model, keep_virtual: bool, added: AddedTerms, domain: Exact
                     f"DOF {dof} has zero mass or inertia: M is singular and must not be inverted",
                 )
             )
-    t_matrix = sp.ImmutableMatrix(
+    t_matrix = sp.ImmutableSparseMatrix(
         len(full_dofs),
         n,
-        lambda i, j: domain.readable(t_rows[full_dofs[i]].get(j, domain.zero)),
+        {(i, j): domain.readable(value) for i, dof in enumerate(full_dofs) for j, value in sorted(t_rows[dof].items()) if value},
     )
     return GenerationResult(equations, tuple(warnings), t_matrix, tuple(full_dofs))
 
