@@ -15,6 +15,7 @@ import pytest
 import sympy as sp
 
 from cli_support import LEVER, PROBLEM_LINE, STEERED, assert_input_error, run
+from express.export.json_export import dense_rows
 
 LEVER_TEXT = Path(LEVER).read_text(encoding="utf-8")
 FORMATS = {"json": ".json", "matlab": ".m", "python": ".py", "latex": ".tex", "text": ".txt"}
@@ -67,7 +68,7 @@ def test_keep_virtual_json(tmp_path, capsys):
     assert data["dofs"] == ["B1.rz", "B2.ry", "B2.x"]
     assert data["eliminated"] == []
     assert "kinf" in data["parameters"]
-    K = sp.Matrix([[sp.sympify(e) for e in row] for row in data["K"]])
+    K = sp.Matrix([[sp.sympify(e) for e in row] for row in dense_rows(data["K"])])
     kinf = sp.Symbol("kinf")
     eq6 = sp.Matrix(
         [
@@ -139,8 +140,8 @@ def test_json_follows_the_contract(tmp_path, capsys):
     assert data["eliminated"] == ["B2.x"]
     assert data["parameters"] == ["J1", "J2", "b", "c", "kLL", "kLU", "lLL", "lLU", "m"]
 
-    def parse(rows):
-        return sp.Matrix([[sp.sympify(entry) for entry in row] for row in rows])
+    def parse(matrix):  # JSON version 2 holds the non-zero entries (docs/conventions.md)
+        return sp.Matrix([[sp.sympify(entry) for entry in row] for row in dense_rows(matrix)])
 
     assert "^" not in target.read_text()
     assert parse(data["M"]) == sp.Matrix([[J1 + b**2 * m, 0], [0, J2]])

@@ -20,13 +20,11 @@ import sympy as sp
 
 from express.equations import EquationsOfMotion
 from express.export import FORMATS, SUFFIXES, default_suffix
-from express.export.json_export import dense_rows, matrix_entries, matrix_items
+from express.export.json_export import dense_rows, matrix_entries, matrix_items, to_json
 from express.export.latex import MAX_MATRIX_ROWS, latex_dof_name, latex_symbol_name, to_latex
 from express.export.matlab import is_matlab_identifier, matlab_local_names, to_matlab
 from express.export.python_module import to_python
 from express.export.text import to_text
-from express.export.json_export import to_json
-
 from octave_runner import assert_matrices_close, evaluate_matrices
 
 SRC = Path(__file__).resolve().parents[1] / "src"
@@ -366,11 +364,11 @@ def test_python_module_matches_sympy(tmp_path, record):
     path = tmp_path / f"eom_{record}.py"
     path.write_text(source, encoding="utf-8")
     module = _load_module(path, f"eom_{record}")
-    assert module.DOFS == eom.dofs
-    assert module.INPUTS == eom.inputs
-    assert module.PARAMETERS == eom.parameters
-    assert module.VALUES == eom.values
-    assert module.MATRICES == tuple(k for k, _ in matrix_items(eom))
+    assert eom.dofs == module.DOFS
+    assert eom.inputs == module.INPUTS
+    assert eom.parameters == module.PARAMETERS
+    assert eom.values == module.VALUES
+    assert tuple(k for k, _ in matrix_items(eom)) == module.MATRICES
     expected = evaluate_matrices(eom)
     got = module.matrices()
     assert all(isinstance(a, np.ndarray) and a.dtype == float for a in got.values())

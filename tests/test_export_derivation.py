@@ -31,7 +31,6 @@ from express.parameters import with_values
 from express.rail.build import generate_vehicle
 from express.rail.contact import creep_coefficients
 from express.statespace import load_vehicle
-
 from octave_runner import assert_matrices_close, evaluate_matrices, require_octave, run_octave
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -69,7 +68,7 @@ def derived_eom(steps=None) -> EquationsOfMotion:
             DerivedParameter("spare", 2 * unused),
             DerivedParameter("P0", m * g / 2),
             DerivationCall("kalker", "rail.creep",
-                           tuple(zip(CREEP, (P0, r0, Rr, E, nu))), (("f11", "f1"), ("f22", "f2"))),
+                           tuple(zip(CREEP, (P0, r0, Rr, E, nu), strict=True)), (("f11", "f1"), ("f22", "f2"))),
         )
     values = _reference(_given_values())
     values["spare"] = 14.0
@@ -151,7 +150,7 @@ def test_python_module_computes_the_derived_parameters(tmp_path):
     source = to_python(eom)
     assert [ln for ln in source.splitlines() if ln.startswith(("import ", "from "))] == ["import numpy"]
     assert "sympy" not in source and "eval(" not in source
-    assert module.PARAMETERS == derivation_plan(eom).given
+    assert derivation_plan(eom).given == module.PARAMETERS
     assert module.DERIVED == ("P0", "f1", "f2")
     assert set(module.VALUES) == set(module.PARAMETERS)  # no derived value to shadow a change
     values = module.parameter_values()
@@ -322,7 +321,7 @@ def test_octave_export_uses_a_derived_value_given_explicitly(tmp_path, octave):
 def _kalker_probe() -> EquationsOfMotion:
     """A record whose matrices are f1 and f2 themselves, all Kalker inputs given."""
     f1, f2, P0, r0, Rr, E, nu = sp.symbols("f1 f2 P0 r0 Rrail Emod nu")
-    call = DerivationCall("kalker", "rail.creep", tuple(zip(CREEP, (P0, r0, Rr, E, nu))),
+    call = DerivationCall("kalker", "rail.creep", tuple(zip(CREEP, (P0, r0, Rr, E, nu), strict=True)),
                           (("f11", "f1"), ("f22", "f2")))
     return EquationsOfMotion(
         name="kalker_probe", dofs=("B1.y",), eliminated=(), inputs=(),
@@ -349,7 +348,7 @@ def test_octave_kalker_function_agrees_with_the_library(tmp_path, octave):
     assert proc.returncode == 0, proc.stderr
     rows = [tuple(float(x) for x in line.split()) for line in proc.stdout.split("\n") if line.strip()]
     assert len(rows) == len(grid)
-    for arguments, (f11, f22) in zip(grid, rows):
+    for arguments, (f11, f22) in zip(grid, rows, strict=True):
         reference = creep_coefficients(*arguments)
         assert f11 == pytest.approx(reference.f11, rel=1e-12), arguments
         assert f22 == pytest.approx(reference.f22, rel=1e-12), arguments

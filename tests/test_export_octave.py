@@ -10,7 +10,6 @@ import numpy as np
 import pytest
 
 from express.export.matlab import to_matlab
-
 from octave_runner import (
     assert_matrices_close,
     evaluate_matrices,

@@ -187,13 +187,13 @@ class EquationsOfMotion:
     derivation: tuple[DerivationStep, ...] = ()
 
     @property
-    def M(self) -> sp.ImmutableMatrix:  # noqa: N802 - the domain's name
+    def M(self) -> sp.ImmutableMatrix:
         return self.matrices["M"]
 
     @property
-    def C(self) -> sp.ImmutableMatrix:  # noqa: N802
+    def C(self) -> sp.ImmutableMatrix:
         return self.matrices["C"]
 
     @property
-    def K(self) -> sp.ImmutableMatrix:  # noqa: N802
+    def K(self) -> sp.ImmutableMatrix:
         return self.matrices["K"]

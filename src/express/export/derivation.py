@@ -147,6 +147,6 @@ def derivation_json(plan: DerivationPlan) -> list[dict[str, Any]]:
                 "function": step.kind,
                 "item": step.item,
                 "arguments": {argument: sp.sstr(expression) for argument, expression in step.inputs},
-                "results": {key: name for key, name in step.outputs},
+                "results": dict(step.outputs),
             })
     return out

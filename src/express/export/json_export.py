@@ -43,7 +43,6 @@ import math
 from typing import Any
 
 import sympy as sp
-
 from sympy.matrices.immutable import ImmutableRepMatrix
 
 from express.equations import MATRIX_ORDER, EquationsOfMotion

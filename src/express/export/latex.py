@@ -247,8 +247,8 @@ def _listing(eom: EquationsOfMotion, key: str, mat: sp.MatrixBase, entries: list
     out = [f"% {key} ({mat.rows} x {mat.cols}): {len(entries)} non-zero entries, listed "
            f"(more than {MAX_MATRIX_ROWS} rows)"]
     if not entries:
-        return out + [r"\begin{equation*}", f"{name} = 0", r"\end{equation*}"]
+        return [*out, r"\begin{equation*}", f"{name} = 0", r"\end{equation*}"]
     out += [r"{\allowdisplaybreaks", r"\begin{align*}"]
     lines = [f"  {name}_{{{rows[i]},\\,{cols[j]}}} &= {tex(value)}" for i, j, value in entries]
     out.append(" \\\\\n".join(lines))
-    return out + [r"\end{align*}}"]
+    return [*out, r"\end{align*}}"]

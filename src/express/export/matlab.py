@@ -231,7 +231,7 @@ def matlab_local_names(parameters: Iterable[str], outputs: Iterable[str]) -> dic
 class _Printer(OctaveCodePrinter):
     """``octave_code`` with floats printed to full double precision."""
 
-    def _print_Float(self, expr: sp.Float) -> str:  # noqa: N802 - sympy's naming
+    def _print_Float(self, expr: sp.Float) -> str:
         return _literal(float(expr))
 
 

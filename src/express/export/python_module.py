@@ -69,7 +69,7 @@ _CALLS = {"kalker": "kalker_creep"}
 class _Printer(NumPyPrinter):
     """NumPy printer: full-precision floats, ``Min``/``Max`` without ``functools``."""
 
-    def _print_Float(self, expr: sp.Float) -> str:  # noqa: N802 - sympy's naming
+    def _print_Float(self, expr: sp.Float) -> str:
         return _literal(float(expr))
 
     def _minmax(self, expr: sp.Expr, func: str) -> str:
@@ -79,10 +79,10 @@ class _Printer(NumPyPrinter):
             text = f"numpy.{func}({self._print(arg)}, {text})"
         return text
 
-    def _print_Max(self, expr: sp.Expr) -> str:  # noqa: N802
+    def _print_Max(self, expr: sp.Expr) -> str:
         return self._minmax(expr, "maximum")
 
-    def _print_Min(self, expr: sp.Expr) -> str:  # noqa: N802
+    def _print_Min(self, expr: sp.Expr) -> str:
         return self._minmax(expr, "minimum")
 
 
@@ -332,7 +332,7 @@ def _parameter_values(plan: DerivationPlan, locals_: dict[str, str], code: _Code
             lines.append(f"    {locals_[name]} = float(p[{name!r}]) if {name!r} in p else {temporaries[(k, key)]}")
     everything = (*plan.given, *plan.derived)
     lines.append("    return {" + ", ".join(f"{par!r}: {locals_[par]}" for par in everything) + "}")
-    return lines + ["", ""]
+    return [*lines, "", ""]
 
 
 def _matrices_function(plan: DerivationPlan) -> list[str]:
@@ -367,4 +367,4 @@ def _matrices_function(plan: DerivationPlan) -> list[str]:
         lines.append("    return _matrices(parameter_values(p))")
     else:
         lines += [*_CHECKS, "    return _matrices(p)"]
-    return lines + ["", ""]
+    return [*lines, "", ""]
