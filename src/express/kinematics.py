@@ -66,10 +66,10 @@ def point_motion(model: Model, point_id: str, axis: int) -> tuple[dict[str, sp.E
     ({'B2.x': 1, 'B2.ry': lLU}, {})
     """
     point = model.point(point_id)
-    body_ids = {body.id for body in model.bodies}
-    if point.host not in body_ids:
+    try:
+        body = model.body(point.host)
+    except KeyError:  # a CP on a ground
         return {}, {f"{point.host}.{AXES[axis]}": sp.S.One}
-    body = model.body(point.host)
     coefficients: dict[str, sp.Expr] = {}
     if AXES[axis] in body.dofs:
         coefficients[f"{body.id}.{AXES[axis]}"] = sp.S.One

@@ -310,17 +310,23 @@ class Model:
 
     def body(self, body_id: str) -> Body:
         """The body with id ``body_id`` (KeyError if none)."""
-        for body in self.bodies:
-            if body.id == body_id:
-                return body
-        raise KeyError(body_id)
+        return self._by_id("bodies")[body_id]
 
     def point(self, point_id: str) -> ConnectionPoint:
         """The CP with id ``point_id`` (KeyError if none)."""
-        for point in self.points:
-            if point.id == point_id:
-                return point
-        raise KeyError(point_id)
+        return self._by_id("points")[point_id]
+
+    def _by_id(self, what: str) -> dict:
+        """Index of ``bodies`` or ``points`` by id (the first of a repeated id), built
+        once: looking items up one by one made a 100-car train's generation quadratic."""
+        key = f"_index_{what}"
+        index = self.__dict__.get(key)
+        if index is None:
+            index = {}
+            for item in getattr(self, what):
+                index.setdefault(item.id, item)
+            object.__setattr__(self, key, index)  # a cache, not a field: frozen stays frozen
+        return index
 
     def values(self) -> dict[str, float]:
         """Parameter values in SI, by name."""
@@ -382,6 +388,9 @@ def check_model(model: Model) -> list[Problem]:
             )
     bodies = {body.id: body for body in model.bodies}
     _check_element_kinds(model, hosts, bodies, problems)
+    by_ends: dict[frozenset, list[Element]] = {}
+    for element in model.elements:
+        by_ends.setdefault(frozenset((element.s_end, element.t_end)), []).append(element)
     for pin in model.pins:
         item = f"pin {pin.id}"
         known = True
@@ -391,11 +400,7 @@ def check_model(model: Model) -> list[Problem]:
                 known = False
         if not known:
             continue
-        joining = [
-            element
-            for element in model.elements
-            if {element.s_end, element.t_end} == {pin.virtual, pin.non_virtual}
-        ]
+        joining = by_ends.get(frozenset((pin.virtual, pin.non_virtual)), [])
         if not joining:
             problems.append(
                 Problem(
