@@ -288,16 +288,21 @@ def _add_outer(target, left, right, scale) -> None:
             target[(i, j)] = target.get((i, j), 0) + factor * b
 
 
-def _generate(model: Model, keep_virtual: bool, added: AddedTerms, domain: ExactDomain) -> GenerationResult:
-    # series elements add their damper stroke, a massless first-order coordinate
-    full_dofs = generalized_coordinates(model) + [f"{e.id}.{STROKE}" for e in model.elements if e.series]
-    conv = domain.from_expr
+@dataclass
+class _Deflections:
+    """Every element's deflection as linear forms: ``gradients[element][dof]`` and
+    ``input_gradients[element][input]`` (exact domain values), and the input order."""
 
-    # deflection of every element: dofs part and inputs part
+    gradients: dict[str, dict[str, object]]
+    input_gradients: dict[str, dict[str, object]]
+    inputs: list[str]
+
+
+def _deflections(model: Model, added: AddedTerms, domain: ExactDomain, pin_element_ids: set[str]) -> _Deflections:
+    conv = domain.from_expr
     ground_inputs: list[str] = []
     gradients: dict[str, dict[str, object]] = {}
     input_gradients: dict[str, dict[str, object]] = {}
-    pin_element_ids = {element.id for _, element in _pin_elements(model)}
     motion_cache: dict[tuple[str, int, bool], tuple[dict, dict]] = {}
 
     def motion(point_id: str, axis: int, rotational: bool = False):
@@ -334,8 +339,11 @@ def _generate(model: Model, keep_virtual: bool, added: AddedTerms, domain: Exact
     ground_order = {f"{g.id}.{axis}": (i, a) for i, g in enumerate(model.grounds) for a, axis in enumerate(DOF_NAMES)}
     ground_inputs.sort(key=lambda name: ground_order[name])
     inputs = ground_inputs + [name for name in added.inputs if name not in ground_inputs]
+    return _Deflections(gradients, input_gradients, inputs)
 
-    # the transformation q = T q_r
+
+def _transformation(model: Model, domain: ExactDomain, full_dofs: list[str], gradients: dict, keep_virtual: bool):
+    """The reduced DOFs, the eliminated virtual DOFs and the rows of ``q = T q_r``."""
     if not model.pins:
         virtual: list[str] = []
         solution: dict[str, dict[str, object]] = {}
@@ -349,7 +357,28 @@ def _generate(model: Model, keep_virtual: bool, added: AddedTerms, domain: Exact
     t_rows: dict[str, dict[int, object]] = {dof: {r_index[dof]: domain.one} for dof in reduced}
     for dof, combination in solution.items():
         t_rows[dof] = {r_index[d]: v for d, v in combination.items()}
-    in_index = {name: i for i, name in enumerate(inputs)}
+    return reduced, virtual, t_rows
+
+
+@dataclass
+class _Assembly:
+    """Entries of the reduced matrices keyed by (row, column), and the clearances."""
+
+    stiffness: dict[tuple[int, int], object] = field(default_factory=dict)
+    damping: dict[tuple[int, int], object] = field(default_factory=dict)
+    forcing: dict[tuple[int, int], object] = field(default_factory=dict)
+    forcing_rate: dict[tuple[int, int], object] = field(default_factory=dict)
+    mass: dict[tuple[int, int], object] = field(default_factory=dict)
+    clearances: list = field(default_factory=list)
+
+
+def _assemble(model: Model, added: AddedTerms, domain: ExactDomain, deflections: _Deflections, reduced: list[str],
+              t_rows: dict[str, dict[int, object]], skip: set[str]) -> _Assembly:
+    """Element, inertia and rail terms in the reduced coordinates (elements in ``skip``,
+    the pins' joining elements, contribute nothing after elimination)."""
+    conv = domain.from_expr
+    r_index = {dof: i for i, dof in enumerate(reduced)}
+    in_index = {name: i for i, name in enumerate(deflections.inputs)}
 
     def reduce(vector: dict[str, object]) -> dict[int, object]:
         result: dict[int, object] = {}
@@ -358,52 +387,85 @@ def _generate(model: Model, keep_virtual: bool, added: AddedTerms, domain: Exact
                 result[j] = result.get(j, domain.zero) + value * t
         return {j: v for j, v in result.items() if v}
 
-    stiffness: dict[tuple[int, int], object] = {}
-    damping: dict[tuple[int, int], object] = {}
-    p_matrix: dict[tuple[int, int], object] = {}
-    pd_matrix: dict[tuple[int, int], object] = {}
-    clearances = []
+    parts = _Assembly()
     for element in model.elements:
-        if not keep_virtual and element.id in pin_element_ids:
+        if element.id in skip:
             continue  # its reduced gradient is the pin constraint: exactly zero
-        g = reduce(gradients[element.id])
-        h = {in_index[u]: v for u, v in input_gradients[element.id].items()}
+        g = reduce(deflections.gradients[element.id])
+        h = {in_index[u]: v for u, v in deflections.input_gradients[element.id].items()}
         k, c = conv(element.stiffness), conv(element.damping)
         if element.gap is not None:
-            clearances.append(_clearance(element, g, h, reduced, inputs, domain))
+            parts.clearances.append(_clearance(element, g, h, reduced, deflections.inputs, domain))
             continue
         if element.series:
             # spring deflection delta - s, damper stroke s (docs/model-format.md)
             stroke = r_index[f"{element.id}.{STROKE}"]
             g[stroke] = g.get(stroke, domain.zero) - domain.one
-            _add_outer(stiffness, g, g, k)
-            _add_outer(p_matrix, g, h, -k)
-            _add_outer(damping, {stroke: domain.one}, {stroke: domain.one}, c)
+            _add_outer(parts.stiffness, g, g, k)
+            _add_outer(parts.forcing, g, h, -k)
+            _add_outer(parts.damping, {stroke: domain.one}, {stroke: domain.one}, c)
             continue
         if not g:
             continue
         if k:
-            _add_outer(stiffness, g, g, k)
-            _add_outer(p_matrix, g, h, -k)
+            _add_outer(parts.stiffness, g, g, k)
+            _add_outer(parts.forcing, g, h, -k)
         if c:
-            _add_outer(damping, g, g, c)
-            _add_outer(pd_matrix, g, h, -c)
-
-    mass: dict[tuple[int, int], object] = {}
+            _add_outer(parts.damping, g, g, c)
+            _add_outer(parts.forcing_rate, g, h, -c)
     for body in model.bodies:
         for dof in body.dofs:
             inertia = conv(body.dof_inertia(dof))
             if inertia:
                 row = t_rows[f"{body.id}.{dof}"]
-                _add_outer(mass, row, row, inertia)
-
-    for target, terms in ((stiffness, added.stiffness), (damping, added.damping)):
+                _add_outer(parts.mass, row, row, inertia)
+    for target, terms in ((parts.stiffness, added.stiffness), (parts.damping, added.damping)):
         for row_dof, column_dof, value in terms:
             _add_outer(target, t_rows[row_dof], t_rows[column_dof], conv(value))
-    for target, terms in ((p_matrix, added.forces), (pd_matrix, added.rate_forces)):
+    for target, terms in ((parts.forcing, added.forces), (parts.forcing_rate, added.rate_forces)):
         for dof, name, value in terms:
             _add_outer(target, t_rows[dof], {in_index[name]: domain.one}, conv(value))
+    return parts
 
+
+def _generation_warnings(model: Model, reduced: list[str], mass_matrix, clearances) -> list[Problem]:
+    """One warning for the clearances left out of the linear matrices, one per massless DOF."""
+    warnings = []
+    by_id = {body.id: body for body in model.bodies}
+    if clearances:
+        names = ", ".join(term.element for term in clearances)
+        first = next(e for e in model.elements if e.gap is not None)
+        warnings.append(
+            Problem(
+                model.source,
+                first.line,
+                f"TSD {names}",
+                "clearance elements (bump stops) are left out of the linear matrices "
+                "(eigenvalues, critical speed, FRF); only the simulation uses them",
+            )
+        )
+    for i, dof in enumerate(reduced):
+        if mass_matrix[i, i] == 0 and dof.split(".")[0] in by_id:
+            body = by_id[dof.split(".")[0]]
+            warnings.append(
+                Problem(
+                    model.source,
+                    body.line,
+                    f"body {body.id}",
+                    f"DOF {dof} has zero mass or inertia: M is singular and must not be inverted",
+                )
+            )
+    return warnings
+
+
+def _generate(model: Model, keep_virtual: bool, added: AddedTerms, domain: ExactDomain) -> GenerationResult:
+    # series elements add their damper stroke, a massless first-order coordinate
+    full_dofs = generalized_coordinates(model) + [f"{e.id}.{STROKE}" for e in model.elements if e.series]
+    pin_element_ids = {element.id for _, element in _pin_elements(model)}
+    deflections = _deflections(model, added, domain, pin_element_ids)
+    inputs = deflections.inputs
+    reduced, virtual, t_rows = _transformation(model, domain, full_dofs, deflections.gradients, keep_virtual)
+    parts = _assemble(model, added, domain, deflections, reduced, t_rows, set() if keep_virtual else pin_element_ids)
     n, m = len(reduced), len(inputs)
 
     def build(entries: dict[tuple[int, int], object], columns: int) -> sp.ImmutableSparseMatrix:
@@ -412,10 +474,10 @@ def _generate(model: Model, keep_virtual: bool, added: AddedTerms, domain: Exact
             n, columns, {key: domain.readable(value) for key, value in sorted(entries.items()) if value}
         )
 
-    matrices = {"M": build(mass, n), "C": build(damping, n), "K": build(stiffness, n)}
+    matrices = {"M": build(parts.mass, n), "C": build(parts.damping, n), "K": build(parts.stiffness, n)}
     if inputs:
-        matrices["P"] = build(p_matrix, m)
-        matrices["Pd"] = build(pd_matrix, m)
+        matrices["P"] = build(parts.forcing, m)
+        matrices["Pd"] = build(parts.forcing_rate, m)
     symbols = set()
     for matrix in matrices.values():
         symbols |= matrix.free_symbols
@@ -440,34 +502,10 @@ def _generate(model: Model, keep_virtual: bool, added: AddedTerms, domain: Exact
             for name, p in sorted(model.parameters.items())
             if display_unit(p) and name not in virtual_only
         },
-        clearances=tuple(clearances),
+        clearances=tuple(parts.clearances),
         derivation=derivation_steps(model),
     )
-    warnings = []
-    by_id = {body.id: body for body in model.bodies}
-    if clearances:
-        names = ", ".join(term.element for term in clearances)
-        first = next(e for e in model.elements if e.gap is not None)
-        warnings.append(
-            Problem(
-                model.source,
-                first.line,
-                f"TSD {names}",
-                "clearance elements (bump stops) are left out of the linear matrices "
-                "(eigenvalues, critical speed, FRF); only the simulation uses them",
-            )
-        )
-    for i, dof in enumerate(reduced):
-        if matrices["M"][i, i] == 0 and dof.split(".")[0] in by_id:
-            body = by_id[dof.split(".")[0]]
-            warnings.append(
-                Problem(
-                    model.source,
-                    body.line,
-                    f"body {body.id}",
-                    f"DOF {dof} has zero mass or inertia: M is singular and must not be inverted",
-                )
-            )
+    warnings = _generation_warnings(model, reduced, matrices["M"], parts.clearances)
     t_matrix = sp.ImmutableSparseMatrix(
         len(full_dofs),
         n,
