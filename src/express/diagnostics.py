@@ -33,6 +33,7 @@ __all__ = [
     "ExpressError",
     "InputError",
     "ModelError",
+    "ModelWarning",
     "OutputError",
     "Problem",
     "UsageError",
@@ -111,3 +112,9 @@ class AnalysisError(ExpressError, RuntimeError):
 
     The command line prints ``error: <message>`` and exits with status 1.
     """
+
+
+class ModelWarning(UserWarning):
+    """A value that is legal but unusual enough to mention (a negative stiffness or
+    damping: a modelling device, whose consequences the analyses check themselves);
+    the command line prints it as one ``warning:`` line."""

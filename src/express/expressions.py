@@ -12,6 +12,13 @@ Grammar::
     power  := atom (("^" | "**") unary)?      # exponent: an integer constant
     atom   := NUMBER | NAME | "(" expr ")"
 
+The work is bounded before it is done (:mod:`express.limits`): an expression has at
+most 1 000 characters (``EXPRESS_MAX_EXPRESSION`` raises it), nests parentheses,
+signs and powers at most 100 levels deep, raises to integer powers ``|n| <= 64``,
+expands to at most 200 terms, and every exact constant in it lies within the range
+of a double (about 1.8e308): ``mc*(2^63)^64`` is refused at once instead of making
+SymPy work for minutes with a 1 200-digit number.
+
 Examples
 --------
 >>> parse_expression("2*a - 0.3")
@@ -26,9 +33,12 @@ from __future__ import annotations
 
 import math
 import re
+import sys
 from fractions import Fraction
 
 import sympy as sp
+
+from .limits import MAX_EXPONENT, MAX_NESTING, limit
 
 __all__ = ["ExpressionError", "parse_expression", "parse_number", "is_valid_name"]
 
@@ -38,8 +48,10 @@ _TOKEN = re.compile(
     r"|(?P<op>\*\*|[-+*/^()]))"
 )
 _NAME = re.compile(r"[A-Za-z][A-Za-z0-9_]*\Z")
-_MAX_LENGTH = 1000
 _MAX_TERMS = 200
+#: Largest finite double, exactly, and its bit length (constants must stay below it).
+_DOUBLE_MAX = Fraction(sys.float_info.max)
+_DOUBLE_MIN = Fraction(5e-324)  # the smallest positive (subnormal) double
 
 
 class ExpressionError(ValueError):
@@ -87,6 +99,16 @@ class _Parser:
         self.tokens = _tokenize(text)
         self.index = 0
         self.end_column = len(text.rstrip()) + 1
+        self.depth = 0
+
+    def nest(self, column: int) -> None:
+        """One level deeper (a parenthesis, a sign or an exponent), refused beyond
+        :data:`~express.limits.MAX_NESTING` before Python's own recursion limit."""
+        self.depth += 1
+        if self.depth > MAX_NESTING:
+            raise ExpressionError(
+                f"column {column}: nested more than {MAX_NESTING} levels deep (parentheses, signs, powers)"
+            )
 
     def peek(self) -> tuple[str, str, int] | None:
         return self.tokens[self.index] if self.index < len(self.tokens) else None
@@ -125,8 +147,10 @@ class _Parser:
 
     def unary(self) -> sp.Expr:
         if self.at_op("+", "-"):
-            op = self.take()[1]
+            _, op, column = self.take()
+            self.nest(column)
             operand = self.unary()
+            self.depth -= 1
             return -operand if op == "-" else operand
         return self.power()
 
@@ -134,10 +158,12 @@ class _Parser:
         base = self.atom()
         if self.at_op("^", "**"):
             column = self.take()[2]
+            self.nest(column)
             exponent = self.unary()
-            if not (exponent.is_Integer and abs(int(exponent)) <= 64):
+            self.depth -= 1
+            if not (exponent.is_Integer and abs(int(exponent)) <= MAX_EXPONENT):
                 raise ExpressionError(
-                    f"column {column}: the exponent must be an integer constant"
+                    f"column {column}: the exponent must be an integer constant, at most {MAX_EXPONENT} in size"
                 )
             if base == 0 and exponent < 0:
                 raise ExpressionError(f"column {column}: division by zero")
@@ -162,7 +188,9 @@ class _Parser:
                 )
             return sp.Symbol(text)
         if text == "(":
+            self.nest(column)
             value = self.expression()
+            self.depth -= 1
             closing = self.peek()
             if closing is None or closing[1] != ")":
                 where = closing[2] if closing else self.end_column
@@ -192,8 +220,12 @@ def parse_expression(text: str) -> sp.Expr:
     """
     if not isinstance(text, str):
         raise ExpressionError(f"expected text, got {type(text).__name__}")
-    if len(text) > _MAX_LENGTH:
-        raise ExpressionError(f"expression longer than {_MAX_LENGTH} characters")
+    longest = limit("expression")
+    if len(text) > longest:
+        raise ExpressionError(
+            f"expression of {len(text)} characters, longer than the limit of {longest} "
+            "(raise it with the environment variable EXPRESS_MAX_EXPRESSION)"
+        )
     if not text.strip():
         raise ExpressionError("empty value")
     parser = _Parser(text)
@@ -203,7 +235,24 @@ def parse_expression(text: str) -> sp.Expr:
         raise ExpressionError(f'column {leftover[2]}: unexpected "{leftover[1]}"')
     if _expanded_terms(value) > _MAX_TERMS:
         raise ExpressionError(f"the expression expands to more than {_MAX_TERMS} terms")
+    for constant in value.atoms(sp.Rational):
+        _check_constant(constant)
     return value
+
+
+def _check_constant(constant: sp.Rational) -> None:
+    """Refuse an exact constant outside the range of a double (``2^4032``, ``1e-400``):
+    no physical value needs one, and SymPy's work with it grows with its digits."""
+    p, q = abs(int(constant.p)), int(constant.q)
+    if p == 0:
+        return
+    exponent = (p.bit_length() - q.bit_length()) * math.log10(2)  # within 0.31 of log10(p/q)
+    if abs(exponent) < 300 and max(p.bit_length(), q.bit_length()) > 1100:  # some 330 digits
+        raise ExpressionError(f"a constant with {len(str(p)) + len(str(q))} digits is beyond the precision of a double")
+    if abs(exponent) > 330 or not _DOUBLE_MIN <= Fraction(p, q) <= _DOUBLE_MAX:
+        raise ExpressionError(
+            f"a constant of about 1e{exponent:+.0f} is beyond the range of a double (5e-324 to 1.8e308)"
+        )
 
 
 def _expanded_terms(expression: sp.Expr) -> int:

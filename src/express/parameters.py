@@ -43,6 +43,7 @@ import sympy as sp
 from .diagnostics import ModelError, Problem
 from .expressions import ExpressionError, parse_expression
 from .model import Derivation, Model, Parameter
+from .parameter_ranges import check_ranges
 from .parameter_units import infer_dimensions, use_sites
 from .units import DIMENSIONS, KMH, Dimension, UnitError, check_dimension, format_quantity, parse_quantity, si_unit
 
@@ -351,8 +352,9 @@ def resolve(model: Model) -> Model:
     Raises
     ------
     ModelError
-        For the problems of :func:`parameter_problems`, or a value that cannot be
-        computed (division by zero, contact data out of range), all at once.
+        For the problems of :func:`parameter_problems`, a value that cannot be
+        computed (division by zero, contact data out of range), or a value outside
+        the valid range of its use (:mod:`express.parameter_ranges`), all at once.
     """
     problems = parameter_problems(model)
     if problems:
@@ -360,7 +362,9 @@ def resolve(model: Model) -> Model:
     dims = infer_dimensions(model)[0]
     parameters = {name: replace(p, dimension=dims.get(name, p.dimension)) for name, p in model.parameters.items()}
     model = replace(model, parameters=parameters)
-    return replace(model, parameters=_evaluate(model))
+    model = replace(model, parameters=_evaluate(model))
+    check_ranges(model)
+    return model
 
 
 def undefined_name_problems(model: Model, names: Iterable[str] | None = None) -> list[Problem]:
@@ -477,8 +481,9 @@ def with_values(model: Model, overrides: Mapping[str, float | str]) -> Model:
     Raises
     ------
     ModelError
-        For an unknown name, a value of the wrong dimension, or a derived value that
-        cannot be computed.
+        For an unknown name, a value of the wrong dimension, a derived value that
+        cannot be computed, or a value outside the valid range of its use
+        (:mod:`express.parameter_ranges`; a negative stiffness or damping only warns).
     """
     values = override_values(model, overrides)
     if not values:
@@ -491,7 +496,9 @@ def with_values(model: Model, overrides: Mapping[str, float | str]) -> Model:
         else:
             parameters[name] = replace(previous, value=value, expression=None, derived_by=None)
     changed = replace(model, parameters=parameters)
-    return replace(changed, parameters=_evaluate(changed))
+    changed = replace(changed, parameters=_evaluate(changed))
+    check_ranges(changed, {name: overrides[name] for name in values})
+    return changed
 
 
 # ------------------------------------------------------------------ display

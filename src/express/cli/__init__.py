@@ -25,6 +25,7 @@ import contextlib
 import os
 import sys
 import traceback
+import warnings
 from collections.abc import Iterator, Sequence
 from typing import Any, NoReturn
 
@@ -85,6 +86,11 @@ def printable(text: str) -> str:
     return "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
 
 
+def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    """A warning (a negative stiffness in the model, ...) as one ``warning:`` line."""
+    print(f"warning: {printable(str(message))}", file=sys.stderr)
+
+
 def _print_error_lines(lines: Sequence[str]) -> None:
     for line in lines:
         print(f"error: {printable(line)}", file=sys.stderr)
@@ -118,7 +124,8 @@ def _run(parser: argparse.ArgumentParser, argv: Sequence[str] | None) -> int:
     numeric = bool(values.get("numeric", False))
     for key in _META:
         values.pop(key, None)
-    with _one_blas_thread(numeric):
+    with _one_blas_thread(numeric), warnings.catch_warnings():
+        warnings.showwarning = _show_warning
         return int(handler(**values))
 
 

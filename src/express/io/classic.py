@@ -15,6 +15,7 @@ import sympy as sp
 
 from ..diagnostics import ModelError, Problem
 from ..expressions import ExpressionError, parse_expression
+from ..limits import LIMITS, exceeded, limit
 from ..model import (
     AXES,
     DOF_NAMES,
@@ -26,8 +27,9 @@ from ..model import (
     PinnedJoint,
     check_model,
 )
+from ..parameter_ranges import check_ranges
 
-__all__ = ["read_classic", "parse_classic", "model_name_from_path"]
+__all__ = ["read_classic", "parse_classic", "model_name_from_path", "read_model_text"]
 
 SECTIONS = {1: "Body", 2: "Ground", 3: "CP", 4: "TSD", 5: "Pinned Joint"}
 _PREFIX = {"Body": "B", "Ground": "G", "CP": "C", "TSD": "T", "Pinned Joint": "P"}
@@ -44,11 +46,40 @@ _ID_LIKE = re.compile(r"[A-Za-z][A-Za-z_]*\d[A-Za-z0-9_]*\Z")
 
 
 def model_name_from_path(path: str | Path) -> str:
-    """A valid identifier made from a file name (``lever.exp`` -> ``lever``)."""
-    name = re.sub(r"\W", "_", Path(path).stem)
-    if not name or not name[0].isalpha():
+    """A valid identifier made from a file name (``lever.exp`` -> ``lever``,
+    ``é x.exp`` -> ``model___x``): ASCII letters, digits and ``_`` only."""
+    name = re.sub(r"[^A-Za-z0-9_]", "_", Path(path).stem)
+    if not name or not ("A" <= name[0] <= "Z" or "a" <= name[0] <= "z"):
         name = "model_" + name
     return name
+
+
+def read_model_text(path: str | Path) -> str:
+    """The text of a model file, refused beyond the size limit before it is read
+    whole (:mod:`express.limits`, ``EXPRESS_MAX_FILE_MB``) and when not UTF-8.
+
+    Raises
+    ------
+    ModelError
+        For a file that cannot be read, is too large or is not UTF-8 text.
+    """
+    path = Path(path)
+    most = limit("file_mb") * 1024 * 1024
+    try:
+        with open(path, "rb") as file:
+            data = file.read(most + 1)
+    except OSError as error:
+        raise ModelError([Problem(str(path), None, "", f"cannot read the file ({error.strerror or error})")]) from None
+    if len(data) > most:
+        raise ModelError([Problem(
+            str(path), None, "", f"file larger than the limit of {most // (1024 * 1024)} MB "
+            f"(raise it with the environment variable {LIMITS['file_mb'].variable})",
+        )])
+    try:
+        text = data.decode("utf-8-sig")
+    except UnicodeDecodeError as error:
+        raise ModelError([Problem(str(path), None, "", f"not a UTF-8 text file ({error.reason})")]) from None
+    return text.replace("\r\n", "\n").replace("\r", "\n")  # universal newlines, as open() in text mode
 
 
 def _fields(line: str) -> list[str]:
@@ -180,6 +211,10 @@ def parse_classic(text: str, source: str = "<string>") -> Model:
 
     if not seen_sections and not problems:
         problems.append(Problem(source, None, "", "no section header such as (1) Body found: not a classic model file"))
+    for section, name in (("Body", "bodies"), ("TSD", "elements"), ("CP", "points")):
+        message = exceeded(name, len(rows[section]))
+        if message is not None:  # before any value is parsed
+            raise ModelError([Problem(source, None, f"section {section}", message)])
 
     bodies, grounds, points, elements, pins = [], [], [], [], []
     for number, fields in rows["Body"]:
@@ -226,14 +261,11 @@ def parse_classic(text: str, source: str = "<string>") -> Model:
     problems.extend(check_model(model))
     if problems:
         raise ModelError(sorted(problems, key=lambda p: (p.line or 0)))
+    check_ranges(model)  # the constants among the values (a classic file has no parameters)
     return model
 
 
 def read_classic(path: str | Path) -> Model:
     """Read a classic model file (see :func:`parse_classic`)."""
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8-sig")
-    except UnicodeDecodeError as error:
-        raise ModelError([Problem(str(path), None, "", f"not a UTF-8 text file ({error.reason})")]) from None
-    return parse_classic(text, source=str(path))
+    return parse_classic(read_model_text(path), source=str(path))

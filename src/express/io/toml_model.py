@@ -50,6 +50,7 @@ import sympy as sp
 
 from ..diagnostics import ModelError, Problem
 from ..expressions import ExpressionError, is_valid_name, parse_expression
+from ..limits import exceeded
 from ..model import (
     DOF_NAMES,
     Body,
@@ -67,7 +68,7 @@ from ..model import (
 )
 from ..parameters import parameter_problems, resolve
 from ..units import UnitError, parse_quantity, unit_factor
-from .classic import model_name_from_path
+from .classic import model_name_from_path, read_model_text
 from .toml_lines import line_index as _line_index
 
 if sys.version_info >= (3, 11):
@@ -483,6 +484,11 @@ def parse_toml_model(text: str, source: str = "<string>") -> Model:
         line = int(match.group(1)) if match else None
         message = re.sub(r"\s*\(at line \d+, column \d+\)", "", str(error))
         raise ModelError([Problem(source, line, "TOML", f"not valid TOML: {message}")]) from None
+    except RecursionError:
+        raise ModelError([Problem(source, None, "TOML", "arrays or tables nested too deeply to read")]) from None
+    size = _size_problems(data, source)
+    if size:
+        raise ModelError(size)
     reader = _Reader(text, source)
     reader.unknown_keys(data, _TOP_KEYS, (), "file")
 
@@ -531,6 +537,30 @@ def parse_toml_model(text: str, source: str = "<string>") -> Model:
     return resolve(model)
 
 
+def _size_problems(data: dict, source: str) -> list[Problem]:
+    """The model's size against :mod:`express.limits`, counted on the parsed file
+    before any item is read (instances count their substructure's items)."""
+
+    def count(table: Any, key: str) -> int:
+        entries = table.get(key) if isinstance(table, dict) else None
+        return len(entries) if isinstance(entries, (dict, list)) else 0
+
+    substructures = data.get("substructures")
+    substructures = substructures if isinstance(substructures, dict) else {}
+    instances = data.get("instances")
+    used = [spec.get("substructure") for spec in instances.values() if isinstance(spec, dict)] if isinstance(instances, dict) else []
+    problems = []
+    for key, name, item in (("bodies", "bodies", "bodies"), ("elements", "elements", "elements"), ("points", "points", "points")):
+        total = count(data, key) + sum(count(substructures.get(sub), key) for sub in used if isinstance(sub, str))
+        message = exceeded(name, total)
+        if message is not None:
+            problems.append(Problem(source, None, item, message))
+    message = exceeded("parameters", count(data, "parameters"))
+    if message is not None:
+        problems.append(Problem(source, None, "parameters", message))
+    return problems
+
+
 def _gravity(reader: _Reader, data: dict) -> sp.Expr | None:
     """``[gravity] acceleration = "g"``: every body's weight (None without the section)."""
     if "gravity" not in data:
@@ -546,8 +576,4 @@ def _gravity(reader: _Reader, data: dict) -> sp.Expr | None:
 def read_toml_model(path: str | Path) -> Model:
     """Read a modern (TOML) model file (see :func:`parse_toml_model`)."""
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8-sig")
-    except UnicodeDecodeError as error:
-        raise ModelError([Problem(str(path), None, "", f"not a UTF-8 text file ({error.reason})")]) from None
-    return parse_toml_model(text, source=str(path))
+    return parse_toml_model(read_model_text(path), source=str(path))
