@@ -388,6 +388,16 @@ def check_model(model: Model) -> list[Problem]:
             )
     bodies = {body.id: body for body in model.bodies}
     _check_element_kinds(model, hosts, bodies, problems)
+    _check_pins(model, hosts, bodies, ground_ids, problems)
+    _check_rail_references(model, bodies, problems)
+    return problems
+
+
+def _check_pins(model: Model, hosts: dict[str, str], bodies: dict[str, Body], ground_ids: set[str],
+                problems: list[Problem]) -> None:
+    """Pins: known CPs, exactly one joining element, a virtual CP on a body with the
+    translation along the pin direction."""
+    source = model.source
     by_ends: dict[frozenset, list[Element]] = {}
     for element in model.elements:
         by_ends.setdefault(frozenset((element.s_end, element.t_end)), []).append(element)
@@ -435,6 +445,11 @@ def check_model(model: Model) -> list[Problem]:
                     f"{axis} translation DOF (the pin direction of element {joining[0].id})",
                 )
             )
+
+
+def _check_rail_references(model: Model, bodies: dict[str, Body], problems: list[Problem]) -> None:
+    """Wheelsets and output points name known bodies; a wheelset has the y and rz DOFs."""
+    source = model.source
     if model.rail is not None:
         for wheelset in model.rail.wheelsets:
             if wheelset.body not in bodies:
@@ -455,7 +470,6 @@ def check_model(model: Model) -> list[Problem]:
                 problems.append(
                     Problem(source, output.line, f"output {output.name}", f'unknown body "{output.body}"')
                 )
-    return problems
 
 
 def _numeric_value(expression, parameters: dict[str, Parameter]) -> float | None:
