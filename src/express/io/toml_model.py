@@ -284,7 +284,10 @@ def _rail(reader: _Reader, table: dict, parameters: dict[str, Parameter]) -> tup
         reader.problem(("rail", "wheelsets"), "rail.wheelsets", "must be a list of body ids")
         names = []
     wheelsets = []
-    for name in names:
+    for index, name in enumerate(names):
+        if name in names[:index]:
+            reader.problem(("rail", "wheelsets"), f"wheelset {name}", "listed twice in rail.wheelsets")
+            continue
         body = reader.name(name, ("rail", "wheelsets"), "rail.wheelsets", "wheelset")
         own = reader.table(overrides.get(body, {}), ("rail", "wheelset", body), f"wheelset {body}")
         reader.unknown_keys(own, WHEELSET_KEYS, ("rail", "wheelset", body), f"wheelset {body}")

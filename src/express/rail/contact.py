@@ -35,7 +35,7 @@ from __future__ import annotations
 import math
 import sys
 from bisect import bisect_right
-from dataclasses import dataclass
+from dataclasses import astuple, dataclass
 
 from scipy.optimize import brentq
 from scipy.special import ellipe, ellipkm1
@@ -284,6 +284,8 @@ def kalker_coefficients(a: float, b: float, poisson: float) -> tuple[float, floa
 
     short_side = "a" if a <= b else "b"
     g = a / b if short_side == "a" else b / a
+    if not g >= 1e-12:  # the asymptotes' powers and logarithms of g would underflow
+        raise ValueError(f"semi-axes a = {a!r} m, b = {b!r} m: a degenerate contact ellipse (ratio below 1e-12)")
 
     if g < _G_NODES[0]:
         if short_side == "a":
@@ -490,8 +492,13 @@ def hertz_contact(
     big_e = float(ellipe(1.0 - g * g))
     e_star = youngs_modulus / (2.0 * (1.0 - poisson**2))
     rho = 2.0 / (curv_a + curv_b)
-    c = (3.0 * load * rho * big_e / (4.0 * math.pi * e_star * math.sqrt(g))) ** (1.0 / 3.0)
+    denominator = 4.0 * math.pi * e_star * math.sqrt(g)
+    c = (3.0 * load * rho * big_e / denominator) ** (1.0 / 3.0) if denominator > 0.0 else math.inf
     minor, major = c * math.sqrt(g), c / math.sqrt(g)
+    if not (0.0 < minor and major < math.inf):  # values at the ends of the double range
+        raise ValueError(
+            f"the contact data (load {load!r} N, E {youngs_modulus!r} Pa) give no finite contact ellipse"
+        )
 
     # The ellipse is long where the gap opens slowly (small curvature).
     a, b = (minor, major) if curv_a >= curv_b else (major, minor)
@@ -598,12 +605,19 @@ def creep_coefficients(
     c11, c22, c23, c33 = kalker_coefficients(contact.a, contact.b, poisson)
     shear_modulus = youngs_modulus / (2.0 * (1.0 + poisson))
     ab = contact.a * contact.b
-    return CreepCoefficients(
+    root = math.sqrt(ab)
+    coefficients = CreepCoefficients(  # products, not float powers: an overflow gives inf, not an exception
         f11=shear_modulus * ab * c11,
         f22=shear_modulus * ab * c22,
-        f23=shear_modulus * ab**1.5 * c23,
-        f33=shear_modulus * ab**2 * c33,
+        f23=shear_modulus * ab * root * c23,
+        f33=shear_modulus * ab * ab * c33,
     )
+    if not all(math.isfinite(value) for value in astuple(coefficients)):
+        raise ValueError(
+            f"the contact data (load {load!r} N, radii {wheel_radius!r} and {rail_head_radius!r} m, "
+            f"E {youngs_modulus!r} Pa) give creep coefficients beyond the range of a double"
+        )
+    return coefficients
 
 
 # ---------------------------------------------------------------------------

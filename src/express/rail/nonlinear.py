@@ -53,12 +53,21 @@ def saturation_factor(force, limit):
     numpy.ndarray
         Factor in (0, 1]; 1 for a zero force.
 
+    Raises
+    ------
+    ValueError
+        For a limit that is not positive (a friction coefficient or wheel load of
+        zero: no creep force can be transmitted; the model's ranges refuse both).
+
     Examples
     --------
     >>> float(saturation_factor(0.0, 1.0)), float(saturation_factor(3.0, 1.0))
     (1.0, 0.3333333333333333)
     """
     force = np.asarray(force, dtype=float)
+    limit = np.asarray(limit, dtype=float)
+    if not np.all(limit > 0.0):
+        raise ValueError("the creep force limit mu N must be positive (friction and wheel load above zero)")
     x = force / limit
     saturated = np.where(x <= 3.0, x - x**2 / 3.0 + x**3 / 27.0, 1.0)
     with np.errstate(divide="ignore", invalid="ignore"):
