@@ -306,6 +306,7 @@ def _rail(reader: _Reader, table: dict, parameters: dict[str, Parameter]) -> tup
     output_table = reader.table(table.get("outputs", {}), ("rail", "outputs"), "rail.outputs")
     for name, raw in output_table.items():
         path = ("rail", "outputs", name)
+        _check_id(reader, name, path, f"output {name}")  # names become CSV columns and TOML keys
         spec = reader.table(raw, path, f"output {name}")
         reader.unknown_keys(spec, ("body", "offset"), path, f"output {name}")
         outputs.append(

@@ -9,6 +9,7 @@ otherwise.
 from __future__ import annotations
 
 import json
+import re
 
 import sympy as sp
 
@@ -61,29 +62,46 @@ def _vector(values) -> str:
     return "[" + ", ".join(value_to_toml(v) for v in values) + "]"
 
 
+_BARE_KEY = re.compile(r"[A-Za-z0-9_-]+\Z")
+
+
 def _string(text: str) -> str:
-    return json.dumps(text, ensure_ascii=False)
+    """A TOML basic string: JSON's escapes (quotes, backslash, control characters)
+    plus DEL, which TOML also forbids raw; a lone surrogate (not a character) becomes
+    U+FFFD."""
+    text = "".join("\ufffd" if 0xD800 <= ord(c) <= 0xDFFF else c for c in text)
+    return json.dumps(text, ensure_ascii=False).replace("\x7f", "\\u007f")
+
+
+def _key(name: str) -> str:
+    """A TOML key: bare when it can be, else quoted."""
+    return name if _BARE_KEY.match(name) else _string(name)
+
+
+def _comment(text: str) -> str:
+    """Text for a ``#`` comment: one line, control characters escaped."""
+    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
 
 
 def _parameter_line(parameter: Parameter) -> str:
     """``mc = { value = 30.0, unit = "t" }`` in the unit written, or ``P0 = "expression"``."""
     name = parameter.name
     if parameter.expression is not None:
-        return f"{name} = {_string(value_text(parameter.expression))}"
+        return f"{_key(name)} = {_string(value_text(parameter.expression))}"
     unit = parameter.unit.strip()
     if unit:
         factor = unit_factor(unit)
         shown = parameter.value / factor
         if float(shown) * factor == parameter.value:  # reads back to the same SI value
-            return f"{name} = {{ value = {shown!r}, unit = {_string(unit)} }}"
-        return f"{name} = {parameter.value!r}  # SI (given in {unit})"
-    return f"{name} = {parameter.value!r}"
+            return f"{_key(name)} = {{ value = {shown!r}, unit = {_string(unit)} }}"
+        return f"{_key(name)} = {parameter.value!r}  # SI (given in {_comment(unit)})"
+    return f"{_key(name)} = {parameter.value!r}"
 
 
 def model_to_toml(model: Model) -> str:
     """The TOML text of ``model`` (deterministic)."""
     lines = [
-        f"# EXPRESS model, converted from {model.source}",
+        f"# EXPRESS model, converted from {_comment(model.source)}",
         "# Format: docs/model-format.md.  Values are numbers or expressions of parameters.",
         "",
         "[model]",
@@ -106,7 +124,7 @@ def model_to_toml(model: Model) -> str:
             names |= {s.name for v in (element.stiffness, element.damping) for s in v.free_symbols}
         lines.append("# values for: " + ", ".join(sorted(names)))
     for body in model.bodies:
-        lines += ["", f"[bodies.{body.id}]"]
+        lines += ["", f"[bodies.{_key(body.id)}]"]
         if body.label:
             lines.append(f"label = {_string(body.label)}")
         lines.append(f"mass = {value_to_toml(body.mass)}")
@@ -115,13 +133,13 @@ def model_to_toml(model: Model) -> str:
         if any(v != 0 for v in body.position):
             lines.append(f"position = {_vector(body.position)}")
     for ground in model.grounds:
-        lines += ["", f"[grounds.{ground.id}]"]
+        lines += ["", f"[grounds.{_key(ground.id)}]"]
         if ground.label:
             lines.append(f"label = {_string(ground.label)}")
     for point in model.points:
-        lines += ["", f"[points.{point.id}]", f"body = {_string(point.host)}", f"offset = {_vector(point.offset)}"]
+        lines += ["", f"[points.{_key(point.id)}]", f"body = {_string(point.host)}", f"offset = {_vector(point.offset)}"]
     for element in model.elements:
-        lines += ["", f"[elements.{element.id}]"]
+        lines += ["", f"[elements.{_key(element.id)}]"]
         if element.label:
             lines.append(f"label = {_string(element.label)}")
         lines += [
@@ -140,10 +158,12 @@ def model_to_toml(model: Model) -> str:
     for pin in model.pins:
         lines += [
             "",
-            f"[pins.{pin.id}]",
+            f"[pins.{_key(pin.id)}]",
             f"virtual = {_string(pin.virtual)}",
             f"non_virtual = {_string(pin.non_virtual)}",
         ]
+    if model.gravity is not None:
+        lines += ["", "[gravity]", f"acceleration = {value_to_toml(model.gravity)}"]
     if model.rail is not None:
         lines += _rail_lines(model)
     return "\n".join(lines) + "\n"
@@ -162,7 +182,7 @@ def _rail_lines(model: Model) -> list[str]:
     ]
     keys = ("f1", "f2", "conicity", "r0", "b", "flange_clearance", "rail_stiffness", "friction", "wheel_load")
     for wheelset in rail.wheelsets:
-        lines += ["", f"[rail.wheelset.{wheelset.body}]"]
+        lines += ["", f"[rail.wheelset.{_key(wheelset.body)}]"]
         lines += [f"{key} = {value_to_toml(getattr(wheelset, key))}" for key in keys]
     for derivation in model.derivations:
         if derivation.kind == "kalker":
@@ -175,5 +195,5 @@ def _rail_lines(model: Model) -> list[str]:
             ]
             lines += [f"{key} = {value_to_toml(value)}" for key, value, _ in derivation.inputs]
     for output in rail.outputs:
-        lines += ["", f"[rail.outputs.{output.name}]", f"body = {_string(output.body)}", f"offset = {_vector(output.offset)}"]
+        lines += ["", f"[rail.outputs.{_key(output.name)}]", f"body = {_string(output.body)}", f"offset = {_vector(output.offset)}"]
     return lines
