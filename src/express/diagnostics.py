@@ -36,7 +36,9 @@ __all__ = [
     "ModelWarning",
     "OutputError",
     "Problem",
+    "RowProblems",
     "UsageError",
+    "excerpt",
 ]
 
 #: Exit statuses of the command line (``docs/cli.md``); 70 is ``EX_SOFTWARE`` of sysexits.h.
@@ -67,6 +69,54 @@ class Problem:
     def __str__(self) -> str:
         where = f"{self.file}:{self.line}" if self.line is not None else self.file
         return f"{where}: {self.item}: {self.message}" if self.item else f"{where}: {self.message}"
+
+
+def excerpt(text: str, limit: int = 40) -> str:
+    """``text`` quoted for a message and cut to ``limit`` characters: an error may quote
+    a short excerpt of a file, never more (the file may not be the user's own).
+
+    Examples
+    --------
+    >>> excerpt("root:x:0:0:root:/root:/bin/bash", 12)
+    "'root:x:0...'"
+    """
+    return repr(text if len(text) <= limit else text[: limit - 3] + "...")
+
+
+class RowProblems:
+    """The bad rows of a data file (a CSV profile), reported within bounds: the first
+    ``most`` rows listed, then a count; only one quotes what it found, as a short
+    :func:`excerpt`, since the file may not be the user's own.
+
+    Examples
+    --------
+    >>> rows = RowProblems("p.csv", most=1)
+    >>> rows.add(2, "", "expected 2 columns", "root:x:0:0")
+    >>> rows.add(3, "", "expected 2 columns", "daemon:x:1:1")
+    >>> [str(p) for p in rows.problems()]
+    ["p.csv:2: expected 2 columns: 'root:x:0:0'", 'p.csv: 2 bad rows in all, the first 1 listed']
+    """
+
+    def __init__(self, file: str, most: int = 20):
+        self.file, self.most = file, most
+        self.listed: list[Problem] = []
+        self.count = 0
+        self.quoted = False  # set when the file was quoted already (a bad header)
+
+    def add(self, line: int, item: str, message: str, found: str, template: str = "{message}: {found}") -> None:
+        """One bad row: ``message`` says what is wrong, ``found`` is what the row holds;
+        ``template`` places both in the one message that quotes."""
+        self.count += 1
+        if self.count <= self.most:
+            shown = message if self.quoted else template.format(message=message, found=excerpt(found))
+            self.quoted = True
+            self.listed.append(Problem(self.file, line, item, shown))
+
+    def problems(self) -> list[Problem]:
+        """The listed problems, then the count when some were left out."""
+        if self.count <= self.most:
+            return list(self.listed)
+        return [*self.listed, Problem(self.file, None, "", f"{self.count} bad rows in all, the first {self.most} listed")]
 
 
 class ExpressError(Exception):

@@ -10,7 +10,7 @@ names the item, the limit and, when there is one, the way to raise it
 =========================  =======================  ============================  ==========================
 limit                      default                  override                      checked by
 =========================  =======================  ============================  ==========================
-model file size            16 MB                    ``EXPRESS_MAX_FILE_MB``       the model readers
+input file size            16 MB                    ``EXPRESS_MAX_FILE_MB``       model and profile readers
 bodies in a model          1 000                    ``EXPRESS_MAX_BODIES``        the model readers
 elements in a model        10 000                   ``EXPRESS_MAX_ELEMENTS``      the model readers
 connection points          20 000                   ``EXPRESS_MAX_POINTS``        the model readers
@@ -38,10 +38,11 @@ from __future__ import annotations
 
 import os
 from dataclasses import dataclass
+from pathlib import Path
 
-from .diagnostics import UsageError
+from .diagnostics import ModelError, Problem, UsageError
 
-__all__ = ["LIMITS", "MAX_EXPONENT", "MAX_NESTING", "Limit", "exceeded", "limit"]
+__all__ = ["LIMITS", "MAX_EXPONENT", "MAX_NESTING", "Limit", "exceeded", "limit", "read_input_text"]
 
 #: Deepest nesting of parentheses, signs and powers in one expression (no override:
 #: no formula needs more, and Python's own recursion limit is not far beyond).
@@ -84,7 +85,7 @@ class Limit:
 LIMITS = {
     limit.name: limit
     for limit in (
-        Limit("file_mb", 16, "EXPRESS_MAX_FILE_MB", "MB", "model file size"),
+        Limit("file_mb", 16, "EXPRESS_MAX_FILE_MB", "MB", "input file size (models, wheel/rail profiles, delta-r)"),
         Limit("bodies", 1000, "EXPRESS_MAX_BODIES", "bodies", "bodies in a model"),
         Limit("elements", 10000, "EXPRESS_MAX_ELEMENTS", "elements", "elements in a model"),
         Limit("points", 20000, "EXPRESS_MAX_POINTS", "connection points", "connection points in a model"),
@@ -117,3 +118,41 @@ def exceeded(name: str, found: int) -> str | None:
         f"{found} {spec.unit}, more than the limit of {allowed} {spec.unit} "
         f"(raise it with the environment variable {spec.variable})"
     )
+
+
+def read_input_text(path: str | Path, item: str = "", what: str = "the file") -> str:
+    """The text of an input file (a model, a profile), refused beyond the size limit
+    before it is read whole (``EXPRESS_MAX_FILE_MB``) and when it is not UTF-8 text.
+
+    Any readable file is accepted (a pipe from the shell too); ``/dev/zero`` stops at
+    the limit.  Newlines are made universal, as ``open()`` in text mode does; ``what``
+    names the file in the message of one that cannot be read.
+
+    Raises
+    ------
+    ModelError
+        For a file that cannot be read, is too large or is not UTF-8 text.
+    """
+    path = Path(path)
+    most = limit("file_mb") * 1024 * 1024
+
+    def refuse(message: str) -> ModelError:
+        return ModelError([Problem(str(path), None, item, message)])
+
+    try:
+        with open(path, "rb") as file:
+            data = file.read(most + 1)
+    except OSError as error:
+        raise refuse(f"cannot read {what} ({error.strerror or error})") from None
+    if len(data) > most:
+        raise refuse(
+            f"file larger than the limit of {most // (1024 * 1024)} MB "
+            f"(raise it with the environment variable {LIMITS['file_mb'].variable})"
+        )
+    if b"\0" in data:
+        raise refuse("not a text file (it holds NUL bytes)")
+    try:
+        text = data.decode("utf-8-sig")
+    except UnicodeDecodeError as error:
+        raise refuse(f"not a UTF-8 text file (byte {error.start + 1} cannot be decoded)") from None
+    return text.replace("\r\n", "\n").replace("\r", "\n")

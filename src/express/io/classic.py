@@ -15,7 +15,7 @@ import sympy as sp
 
 from ..diagnostics import ModelError, Problem
 from ..expressions import ExpressionError, parse_expression
-from ..limits import LIMITS, exceeded, limit
+from ..limits import exceeded, read_input_text
 from ..model import (
     AXES,
     DOF_NAMES,
@@ -29,7 +29,7 @@ from ..model import (
 )
 from ..parameter_ranges import check_ranges
 
-__all__ = ["read_classic", "parse_classic", "model_name_from_path", "read_model_text"]
+__all__ = ["model_name_from_path", "parse_classic", "read_classic", "read_model_text"]
 
 SECTIONS = {1: "Body", 2: "Ground", 3: "CP", 4: "TSD", 5: "Pinned Joint"}
 _PREFIX = {"Body": "B", "Ground": "G", "CP": "C", "TSD": "T", "Pinned Joint": "P"}
@@ -56,30 +56,9 @@ def model_name_from_path(path: str | Path) -> str:
 
 def read_model_text(path: str | Path) -> str:
     """The text of a model file, refused beyond the size limit before it is read
-    whole (:mod:`express.limits`, ``EXPRESS_MAX_FILE_MB``) and when not UTF-8.
-
-    Raises
-    ------
-    ModelError
-        For a file that cannot be read, is too large or is not UTF-8 text.
-    """
-    path = Path(path)
-    most = limit("file_mb") * 1024 * 1024
-    try:
-        with open(path, "rb") as file:
-            data = file.read(most + 1)
-    except OSError as error:
-        raise ModelError([Problem(str(path), None, "", f"cannot read the file ({error.strerror or error})")]) from None
-    if len(data) > most:
-        raise ModelError([Problem(
-            str(path), None, "", f"file larger than the limit of {most // (1024 * 1024)} MB "
-            f"(raise it with the environment variable {LIMITS['file_mb'].variable})",
-        )])
-    try:
-        text = data.decode("utf-8-sig")
-    except UnicodeDecodeError as error:
-        raise ModelError([Problem(str(path), None, "", f"not a UTF-8 text file ({error.reason})")]) from None
-    return text.replace("\r\n", "\n").replace("\r", "\n")  # universal newlines, as open() in text mode
+    whole (:func:`express.limits.read_input_text`, ``EXPRESS_MAX_FILE_MB``) and when
+    it is not UTF-8 text."""
+    return read_input_text(path)
 
 
 def _fields(line: str) -> list[str]:

@@ -29,7 +29,8 @@ from pathlib import Path
 import numpy as np
 from numba import njit
 
-from ..diagnostics import ModelError, Problem
+from ..diagnostics import ModelError, Problem, RowProblems, excerpt
+from ..limits import read_input_text
 from .contact_geometry import ContactSetup, ContactTable, contact_geometry
 from .profiles import Profile
 
@@ -76,12 +77,7 @@ def read_delta_r(path: str | Path) -> DeltaR:
         through zero).
     """
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8-sig")
-    except (OSError, UnicodeDecodeError) as error:
-        reason = getattr(error, "strerror", None) or str(error)
-        raise ModelError([Problem(str(path), None, "", f"cannot read the delta-r file ({reason})")]) from None
-    return parse_delta_r(text, str(path))
+    return parse_delta_r(read_input_text(path, what="the delta-r file"), str(path))  # bounded (EXPRESS_MAX_FILE_MB), UTF-8 text
 
 
 def parse_delta_r(text: str, file: str = "<delta_r>") -> DeltaR:
@@ -89,6 +85,7 @@ def parse_delta_r(text: str, file: str = "<delta_r>") -> DeltaR:
     problems: list[Problem] = []
     factors: tuple[float, float] | None = None
     rows: list[tuple[int, float, float]] = []
+    bad = RowProblems(file)  # the file may not be the user's own: one short excerpt, 20 rows
     for number, raw in enumerate(text.splitlines(), start=1):
         line = raw.split("#", 1)[0].strip()
         if not line:
@@ -96,24 +93,26 @@ def parse_delta_r(text: str, file: str = "<delta_r>") -> DeltaR:
         fields = [field for field in _SPLIT.split(line) if field]
         if factors is None and not rows and not any(p.item == "header" for p in problems):
             factors = _header(fields, file, number, problems)
+            bad.quoted = bool(problems)  # the header's problem quoted the file already
             if factors is not None or any(ch.isalpha() for ch in line):
                 continue
         if len(fields) != 2:
-            problems.append(Problem(file, number, "", f"expected 2 columns (y, delta_r), found {len(fields)}: {line!r}"))
+            bad.add(number, "", f"expected 2 columns (y, delta_r), found {len(fields)}", line)
             continue
         values = []
         for column, field in zip(("y", "delta_r"), fields, strict=True):
             try:
                 value = float(field)
             except ValueError:
-                problems.append(Problem(file, number, column, f"{field!r} is not a number"))
+                bad.add(number, column, "not a number", field, "{found} is {message}")
                 continue
             if not math.isfinite(value):
-                problems.append(Problem(file, number, column, f"{field!r} is not a finite number"))
+                bad.add(number, column, "not a finite number", field, "{found} is {message}")
                 continue
             values.append(value)
         if len(values) == 2:
             rows.append((number, values[0], values[1]))
+    problems += bad.problems()
     if factors is None and not any(p.item == "header" for p in problems):
         problems.append(Problem(file, None, "header", "missing header: the first line must be y_m,delta_r_m"))
     if len(rows) < 2:
@@ -134,8 +133,8 @@ def _header(fields: list[str], file: str, number: int, problems: list[Problem]) 
     matches = [_HEADER.match(field) for field in fields]
     if len(fields) == 2 and all(matches) and [m.group(1).lower() for m in matches if m] == ["y", "delta_r"]:
         return tuple(_UNITS[m.group(2).lower()] for m in matches if m)  # type: ignore[return-value]
-    shown = ",".join(fields)
-    problems.append(Problem(file, number, "header", f"{shown!r}: expected the columns y_m,delta_r_m (or y_mm,delta_r_mm)"))
+    shown = excerpt(",".join(fields))
+    problems.append(Problem(file, number, "header", f"{shown}: expected the columns y_m,delta_r_m (or y_mm,delta_r_mm)"))
     return None
 
 

@@ -28,7 +28,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..diagnostics import ModelError, Problem
+from ..diagnostics import ModelError, Problem, RowProblems, excerpt
+from ..limits import read_input_text
 
 __all__ = [
     "STANDARD_PROFILES",
@@ -146,11 +147,7 @@ def read_profile(
         a lateral coordinate that is not monotonic, a spike, too few points.
     """
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8-sig")
-    except (OSError, UnicodeDecodeError) as error:
-        reason = getattr(error, "strerror", None) or str(error)
-        raise ModelError([Problem(str(path), None, "", f"cannot read profile ({reason})")]) from None
+    text = read_input_text(path, what="profile")  # bounded (EXPRESS_MAX_FILE_MB), UTF-8 text
     return parse_profile(
         text, kind, file=str(path), units=units, name=name or path.stem,
         spike_tolerance=spike_tolerance, min_points=min_points,
@@ -195,6 +192,7 @@ def _parse_rows(text: str, file: str, problems: list[Problem]) -> tuple[str | No
     header_unit: str | None = None
     rows: list[tuple[int, float, float]] = []
     seen_data = False
+    bad = RowProblems(file)  # the file may not be the user's own: one short excerpt, 20 rows
     for number, raw in enumerate(text.splitlines(), start=1):
         line = raw.split("#", 1)[0].strip()
         if not line:
@@ -202,25 +200,27 @@ def _parse_rows(text: str, file: str, problems: list[Problem]) -> tuple[str | No
         fields = [field for field in _SPLIT.split(line) if field]
         if not seen_data and any(ch.isalpha() for ch in line) and not _all_numbers(fields):
             header_unit = _parse_header(fields, file, number, problems)
+            bad.quoted = bool(problems)  # the header's problem quoted the file already
             seen_data = True
             continue
         seen_data = True
         if len(fields) != 2:
-            problems.append(Problem(file, number, "", f"expected 2 columns (lateral, vertical), found {len(fields)}: {line!r}"))
+            bad.add(number, "", f"expected 2 columns (lateral, vertical), found {len(fields)}", line)
             continue
         values = []
         for column, field in zip(("lateral", "vertical"), fields, strict=True):
             try:
                 value = float(field)
             except ValueError:
-                problems.append(Problem(file, number, f"{column} coordinate", f"{field!r} is not a number"))
+                bad.add(number, f"{column} coordinate", "not a number", field, "{found} is {message}")
                 continue
             if not math.isfinite(value):
-                problems.append(Problem(file, number, f"{column} coordinate", f"{field!r} is not a finite number"))
+                bad.add(number, f"{column} coordinate", "not a finite number", field, "{found} is {message}")
                 continue
             values.append(value)
         if len(values) == 2:
             rows.append((number, values[0], values[1]))
+    problems += bad.problems()
     return header_unit, rows
 
 
@@ -235,7 +235,7 @@ def _all_numbers(fields: list[str]) -> bool:
 def _parse_header(fields: list[str], file: str, number: int, problems: list[Problem]) -> str | None:
     matches = [_HEADER.match(field) for field in fields]
     if len(fields) != 2 or not all(matches) or [m.group(1).lower() for m in matches if m] != ["y", "z"]:
-        problems.append(Problem(file, number, "header", f"{', '.join(fields)!r}: expected the columns y_mm,z_mm or y_m,z_m"))
+        problems.append(Problem(file, number, "header", f"{excerpt(', '.join(fields))}: expected the columns y_mm,z_mm or y_m,z_m"))
         return None
     units = {m.group(2).lower() for m in matches if m}
     if len(units) != 1:
