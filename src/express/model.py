@@ -214,6 +214,9 @@ class Derivation:
     outputs : tuple of (result key, parameter name, dimension name)
         Which parameter receives which result.
     line : int or None
+    settings : tuple of (str, str)
+        Text arguments that are not quantities (the ``"profiles"`` node's profile names
+        or files), passed to the function as keywords besides the inputs.
     """
 
     kind: str
@@ -221,6 +224,7 @@ class Derivation:
     inputs: tuple[tuple[str, sp.Expr, str], ...]
     outputs: tuple[tuple[str, str, str], ...]
     line: int | None = None
+    settings: tuple[tuple[str, str], ...] = ()
 
     def input(self, argument: str) -> sp.Expr:
         """The expression given for ``argument`` (KeyError if none)."""

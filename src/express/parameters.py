@@ -68,7 +68,7 @@ __all__ = [
 DerivationFunction = Callable[..., Mapping[str, float]]
 _FUNCTIONS: dict[str, DerivationFunction] = {}
 #: The module that registers each known derivation kind (imported on first use).
-_PROVIDERS = {"kalker": "express.rail.build"}
+_PROVIDERS = {"kalker": "express.rail.build", "profiles": "express.rail.build"}
 
 
 def register_derivation(kind: str, function: DerivationFunction) -> None:
@@ -320,7 +320,7 @@ def _derive(derivation: Derivation, model: Model, values: Mapping[str, float]) -
         except (KeyError, ValueError) as error:
             return Problem(model.source, derivation.line, derivation.item, f"{argument}: {_reason(error)}")
     try:
-        results = dict(_function(derivation.kind)(**arguments))
+        results = dict(_function(derivation.kind)(**arguments, **dict(derivation.settings)))
     except ValueError as error:
         return Problem(model.source, derivation.line, derivation.item, str(error))
     bad = sorted(key for key, value in results.items() if not math.isfinite(value))

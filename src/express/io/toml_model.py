@@ -69,6 +69,7 @@ from ..model import (
 from ..parameters import parameter_problems, resolve
 from ..units import UnitError, parse_quantity, unit_factor
 from .classic import model_name_from_path, read_model_text
+from .toml_contact import conicity_value
 from .toml_lines import line_index as _line_index
 
 if sys.version_info >= (3, 11):
@@ -284,6 +285,7 @@ def _rail(reader: _Reader, table: dict, parameters: dict[str, Parameter]) -> tup
         reader.problem(("rail", "wheelsets"), "rail.wheelsets", "must be a list of body ids")
         names = []
     wheelsets = []
+    profile_nodes: dict[str, Derivation] = {}  # conicity from profiles (express.io.toml_contact)
     for index, name in enumerate(names):
         if name in names[:index]:
             reader.problem(("rail", "wheelsets"), f"wheelset {name}", "listed twice in rail.wheelsets")
@@ -292,7 +294,12 @@ def _rail(reader: _Reader, table: dict, parameters: dict[str, Parameter]) -> tup
         own = reader.table(overrides.get(body, {}), ("rail", "wheelset", body), f"wheelset {body}")
         reader.unknown_keys(own, WHEELSET_KEYS, ("rail", "wheelset", body), f"wheelset {body}")
         values = {}
+        conicity = conicity_value(reader, own, defaults, body, profile_nodes)
+        if conicity is not None:
+            values["conicity"] = conicity
         for key in WHEELSET_KEYS:
+            if key in values:
+                continue
             raw = own.get(key, defaults.get(key))
             if raw is None:
                 reader.problem(("rail", "wheel_rail"), f"wheelset {body}", f'missing "{key}" (give it in [rail.wheel_rail])')
@@ -321,7 +328,7 @@ def _rail(reader: _Reader, table: dict, parameters: dict[str, Parameter]) -> tup
     gravity = "g" if "g" in parameters else "9.81"  # standard gravity unless the model names g
     for key, default in (("speed", "v"), ("cant_base", "G"), ("gravity", gravity)):
         scalars[key] = reader.expression(table.get(key, default), ("rail", key), "rail", key)
-    derivations = []
+    derivations = list(profile_nodes.values())
     if "creep" in table:
         derivations.append(_creep(reader, table["creep"]))
     rail = RailSpec(tuple(wheelsets), outputs=tuple(outputs), line=reader.line("rail"), **scalars)
@@ -365,10 +372,10 @@ def _add_outputs(reader: _Reader, parameters: dict[str, Parameter], derivations:
             if name in parameters:
                 given = parameters[name]
                 where = f"line {given.line}" if given.line is not None else "[parameters]"
-                reader.problem(
-                    ("rail", "creep"), derivation.item,
+                reader.problems.append(Problem(
+                    reader.source, derivation.line, derivation.item,
                     f"computes {name}, which [parameters] also gives ({where}); remove one of them",
-                )
+                ))
                 continue
             parameters[name] = Parameter(name, math.nan, "", derivation.line, derived_by=derivation.item)
 

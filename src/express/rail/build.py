@@ -1,7 +1,9 @@
 """Rail vehicle assembly: the wheel/rail and curve terms added to the core generator.
 
 Also registers the ``"kalker"`` derivation of the parameter graph (``[rail.creep]``:
-creep coefficients from the contact), see :mod:`express.parameters`.
+creep coefficients from the contact) and the ``"profiles"`` one (conicity and contact
+terms from wheel and rail profiles, :mod:`express.rail.profile_contact`), see
+:mod:`express.parameters`.
 
 Inputs are named and ordered as the paper's eq. (13): the irregularity at every
 wheelset (``W1.yR``, ...), the flange penetrations (``W1.dy``, ...), the curvature
@@ -18,6 +20,7 @@ from ..model import Model
 from ..parameters import register_derivation
 from .contact import creep_coefficients
 from .curve import Station, cant_deficiency_forces, curvature_point_inputs, station_of, stations
+from .profile_contact import KIND as PROFILES, contact_terms, profile_derivation, profile_nodes
 from .wheelrail import flange_input, irregularity_input, wheelset_terms
 
 __all__ = ["RailLayout", "generate_vehicle", "rail_layout", "rail_terms"]
@@ -73,9 +76,12 @@ def rail_terms(model: Model) -> AddedTerms:
         return AddedTerms()
     layout = rail_layout(model)
     by_body = station_of(model)
+    nodes = profile_nodes(model)
     stiffness, damping, forces = [], [], []
     for wheelset in rail.wheelsets:
-        k, c, p = wheelset_terms(wheelset, rail.speed, by_body[wheelset.body].curvature_input)
+        node = nodes.get(wheelset.body)
+        contact = contact_terms(node) if node is not None else None
+        k, c, p = wheelset_terms(wheelset, rail.speed, by_body[wheelset.body].curvature_input, contact)
         stiffness += k
         damping += c
         forces += p
@@ -112,3 +118,4 @@ def _kalker(wheel_load: float, wheel_radius: float, rail_head_radius: float, you
 
 
 register_derivation("kalker", _kalker)
+register_derivation(PROFILES, profile_derivation)

@@ -32,7 +32,7 @@ def flange_input(wheelset: Wheelset) -> str:
     return f"{wheelset.body}.dy"
 
 
-def wheelset_terms(wheelset: Wheelset, speed: sp.Expr, curvature_input: str):
+def wheelset_terms(wheelset: Wheelset, speed: sp.Expr, curvature_input: str, contact: dict | None = None):
     """Creep and flange terms of one wheelset.
 
     Parameters
@@ -43,6 +43,15 @@ def wheelset_terms(wheelset: Wheelset, speed: sp.Expr, curvature_input: str):
         Forward speed ``v`` [m/s].
     curvature_input : str
         Name of the curvature input at the wheelset's station.
+    contact : dict of str to sympy.Symbol, optional
+        The results of the wheelset's ``"profiles"`` node
+        (:func:`express.rail.profile_contact.contact_terms`): adds the gravitational
+        stiffness and the contact-angle (spin) terms of Wickens' linearised wheelset
+        (``docs/contact.md``)::
+
+            K[y, y] += ky,  P[y, yR] += ky,  K[psi, psi] += kpsi,
+            K[y, psi] += -2 f2 (g - 1),  C[y, y] += 2 f2 (gy - 1) / v,
+            C[y, psi] += 2 f23 / v,  P[y, rho] += -2 f23
 
     Returns
     -------
@@ -66,4 +75,9 @@ def wheelset_terms(wheelset: Wheelset, speed: sp.Expr, curvature_input: str):
         (y, flange_input(wheelset), -wheelset.rail_stiffness),
         (psi, curvature_input, -2 * b**2 * f1),
     ]
+    if contact is not None:
+        ky, f23 = contact["lateral_stiffness"], contact["f23"]
+        stiffness += [(y, y, ky), (psi, psi, contact["yaw_stiffness"]), (y, psi, -2 * f2 * (contact["angle_factor"] - 1))]
+        damping += [(y, y, 2 * f2 * (contact["lateral_factor"] - 1) / speed), (y, psi, 2 * f23 / speed)]
+        forces += [(y, irregularity_input(wheelset), ky), (y, curvature_input, -2 * f23)]
     return stiffness, damping, forces

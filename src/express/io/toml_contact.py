@@ -1,0 +1,133 @@
+"""``conicity = { from = "profiles", ... }`` in ``[rail.wheel_rail]`` or
+``[rail.wheelset.ID]``: the wheelset's conicity and contact terms from wheel and rail
+profiles, a ``"profiles"`` derivation node of the parameter graph
+(:mod:`express.rail.profile_contact`, ``docs/model-format.md``)::
+
+    [rail.wheel_rail]
+    conicity = { from = "profiles", wheel = "S1002", rail = "60E1", inclination = "1:40",
+                 gauge = "1435 mm", flange_back = "1360 mm", amplitude = "3 mm" }
+
+The node's arguments are quantities with units or expressions of parameters; the
+profiles are standard names or files (relative to the model file).  Its results become
+parameters named after ``name`` (default ``Gamma_e``; ``Gamma_e_<wheelset>`` for one
+wheelset's own table).
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+from typing import Any
+
+import sympy as sp
+
+from ..model import Derivation
+from ..units import UnitError, check_dimension, parse_quantity
+
+__all__ = ["PROFILE_INPUTS", "PROFILE_OUTPUTS", "conicity_value"]
+
+#: Arguments: (key, dimension, default); ``None``: the wheelset's own value (r0, wheel
+#: load).  Equal to :data:`express.rail.profile_contact.INPUTS` (a test keeps them so;
+#: the reader does not import the rail layer).
+PROFILE_INPUTS = (
+    ("gauge", "length", 1.435),
+    ("flange_back", "length", 1.360),
+    ("inclination", "dimensionless", 1.0 / 40.0),
+    ("wheel_radius", "length", None),
+    ("amplitude", "length", 3e-3),
+    ("wheel_load", "force", None),
+    ("youngs_modulus", "pressure", 206e9),
+    ("poisson", "dimensionless", 0.3),
+)
+#: Results: (key, parameter name suffix, dimension) as :data:`express.rail.profile_contact.OUTPUTS`.
+PROFILE_OUTPUTS = (
+    ("conicity", "", "dimensionless"),
+    ("epsilon", "epsilon", "dimensionless"),
+    ("sigma", "sigma", "dimensionless"),
+    ("delta0", "delta0", "angle"),
+    ("half_distance", "l0", "length"),
+    ("radius", "r0", "length"),
+    ("f11", "f11", "force"),
+    ("f22", "f22", "force"),
+    ("f23", "f23", "rotational_stiffness"),
+    ("lateral_stiffness", "ky", "stiffness"),
+    ("yaw_stiffness", "kpsi", "rotational_stiffness"),
+    ("angle_factor", "g", "dimensionless"),
+    ("lateral_factor", "gy", "dimensionless"),
+)
+_KEYS = ("from", "wheel", "rail", "units", "name", *(key for key, _, _ in PROFILE_INPUTS))
+_RATIO = re.compile(r"\s*1\s*:\s*(\S+)\s*\Z")
+
+
+def conicity_value(reader, own: dict, defaults: dict, body: str, nodes: dict[str, Derivation]) -> sp.Expr | None:
+    """The conicity of wheelset ``body`` when it comes from profiles (its own table or
+    the ``[rail.wheel_rail]`` one): the symbol of the node's conicity, the node added to
+    ``nodes`` (one for ``[rail.wheel_rail]``, shared); ``None`` otherwise."""
+    if isinstance(own.get("conicity"), dict):
+        spec, path, key, name = own["conicity"], ("rail", "wheelset", body, "conicity"), body, f"Gamma_e_{body}"
+        table = {**defaults, **own}
+    elif "conicity" not in own and isinstance(defaults.get("conicity"), dict):
+        spec, path, key, name = defaults["conicity"], ("rail", "wheel_rail", "conicity"), "wheel_rail", "Gamma_e"
+        table = defaults
+    else:
+        return None
+    if key not in nodes:
+        nodes[key] = _node(reader, spec, path, name, table)
+    return sp.Symbol(nodes[key].output("conicity"))
+
+
+def _node(reader, spec: dict, path: tuple[str, ...], name: str, table: dict) -> Derivation:
+    item = ".".join(path)
+    reader.unknown_keys(spec, _KEYS, path, item)
+    if spec.get("from") != "profiles":
+        reader.problem((*path, "from"), item, f'from must be "profiles", got {spec.get("from")!r}')
+    settings = []
+    for key in ("wheel", "rail"):
+        value = spec.get(key)
+        if not isinstance(value, str) or not value.strip():
+            reader.problem((*path, key), item, f'{key} must name a profile ("S1002", "60E1") or a file')
+            value = "?"
+        settings.append((key, value))
+    settings.append(("base", str(Path(reader.source).parent)))
+    units = spec.get("units", "")
+    if units not in ("", "mm", "m"):
+        reader.problem((*path, "units"), item, f'units must be "mm" or "m", got {units!r}')
+        units = ""
+    settings.append(("units", units))
+    name = reader.name(spec.get("name", name), (*path, "name"), item, "name")
+    inputs = []
+    for key, dimension, default in PROFILE_INPUTS:
+        raw = spec.get(key, default)
+        if raw is None:  # the wheelset's own r0 / wheel load
+            raw = table.get({"wheel_radius": "r0", "wheel_load": "wheel_load"}[key], 0)
+        inputs.append((key, _argument(reader, raw, dimension, (*path, key), item, key), dimension))
+    outputs = tuple((key, f"{name}_{suffix}" if suffix else name, dimension) for key, suffix, dimension in PROFILE_OUTPUTS)
+    return Derivation("profiles", item, tuple(inputs), outputs, reader.line(*path), tuple(settings))
+
+
+def _argument(reader, raw: Any, dimension: str, path: tuple[str, ...], item: str, key: str) -> sp.Expr:
+    """A quantity with a unit (``"1435 mm"``), a rail inclination ``"1:40"``, a number
+    (SI) or an expression of parameters."""
+    if isinstance(raw, str):
+        ratio = _RATIO.match(raw)
+        if key == "inclination" and ratio:
+            tail = ratio.group(1).lower()
+            if tail in ("inf", "infinity", "∞"):
+                return sp.S.Zero
+            try:
+                return sp.Integer(1) / sp.nsimplify(float(tail))
+            except (ValueError, ZeroDivisionError):
+                reader.problem(path, item, f'{key} "{raw}": expected 1:n (1:40, 1:20, 1:inf) or a tangent')
+                return sp.S.Zero
+        try:
+            value, unit = parse_quantity(raw)
+        except UnitError:
+            return reader.expression(raw, path, item, key)
+        if unit:  # a bare number is SI
+            try:
+                check_dimension(unit, dimension)
+            except UnitError as error:
+                reader.problem(path, item, f'{key} "{raw}": {error}')
+                return sp.S.Zero
+        return sp.Float(value)
+    return reader.expression(raw, path, item, key)

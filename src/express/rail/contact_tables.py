@@ -1,0 +1,304 @@
+"""Contact tables for the dynamics: the contact geometry of a wheel/rail pair, with the
+Hertz ellipse and Kalker's coefficients of every contact, on a uniform grid of the
+lateral displacement, ready for compiled look-ups; the quasi-linear contact parameters
+of the linearised wheelset (Wickens' contact-angle and roll parameters).
+
+A :class:`ContactTables` holds, for the left (row 0) and right (row 1) contact of a
+rigid wheelset without yaw at every ``y`` of the grid (:mod:`express.rail.contact_geometry`):
+the rolling radius, the contact angle in the track plane ``delta`` (positive when the
+wheel surface rises toward the field side), the angle of the contact to the axle
+``theta = delta -+ roll`` (what the spin sees), the lateral distance of the contact
+from the wheelset centre, the Hertz semi-axes for a normal force of 1 N (they scale
+with ``N^(1/3)``), Kalker's C11, C22, C23 (they depend on the ellipse's shape only),
+the roll and its slope.  Quantities are interpolated linearly between the nodes; a
+contact jump (tread to flange) is a step between two nodes 10 um apart.
+
+:func:`rail_deflection_map` adds the lateral elasticity of the rails (the model's
+``rail_stiffness``): each rail is pushed outward by the change of the lateral component
+of its wheel's normal force, ``Q (tan delta - tan delta_0)``, so that the contact sits
+at ``u`` where ``y = u + (Q / kR)(tan delta(u) - tan delta_0)``.  This is what makes the
+flange contact elastic.
+
+:func:`linear_contact_parameters` gives the quantities of Wickens' linearised wheelset at
+an amplitude (``docs/contact.md``, "Linear model from the contact").
+
+All quantities SI.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .contact import hertz_contact, kalker_coefficients
+from .contact_geometry import ContactSetup, contact_geometry
+from .profiles import Profile
+
+__all__ = [
+    "FIELDS",
+    "ContactTables",
+    "LinearContact",
+    "RailMap",
+    "contact_tables",
+    "describing_gain",
+    "linear_contact_parameters",
+    "rail_deflection_map",
+]
+
+#: Per-side fields of :attr:`ContactTables.data`, in order.
+FIELDS = ("radius", "angle", "axle_angle", "arm", "semi_a", "semi_b", "c11", "c22", "c23", "roll", "roll_slope")
+RADIUS, ANGLE, AXLE_ANGLE, ARM, SEMI_A, SEMI_B, C11, C22, C23, ROLL, ROLL_SLOPE = range(len(FIELDS))
+#: Smallest lateral relative curvature used for Hertz [1/m]: a conformal contact is
+#: not Hertzian; this bounds the ellipse's width (S1002 on 60E1 never comes below 0.28).
+_MIN_CURVATURE = 0.02
+
+
+@dataclass(frozen=True, eq=False)
+class ContactTables:
+    """Contact quantities of a wheel/rail pair on a uniform grid of ``y``.
+
+    Attributes
+    ----------
+    start, step : float
+        ``y[k] = start + step k`` [m].
+    data : numpy.ndarray, shape (len(FIELDS), 2, n)
+        ``data[f, side, k]``, fields :data:`FIELDS`: radius [m], angle [rad],
+        axle_angle [rad], arm [m], semi_a and semi_b [m per N^(1/3)], c11, c22, c23 [-],
+        roll [rad] (same on both rows), roll_slope [rad/m].
+    setup : ContactSetup
+    youngs_modulus, poisson : float
+        Material of both bodies [Pa, -].
+    names : str
+        ``"wheel/rail"`` for displays.
+    jumps : tuple of ContactJump
+        Contact jumps of the underlying geometry.
+    """
+
+    start: float
+    step: float
+    data: np.ndarray
+    setup: ContactSetup
+    youngs_modulus: float
+    poisson: float
+    names: str
+    jumps: tuple = ()
+
+    @property
+    def y(self) -> np.ndarray:
+        """The grid [m]."""
+        return self.start + self.step * np.arange(self.data.shape[2])
+
+    @property
+    def shear_modulus(self) -> float:
+        """G = E / (2 (1 + nu)) [Pa]."""
+        return self.youngs_modulus / (2.0 * (1.0 + self.poisson))
+
+    def at(self, y: float) -> dict[str, np.ndarray]:
+        """Every field at ``y`` (linear interpolation, inside the grid), shape (2,) each."""
+        grid = self.y
+        if not grid[0] <= y <= grid[-1]:
+            raise ValueError(f"y = {y * 1e3:g} mm outside the table ({grid[0] * 1e3:g} .. {grid[-1] * 1e3:g} mm)")
+        return {name: np.array([np.interp(y, grid, self.data[f, side]) for side in (0, 1)])
+                for f, name in enumerate(FIELDS)}
+
+
+#: Tables already built, by the content of their arguments (a table takes seconds).
+_CACHE: dict[tuple, ContactTables] = {}
+_CACHE_SIZE = 16
+
+
+def _profile_key(profile: Profile) -> tuple:
+    digest = hashlib.sha1(np.ascontiguousarray(profile.y).tobytes() + np.ascontiguousarray(profile.z).tobytes())
+    return profile.name, profile.kind, digest.hexdigest()
+
+
+def _tables(wheel: Profile, rail: Profile, setup: ContactSetup, youngs_modulus: float, poisson: float,
+            reach: float, step: float) -> ContactTables:
+    count = math.ceil(reach / step - 1e-9)
+    y = step * np.arange(-count, count + 1)
+    geometry = contact_geometry(wheel, rail, y, setup)
+    n = len(y)
+    data = np.zeros((len(FIELDS), 2, n))
+    sign = np.array([[1.0], [-1.0]])
+    data[RADIUS] = geometry.radius
+    data[ANGLE] = geometry.contact_angle
+    data[AXLE_ANGLE] = geometry.contact_angle - sign * geometry.roll
+    data[ARM] = geometry.track_position - sign * y
+    data[ROLL] = geometry.roll
+    data[ROLL_SLOPE] = np.gradient(geometry.roll, y)
+    rolling = 0.5 * geometry.wheel_curvature_rolling
+    lateral = np.maximum(0.5 * (geometry.wheel_curvature_lateral + geometry.rail_curvature_lateral), _MIN_CURVATURE)
+    cache: dict[tuple[float, float], tuple[float, ...]] = {}
+    for side in (0, 1):
+        for k in range(n):
+            key = (round(float(rolling[side, k]), 9), round(float(lateral[side, k]), 6))
+            if key not in cache:
+                # hertz_contact takes radii: A = 1 / (2 R_rolling), B = 1 / (2 R_lateral)
+                ellipse = hertz_contact(1.0, 0.5 / key[0], 0.5 / key[1], youngs_modulus, poisson)
+                cache[key] = (ellipse.a, ellipse.b, *kalker_coefficients(ellipse.a, ellipse.b, poisson)[:3])
+            data[SEMI_A:C23 + 1, side, k] = cache[key]
+    return ContactTables(float(y[0]), step, data, setup, float(youngs_modulus), float(poisson),
+                         f"{wheel.name}/{rail.name}", geometry.jumps)
+
+
+def contact_tables(
+    wheel: Profile,
+    rail: Profile,
+    setup: ContactSetup | None = None,
+    *,
+    youngs_modulus: float = 206e9,
+    poisson: float = 0.3,
+    reach: float = 15e-3,
+    step: float = 0.01e-3,
+) -> ContactTables:
+    """Contact tables of a wheel/rail pair for ``|y| <= reach`` every ``step``.
+
+    The geometry is :func:`express.rail.contact_geometry.contact_geometry`; the Hertz
+    ellipse (:func:`express.rail.contact.hertz_contact`) uses the relative curvatures
+    ``A = cos(theta) / (2 r)`` and ``B = (k_wheel + k_rail) / 2`` of each contact
+    (``B`` at least 0.02 1/m).  Tables are cached by their arguments (profiles by
+    identity): building one takes about 2 s for +-15 mm every 0.01 mm.
+
+    Raises
+    ------
+    ValueError
+        When the wheels do not reach the rails over the range (reduce ``reach``).
+    """
+    setup = setup or ContactSetup()
+    key = (_profile_key(wheel), _profile_key(rail), setup, float(youngs_modulus), float(poisson), float(reach), float(step))
+    if key not in _CACHE:
+        if len(_CACHE) >= _CACHE_SIZE:
+            _CACHE.pop(next(iter(_CACHE)))
+        _CACHE[key] = _tables(wheel, rail, setup, float(youngs_modulus), float(poisson), float(reach), float(step))
+    return _CACHE[key]
+
+
+# ------------------------------------------------------------------ elastic rails
+
+
+@dataclass(frozen=True, eq=False)
+class RailMap:
+    """Where each contact sits, ``u``, for a wheelset displacement ``y`` relative to the
+    undeformed track: ``contact[side, k]`` at ``y = start + step k`` [m]; beyond the
+    last node the contact stays at the end value (the wheel would climb the rail)."""
+
+    start: float
+    step: float
+    contact: np.ndarray
+
+    def at(self, y: float) -> np.ndarray:
+        """``u`` of both sides at ``y`` (clamped to the map), shape (2,)."""
+        grid = self.start + self.step * np.arange(self.contact.shape[1])
+        return np.array([np.interp(y, grid, row) for row in self.contact])
+
+
+def rail_deflection_map(tables: ContactTables, wheel_load: float, rail_stiffness: float) -> RailMap:
+    """The contact position ``u`` of each side against the wheelset displacement ``y``
+    with rails of lateral stiffness ``rail_stiffness`` [N/m] each, wheel load ``Q``.
+
+    Each rail moves outward by ``Q (tan delta(u) - tan delta(0)) / kR`` (the change of
+    the lateral component of a normal force whose vertical component is ``Q``), so
+    ``y = u + sign (Q / kR)(tan delta(u) - tan delta(0))`` (sign +1 left, -1 right).
+    The map follows the branch through the centre; where ``y(u)`` turns back (the
+    contact angle falls as the flange climbs) it stops.  ``rail_stiffness = inf``
+    gives ``u = y``.
+    """
+    grid = tables.y
+    centre = int(np.argmin(np.abs(grid)))
+    compliance = wheel_load / rail_stiffness if math.isfinite(rail_stiffness) and rail_stiffness > 0 else 0.0
+    rows = []
+    for side, sign in ((0, 1.0), (1, -1.0)):
+        tangent = np.tan(tables.data[ANGLE, side])
+        rows.append(grid + sign * compliance * (tangent - tangent[centre]))
+    step = tables.step
+    # nodes on multiples of the step, so that y = 0 is one (u(y) has a kink there)
+    first = math.ceil(max(float(position[: centre + 1].min()) for position in rows) / step - 1e-9)
+    last = math.floor(min(float(position[centre:].max()) for position in rows) / step + 1e-9)
+    start = first * step
+    y = step * np.arange(first, last + 1)
+    contact = np.array([_invert(position, grid, centre, y) for position in rows])
+    return RailMap(float(start), step, contact)
+
+
+def _invert(position: np.ndarray, grid: np.ndarray, centre: int, y: np.ndarray) -> np.ndarray:
+    """``u(y)`` on the monotone branch of ``y = position(u)`` through the centre."""
+    up = np.maximum.accumulate(position[centre:])
+    keep = np.concatenate([[True], np.diff(up) > 0])
+    down = np.minimum.accumulate(position[: centre + 1][::-1])
+    keep_down = np.concatenate([[True], np.diff(down) < 0])
+    ys = np.concatenate([down[keep_down][::-1][:-1], up[keep]])
+    us = np.concatenate([grid[: centre + 1][::-1][keep_down][::-1][:-1], grid[centre:][keep]])
+    return np.interp(y, ys, us)
+
+
+# ------------------------------------------------------------------ linearisation
+
+
+def describing_gain(function, amplitude: float, points: int = 512) -> float:
+    """First-harmonic gain of an odd function at ``amplitude``:
+    ``(2 / (pi A)) integral_0^pi f(A sin t) sin t dt`` (midpoint rule); the slope at 0
+    for a smooth function and a small amplitude."""
+    t = (np.arange(points) + 0.5) * math.pi / points
+    return float(2.0 / (math.pi * amplitude) * np.sum(function(amplitude * np.sin(t)) * np.sin(t)) * math.pi / points)
+
+
+@dataclass(frozen=True)
+class LinearContact:
+    """The contact of a centred wheelset and its quasi-linear changes at an amplitude.
+
+    Attributes
+    ----------
+    delta0 : float
+        Contact angle at the centred position [rad] (mean of both sides).
+    half_distance : float
+        Lateral distance of the contacts from the wheelset centre, centred [m] (l0).
+    radius : float
+        Rolling radius at the centred position [m].
+    epsilon : float
+        Wickens' contact-angle parameter: ``delta_L - delta_R = 2 epsilon y / l0``.
+    sigma : float
+        Wickens' roll parameter: ``roll = sigma y / l0``.
+    lambda_ : float
+        ``delta_r = 2 lambda y`` (first-harmonic gain; the EN 15302 conicity is separate).
+    amplitude : float
+        The amplitude of the gains [m].
+    """
+
+    delta0: float
+    half_distance: float
+    radius: float
+    epsilon: float
+    sigma: float
+    lambda_: float
+    amplitude: float
+
+
+def linear_contact_parameters(tables: ContactTables, amplitude: float) -> LinearContact:
+    """Wickens' linear contact parameters as first-harmonic gains at ``amplitude`` [m]
+    (:func:`describing_gain`): for smooth profiles and a small amplitude, the slopes at
+    the centred position."""
+    grid = tables.y
+    if not 0 < amplitude <= min(-grid[0], grid[-1]):
+        raise ValueError(f"amplitude {amplitude * 1e3:g} mm outside the table (+-{grid[-1] * 1e3:g} mm)")
+    data = tables.data
+    centre = [float(np.interp(0.0, grid, data[f, side])) for f, side in ((ANGLE, 0), (ANGLE, 1))]
+    l0 = 0.5 * sum(float(np.interp(0.0, grid, data[ARM, side])) for side in (0, 1))
+
+    def odd(values):
+        return lambda y: 0.5 * (np.interp(y, grid, values) - np.interp(-y, grid, values))
+
+    angle_gain = describing_gain(odd(data[ANGLE, 0] - data[ANGLE, 1]), amplitude)
+    roll_gain = describing_gain(odd(data[ROLL, 0]), amplitude)
+    radius_gain = describing_gain(odd(data[RADIUS, 0] - data[RADIUS, 1]), amplitude)
+    return LinearContact(
+        delta0=0.5 * (centre[0] + centre[1]),
+        half_distance=l0,
+        radius=0.5 * sum(float(np.interp(0.0, grid, data[RADIUS, side])) for side in (0, 1)),
+        epsilon=0.5 * l0 * angle_gain,
+        sigma=l0 * roll_gain,
+        lambda_=0.5 * radius_gain,
+        amplitude=float(amplitude),
+    )
