@@ -66,7 +66,6 @@ def test_anti_roll_bar_between_two_bodies():
 def test_rotational_spring_to_a_ground_is_driven_by_the_ground_rotation(axis, inertia):
     text = f"""
 [bodies.B1]
-mass = "m"
 inertia = {inertia}
 dofs = ["{axis}", "x", "y", "z"]
 

@@ -1,9 +1,8 @@
 """Physical valid ranges of a model's values, from the place each value is used.
 
-A value means something only where it is used: a body's mass is a mass, and must be
-positive when the body has a translational DOF; a wheelset's friction coefficient
-must be positive (the creep forces saturate at ``mu N``); a cant base of zero divides
-the cant by nothing.  :func:`range_problems` evaluates every use of the model
+A value means something only where it is used: a body's mass is a mass, and may not
+be negative; a wheelset's friction coefficient must be positive (the creep forces
+saturate at ``mu N``); a cant base of zero divides the cant by nothing.  :func:`range_problems` evaluates every use of the model
 (:func:`express.parameter_units.use_sites`) at the current values and reports each
 one outside its range, naming the parameter (its file and line, or the ``--set``
 that gave it), the use and the range; :func:`check_ranges` raises them together and
@@ -13,9 +12,10 @@ is refused before any work, with status 2 on the command line.
 
 Valid ranges (SI; "warns" marks a value below zero that is allowed with a warning):
 
-- body mass: 0 < m <= 1e8 kg when the body has a translational DOF that no pinned
-  joint eliminates, else 0 <= m; inertia Ix, Iy, Iz: 0 < I <= 1e11 kg m^2 when the
-  body has that rotational DOF, else 0 <= I;
+- body mass 0 <= m <= 1e8 kg, inertia Ix, Iy, Iz 0 <= I <= 1e11 kg m^2; zero is a
+  massless idealization (the paper's lever), allowed when a pin gives the DOF its
+  mass: a DOF whose generalized mass is zero is a warning of ``generate`` and is
+  refused by every numerical analysis (:mod:`express.statespace`), naming the DOF;
 - positions, CP offsets, output offsets: |x| <= 1e5 m;
 - element stiffness and damping: |x| <= 1e15 (N/m, N s/m, N m/rad, N m s/rad), warns;
   progressive stiffness |x| <= 1e24 N/m^3 (rotational 1e15 N m/rad), warns;
@@ -50,7 +50,7 @@ from dataclasses import dataclass
 import sympy as sp
 
 from .diagnostics import ModelError, ModelWarning, Problem
-from .model import AXES, Model
+from .model import Model
 from .parameter_units import UseSite, use_sites
 from .units import KMH, format_quantity, unit_factor
 
@@ -114,31 +114,14 @@ _WHEELSET = {
 }
 
 
-def _virtual_dofs(model: Model) -> set[tuple[str, str]]:
-    """``(body, axis)`` of every DOF a pinned joint eliminates: a massless body may
-    carry one (its motion follows the pin)."""
-    hosts = {point.id: point.host for point in model.points}
-    virtual = set()
-    for pin in model.pins:
-        for element in model.elements:
-            if {element.s_end, element.t_end} == {pin.virtual, pin.non_virtual} and pin.virtual in hosts:
-                virtual.add((hosts[pin.virtual], AXES[element.direction]))
-    return virtual
-
-
-def _site_range(site: UseSite, bodies: dict, elements: dict, virtual: set) -> ValidRange | None:
+def _site_range(site: UseSite, bodies: dict, elements: dict) -> ValidRange | None:
     """The valid range of one use of a value (None: any finite value)."""
     kind, _, name = site.item.partition(" ")
     if kind == "body" and name in bodies:
-        body = bodies[name]
         if site.what == "mass":
-            needed = any(dof in AXES and (body.id, dof) not in virtual for dof in body.dofs)
-            note = "the body has a translational DOF" if needed else ""
-            return ValidRange(0.0, MASS_MAX, "kg", open_low=needed, note=note)
+            return ValidRange(0.0, MASS_MAX, "kg")
         if site.what.startswith("inertia I"):
-            needed = "r" + site.what[-1] in body.dofs
-            note = f"the body has the r{site.what[-1]} DOF" if needed else ""
-            return ValidRange(0.0, INERTIA_MAX, "kg*m^2", open_low=needed, note=note)
+            return ValidRange(0.0, INERTIA_MAX, "kg*m^2")
         return _symmetric(LENGTH_MAX, "m")
     if kind in ("CP", "output"):
         return _symmetric(LENGTH_MAX, "m")
@@ -179,10 +162,9 @@ class _Checks:
         self.keep = (model.bodies, model.points, model.elements, model.rail, model.gravity, model.derivations)
         bodies = {body.id: body for body in model.bodies}
         elements = {element.id: element for element in model.elements}
-        virtual = _virtual_dofs(model)
         found: dict[tuple, list] = {}
         for site in use_sites(model):
-            valid = _site_range(site, bodies, elements, virtual)
+            valid = _site_range(site, bodies, elements)
             expression = sp.sympify(site.expression)
             if valid is None or (expression.is_Number and valid.contains(float(expression)) and float(expression) >= 0):
                 continue  # a constant inside its range stays inside it

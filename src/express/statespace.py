@@ -25,7 +25,7 @@ import numpy as np
 import sympy as sp
 
 from .diagnostics import ModelError, Problem
-from .equations import EquationsOfMotion
+from .equations import STROKE, EquationsOfMotion
 from .first_order import FirstOrderError, StateForm, state_form
 from .model import Model
 from .numeric import CompiledExpressions, CompiledMatrices, compile_matrices
@@ -215,6 +215,19 @@ class VehicleModel:
 
 
 def _state_form(vehicle: VehicleModel) -> StateForm:
+    # only a series element's damper stroke may be massless (a first-order coordinate);
+    # a body DOF without mass (mc = 0) would silently become one (issue 17)
+    diagonal = np.diag(vehicle.mass)
+    massless = [dof for dof, m in zip(vehicle.equations.dofs, diagonal, strict=True)
+                if not m > 0 and not dof.endswith(f".{STROKE}")]
+    if massless:
+        source = vehicle.model.source if vehicle.model is not None else vehicle.equations.name
+        plural = len(massless) > 1
+        raise SingularMassError([Problem(
+            source, None, "mass matrix",
+            f"M cannot be inverted: DOF{'s' if plural else ''} {', '.join(massless)} ha{'ve' if plural else 's'} "
+            "zero (or negative) mass or inertia; give it a mass or remove the DOF",
+        )])
     try:
         return state_form(
             vehicle.mass, vehicle.damping_base, vehicle.damping_creep, vehicle.stiffness,
