@@ -70,12 +70,13 @@ def run_json(capsys, *argv) -> dict:
 
 def assert_fails(capsys, status: int, *argv, mentions: str = "") -> str:
     """The command exits with ``status``, prints nothing on stdout and ``error:`` lines
-    on stderr (one per problem), the first mentioning ``mentions``."""
+    on stderr (one per problem; ``warning:`` lines may precede them), one mentioning
+    ``mentions``."""
     code, out, err = run(capsys, *argv)
     assert code == status, (code, err)
     assert out == ""
     lines = err.splitlines()
-    assert lines and all(line.startswith("error: ") for line in lines if not line.startswith("usage")), err
+    assert lines and all(line.startswith(("error: ", "warning: ")) for line in lines if not line.startswith("usage")), err
     if mentions:
         assert mentions in err, err
     return err
