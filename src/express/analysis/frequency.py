@@ -54,7 +54,7 @@ from ..threads import limited_blas
 
 __all__ = [
     "FrequencyResponse", "TransferFunctions", "dynamic_stiffness", "frequency_response", "ground_response",
-    "irregularity_delays",
+    "irregularity_delays", "steady_response",
 ]
 
 
@@ -166,6 +166,68 @@ def dynamic_stiffness(vehicle: VehicleModel, omega: np.ndarray, speed: float) ->
     return result
 
 
+#: Size [bytes] of a stack of dynamic stiffnesses solved at once.
+_CHUNK_BYTES = 1 << 20
+
+
+def steady_response(
+    vehicle: VehicleModel, frequencies: np.ndarray, speed: float, columns: list[int], amplitudes: np.ndarray
+) -> np.ndarray:
+    """Complex amplitudes ``X`` of every DOF for input amplitudes ``U`` at every frequency.
+
+    ``(-w^2 M + i w C(v) + K) X = (P(v) + i w Pd) U``, with ``U`` given in the input
+    ``columns``.  Few frequencies: one stacked solve of the dynamic stiffness.  Many (at
+    least twice the number of states): through one Schur form of the state matrix, a
+    back substitution per frequency (:func:`express.analysis.ride.spectral.resolvent_solve`),
+    ``x = (i w I - A)^-1 (B + i w Bd) U`` and ``X = x[:n]``, the same solution to
+    rounding (1e-9 relative on the steered car, whose lever mode is stiff).
+
+    Parameters
+    ----------
+    vehicle : VehicleModel
+    frequencies : numpy.ndarray, shape (F,)
+        [Hz], >= 0.
+    speed : float
+        [m/s].
+    columns : list of int
+        Indices of the ``k`` driven inputs.
+    amplitudes : numpy.ndarray, complex, shape (F, k, J)
+        ``U``: ``J`` sets of input amplitudes per frequency.
+
+    Returns
+    -------
+    numpy.ndarray, complex, shape (F, n, J)
+
+    Raises
+    ------
+    AnalysisError
+        At a frequency where the dynamic stiffness is singular.
+    """
+    w = 2.0 * np.pi * np.asarray(frequencies, dtype=float)
+    try:
+        if w.size >= 2 * vehicle.form.size:
+            from .ride.spectral import resolvent_solve
+
+            b = vehicle.input_matrix(speed)[:, columns]
+            bd = vehicle.input_rate_matrix(speed)[:, columns]
+            rhs = b @ amplitudes + (1j * w)[:, None, None] * (bd @ amplitudes)
+            with np.errstate(all="ignore"):
+                return resolvent_solve(vehicle.state_matrix(speed), frequencies, rhs)[:, : vehicle.n]
+        p = vehicle.forcing(speed)[:, columns]
+        pd = vehicle.forcing_rate(speed)[:, columns]
+        rhs = p @ amplitudes + (1j * w)[:, None, None] * (pd @ amplitudes)
+        out = np.empty((w.size, vehicle.n, rhs.shape[2]), dtype=complex)
+        chunk = max(1, _CHUNK_BYTES // (16 * vehicle.n * vehicle.n))  # stacks that stay in cache
+        for start in range(0, w.size, chunk):
+            part = slice(start, start + chunk)
+            out[part] = np.linalg.solve(dynamic_stiffness(vehicle, w[part], speed), rhs[part])
+        return out
+    except np.linalg.LinAlgError:
+        from ..diagnostics import AnalysisError
+
+        raise AnalysisError("the dynamic stiffness -w^2 M + i w C + K is singular at one of the frequencies") from None
+
+
 def irregularity_delays(vehicle: VehicleModel, speed: float) -> np.ndarray:
     """``t_n = (x_lead - x_n) / v`` [s] for every wheelset, the leading one (largest x)
     at 0. Shape (n_wheelsets,)."""
@@ -230,17 +292,7 @@ def frequency_response(
     columns = [inputs.index(name) for name in vehicle.layout.irregularity]
     delays = irregularity_delays(vehicle, v)
     irregularity = amplitude * np.exp(-1j * w[:, None] * delays[None, :])  # (F, nw)
-    p = vehicle.forcing(v)[:, columns]
-    pd = vehicle.forcing_rate(v)[:, columns]
-    # (F, n): (P + i w Pd) U
-    rhs = irregularity @ p.T + (1j * w[:, None]) * (irregularity @ pd.T)
-    stiffness = dynamic_stiffness(vehicle, w, v)
-    try:
-        X = np.linalg.solve(stiffness, rhs[..., None])[..., 0]
-    except np.linalg.LinAlgError:
-        from ..diagnostics import AnalysisError
-
-        raise AnalysisError("the dynamic stiffness -w^2 M + i w C + K is singular at one of the frequencies") from None
+    X = steady_response(vehicle, f, v, columns, irregularity[:, :, None])[..., 0]
     outputs: dict[str, np.ndarray] = {}
     model = vehicle.model
     if model is not None and model.rail is not None:
@@ -366,16 +418,7 @@ def ground_response(
     f = np.atleast_1d(np.asarray(frequencies, dtype=float))
     if f.ndim != 1 or not np.all(np.isfinite(f)) or np.any(f < 0):
         raise ValueError("frequencies must be a 1-D sequence of finite values >= 0 [Hz]")
-    w = 2.0 * np.pi * f
     columns = [vehicle.inputs.index(name) for name in names]
-    p = vehicle.forcing(v)[:, columns]
-    pd = vehicle.forcing_rate(v)[:, columns]
-    dynamic = dynamic_stiffness(vehicle, w, v)
-    rhs = p[None].astype(complex) + (1j * w)[:, None, None] * pd[None]
-    try:
-        h = np.linalg.solve(dynamic, rhs)
-    except np.linalg.LinAlgError:
-        from ..diagnostics import AnalysisError
-
-        raise AnalysisError("the dynamic stiffness -w^2 M + i w C + K is singular at one of the frequencies") from None
+    unit = np.broadcast_to(np.eye(len(columns), dtype=complex), (f.size, len(columns), len(columns)))
+    h = steady_response(vehicle, f, v, columns, unit)
     return TransferFunctions(f, v if rail else float("nan"), vehicle.dofs, names, h)

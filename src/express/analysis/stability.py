@@ -214,7 +214,9 @@ class _Pieces:
     def stack(self, speeds: np.ndarray) -> np.ndarray:
         return self.a0[None] + self.a1[None] / speeds[:, None, None]
 
-    def eigenvalues(self, speeds: np.ndarray, chunk: int = 256) -> np.ndarray:
+    def eigenvalues(self, speeds: np.ndarray, chunk: int | None = None) -> np.ndarray:
+        # stacks of about a megabyte: big stacks of big matrices only fill the caches
+        chunk = chunk or max(1, min(256, (1 << 20) // (8 * self.size * self.size)))
         out = np.empty((speeds.size, self.size), dtype=complex)
         for start in range(0, speeds.size, chunk):
             part = speeds[start : start + chunk]
