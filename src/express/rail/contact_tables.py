@@ -120,6 +120,10 @@ def _tables(wheel: Profile, rail: Profile, setup: ContactSetup, youngs_modulus: 
     count = math.ceil(reach / step - 1e-9)
     y = step * np.arange(-count, count + 1)
     geometry = contact_geometry(wheel, rail, y, setup)
+    bad = ~np.all(np.isfinite(geometry.radius) & np.isfinite(geometry.wheel_curvature_lateral), axis=0)
+    if bad.any():
+        raise ValueError(f"{wheel.name}/{rail.name}: no contact inside the profiles at y = {y[np.argmax(bad)] * 1e3:g} mm "
+                         f"(the contact runs off the end of a profile within +-{reach * 1e3:g} mm)")
     n = len(y)
     data = np.zeros((len(FIELDS), 2, n))
     sign = np.array([[1.0], [-1.0]])
