@@ -150,7 +150,7 @@ def read_input_text(path: str | Path, item: str = "", what: str = "the file") ->
             f"(raise it with the environment variable {LIMITS['file_mb'].variable})"
         )
     if b"\0" in data:
-        raise refuse("not a text file (it holds NUL bytes)")
+        raise refuse("not a UTF-8 text file (it holds NUL bytes)")
     try:
         text = data.decode("utf-8-sig")
     except UnicodeDecodeError as error:

@@ -61,6 +61,12 @@ def read_model_text(path: str | Path) -> str:
     return read_input_text(path)
 
 
+def _short(text: str, limit: int = 60) -> str:
+    """A field quoted in a message, cut to ``limit`` characters (a file may hold
+    anything, and may not be the user's own)."""
+    return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
 def _fields(line: str) -> list[str]:
     fields = re.split(r"\s*,\s*|\s*\t\s*", line.strip())
     while fields and fields[-1] == "":
@@ -83,24 +89,24 @@ class _RowReader:
         try:
             return parse_expression(text)
         except ExpressionError as error:
-            self.problem(f'{column} "{text}" is not a valid expression ({error})')
+            self.problem(f'{column} "{_short(text)}" is not a valid expression ({error})')
             return sp.S.Zero
 
     def flag(self, text: str, column: str) -> bool:
         if text in ("0", "1"):
             return text == "1"
-        self.problem(f'{column} flag must be 0 or 1, got "{text}"')
+        self.problem(f'{column} flag must be 0 or 1, got "{_short(text)}"')
         return False
 
     def direction(self, text: str) -> int:
         if text in ("1", "2", "3"):
             return int(text) - 1
-        self.problem(f'direction must be 1, 2 or 3 (x, y, z), got "{text}"')
+        self.problem(f'direction must be 1, 2 or 3 (x, y, z), got "{_short(text)}"')
         return 0
 
     def identifier(self, text: str, column: str) -> str:
         if not re.fullmatch(r"[A-Za-z][A-Za-z0-9_]*", text):
-            self.problem(f'{column} "{text}" is not an id')
+            self.problem(f'{column} "{_short(text)}" is not an id')
         return text
 
 
@@ -125,7 +131,30 @@ def parse_classic(text: str, source: str = "<string>") -> Model:
         With every problem found, each naming the file, line and item.
     """
     problems: list[Problem] = []
-    text = text.removeprefix("\ufeff")
+    rows = _scan(text.removeprefix("\ufeff"), source, problems)
+    for section, name in (("Body", "bodies"), ("TSD", "elements"), ("CP", "points")):
+        message = exceeded(name, len(rows[section]))
+        if message is not None:  # before any value is parsed
+            raise ModelError([Problem(source, None, f"section {section}", message)])
+    bodies, grounds, points, elements, pins = _records(rows, source, problems)
+    model = Model(
+        name=model_name_from_path(source),
+        source=source,
+        bodies=tuple(bodies),
+        grounds=tuple(grounds),
+        points=tuple(points),
+        elements=tuple(elements),
+        pins=tuple(pins),
+    )
+    problems.extend(check_model(model))
+    if problems:
+        raise ModelError(sorted(problems, key=lambda p: (p.line or 0)))
+    check_ranges(model)  # the constants among the values (a classic file has no parameters)
+    return model
+
+
+def _scan(text: str, source: str, problems: list[Problem]) -> dict[str, list]:
+    """The data rows ``(line, fields)`` of each section; problems of the layout."""
     section: str | None = None
     in_unknown_section = False
     seen_sections: set[str] = set()
@@ -136,72 +165,59 @@ def parse_classic(text: str, source: str = "<string>") -> Model:
             continue
         header = _HEADER.match(raw)
         if header:
-            index, title = int(header.group(1)), header.group(2).strip()
-            expected = SECTIONS.get(index)
-            if expected is None or title.lower() != expected.lower():
-                known = ", ".join(f"({k}) {v}" for k, v in SECTIONS.items())
-                problems.append(
-                    Problem(source, number, f"section ({index}) {title}", f"unknown section; expected one of {known}")
-                )
-                section, in_unknown_section = None, True
-                continue
-            if expected in seen_sections:
-                problems.append(Problem(source, number, f"section ({index}) {expected}", "section appears twice"))
-            seen_sections.add(expected)
-            section, in_unknown_section = expected, False
+            section = _section(header, number, source, seen_sections, problems)
+            in_unknown_section = section is None
             continue
         fields = _fields(raw)
-        if not fields:
-            continue
+        if not fields or not _ID_LIKE.match(fields[0]) or in_unknown_section:
+            continue  # column headings and other text are not data; an unknown section is reported
         first = fields[0]
-        if not _ID_LIKE.match(first):
-            continue  # column headings and other text are not data
-        if in_unknown_section:
-            continue  # its header is already reported
         if section is None:
-            problems.append(
-                Problem(source, number, first, "data row before any section header such as (1) Body")
-            )
+            problems.append(Problem(source, number, first, "data row before any section header such as (1) Body"))
             continue
         prefix = _PREFIX[section]
         if not first.startswith(prefix):
-            problems.append(
-                Problem(
-                    source,
-                    number,
-                    first,
-                    f"row in section {section}, whose ids start with {prefix} "
-                    f"(columns: {_COLUMNS[section]})",
-                )
-            )
+            problems.append(Problem(
+                source, number, first,
+                f"row in section {section}, whose ids start with {prefix} (columns: {_COLUMNS[section]})",
+            ))
             continue
         width = _WIDTH[section]
         if len(fields) != width:
-            problems.append(
-                Problem(
-                    source,
-                    number,
-                    f"{section} {first}",
-                    f"expected {width} columns ({_COLUMNS[section]}), found {len(fields)}",
-                )
-            )
+            problems.append(Problem(
+                source, number, f"{section} {first}",
+                f"expected {width} columns ({_COLUMNS[section]}), found {len(fields)}",
+            ))
             continue
         rows[section].append((number, fields))
-
     if not seen_sections and not problems:
         problems.append(Problem(source, None, "", "no section header such as (1) Body found: not a classic model file"))
-    for section, name in (("Body", "bodies"), ("TSD", "elements"), ("CP", "points")):
-        message = exceeded(name, len(rows[section]))
-        if message is not None:  # before any value is parsed
-            raise ModelError([Problem(source, None, f"section {section}", message)])
+    return rows
 
+
+def _section(header: re.Match, number: int, source: str, seen: set[str], problems: list[Problem]) -> str | None:
+    """The section a header opens (None for an unknown one, reported)."""
+    index, title = int(header.group(1)), header.group(2).strip()
+    expected = SECTIONS.get(index)
+    if expected is None or title.lower() != expected.lower():
+        known = ", ".join(f"({k}) {v}" for k, v in SECTIONS.items())
+        problems.append(Problem(source, number, f"section ({index}) {_short(title)}", f"unknown section; expected one of {known}"))
+        return None
+    if expected in seen:
+        problems.append(Problem(source, number, f"section ({index}) {expected}", "section appears twice"))
+    seen.add(expected)
+    return expected
+
+
+def _records(rows: dict[str, list], source: str, problems: list[Problem]) -> tuple[list, list, list, list, list]:
+    """Bodies, grounds, CPs, elements and pins from the rows of each section."""
     bodies, grounds, points, elements, pins = [], [], [], [], []
     for number, fields in rows["Body"]:
         row = _RowReader(source, number, f"body {fields[0]}", problems)
         mass = row.value(fields[1], "mass")
         inertia = tuple(row.value(fields[2 + i], f"I{axis}") for i, axis in enumerate(AXES))
         flags = [row.flag(fields[5 + i], name) for i, name in enumerate(DOF_NAMES)]
-        dofs = tuple(name for name, on in zip(DOF_NAMES, flags) if on)
+        dofs = tuple(name for name, on in zip(DOF_NAMES, flags, strict=True) if on)
         bodies.append(Body(fields[0], mass, inertia, dofs, line=number))
     for number, fields in rows["Ground"]:
         grounds.append(Ground(fields[0], line=number))
@@ -220,28 +236,9 @@ def parse_classic(text: str, source: str = "<string>") -> Model:
         elements.append(Element(fields[0], stiffness, damping, s_end, t_end, direction, line=number))
     for number, fields in rows["Pinned Joint"]:
         row = _RowReader(source, number, f"pin {fields[0]}", problems)
-        pins.append(
-            PinnedJoint(
-                fields[0],
-                row.identifier(fields[1], "virtual CP"),
-                row.identifier(fields[2], "non-virtual CP"),
-                line=number,
-            )
-        )
-    model = Model(
-        name=model_name_from_path(source),
-        source=source,
-        bodies=tuple(bodies),
-        grounds=tuple(grounds),
-        points=tuple(points),
-        elements=tuple(elements),
-        pins=tuple(pins),
-    )
-    problems.extend(check_model(model))
-    if problems:
-        raise ModelError(sorted(problems, key=lambda p: (p.line or 0)))
-    check_ranges(model)  # the constants among the values (a classic file has no parameters)
-    return model
+        virtual, non_virtual = row.identifier(fields[1], "virtual CP"), row.identifier(fields[2], "non-virtual CP")
+        pins.append(PinnedJoint(fields[0], virtual, non_virtual, line=number))
+    return bodies, grounds, points, elements, pins
 
 
 def read_classic(path: str | Path) -> Model:
