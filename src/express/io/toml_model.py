@@ -157,7 +157,7 @@ class _Reader:
             try:
                 return parse_expression(value)
             except ExpressionError as error:
-                self.problem(path, item, f'{what} "{value}" is not a valid expression ({error})')
+                self.problem(path, item, f'{what} "{_cut(value)}" is not a valid expression ({error})')
                 return sp.S.Zero
         self.problem(path, item, f"{what} must be a number or an expression, got {_kind(value)}")
         return sp.S.Zero
@@ -198,6 +198,11 @@ def _kind(value: Any) -> str:
     return {dict: "a table", list: "a list", str: "a string", bool: "a boolean"}.get(
         type(value), type(value).__name__
     )
+
+
+def _cut(text: str, limit: int = 60) -> str:
+    """A value quoted in a message, cut to ``limit`` characters."""
+    return text if len(text) <= limit else text[: limit - 3] + "..."
 
 
 def _show(value: Any) -> str:
@@ -264,13 +269,13 @@ def _text_parameter(reader: _Reader, name: str, raw: str, line: int | None) -> P
         except ExpressionError as error:
             looks_like_quantity = re.match(r"\s*[-+]?[\d.]", raw) and not re.search(r"[*/^()+]", raw.strip()[1:])
             reason = unit_error if looks_like_quantity else error
-            reader.problem(path, item, f'"{raw}" is neither a number with a unit nor an expression ({reason})')
+            reader.problem(path, item, f'"{_cut(raw)}" is neither a number with a unit nor an expression ({reason})')
             return None
         if expression.is_number:
             return Parameter(name, float(expression), "", line)
         return Parameter(name, math.nan, "", line, expression=expression)
     if not math.isfinite(value):
-        reader.problem(path, item, f'"{raw}" is not a finite number')
+        reader.problem(path, item, f'"{_cut(raw)}" is not a finite number')
         return None
     return Parameter(name, value, unit, line)
 
