@@ -37,6 +37,13 @@ the same process, same run):
    ``A(v)`` from scratch (``numpy.linalg.inv(M)`` each time) and calling
    ``scipy.linalg.eig`` (eigenvalues only).
 
+5. The library's ``simulate()`` against the CLI's (issue 16): in a child process that
+   keeps the default BLAS threads, ``simulate()`` called from Python (the library limits
+   its own threads, ``express.threads``) against the same call under the CLI's thread
+   setting (the baseline; target: ratio <= 1.25, i.e. as fast within the noise), and,
+   for information, with the limit switched off (``EXPRESS_BLAS_THREADS=none``: how the
+   library ran before) and the whole ``express simulate`` command in-process.
+
 Items 3 and 4 are skipped (and said so) if ``express.analysis.stability`` is missing.
 The last line of the output is exactly
 ``realtime_factor=<x> speedup_vs_solve_ivp=<y> q1_rel_diff=<z>``.
@@ -55,8 +62,10 @@ for _variable in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS", 
 import argparse  # noqa: E402
 import datetime  # noqa: E402
 import gc  # noqa: E402
+import json  # noqa: E402
 import platform  # noqa: E402
 import statistics  # noqa: E402
+import subprocess  # noqa: E402
 import sys  # noqa: E402
 import tempfile  # noqa: E402
 import time  # noqa: E402
@@ -323,6 +332,88 @@ class Bench:
         self.lines.append(f"root locus {speeds.size} speeds: {median:.3f} s (target < {ROOT_LOCUS_TARGET_S:g} s: "
                           f"{status}); naive {naive_time:.2f} s")
 
+    # ------------------------------------------------------------------ 5. library against CLI
+    def library_against_cli(self):
+        """``simulate()`` called from Python against the CLI's, in a child process whose
+        BLAS keeps its default threads (this script pins its own to one)."""
+        args = self.args
+        runs = max(args.runs, 5)
+        print(f"\n== 5. the library's simulate() against the CLI's: forced-steering, paper_curve(), fresh process with "
+              f"the default BLAS threads, medians of {runs} runs (library and CLI taking turns)")
+        env = {k: v for k, v in os.environ.items() if not k.endswith("_NUM_THREADS") and k != "EXPRESS_BLAS_THREADS"}
+        env["PYTHONPATH"] = os.pathsep.join([str(ROOT / "src"), env.get("PYTHONPATH", "")]).rstrip(os.pathsep)
+        done = subprocess.run([sys.executable, "-c", _LIBRARY_AGAINST_CLI, str(ROOT / MODELS["forced-steering"]),
+                               str(runs)], env=env, capture_output=True, text=True, timeout=900)
+        if done.returncode != 0:
+            print(f"FAILED: {done.stderr.strip().splitlines()[-1] if done.stderr.strip() else done.returncode}")
+            self.missed.append("library against CLI could not run")
+            return
+        figures = json.loads(done.stdout.strip().splitlines()[-1])
+        library, cli, unlimited, command = (figures[k] for k in ("library", "cli", "unlimited", "command"))
+        ratio = library / cli
+        print(f"BLAS libraries in the child: {figures['blas']}")
+        print(f"simulate() from Python (the library limits its threads): {library * 1e3:.2f} ms")
+        print(f"simulate() under the CLI's thread setting (baseline):     {cli * 1e3:.2f} ms -> ratio {ratio:.2f}")
+        print(f"simulate() with the limit switched off (EXPRESS_BLAS_THREADS=none, as before): "
+              f"{unlimited * 1e3:.2f} ms ({unlimited / cli:.1f}x the CLI's)")
+        print(f"whole command in-process, main(['simulate', model, '-o', run.npz]) (generation cached): "
+              f"{command * 1e3:.1f} ms")
+        status = self.check(ratio <= 1.25, f"library simulate {ratio:.2f}x the CLI's")
+        self.lines.append(f"library simulate() against the CLI's: {library * 1e3:.2f} ms vs {cli * 1e3:.2f} ms, "
+                          f"ratio {ratio:.2f} ({status}); without the library's limit {unlimited * 1e3:.1f} ms")
+
+
+#: Child script of section 5: argv = model, runs; prints one JSON line of medians [s].
+_LIBRARY_AGAINST_CLI = """
+import json, random, statistics, sys, tempfile, time
+from pathlib import Path
+from threadpoolctl import threadpool_info
+from express.analysis.simulate import simulate
+from express.cli import _one_blas_thread, main
+from express.rail.track import paper_curve
+from express.statespace import load_vehicle
+from express.threads import blas_threads
+
+model, runs = sys.argv[1], int(sys.argv[2])
+vehicle, track = load_vehicle(model), paper_curve()
+folder = tempfile.mkdtemp()
+
+def library():
+    simulate(vehicle, track, progress=False)
+
+def cli():
+    with _one_blas_thread(True):
+        simulate(vehicle, track, progress=False)
+
+def unlimited():
+    with blas_threads(None):
+        simulate(vehicle, track, progress=False)
+
+def command():
+    assert main(["simulate", model, "-o", str(Path(folder) / "run.npz")]) == 0
+
+def medians(functions):  # medians [s]; the functions take turns, in a random order every round
+    times = {name: [] for name in functions}
+    for function in functions.values():
+        function()
+    names = list(functions)
+    for _ in range(runs):
+        random.shuffle(names)
+        for name in names:
+            start = time.perf_counter()
+            functions[name]()
+            times[name].append(time.perf_counter() - start)
+    return {name: statistics.median(values) for name, values in times.items()}
+
+figures = medians({"library": library, "cli": cli})
+# apart: two BLAS threads left spinning, or a command's file work, slow whatever runs next
+figures.update(medians({"unlimited": unlimited}))
+figures.update(medians({"command": command}))
+figures["blas"] = ", ".join(f"{p['internal_api']} {p['num_threads']} threads"
+                            for p in threadpool_info() if p["user_api"] == "blas")
+print(json.dumps(figures))
+"""
+
 
 def _scan_critical(vehicle, speeds) -> float:
     """Lowest speed of the scan at which the largest real part is positive (nan: none)."""
@@ -443,6 +534,7 @@ def _run(args) -> int:
     bench.solve_ivp_baseline("forced-steering", vehicles["forced-steering"], track)
     bench.critical_speed(stability, vehicles, models)
     bench.root_locus(stability, vehicles["forced-steering"])
+    bench.library_against_cli()
 
     print("\n== summary")
     for line in bench.lines:
