@@ -161,3 +161,16 @@ def test_rail_numbers_are_the_graph_evaluator_values():
             assert getattr(data, key) == expression_value(getattr(wheelset, key), values), key
     assert vehicle.wheelsets[0].conicity == 0.17
     assert vehicle.station_positions.tolist() == [expression_value(s.position, values) for s in vehicle.layout.stations]
+
+
+def test_sparse_evaluation_equals_the_dense_one(tmp_path):
+    """``CompiledMatrices.sparse`` holds exactly the dense arrays' non-zeros."""
+    equations = generate_vehicle(_train(tmp_path, 2)).equations
+    compiled = compile_matrices(equations)
+    vector = compiled.vector(_random_values(equations, 5))
+    dense, sparse = compiled(vector), compiled.sparse(vector)
+    assert set(dense) == set(sparse)
+    for key in dense:
+        assert sparse[key].shape == dense[key].shape
+        assert np.array_equal(sparse[key].toarray(), dense[key]), key
+        assert sparse[key].nnz == np.count_nonzero(dense[key])
