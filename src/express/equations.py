@@ -158,9 +158,11 @@ class EquationsOfMotion:
         Virtual DOFs removed by the pinned joints (empty with ``keep_virtual``).
     inputs : tuple of str
         Names of the inputs ``u``, length m (may be empty).
-    matrices : dict of str to sympy.ImmutableMatrix
+    matrices : dict of str to sympy immutable matrix
         ``M``, ``C``, ``K`` (n x n) and, when inputs exist, ``P`` and ``Pd`` (n x m),
-        in the order of :data:`MATRIX_ORDER`; further keys may follow.
+        in the order of :data:`MATRIX_ORDER`; further keys may follow.  The generator
+        gives ``sympy.ImmutableSparseMatrix`` (only the non-zeros are stored; use
+        ``todok()`` to walk them); dense ``ImmutableMatrix`` works too.
     parameters : tuple of str
         Sorted names of every parameter symbol appearing in the matrices.
     values : dict of str to float

@@ -74,15 +74,15 @@ class GenerationResult:
         The matrices.
     warnings : tuple of Problem
         Suspicious features (a DOF with zero mass or inertia).
-    transformation : sympy.ImmutableMatrix
-        ``T`` with ``q = T q_r`` (full DOFs x reduced DOFs).
+    transformation : sympy.ImmutableSparseMatrix
+        ``T`` with ``q = T q_r`` (full DOFs x reduced DOFs), sparse.
     full_dofs : tuple of str
         Generalized coordinates before elimination (rows of ``T``).
     """
 
     equations: EquationsOfMotion
     warnings: tuple[Problem, ...]
-    transformation: sp.ImmutableMatrix
+    transformation: sp.ImmutableSparseMatrix
     full_dofs: tuple[str, ...]
 
 
