@@ -205,7 +205,7 @@ def _roles(vehicle: VehicleModel) -> Topology:
     model = vehicle.model
     if model is None:
         wheelsets = {w.name for w in vehicle.wheelsets}
-        role = {}
+        role: dict[str, str] = {}
         for dof in vehicle.dofs:
             body = dof.split(".")[0]
             role.setdefault(body, "wheelset" if body in wheelsets else "body")

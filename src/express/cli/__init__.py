@@ -31,7 +31,23 @@ from typing import Any, NoReturn
 
 from .. import __version__
 from ..diagnostics import EXIT_ANALYSIS, EXIT_INPUT, EXIT_INTERNAL, EXIT_OK, AnalysisError, InputError
-from . import conicity, contact_geometry, convert, critical_speed, demo, draw, eigen, export, frf, generate, report, ride, sensitivity, simulate, study
+from . import (
+    conicity,
+    contact_geometry,
+    convert,
+    critical_speed,
+    demo,
+    draw,
+    eigen,
+    export,
+    frf,
+    generate,
+    report,
+    ride,
+    sensitivity,
+    simulate,
+    study,
+)
 
 __all__ = ["build_parser", "main"]
 

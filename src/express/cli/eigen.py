@@ -80,13 +80,12 @@ def _table(model: Path, overrides: dict[str, str], speed: float | None, as_json:
     import numpy as np
 
     from ..analysis.stability import eigen_analysis
-
     from ..statespace import load_vehicle
 
     vehicle = load_vehicle(model, overrides)  # any model: without rail data A has no speed
     rail = vehicle.layout is not None and bool(vehicle.wheelsets)
-    v = common.running_speed(vehicle, speed) if rail else None
-    state_matrix = vehicle.state_matrix(v if rail else 1.0)
+    v: float | None = common.running_speed(vehicle, speed) if rail else None
+    state_matrix = vehicle.state_matrix(v if v is not None else 1.0)
     if not np.all(np.isfinite(state_matrix)):
         raise AnalysisError("eigen: the state matrix A has non-finite entries")
     result = eigen_analysis(vehicle, v)
@@ -95,7 +94,7 @@ def _table(model: Path, overrides: dict[str, str], speed: float | None, as_json:
     name = vehicle.equations.name
     if as_json:
         common.print_json({
-            "model": str(model), "speed": v, "speed_kmh": v / common.KMH if rail else None,
+            "model": str(model), "speed": v, "speed_kmh": v / common.KMH if v is not None else None,
             "stable": bool(result.stable),
             "eigenvalues": [[float(z.real), float(z.imag)] for z in eigenvalues],
             "modes": [
@@ -106,7 +105,7 @@ def _table(model: Path, overrides: dict[str, str], speed: float | None, as_json:
             ],
         })
         return 0
-    where = f"at {v / common.KMH:.1f} km/h ({v:.3f} m/s)" if rail else "(no rail data: independent of speed)"
+    where = f"at {v / common.KMH:.1f} km/h ({v:.3f} m/s)" if v is not None else "(no rail data: independent of speed)"
     print(f"{name}: {len(result.modes)} modes {where}, least stable first; "
           f"{'stable' if result.stable else 'UNSTABLE'}")
     header = f"{'Re [1/s]':>11} {'Im [rad/s]':>11} {'f [Hz]':>8} {'zeta':>8}  {'dominant DOFs (share)':<40} mode"

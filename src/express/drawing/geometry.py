@@ -20,7 +20,7 @@ import numpy as np
 from ..diagnostics import ModelError, Problem
 from ..model import Model
 
-__all__ = ["DrawnBody", "DrawnElement", "ModelGeometry", "model_geometry", "displaced_geometry", "point_displacement"]
+__all__ = ["DrawnBody", "DrawnElement", "ModelGeometry", "displaced_geometry", "model_geometry", "point_displacement"]
 
 Vector = tuple[float, float, float]
 

@@ -22,7 +22,7 @@ from ..statespace import VehicleModel
 from .geometry import ModelGeometry, displaced_geometry, point_displacement
 from .views import figure_model
 
-__all__ = ["ModeShape", "mode_shape", "figure_mode_shape", "animate_mode_shape", "DISPLAY_FRACTION"]
+__all__ = ["DISPLAY_FRACTION", "ModeShape", "animate_mode_shape", "figure_mode_shape", "mode_shape"]
 
 #: Largest displacement drawn, as a fraction of the drawing's size.
 DISPLAY_FRACTION = 0.08
@@ -65,7 +65,7 @@ def mode_shape(vehicle: VehicleModel, speed: float, number: int) -> ModeShape:
     largest = phi[np.argmax(np.abs(phi))]
     if abs(largest) > 0:
         phi = phi / largest  # real and 1 at the largest entry: a readable phase
-    return ModeShape(number, complex(values[index]), dict(zip(vehicle.dofs, phi)), float(speed))
+    return ModeShape(number, complex(values[index]), dict(zip(vehicle.dofs, phi, strict=True)), float(speed))
 
 
 def _scale(geometry: ModelGeometry, mode: ModeShape) -> float:
@@ -118,7 +118,7 @@ def animate_mode_shape(geometry: ModelGeometry, mode: ModeShape, suffix: str, la
 
     def frame(k: int):
         shape = _displaced(geometry, mode, 2.0 * np.pi * k / frames, scale)
-        for axis, view, (xlim, ylim) in zip(axes, ("plan", "side", "end"), limits):
+        for axis, view, (xlim, ylim) in zip(axes, ("plan", "side", "end"), limits, strict=True):
             axis.clear()
             draw_view(axis, geometry, view, alpha=0.25, labels=False, limits=(xlim, ylim))
             draw_view(axis, shape, view, labels=False, limits=(xlim, ylim))

@@ -16,7 +16,7 @@ import numpy as np
 
 from .geometry import DrawnElement, ModelGeometry
 
-__all__ = ["VIEWS", "figure_model", "draw_view"]
+__all__ = ["VIEWS", "draw_view", "figure_model"]
 
 #: View name -> (horizontal axis, vertical axis, title).
 VIEWS = {

@@ -23,10 +23,10 @@ import uuid
 import zipfile
 from pathlib import Path
 
-from .linear_system import LinearSystem
 from ..io.output import npz_bytes
+from .linear_system import LinearSystem
 
-__all__ = ["to_fmu_bytes", "fmu_model_name"]
+__all__ = ["fmu_model_name", "to_fmu_bytes"]
 
 _FIXED_DATE = (1980, 1, 1, 0, 0, 0)
 

@@ -30,7 +30,7 @@ import numpy as np
 
 from ..statespace import VehicleModel
 
-__all__ = ["LinearSystem", "linear_system", "to_control", "to_scipy", "numeric_matrices"]
+__all__ = ["LinearSystem", "linear_system", "numeric_matrices", "to_control", "to_scipy"]
 
 
 @dataclass(frozen=True)

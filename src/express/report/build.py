@@ -16,13 +16,14 @@ import sympy as sp
 
 from ..drawing.geometry import model_geometry
 from ..drawing.views import figure_model
+from ..model import Model
 from ..parameters import expression_value
 from ..statespace import VehicleModel
 from ..topology import classify_bodies
 from ..units import KMH
 from .page import Figure, Math, Section, Table, render_page, svg_of
 
-__all__ = ["report_html", "MAX_EQUATION_ENTRIES"]
+__all__ = ["MAX_EQUATION_ENTRIES", "report_html"]
 
 #: Matrix entries shown in the equations section (the rest is counted, not shown).
 MAX_EQUATION_ENTRIES = 300
@@ -35,6 +36,12 @@ def _value_of(vehicle: VehicleModel) -> Callable[[object], float]:
         return expression_value(expression, values)  # KeyError naming a name without value
 
     return value
+
+
+def _model_of(vehicle: VehicleModel) -> Model:
+    if vehicle.model is None:
+        raise ValueError("the vehicle has no model to report on")
+    return vehicle.model
 
 
 def _source_comment(source: str, line: int | None) -> str:
@@ -55,7 +62,7 @@ def _source_comment(source: str, line: int | None) -> str:
 
 
 def _model_section(vehicle: VehicleModel) -> Section:
-    model = vehicle.model
+    model = _model_of(vehicle)
     equations = vehicle.equations
     topology = classify_bodies(model)
     geometry = model_geometry(model, _value_of(vehicle), topology.role)
@@ -71,7 +78,7 @@ def _model_section(vehicle: VehicleModel) -> Section:
 
 
 def _parameters_section(vehicle: VehicleModel) -> Section:
-    model = vehicle.model
+    model = _model_of(vehicle)
     rows = []
     for name, parameter in sorted(model.parameters.items(), key=lambda item: item[0].lower()):
         shown = f"{parameter.value:.6g} SI" if not parameter.unit else f"{parameter.value:.6g} (SI) [{parameter.unit}]"
@@ -87,7 +94,7 @@ def _parameters_section(vehicle: VehicleModel) -> Section:
 
 def _equations_section(vehicle: VehicleModel) -> Section:
     equations = vehicle.equations
-    entries = []
+    entries: list[tuple[str, str]] = []
     total = 0
     for key in ("M", "C", "K"):
         matrix = equations.matrices.get(key)
@@ -152,7 +159,8 @@ def _frequency_section(vehicle: VehicleModel) -> Section | None:
     from ..analysis.frequency import frequency_response
     from ..analysis.plots import figure_frequency_response
 
-    points = [p.name for p in vehicle.model.rail.outputs]
+    rail = _model_of(vehicle).rail
+    points = [p.name for p in rail.outputs] if rail is not None else []
     if not points:
         return None
     frequencies = np.geomspace(0.1, 20.0, 200)

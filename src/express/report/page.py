@@ -13,7 +13,7 @@ import io
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
-__all__ = ["Section", "Table", "Figure", "Math", "render_page", "svg_of"]
+__all__ = ["Figure", "Math", "Section", "Table", "render_page", "svg_of"]
 
 _STYLE = """
 body { font-family: system-ui, sans-serif; max-width: 72rem; margin: 1rem auto; padding: 0 1rem; color: #222; }
