@@ -119,9 +119,9 @@ def _readable_polynomial(polynomial) -> sp.Expr:
         return polynomial.as_expr()
     if len(polynomial.terms()) > _FACTOR_TERMS:
         terms = polynomial.terms()
-        monomial = tuple(min(exponents) for exponents in zip(*(m for m, _ in terms)))
+        monomial = tuple(min(exponents) for exponents in zip(*(m for m, _ in terms), strict=True))
         ring = polynomial.ring
-        rest = ring.from_dict({tuple(e - g for e, g in zip(m, monomial)): c for m, c in terms})
+        rest = ring.from_dict({tuple(e - g for e, g in zip(m, monomial, strict=True)): c for m, c in terms})
         content, primitive = rest.primitive()
         common = ring.from_dict({monomial: ring.domain.one})
         return sp.Mul(ring.domain.to_sympy(content), common.as_expr(), primitive.as_expr())

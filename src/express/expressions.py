@@ -40,7 +40,7 @@ import sympy as sp
 
 from .limits import MAX_EXPONENT, MAX_NESTING, limit
 
-__all__ = ["ExpressionError", "parse_expression", "parse_number", "is_valid_name"]
+__all__ = ["ExpressionError", "is_valid_name", "parse_expression", "parse_number"]
 
 _TOKEN = re.compile(
     r"\s*(?:(?P<number>(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)"
@@ -71,7 +71,7 @@ def parse_number(text: str) -> sp.Rational:
     ExpressionError
         For an exponent beyond the range of a double (``1e400``).
     """
-    mantissa, _, exponent = text.lower().partition("e")
+    _, _, exponent = text.lower().partition("e")
     if exponent and abs(int(exponent)) > 308:
         raise ExpressionError(f'number "{text}" is out of range (exponent beyond 308)')
     value = Fraction(text)

@@ -86,7 +86,7 @@ class GenerationResult:
     full_dofs: tuple[str, ...]
 
 
-class _NeedsFractions(Exception):
+class _NeedsFractionsError(Exception):
     """Pin elimination divides by a parameter: redo in the fraction field."""
 
 
@@ -184,7 +184,7 @@ def pin_transformation(model: Model, domain: ExactDomain, gradients: dict[str, d
             if not pivot:
                 raise _singular(model, pins, virtual_of)
             if not domain.fractions and not _is_constant(pivot):
-                raise _NeedsFractions
+                raise _NeedsFractionsError
             inverse = domain.one / pivot if domain.fractions else domain.domain.domain.quo(
                 domain.domain.domain.one, pivot.LC
             )
@@ -203,7 +203,7 @@ def pin_transformation(model: Model, domain: ExactDomain, gradients: dict[str, d
             raise _singular(model, pins, virtual_of)
         x = (-a_vv.LUsolve(a_vr)).applyfunc(sp.cancel)
         if not domain.fractions and needs_fractions(x):
-            raise _NeedsFractions
+            raise _NeedsFractionsError
         for i, unknown in enumerate(unknowns):
             solution[unknown] = {
                 dof: domain.from_expr(x[i, j]) for j, dof in enumerate(independents) if x[i, j] != 0
@@ -277,7 +277,7 @@ def generate(model: Model, *, keep_virtual: bool = False, added: AddedTerms | No
     fractions = inverses is None
     try:
         return _generate(model, keep_virtual, added, ExactDomain(symbols, fractions, inverses or ()))
-    except _NeedsFractions:
+    except _NeedsFractionsError:
         return _generate(model, keep_virtual, added, ExactDomain(symbols, True))
 
 

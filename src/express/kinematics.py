@@ -21,7 +21,7 @@ import sympy as sp
 
 from .model import AXES, Model
 
-__all__ = ["generalized_coordinates", "point_motion", "point_rotation", "end_motion"]
+__all__ = ["end_motion", "generalized_coordinates", "point_motion", "point_rotation"]
 
 # (translation, [(rotation, sign, offset component)]) per axis, from theta x r.
 _ROTATION_TERMS = {

@@ -77,7 +77,7 @@ if sys.version_info >= (3, 11):
 else:  # pragma: no cover - exercised on Python 3.10 only
     import tomli as tomllib
 
-__all__ = ["parse_toml_model", "read_toml_model", "WHEELSET_KEYS"]
+__all__ = ["WHEELSET_KEYS", "parse_toml_model", "read_toml_model"]
 
 _TOP_KEYS = (
     "model", "parameters", "bodies", "grounds", "points", "elements", "pins", "rail", "gravity",

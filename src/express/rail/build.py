@@ -20,7 +20,8 @@ from ..model import Model
 from ..parameters import register_derivation
 from .contact import creep_coefficients
 from .curve import Station, cant_deficiency_forces, curvature_point_inputs, station_of, stations
-from .profile_contact import KIND as PROFILES, contact_terms, profile_derivation, profile_nodes
+from .profile_contact import KIND as PROFILES
+from .profile_contact import contact_terms, profile_derivation, profile_nodes
 from .wheelrail import flange_input, irregularity_input, wheelset_terms
 
 __all__ = ["RailLayout", "generate_vehicle", "rail_layout", "rail_terms"]

@@ -495,7 +495,7 @@ def hertz_contact(
     denominator = 4.0 * math.pi * e_star * math.sqrt(g)
     c = (3.0 * load * rho * big_e / denominator) ** (1.0 / 3.0) if denominator > 0.0 else math.inf
     minor, major = c * math.sqrt(g), c / math.sqrt(g)
-    if not (0.0 < minor and major < math.inf):  # values at the ends of the double range
+    if not (minor > 0.0 and major < math.inf):  # values at the ends of the double range
         raise ValueError(
             f"the contact data (load {load!r} N, E {youngs_modulus!r} Pa) give no finite contact ellipse"
         )

@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["flange_penetration", "saturation_factor", "linear_creepages", "wheelset_forces"]
+__all__ = ["flange_penetration", "linear_creepages", "saturation_factor", "wheelset_forces"]
 
 
 def flange_penetration(y, y_rail, clearance):

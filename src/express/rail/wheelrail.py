@@ -19,7 +19,7 @@ import sympy as sp
 
 from ..model import Wheelset
 
-__all__ = ["wheelset_terms", "irregularity_input", "flange_input"]
+__all__ = ["flange_input", "irregularity_input", "wheelset_terms"]
 
 
 def irregularity_input(wheelset: Wheelset) -> str:
