@@ -177,7 +177,7 @@ def read_psd_table(path: Path) -> dict:
 def _table_values(source: str, rows: list, width: int, names: list[str], problems: list[Problem]) -> list:
     """Numbers of the data rows, with a problem for each bad cell, negative PSD or
     wavenumber that does not increase."""
-    values = []
+    values: list = []
     for number, cells in rows:
         if len(cells) != width:
             problems.append(Problem(source, number, "PSD table", f"expected {width} values, got {len(cells)}"))

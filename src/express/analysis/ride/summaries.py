@@ -20,7 +20,7 @@ from ...diagnostics import InputError
 from ...statespace import VehicleModel
 from .comfort import mean_comfort, mean_comfort_spectral, sperling_index, sperling_index_time
 from .spectral import check_frequencies, check_psd, spectral_rms
-from .vehicle import AXES, RideResponse, point_rows
+from .vehicle import AXES, RideResponse, _outputs, point_rows
 from .weighting import WB, WD, weigh_time_history
 
 __all__ = [
@@ -237,7 +237,7 @@ def simulation_accelerations(vehicle: VehicleModel, result: Any, track: Any) -> 
     else:
         q_ddot = np.gradient(result.q_dot, result.time, axis=0, edge_order=2)
     out = {}
-    for point in vehicle.model.rail.outputs:
+    for point in _outputs(vehicle):
         by_axis = point_rows(vehicle, point.body, point.offset, f"output {point.name}")
         out[point.name] = {axis: q_ddot @ row for axis, row in by_axis.items()}
     return out

@@ -64,6 +64,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from ...diagnostics import AnalysisError, InputError
 from ...kinematics import end_motion
+from ...model import Model
 from ...parameters import expression_value
 from ...rail.track.spectra import COMPONENTS, ERRI_LEVELS, FRA_CLASSES, TrackSpectrum
 from ...statespace import VehicleModel
@@ -102,6 +103,19 @@ _RAIL_MIXING = {
 }
 # displacement of a point at r = (lx, ly, lz): t + theta x r, per axis
 _ROTATION_TERMS = {0: (("ry", 1, 2), ("rz", -1, 1)), 1: (("rz", 1, 0), ("rx", -1, 2)), 2: (("rx", 1, 1), ("ry", -1, 0))}
+
+def _model(vehicle: VehicleModel) -> Model:
+    """The vehicle's model (ride analyses need its points and bodies)."""
+    if vehicle.model is None:
+        raise InputError("the ride analysis needs the vehicle's model (build it with express.statespace.load_vehicle)")
+    return vehicle.model
+
+
+def _outputs(vehicle: VehicleModel) -> tuple:
+    """The model's output points (none without rail data)."""
+    rail = _model(vehicle).rail
+    return rail.outputs if rail is not None else ()
+
 
 
 def _key(name: str) -> str:
@@ -175,7 +189,7 @@ def _value(vehicle: VehicleModel, expression: Any, what: str) -> float:
 
 def rail_inputs(vehicle: VehicleModel) -> RailInputs:
     """Which inputs of ``vehicle`` the track drives, with what, from where (module docstring)."""
-    model = vehicle.model
+    model = _model(vehicle)
     bodies = {body.id: body for body in model.bodies} if model is not None else {}
     stations = {w.name: w.station for w in vehicle.wheelsets}
     irregularity = {f"{w.name}.yR": w.name for w in vehicle.wheelsets}
@@ -249,7 +263,7 @@ def point_rows(vehicle: VehicleModel, body_id: str, offset, what: str) -> dict[s
     InputError
         If one of those DOFs was eliminated by a pin.
     """
-    body = vehicle.model.body(body_id)
+    body = _model(vehicle).body(body_id)
     rows = {}
     for axis, name in enumerate(AXES):
         terms: dict[str, Any] = {}
@@ -266,7 +280,7 @@ def point_rows(vehicle: VehicleModel, body_id: str, offset, what: str) -> dict[s
 
 def _wheel_load_rows(vehicle: VehicleModel, inputs: RailInputs, rows: _Rows) -> dict[str, tuple[str, ...]]:
     """``<W>.dQL``, ``<W>.dQR`` from the z elements between the vehicle and the rail grounds."""
-    model = vehicle.model
+    model = _model(vehicle)
     n, m = vehicle.n, rows.m
     hosts = {point.id: point.host for point in model.points}
     loads: dict[str, dict[str, np.ndarray]] = {}  # body -> side -> [k dq, c dq, k du, c du]
@@ -299,10 +313,9 @@ def _wheel_load_rows(vehicle: VehicleModel, inputs: RailInputs, rows: _Rows) -> 
 
 
 def _output_rows(vehicle: VehicleModel, inputs: RailInputs, speed: float) -> tuple[_Rows, dict, dict]:
-    model = vehicle.model
     rows = _Rows(vehicle.n, len(vehicle.inputs))
     directions: dict[str, tuple[str, ...]] = {}
-    for point in model.rail.outputs:
+    for point in _outputs(vehicle):
         by_axis = point_rows(vehicle, point.body, point.offset, f"output {point.name}")
         directions[point.name] = tuple(by_axis)
         for axis, row in by_axis.items():
@@ -403,6 +416,8 @@ def _check_stable(vehicle: VehicleModel, a: np.ndarray, v: float) -> None:
 def _undriven_notes(vehicle: VehicleModel, inputs: RailInputs) -> list[str]:
     """One line per kind of input left at zero."""
     layout = vehicle.layout
+    if layout is None:
+        return []
     kinds = (
         ("flange penetrations (linear model: no flange contact)", set(layout.flange)),
         ("curvature and cant (straight track)", set(layout.curvature) | set(layout.cant)),
