@@ -18,6 +18,7 @@ from __future__ import annotations
 
 from collections import defaultdict
 from dataclasses import dataclass, field, replace
+from typing import Any
 
 import sympy as sp
 
@@ -108,7 +109,7 @@ def _pin_elements(model: Model):
     return [(pin, by_ends[frozenset((pin.virtual, pin.non_virtual))]) for pin in model.pins]
 
 
-def pin_transformation(model: Model, domain: ExactDomain, gradients: dict[str, dict[str, object]]):
+def pin_transformation(model: Model, domain: ExactDomain, gradients: dict[str, dict[str, Any]]):
     """Solve the pin constraints for the virtual DOFs.
 
     Parameters
@@ -135,7 +136,7 @@ def pin_transformation(model: Model, domain: ExactDomain, gradients: dict[str, d
     """
     problems = []
     virtual_of: dict[str, str] = {}
-    rows: dict[str, dict[str, object]] = {}
+    rows: dict[str, dict[str, Any]] = {}
     owner: dict[str, str] = {}
     for pin, element in _pin_elements(model):
         body = model.point(pin.virtual).host
@@ -175,7 +176,7 @@ def pin_transformation(model: Model, domain: ExactDomain, gradients: dict[str, d
     for pin_id in rows:
         components[find(pin_id)].append(pin_id)
 
-    solution: dict[str, dict[str, object]] = {}
+    solution: dict[str, dict[str, Any]] = {}
     for pins in components.values():
         unknowns = [virtual_of[p] for p in pins]
         if len(pins) == 1:
@@ -293,16 +294,16 @@ class _Deflections:
     """Every element's deflection as linear forms: ``gradients[element][dof]`` and
     ``input_gradients[element][input]`` (exact domain values), and the input order."""
 
-    gradients: dict[str, dict[str, object]]
-    input_gradients: dict[str, dict[str, object]]
+    gradients: dict[str, dict[str, Any]]
+    input_gradients: dict[str, dict[str, Any]]
     inputs: list[str]
 
 
 def _deflections(model: Model, added: AddedTerms, domain: ExactDomain, pin_element_ids: set[str]) -> _Deflections:
     conv = domain.from_expr
     ground_inputs: list[str] = []
-    gradients: dict[str, dict[str, object]] = {}
-    input_gradients: dict[str, dict[str, object]] = {}
+    gradients: dict[str, dict[str, Any]] = {}
+    input_gradients: dict[str, dict[str, Any]] = {}
     motion_cache: dict[tuple[str, int, bool], tuple[dict, dict]] = {}
 
     def motion(point_id: str, axis: int, rotational: bool = False):
@@ -346,7 +347,7 @@ def _transformation(model: Model, domain: ExactDomain, full_dofs: list[str], gra
     """The reduced DOFs, the eliminated virtual DOFs and the rows of ``q = T q_r``."""
     if not model.pins:
         virtual: list[str] = []
-        solution: dict[str, dict[str, object]] = {}
+        solution: dict[str, dict[str, Any]] = {}
     else:
         virtual, solution = pin_transformation(model, domain, gradients)
     reduced = [dof for dof in full_dofs if dof not in solution]
@@ -354,7 +355,7 @@ def _transformation(model: Model, domain: ExactDomain, full_dofs: list[str], gra
         reduced += virtual
         virtual, solution = [], {}
     r_index = {dof: i for i, dof in enumerate(reduced)}
-    t_rows: dict[str, dict[int, object]] = {dof: {r_index[dof]: domain.one} for dof in reduced}
+    t_rows: dict[str, dict[int, Any]] = {dof: {r_index[dof]: domain.one} for dof in reduced}
     for dof, combination in solution.items():
         t_rows[dof] = {r_index[d]: v for d, v in combination.items()}
     return reduced, virtual, t_rows
@@ -364,24 +365,24 @@ def _transformation(model: Model, domain: ExactDomain, full_dofs: list[str], gra
 class _Assembly:
     """Entries of the reduced matrices keyed by (row, column), and the clearances."""
 
-    stiffness: dict[tuple[int, int], object] = field(default_factory=dict)
-    damping: dict[tuple[int, int], object] = field(default_factory=dict)
-    forcing: dict[tuple[int, int], object] = field(default_factory=dict)
-    forcing_rate: dict[tuple[int, int], object] = field(default_factory=dict)
-    mass: dict[tuple[int, int], object] = field(default_factory=dict)
+    stiffness: dict[tuple[int, int], Any] = field(default_factory=dict)
+    damping: dict[tuple[int, int], Any] = field(default_factory=dict)
+    forcing: dict[tuple[int, int], Any] = field(default_factory=dict)
+    forcing_rate: dict[tuple[int, int], Any] = field(default_factory=dict)
+    mass: dict[tuple[int, int], Any] = field(default_factory=dict)
     clearances: list = field(default_factory=list)
 
 
 def _assemble(model: Model, added: AddedTerms, domain: ExactDomain, deflections: _Deflections, reduced: list[str],
-              t_rows: dict[str, dict[int, object]], skip: set[str]) -> _Assembly:
+              t_rows: dict[str, dict[int, Any]], skip: set[str]) -> _Assembly:
     """Element, inertia and rail terms in the reduced coordinates (elements in ``skip``,
     the pins' joining elements, contribute nothing after elimination)."""
     conv = domain.from_expr
     r_index = {dof: i for i, dof in enumerate(reduced)}
     in_index = {name: i for i, name in enumerate(deflections.inputs)}
 
-    def reduce(vector: dict[str, object]) -> dict[int, object]:
-        result: dict[int, object] = {}
+    def reduce(vector: dict[str, Any]) -> dict[int, Any]:
+        result: dict[int, Any] = {}
         for dof, value in vector.items():
             for j, t in t_rows[dof].items():
                 result[j] = result.get(j, domain.zero) + value * t
@@ -468,7 +469,7 @@ def _generate(model: Model, keep_virtual: bool, added: AddedTerms, domain: Exact
     parts = _assemble(model, added, domain, deflections, reduced, t_rows, set() if keep_virtual else pin_element_ids)
     n, m = len(reduced), len(inputs)
 
-    def build(entries: dict[tuple[int, int], object], columns: int) -> sp.ImmutableSparseMatrix:
+    def build(entries: dict[tuple[int, int], Any], columns: int) -> sp.ImmutableSparseMatrix:
         # sparse: the cost follows the non-zeros (a train's matrices are > 99 % zeros)
         return sp.ImmutableSparseMatrix(
             n, columns, {key: domain.readable(value) for key, value in sorted(entries.items()) if value}

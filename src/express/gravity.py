@@ -143,7 +143,7 @@ def _solve_numeric(model: Model, static: Model, dofs, k_num: np.ndarray, f_num: 
         return np.zeros(0)
     q, *_ = np.linalg.lstsq(k_num, f_num, rcond=None)
     residual = np.linalg.norm(k_num @ q - f_num)
-    if residual <= 1e-8 * max(np.linalg.norm(f_num), 1e-300):
+    if residual <= 1e-8 * max(float(np.linalg.norm(f_num)), 1e-300):
         return q
     # which weights are not carried: a body's own load with a part in the null space of K
     _, singular, vt = np.linalg.svd(k_num)
@@ -190,7 +190,7 @@ def _check_solution(model, numbers, points, stiffness, load, q_static, symbols, 
         flat = np.array(numbers(*point), dtype=float)
         k_num, f_num = flat[: n * n].reshape(n, n), flat[n * n :]
         q = np.array(function(*point), dtype=float)
-        if np.linalg.norm(k_num @ q - f_num) > 1e-7 * max(np.linalg.norm(f_num), 1e-300):
+        if np.linalg.norm(k_num @ q - f_num) > 1e-7 * max(float(np.linalg.norm(f_num)), 1e-300):
             raise ModelError([Problem(model.source, None, "gravity",
                                       "the static equilibrium could not be solved exactly (internal check failed)")])
 

@@ -7,6 +7,8 @@ Positions and rail data have no place in the classic format and are left out.
 
 from __future__ import annotations
 
+from typing import Any
+
 from ..model import DOF_NAMES, Model
 from .toml_writer import value_text
 
@@ -22,7 +24,9 @@ def model_to_classic(model: Model) -> tuple[str, dict[str, str]]:
             f"{model.source}: the classic format has no rotational, series or clearance elements "
             f"and no gravity ({', '.join(special) or '[gravity]'}): keep the model in TOML"
         )
-    kinds = (("B", model.bodies), ("G", model.grounds), ("C", model.points), ("T", model.elements), ("P", model.pins))
+    kinds: tuple[tuple[str, tuple[Any, ...]], ...] = (
+        ("B", model.bodies), ("G", model.grounds), ("C", model.points), ("T", model.elements), ("P", model.pins),
+    )
     names = {prefix: {item.id: f"{prefix}{n}" for n, item in enumerate(items, start=1)} for prefix, items in kinds}
     hosts = {**names["B"], **names["G"]}
     lines = [f"# EXPRESS classic model: {model.name}", "# renaming of the named model:"]

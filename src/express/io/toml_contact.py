@@ -63,6 +63,7 @@ def conicity_value(reader, own: dict, defaults: dict, body: str, nodes: dict[str
     """The conicity of wheelset ``body`` when it comes from profiles (its own table or
     the ``[rail.wheel_rail]`` one): the symbol of the node's conicity, the node added to
     ``nodes`` (one for ``[rail.wheel_rail]``, shared); ``None`` otherwise."""
+    path: tuple[str, ...]
     if isinstance(own.get("conicity"), dict):
         spec, path, key, name = own["conicity"], ("rail", "wheelset", body, "conicity"), body, f"Gamma_e_{body}"
         table = {**defaults, **own}

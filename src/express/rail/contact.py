@@ -118,12 +118,11 @@ def _columns(rows: tuple[tuple[float, ...], ...]) -> dict[str, _Series]:
     """Regroup table rows into ``{coefficient: (series nu=0, nu=1/4, nu=1/2)}``."""
     if tuple(row[0] for row in rows) != _G_NODES:
         raise AssertionError("Kalker table rows are not at the expected g nodes")
-    table = {}
+    table: dict[str, _Series] = {}
     for k, name in enumerate(_COEFFICIENTS):
         first = 1 + 3 * k
-        table[name] = tuple(
-            tuple(row[first + j] for row in rows) for j in range(len(_POISSON_NODES))
-        )
+        nu0, nu1, nu2 = (tuple(row[first + j] for row in rows) for j in range(len(_POISSON_NODES)))
+        table[name] = (nu0, nu1, nu2)
     return table
 
 
