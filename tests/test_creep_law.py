@@ -14,7 +14,9 @@ import numpy as np
 import pytest
 
 from express.rail.contact import kalker_coefficients
-from express.rail.creep_law import _fastsim, _fastsim_factors, fastsim, polach, polach_forces, spin_reduction
+from express.rail.creep_law import (
+    _fastsim, _fastsim_factors, _fastsim_grid, fastsim, polach, polach_forces, spin_reduction,
+)
 
 G = 80e9
 NORMAL = 50e3
@@ -115,7 +117,7 @@ def test_fastsim_grid_convergence():
     a, b = 8.6e-3, 0.36e-3  # the flange contact of S1002 on 60E1
     *_, c = linear(a, b, 0.28)
     creep = (-0.0183, -0.039, -1.94)
-    reference = _fastsim(15e3, MU, a, b, G, *c, *creep, 40, 40, *_fastsim_factors(40, 40))
+    reference = _fastsim(15e3, MU, a, b, G, *c, *creep, *_fastsim_grid(40, 40), *_fastsim_factors(40, 40))
     coarse = fastsim(15e3, MU, a, b, G, *c, *creep)
     # the 6 x 6 grid of the simulation is within 3 % of mu N of a 40 x 40 grid
     assert np.abs(np.subtract(coarse, reference)).max() < 0.03 * MU * 15e3

@@ -129,7 +129,7 @@ class SimulationResult:
 
 #: Units of the derived outputs by name prefix (longest prefixes first).
 _OUTPUT_UNITS = (
-    ("QP", ""), ("Qtot", "N"), ("Q", "N"), ("flange", "N"), ("psi_TW", "rad"), ("theta_", "rad"),
+    ("QP", ""), ("Qtot", "N"), ("Q", "N"), ("flange", "N"), ("NL", "N"), ("NR", "N"), ("psi_TW", "rad"), ("theta_", "rad"),
     ("dy", "m"), ("rho", "1/m"), ("S", "m"), ("stop_", "N"),
 )
 
@@ -234,6 +234,8 @@ def simulate(
     initial_state: np.ndarray | None = None,
     progress: bool | None = None,
     clearances: bool | None = None,
+    contact: str | None = None,
+    creep_law: str = "fastsim",
 ) -> SimulationResult:
     """Run ``vehicle`` along ``track``.
 
@@ -261,6 +263,14 @@ def simulate(
     clearances : bool, optional
         Include the bump stops (clearance elements); by default unless both
         ``flange`` and ``saturation`` are off (a linear run).
+    contact : {"tables", "deadband"}, optional
+        The nonlinear wheel/rail contact: ``"tables"`` looks the contact up in the
+        profiles' tables (:mod:`express.analysis.contact_march`; the default when the
+        model's conicity comes from profiles), ``"deadband"`` is the flange spring and
+        creep saturation of :mod:`express.rail.nonlinear`.  A linear run (``flange`` and
+        ``saturation`` off) uses neither.
+    creep_law : {"fastsim", "polach"}
+        The creep law of the contact tables.
 
     Returns
     -------
@@ -297,22 +307,57 @@ def simulate(
     if x0.shape != (size,):
         raise ValueError(f"initial_state must have shape ({size},), got {x0.shape}")
     show = _terminal_progress() if progress is None else (_terminal_progress() if progress else None)
-    states = march(
-        np.ascontiguousarray(phi), np.ascontiguousarray(drive), np.ascontiguousarray(g0),
-        np.ascontiguousarray(g1), x0, wheel_rail, flange=flange, saturation=saturation, progress=show,
-    )
+    tables = _contact_tables(vehicle, contact, creep_law) if (flange or saturation) else None
+    if tables is not None:  # the contact from the profiles' tables
+        from .contact_march import linear_coefficients, march_contact
+
+        states, history = march_contact(
+            np.ascontiguousarray(phi), np.ascontiguousarray(drive), np.ascontiguousarray(g0),
+            np.ascontiguousarray(g1), x0, wheel_rail, tables, linear_coefficients(vehicle, v), progress=show,
+        )
+    else:
+        states = march(
+            np.ascontiguousarray(phi), np.ascontiguousarray(drive), np.ascontiguousarray(g0),
+            np.ascontiguousarray(g1), x0, wheel_rail, flange=flange, saturation=saturation, progress=show,
+        )
     q = states[:, :n]
     # feedback forces act on massive coordinates only: they do not enter q_F'
     q_dot = vehicle.form.velocities(states, inputs.u, inputs.u_rate)
     outputs = derived_outputs(vehicle, q, q_dot, inputs, v, flange=flange, saturation=saturation)
+    if tables is not None:
+        from .contact_march import contact_outputs
+
+        iy = [w.y for w in vehicle.wheelsets]
+        outputs.update(contact_outputs(history, [w.wheel_load for w in vehicle.wheelsets], q[:, iy] - inputs.y_rail))
     if stops["names"]:
         stop_forces = -_stop_forces(states, stops)
         for b, name in enumerate(stops["names"]):
             outputs[f"stop_{name}"] = stop_forces[:, b]
     options = {"flange": flange, "saturation": saturation, "dt": dt}
+    if tables is not None:
+        options["contact"] = f"tables ({creep_law})"
     if stops["names"]:
         options["clearances"] = True
     return SimulationResult(time, distance, vehicle.dofs, q, q_dot, outputs, v, options)
+
+
+def _contact_tables(vehicle: VehicleModel, contact: str | None, creep_law: str) -> dict | None:
+    """The stacked contact tables when the contact comes from profiles (``None``: the
+    dead-band model)."""
+    if contact not in (None, "tables", "deadband"):
+        raise ValueError(f'contact must be "tables" or "deadband", not {contact!r}')
+    if contact == "deadband" or vehicle.model is None:
+        return None
+    from ..rail.profile_contact import wheelset_contacts
+    from .contact_march import contact_arrays
+
+    contacts = wheelset_contacts(vehicle.model, vehicle.values, vehicle.wheelsets)
+    if any(c is None for c in contacts):
+        if contact == "tables":
+            missing = [w.name for w, c in zip(vehicle.wheelsets, contacts, strict=True) if c is None]
+            raise ValueError(f"contact tables need profiles for every wheelset (none for {', '.join(missing)})")
+        return None
+    return contact_arrays(contacts, creep_law)
 
 
 def _feedback_selector(vehicle: VehicleModel, stops: dict) -> np.ndarray:

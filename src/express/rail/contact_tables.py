@@ -49,8 +49,10 @@ __all__ = [
 ]
 
 #: Per-side fields of :attr:`ContactTables.data`, in order.
-FIELDS = ("radius", "angle", "axle_angle", "arm", "semi_a", "semi_b", "c11", "c22", "c23", "roll", "roll_slope")
-RADIUS, ANGLE, AXLE_ANGLE, ARM, SEMI_A, SEMI_B, C11, C22, C23, ROLL, ROLL_SLOPE = range(len(FIELDS))
+FIELDS = ("radius", "angle", "axle_angle", "arm", "semi_a", "semi_b", "c11", "c22", "c23", "roll", "roll_slope",
+          "cos_angle", "sin_angle", "sin_axle_angle", "tan_axle_angle", "secant_cbrt")
+(RADIUS, ANGLE, AXLE_ANGLE, ARM, SEMI_A, SEMI_B, C11, C22, C23, ROLL, ROLL_SLOPE,
+ COS_ANGLE, SIN_ANGLE, SIN_AXLE, TAN_AXLE, SECANT_CBRT) = range(len(FIELDS))
 #: Smallest lateral relative curvature used for Hertz [1/m]: a conformal contact is
 #: not Hertzian; this bounds the ellipse's width (S1002 on 60E1 never comes below 0.28).
 _MIN_CURVATURE = 0.02
@@ -67,7 +69,8 @@ class ContactTables:
     data : numpy.ndarray, shape (len(FIELDS), 2, n)
         ``data[f, side, k]``, fields :data:`FIELDS`: radius [m], angle [rad],
         axle_angle [rad], arm [m], semi_a and semi_b [m per N^(1/3)], c11, c22, c23 [-],
-        roll [rad] (same on both rows), roll_slope [rad/m].
+        roll [rad] (same on both rows), roll_slope [rad/m], and for the force kernel
+        cos and sin of the angle, sin and tan of the axle angle, cos(angle)^(-1/3).
     setup : ContactSetup
     youngs_modulus, poisson : float
         Material of both bodies [Pa, -].
@@ -90,6 +93,15 @@ class ContactTables:
     def y(self) -> np.ndarray:
         """The grid [m]."""
         return self.start + self.step * np.arange(self.data.shape[2])
+
+    @property
+    def kernel(self) -> np.ndarray:
+        """:attr:`data` in the compiled look-up's layout (2, n, fields), contiguous."""
+        cached = self.__dict__.get("_kernel")
+        if cached is None:
+            cached = np.ascontiguousarray(self.data.transpose(1, 2, 0))
+            object.__setattr__(self, "_kernel", cached)
+        return cached
 
     @property
     def shear_modulus(self) -> float:
@@ -133,6 +145,10 @@ def _tables(wheel: Profile, rail: Profile, setup: ContactSetup, youngs_modulus: 
     data[ARM] = geometry.track_position - sign * y
     data[ROLL] = geometry.roll
     data[ROLL_SLOPE] = np.gradient(geometry.roll, y)
+    # the functions of the angles the force kernel needs, tabulated (no trigonometry there)
+    data[COS_ANGLE], data[SIN_ANGLE] = np.cos(data[ANGLE]), np.sin(data[ANGLE])
+    data[SIN_AXLE], data[TAN_AXLE] = np.sin(data[AXLE_ANGLE]), np.tan(data[AXLE_ANGLE])
+    data[SECANT_CBRT] = np.cos(data[ANGLE]) ** (-1.0 / 3.0)
     rolling = 0.5 * geometry.wheel_curvature_rolling
     lateral = np.maximum(0.5 * (geometry.wheel_curvature_lateral + geometry.rail_curvature_lateral), _MIN_CURVATURE)
     cache: dict[tuple[float, float], tuple[float, ...]] = {}

@@ -118,7 +118,7 @@ def polach_forces(normal, friction, a, b, shear_modulus, c11, c22, c23, xi, eta,
 # --------------------------------------------------------------------------- FASTSIM
 
 #: Strips across and elements along each strip of :func:`fastsim`.
-FASTSIM_GRID = (6, 6)
+FASTSIM_GRID = (4, 6)
 
 
 def _fastsim_factors(strips: int, elements: int) -> tuple[float, float]:
@@ -132,13 +132,28 @@ def _fastsim_factors(strips: int, elements: int) -> tuple[float, float]:
     return translation, spin
 
 
+
+
+def _fastsim_grid(strips: int, elements: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Constants of a grid in the unit circle: each strip's centre ``y / b`` and
+    ``sqrt(1 - (y/b)^2)`` (its half-length over ``a``), and each element's share of the
+    strip's parabolic pressure peak, ``1 - (x_centre / half)^2``."""
+    eta = -1.0 + (np.arange(strips) + 0.5) * 2.0 / strips
+    centre = 1.0 - (2.0 * np.arange(elements) + 1.0) / elements
+    return eta, np.sqrt(1.0 - eta**2), 1.0 - centre**2
+
+
 _FACTORS = _fastsim_factors(*FASTSIM_GRID)
+_GRID = _fastsim_grid(*FASTSIM_GRID)
 
 
 @njit(cache=True)
-def _fastsim(normal, friction, a, b, shear_modulus, c11, c22, c23, xi, eta, phi, strips, elements, k_t, k_s):
+def _fastsim(normal, friction, a, b, shear_modulus, c11, c22, c23, xi, eta, phi, strip_y, strip_root, shape, k_t,
+             k_s):
     if not normal > 0.0:
         return 0.0, 0.0
+    strips = strip_y.size
+    elements = shape.size
     # flexibilities of the simplified theory, scaled so that the grid's no-slip forces
     # are Kalker's linear ones exactly
     l1 = 8.0 * a * k_t / (3.0 * shear_modulus * c11)
@@ -148,38 +163,40 @@ def _fastsim(normal, friction, a, b, shear_modulus, c11, c22, c23, xi, eta, phi,
     # midpoint sum of the parabola is k_s times its integral, as for spin)
     peak = friction * 2.0 * normal / (math.pi * a * b * k_s)
     dy = 2.0 * b / strips
-    inverse_a2 = 1.0 / (a * a)
     fx = 0.0
     fy = 0.0
     for j in range(strips):
-        y = -b + (j + 0.5) * dy
-        rest = max(1.0 - (y / b) ** 2, 0.0)
-        half = a * math.sqrt(rest)
+        y = b * strip_y[j]
+        root = strip_root[j]
+        half = a * root
         dx = 2.0 * half / elements
-        slip_x = xi / l1 - phi * y / l3
         # traction at the element centres, marched from the leading edge: the slip is
         # linear in x, so its integral between centres (at their midpoint) is exact;
         # each centre's traction is limited to mu p there (midpoint rule for the force)
-        px = -0.5 * dx * slip_x
-        py = -0.5 * dx * (eta / l2 + phi * (half - 0.25 * dx) / l3)
-        centre = half - 0.5 * dx
+        step_x = dx * (xi / l1 - phi * y / l3)
+        step_y = dx * (eta / l2 + phi * half / l3)  # the lateral slip's part at x = half
+        change = -dx * dx * phi / l3  # the lateral step changes by this per element
+        px = -0.5 * step_x
+        py = -0.5 * (step_y - 0.25 * dx * dx * phi / l3)
+        step_y += change  # the step from the first centre to the second
+        limit = peak * root * root
         strip_x = 0.0
-        strip_y = 0.0
+        strip_y_sum = 0.0
         for k in range(elements):
             if k > 0:
-                px -= dx * slip_x
-                py -= dx * (eta / l2 + phi * (centre + 0.5 * dx) / l3)
-            bound = peak * (rest - centre * centre * inverse_a2)
+                px -= step_x
+                py -= step_y
+                step_y += change
+            bound = limit * shape[k]
             size2 = px * px + py * py
             if size2 > bound * bound:
-                scale = bound / math.sqrt(size2) if bound > 0.0 else 0.0
+                scale = bound / math.sqrt(size2)
                 px *= scale
                 py *= scale
             strip_x += px
-            strip_y += py
-            centre -= dx
+            strip_y_sum += py
         fx += strip_x * dx * dy
-        fy += strip_y * dx * dy
+        fy += strip_y_sum * dx * dy
     return fx, fy
 
 
@@ -196,5 +213,5 @@ def fastsim(normal, friction, a, b, shear_modulus, c11, c22, c23, xi, eta, phi):
     integrals, so the linear limit is Kalker's ``-f11 xi``, ``-f22 eta - f23 phi`` to
     rounding.  Arguments as :func:`polach`.
     """
-    return _fastsim(normal, friction, a, b, shear_modulus, c11, c22, c23, xi, eta, phi,
-                    FASTSIM_GRID[0], FASTSIM_GRID[1], _FACTORS[0], _FACTORS[1])
+    return _fastsim(normal, friction, a, b, shear_modulus, c11, c22, c23, xi, eta, phi, _GRID[0], _GRID[1], _GRID[2],
+                    _FACTORS[0], _FACTORS[1])

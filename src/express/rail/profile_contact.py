@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
+from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
@@ -90,10 +91,15 @@ OUTPUTS = (
 )
 
 
+@lru_cache(maxsize=8)
+def _standard(name: str) -> Profile:
+    return standard_profile(name)
+
+
 def _profile(text: str, kind: str, base: str, units: str) -> Profile:
     """A standard profile by name, else a file relative to ``base``."""
     if text.strip().upper().replace(" ", "") in {*STANDARD_PROFILES, "UIC60"}:
-        return standard_profile(text)
+        return _standard(text.strip().upper().replace(" ", ""))
     path = Path(text)
     if not path.is_absolute():
         path = Path(base or ".") / path
