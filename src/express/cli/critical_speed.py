@@ -74,7 +74,16 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--parameter", default="Gamma", help="parameter swept by --conicities (default Gamma)")
     parser.add_argument("-o", "--output", metavar="FILE", help="with --conicities: the sweep as CSV (- for standard output)")
     parser.add_argument("--plot", type=common.figure_path, metavar="FILE",
-                        help="figure (.png/.svg/.pdf): V_cr against the conicity with --conicities, else the root locus")
+                        help="figure (.png/.svg/.pdf): V_cr against the conicity with --conicities, the "
+                        "bifurcation diagram with --nonlinear, else the root locus")
+    parser.add_argument("--nonlinear", action="store_true",
+                        help="also the nonlinear critical speed: ramp-down from above the linear one with a "
+                        "disturbance (contact from the profiles' tables when the model has them); -o writes the "
+                        "bifurcation diagram's points")
+    parser.add_argument("--vstart", type=common.SPEED, metavar="SPEED",
+                        help=common.SPEED.help("with --nonlinear: first speed of the ramp-down", "1.2 x the linear V_cr"))
+    parser.add_argument("--creep-law", choices=("fastsim", "polach"), default="fastsim",
+                        help="with --nonlinear and profiles: the creep law (default fastsim)")
     common.add_json_option(parser)
     parser.set_defaults(handler=run, numeric=True)
 
@@ -82,15 +91,22 @@ def add_parser(subparsers) -> None:
 def run(
     model: Path, overrides: dict[str, str], *, vmin: float = 1.0, vmax: float = 150.0, tolerance: float = 0.1 / 3.6,
     conicities: list[float] | None = None, parameter: str = "Gamma", output: str | None = None,
-    plot: Path | None = None, as_json: bool = False,
+    plot: Path | None = None, as_json: bool = False, nonlinear: bool = False, vstart: float | None = None,
+    creep_law: str = "fastsim",
 ) -> int:
     """Find the critical speed (and the sweep) and write the outputs all together."""
     from ..io.output import output_transaction
 
     if not vmax > vmin:
         raise UsageError(f"--vmax {vmax / common.KMH:g} km/h: must be above --vmin {vmin / common.KMH:g} km/h")
+    if nonlinear:
+        if conicities is not None:
+            raise UsageError("--nonlinear and --conicities: choose one")
+        return _run_nonlinear(model, overrides, vmin, vmax, tolerance, output, plot, as_json, vstart, creep_law)
+    if vstart is not None:
+        raise UsageError("--vstart is used only with --nonlinear")
     if output is not None and conicities is None:
-        raise UsageError("-o is written only with --conicities")
+        raise UsageError("-o is written only with --conicities or --nonlinear")
     if output == "-" and as_json:
         raise UsageError("-o - and --json both write to standard output; choose one")
     options = {"v_min": vmin, "v_max": vmax, "tolerance_kmh": tolerance / common.KMH}
@@ -211,3 +227,84 @@ def _print(name: str, result: Any, vmax: float, conicities: list[float] | None, 
                   f"{c.mode.describe()}", file=stream)
         else:
             print(f"  {value:8.4f} {c.speed_kmh:12.1f}  {c.mode.describe()}", file=stream)
+
+
+# ------------------------------------------------------------------ --nonlinear
+
+
+def _run_nonlinear(model: Path, overrides: dict[str, str], vmin: float, vmax: float, tolerance: float,
+                   output: str | None, plot: Path | None, as_json: bool, vstart: float | None, creep_law: str) -> int:
+    """The linear and the nonlinear critical speed (ramp-down), the bifurcation diagram."""
+    from ..diagnostics import AnalysisError
+    from ..io.output import output_transaction
+
+    if output == "-" and as_json:
+        raise UsageError("-o - and --json both write to standard output; choose one")
+    if vstart is not None and not vstart > vmin:
+        raise UsageError(f"--vstart {vstart / common.KMH:g} km/h: must be above --vmin {vmin / common.KMH:g} km/h")
+    with output_transaction([model]) as transaction:
+        if output is not None:
+            transaction.declare(output)
+        if plot is not None:
+            transaction.declare(plot, binary=True)
+        vehicle = common.load_rail_vehicle(model, overrides, "critical-speed")
+        from ..analysis.nonlinear_stability import nonlinear_critical_speed
+        from ..analysis.stability import critical_speed
+
+        linear = critical_speed(vehicle, v_min=vmin, v_max=vmax, tolerance_kmh=tolerance / common.KMH)
+        if vstart is None and (linear is None or linear.unstable_at_min):
+            raise AnalysisError(f"no linear critical speed between --vmin and --vmax ({vmax / common.KMH:g} km/h) to "
+                                "start the ramp-down above: give --vstart")
+        try:
+            result = nonlinear_critical_speed(vehicle, v_start=vstart, v_min=vmin, tolerance=tolerance,
+                                              creep_law=creep_law, linear=linear)
+        except ValueError as error:
+            raise AnalysisError(str(error)) from None
+        if output is not None:
+            _write_bifurcation(output, result)
+        if plot is not None:
+            _bifurcation_figure(vehicle, plot, result)
+    for path in [p for p in (output, plot) if p is not None and str(p) != "-"]:
+        common.note(f"wrote {path}")
+    name = vehicle.equations.name
+    summary = {"model": str(model), **_fields(linear), "nonlinear": _nonlinear_fields(result)}
+    if as_json:
+        common.print_json(summary)
+    else:
+        stream = sys.stderr if output == "-" else sys.stdout
+        print(f"{name}: {linear.describe() if linear is not None else 'no linear critical speed in the range'}",
+              file=stream)
+        print(f"{name}: {result.describe()}", file=stream)
+    return 0
+
+
+def _nonlinear_fields(result: Any) -> dict:
+    return {"critical_speed": result.speed, "critical_speed_kmh": result.speed_kmh,
+            "bracket": list(result.bracket), "contact": result.contact, "wheelset": result.wheelset,
+            "speeds": [p.speed for p in result.points], "amplitudes": [p.amplitude for p in result.points],
+            "limit_cycle": [bool(p.alive) for p in result.points]}
+
+
+def _write_bifurcation(output: str, result: Any) -> None:
+    from ..io.output import write_csv
+
+    points = result.points
+    columns = {"speed": [p.speed for p in points], "speed_kmh": [p.speed_kmh for p in points],
+               "amplitude": [p.amplitude for p in points], "limit_cycle": [int(p.alive) for p in points],
+               "flange_force": [p.flange_force for p in points]}
+    write_csv(output, columns, {"speed": "m/s", "amplitude": "m", "flange_force": "N"})
+
+
+def _bifurcation_figure(vehicle: Any, plot: Path, result: Any) -> None:
+    from ..analysis import plots
+    from ..analysis.plots.bifurcation import figure_bifurcation
+
+    points = result.points
+    linear = result.linear
+    figure = figure_bifurcation(
+        [p.speed_kmh for p in points], [p.amplitude * 1e3 for p in points], [p.alive for p in points],
+        title=f"{vehicle.equations.name}: hunting limit cycles, contact {result.contact}",
+        nonlinear_kmh=result.speed_kmh,
+        linear_kmh=linear.speed_kmh if linear is not None and not linear.unstable_at_min else None,
+    )
+    plots.save_figure(figure, plot)
