@@ -14,7 +14,8 @@ and measured the way a new user meets it, in fresh processes:
 1. **The command**: ``express generate train.toml --format json -o train.json``, wall
    clock from start to exit (interpreter start, imports, reading, generation, export,
    writing).  Median of ``--runs`` starts up to 20 cars, one start beyond.
-2. **The phases**, in one fresh process per size: ``load_model``, ``generate_vehicle``
+2. **The phases**, in a fresh process per size (medians of as many processes as
+   starts of the command): ``load_model``, ``generate_vehicle``
    (exact M, C, K, P, Pd with the pins eliminated), the JSON text (``to_json``) and
    the write; the peak resident memory (``ru_maxrss``) and its growth over the process
    once everything is imported (what the model itself costs).
@@ -170,8 +171,10 @@ def main(argv=None) -> int:
             path.write_text(writer.vehicle_toml(True, cars=cars), encoding="utf-8")
             env = environment(cars, notes)
             output = Path(folder) / f"train{cars}.json"
-            wall = command_time(path, output, env, args.runs if cars <= 20 else 1)
-            figures = phases(path, output, env)
+            runs = args.runs if cars <= 20 else 1
+            wall = command_time(path, output, env, runs)
+            measured = [phases(path, output, env) for _ in range(runs)]
+            figures = {key: statistics.median(m[key] for m in measured) for key in measured[0]}
             figures["command_s"] = wall
             figures["file_bytes"] = path.stat().st_size
             rows[cars] = figures
