@@ -138,11 +138,11 @@ def test_limits_table_is_documented():
 @pytest.mark.parametrize(
     "assignment, expected",
     [
-        ("mu=0", "parameter mu: 0 (--set) is outside the valid range 0 < friction <= 1 of its use as wheelset W1 "
+        ("mu=0", "parameter mu: set to 0, outside the valid range 0 < friction <= 1 of its use as wheelset W1 "
                  "friction and 3 more uses"),
-        ("G=0", "parameter G: 0 m (--set) is outside the valid range 0 < cant_base <= 5 m"),
-        ("ky1=1e300", "parameter ky1: 1e+300 N/m (--set) is outside the valid range -1e+15 <= stiffness <= 1e+15 N/m"),
-        ("mc=-1", "parameter mc: -1 kg (--set) is outside the valid range 0 <= mass <= 1e+08 kg"),
+        ("G=0", "parameter G: set to 0 m, outside the valid range 0 < cant_base <= 5 m"),
+        ("ky1=1e300", "parameter ky1: set to 1e+300 N/m, outside the valid range -1e+15 <= stiffness <= 1e+15 N/m"),
+        ("mc=-1", "parameter mc: set to -1 kg, outside the valid range 0 <= mass <= 1e+08 kg"),
         ("Gamma=-0.1", "0 <= conicity <= 1"),
         ("delta=0.2", "0 <= flange_clearance <= 0.1 m"),
         ("v=0", "0 < speed <= 1000 km/h"),

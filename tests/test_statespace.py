@@ -118,5 +118,5 @@ def test_with_values_equals_a_fresh_evaluation_exactly(vehicle, changes):
 def test_with_values_reports_a_division_by_zero_as_a_model_error(vehicle):
     """A zero cant base would divide the cant by zero: refused before, as a value
     outside its valid range (issue 17)."""
-    with pytest.raises(ModelError, match=r"parameter G: 0 m \(--set\) is outside the valid range 0 < cant_base"):
+    with pytest.raises(ModelError, match=r"parameter G: set to 0 m, outside the valid range 0 < cant_base"):
         vehicle.with_values({"G": 0.0})

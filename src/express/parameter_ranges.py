@@ -215,7 +215,7 @@ def _value(expression: sp.Expr, values: Mapping[str, float]) -> float | None:
 
 def _origin(model: Model, expression: sp.Expr, overridden: Mapping[str, object]) -> str:
     names = sorted(s.name for s in expression.free_symbols if s.name in overridden)
-    return f" (with --set {', '.join(names)})" if names else ""
+    return f" (with {', '.join(names)} set)" if names else ""
 
 
 def _uses(check: _Check) -> str:
@@ -234,7 +234,7 @@ def _problem(model: Model, check: _Check, value: float, overridden: Mapping[str,
         if name in overridden:
             return Problem(
                 model.source, None, f"parameter {name}",
-                f"{shown} (--set) is outside the valid range {valid.text(where)} of its use as {_uses(check)}{note}",
+                f"set to {shown}, outside the valid range {valid.text(where)} of its use as {_uses(check)}{note}",
             )
         if parameter.expression is not None:
             shown = f"{sp.sstr(parameter.expression)} = {shown}{_origin(model, parameter.expression, overridden)}"
