@@ -15,7 +15,13 @@ import pytest
 
 from express.rail.contact import kalker_coefficients
 from express.rail.creep_law import (
-    _fastsim, _fastsim_factors, _fastsim_grid, fastsim, polach, polach_forces, spin_reduction,
+    _fastsim,
+    _fastsim_factors,
+    _fastsim_grid,
+    fastsim,
+    polach,
+    polach_forces,
+    spin_reduction,
 )
 
 G = 80e9

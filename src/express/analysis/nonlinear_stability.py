@@ -92,7 +92,10 @@ class NonlinearCriticalSpeed:
         The contact model of the runs.
     options : dict
         ``v_start``, ``v_min``, ``step``, ``tolerance``, ``duration``, ``dt``,
-        ``disturbance``, ``threshold``, ``persistence``.
+        ``disturbance``, ``threshold``, ``persistence``, ``extensions``.
+    state : numpy.ndarray or None
+        The state ``[q; q_D']`` at the end of the run at :attr:`speed` (on the limit
+        cycle), for restarting there.
     """
 
     speed: float | None
@@ -102,6 +105,7 @@ class NonlinearCriticalSpeed:
     wheelset: str
     contact: str
     options: dict = field(default_factory=dict)
+    state: np.ndarray | None = field(default=None, repr=False, compare=False)
 
     @property
     def speed_kmh(self) -> float | None:
@@ -261,4 +265,4 @@ def nonlinear_critical_speed(
         else:
             dead = speed
     return NonlinearCriticalSpeed(alive_speed, (dead, alive_speed), tuple(points), linear,
-                                  vehicle.wheelsets[0].name, used, options)
+                                  vehicle.wheelsets[0].name, used, options, alive_state)
