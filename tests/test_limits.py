@@ -109,7 +109,7 @@ def test_a_file_beyond_the_size_limit_is_not_read(tmp_path, monkeypatch):
     monkeypatch.setenv("EXPRESS_MAX_FILE_MB", "1")
     path = tmp_path / "huge.toml"
     path.write_bytes(b"# " + b"x" * (2 * 1024 * 1024) + b"\n")
-    with pytest.raises(ModelError, match="larger than the limit of 1 MB .*EXPRESS_MAX_FILE_MB"):
+    with pytest.raises(ModelError, match=r"larger than the limit of 1 MB .*EXPRESS_MAX_FILE_MB"):
         load_model(path)
 
 
@@ -117,7 +117,7 @@ def test_a_device_as_model_stops_at_the_size_limit(monkeypatch):
     monkeypatch.setenv("EXPRESS_MAX_FILE_MB", "1")
     from express.io.classic import read_classic
 
-    with pytest.raises(ModelError, match="larger than the limit|NUL bytes"):
+    with pytest.raises(ModelError, match=r"larger than the limit|NUL bytes"):
         read_classic("/dev/zero")
 
 
