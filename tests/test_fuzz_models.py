@@ -83,7 +83,7 @@ def toml_models(draw) -> str:
     return "\n".join(lines) + "\n"
 
 
-@fuzz(40)
+@fuzz(60)
 @given(text=toml_models())
 def test_generated_models_end_cleanly(tmp_path_factory, text):
     """Each generated model through ``generate``, ``eigen`` and a linear ``simulate``."""
@@ -111,7 +111,7 @@ def test_generated_models_end_cleanly(tmp_path_factory, text):
 # ------------------------------------------------------------------ mutated examples
 
 
-@fuzz(40)
+@fuzz(60)
 @given(data=st.data(), name=st.sampled_from(["conventional.toml", "forced-steering.toml", "manchester.toml"]))
 def test_mutated_toml_examples_convert_cleanly_and_load_back(tmp_path_factory, data, name):
     """``convert`` reads the whole model (every value, the parameter graph, the ranges):
@@ -131,7 +131,7 @@ def test_mutated_toml_examples_convert_cleanly_and_load_back(tmp_path_factory, d
         assert converted.parameters.keys() == load_model(model).parameters.keys()
 
 
-@fuzz(20)
+@fuzz(30)
 @given(data=st.data())
 def test_mutated_vehicle_analyses_end_cleanly(tmp_path_factory, data):
     """The eigen analysis of a mutated car: a result, no valid result or bad input."""
@@ -142,7 +142,7 @@ def test_mutated_vehicle_analyses_end_cleanly(tmp_path_factory, data):
     check(["eigen", model, "--json"])
 
 
-@fuzz(30)
+@fuzz(50)
 @given(data=st.data(), name=st.sampled_from(["lever.exp", "forced-steering.exp"]),
        command=st.sampled_from(["generate", "convert"]))
 def test_mutated_classic_examples_end_cleanly(tmp_path_factory, data, name, command):

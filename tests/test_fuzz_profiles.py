@@ -76,7 +76,7 @@ def _run(folder: Path, argv: list, target: Path) -> int:
     return status
 
 
-@fuzz(50)
+@fuzz(80)
 @given(text=delta_r_files())
 def test_generated_delta_r_files_end_cleanly(tmp_path_factory, text):
     folder = tmp_path_factory.mktemp("dr")
@@ -85,7 +85,7 @@ def test_generated_delta_r_files_end_cleanly(tmp_path_factory, text):
     _run(folder, ["conicity", "--delta-r", path], folder / "out.csv")
 
 
-@fuzz(15)
+@fuzz(25)
 @given(data=st.data())
 def test_mutated_wheel_profiles_end_cleanly(tmp_path_factory, data):
     text = data.draw(mutated(WHEEL), label="wheel")
@@ -95,7 +95,7 @@ def test_mutated_wheel_profiles_end_cleanly(tmp_path_factory, data):
     _run(folder, ["conicity", path, "60E1"], folder / "out.csv")
 
 
-@fuzz(10)
+@fuzz(15)
 @given(data=st.data())
 def test_mutated_rail_profiles_end_cleanly(tmp_path_factory, data):
     text = data.draw(mutated(RAIL), label="rail")

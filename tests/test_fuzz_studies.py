@@ -27,7 +27,7 @@ STUDY = (EXAMPLES / "studies" / "critical_speed_map.toml").read_text(encoding="u
     '"../forced-steering.toml"', f'"{(EXAMPLES / "forced-steering.toml").as_posix()}"')
 
 
-@fuzz(40)
+@fuzz(60)
 @given(data=st.data())
 def test_mutated_study_files_are_read_or_refused(tmp_path_factory, data):
     text = data.draw(mutated(STUDY), label="study")

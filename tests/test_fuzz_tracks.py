@@ -69,7 +69,7 @@ def _read(path: Path):
     return track
 
 
-@fuzz(60)
+@fuzz(100)
 @given(data=st.data(), name=st.sampled_from(NAMES))
 def test_mutated_tracks_load_or_are_refused(tmp_path_factory, data, name):
     text = data.draw(mutated((TRACKS / name).read_text(encoding="utf-8")), label="track")
@@ -78,7 +78,7 @@ def test_mutated_tracks_load_or_are_refused(tmp_path_factory, data, name):
     _read(path)
 
 
-@fuzz(60)
+@fuzz(100)
 @given(text=generated_tracks())
 def test_generated_tracks_load_or_are_refused(tmp_path_factory, text):
     path = tmp_path_factory.mktemp("track") / "track.toml"
@@ -86,7 +86,7 @@ def test_generated_tracks_load_or_are_refused(tmp_path_factory, text):
     _read(path)
 
 
-@fuzz(12)
+@fuzz(20)
 @given(data=st.data(), name=st.sampled_from(NAMES))
 def test_simulate_on_mutated_tracks_ends_cleanly(tmp_path_factory, data, name):
     text = data.draw(mutated((TRACKS / name).read_text(encoding="utf-8"), most=2), label="track")

@@ -215,6 +215,9 @@ class VehicleModel:
 
 
 def _state_form(vehicle: VehicleModel) -> StateForm:
+    if not vehicle.equations.dofs:  # an empty file, or bodies without DOFs
+        source = vehicle.model.source if vehicle.model is not None else vehicle.equations.name
+        raise ModelError([Problem(source, None, "model", "no DOFs: no body has a DOF, there is nothing to analyse")])
     # only a series element's damper stroke may be massless (a first-order coordinate);
     # a body DOF without mass (mc = 0) would silently become one (issue 17)
     diagonal = np.diag(vehicle.mass)
