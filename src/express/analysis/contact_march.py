@@ -19,6 +19,8 @@ linearisation at the node's amplitude (``tests/test_contact_tables.py``).
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 import sympy as sp
 from numba import njit
@@ -74,7 +76,7 @@ def contact_arrays(contacts: list[WheelsetContact], law: str = "fastsim") -> dic
     fields = contacts[0].tables.data.shape[0]
     tables = np.zeros((count, 2, t_len, fields))
     maps = np.zeros((count, 2, m_len))
-    arrays = {key: np.zeros(count) for key in ("t_start", "t_step", "m_start", "m_step", "load", "friction",
+    arrays: dict[str, Any] = {key: np.zeros(count) for key in ("t_start", "t_step", "m_start", "m_step", "load", "friction",
                                                  "shear", "wall")}
     arrays.update(t_count=np.zeros(count, dtype=np.int64), m_count=np.zeros(count, dtype=np.int64))
     for j, contact in enumerate(contacts):

@@ -38,6 +38,7 @@ from pathlib import Path
 import numpy as np
 
 from ..clearance import clearance_force, clearances_of
+from ..rail.build import RailLayout
 from ..rail.nonlinear import wheelset_forces
 from ..rail.track import Track
 from ..statespace import VehicleModel
@@ -211,7 +212,7 @@ def _terminal_progress(stream=None):
 
     def show(fraction: float) -> None:
         width = 40
-        filled = int(round(fraction * width))
+        filled = round(fraction * width)
         stream.write(f"\rsimulating [{'#' * filled}{'.' * (width - filled)}] {fraction:4.0%}")
         if fraction >= 1.0:
             stream.write("\n")
@@ -331,9 +332,9 @@ def simulate(
         outputs.update(contact_outputs(history, [w.wheel_load for w in vehicle.wheelsets], q[:, iy] - inputs.y_rail))
     if stops["names"]:
         stop_forces = -_stop_forces(states, stops)
-        for b, name in enumerate(stops["names"]):
-            outputs[f"stop_{name}"] = stop_forces[:, b]
-    options = {"flange": flange, "saturation": saturation, "dt": dt}
+        for k, name in enumerate(stops["names"]):
+            outputs[f"stop_{name}"] = stop_forces[:, k]
+    options: dict[str, object] = {"flange": flange, "saturation": saturation, "dt": dt}
     if tables is not None:
         options["contact"] = f"tables ({creep_law})"
     if stops["names"]:
@@ -357,7 +358,7 @@ def _contact_tables(vehicle: VehicleModel, contact: str | None, creep_law: str) 
             missing = [w.name for w, c in zip(vehicle.wheelsets, contacts, strict=True) if c is None]
             raise ValueError(f"contact tables need profiles for every wheelset (none for {', '.join(missing)})")
         return None
-    return contact_arrays(contacts, creep_law)
+    return contact_arrays([c for c in contacts if c is not None], creep_law)
 
 
 def _feedback_selector(vehicle: VehicleModel, stops: dict) -> np.ndarray:
@@ -420,7 +421,7 @@ def derived_outputs(vehicle: VehicleModel, q, q_dot, inputs: TrackInputs, speed:
     )
     outputs: dict[str, np.ndarray] = {
         "rho1": inputs.rho_wheelsets[:, 0],
-        "S1": inputs.u[:, list(vehicle.inputs).index(vehicle.layout.cant[_station_index(vehicle, ws[0].name)])],
+        "S1": inputs.u[:, list(vehicle.inputs).index(_layout(vehicle).cant[_station_index(vehicle, ws[0].name)])],
     }
     bogies = bogie_of_wheelsets(vehicle)
     for j, wheelset in enumerate(ws, start=1):
@@ -444,8 +445,14 @@ def derived_outputs(vehicle: VehicleModel, q, q_dot, inputs: TrackInputs, speed:
     return outputs
 
 
+def _layout(vehicle: VehicleModel) -> RailLayout:
+    if vehicle.layout is None:
+        raise ValueError("the vehicle has no rail data (no [rail] section with wheelsets)")
+    return vehicle.layout
+
+
 def _station_index(vehicle: VehicleModel, body: str) -> int:
-    for index, station in enumerate(vehicle.layout.stations):
+    for index, station in enumerate(_layout(vehicle).stations):
         if body in station.bodies:
             return index
     raise ValueError(body)
