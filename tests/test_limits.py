@@ -306,3 +306,14 @@ def test_a_classic_file_with_a_non_ascii_name_converts(tmp_path, capsys):
     model.write_text(Path(LEVER).read_text(encoding="utf-8"), encoding="utf-8")
     status, out, _ = run(capsys, "convert", model)
     assert status == 0 and 'name = "model___x"' in out
+
+
+@pytest.mark.parametrize("text", ["", '[bodies.B]\nmass = 1\n'])
+def test_a_model_without_dofs_is_bad_input_for_the_analyses(tmp_path, capsys, text):
+    """An empty file (found by the fuzzer: eigen crashed) or bodies without DOFs."""
+    path = tmp_path / "empty.toml"
+    path.write_text(text)
+    for command in ("eigen", "frf"):
+        status, _, err = run(capsys, command, path)
+        assert status == 2 and errors(err) == [f"error: {path}: model: no DOFs: no body has a DOF, there is nothing "
+                                               "to analyse"]
