@@ -163,6 +163,7 @@ def wheelset_forces(data, t_start, t_step, t_count, contact, m_start, m_step, m_
     a rail map; ``work`` is scratch space of shape (2, :data:`WORK_COLUMNS`); ``law`` 0
     Polach, 1 FASTSIM.
     """
+    # size-reason: one numba kernel per wheelset and step, both wheels in one pass (no calls in the hot loop)
     extra = 0.0
     for side in range(2):
         position, over = _map(contact, m_start, m_step, m_count, y, side)
