@@ -117,3 +117,20 @@ def test_eigen_mode_mistakes(tmp_path, capsys, arguments, message):
     status, _, err = run(capsys, "eigen", CONVENTIONAL, *[a.format(tmp=tmp_path) for a in arguments])
     assert status == 2 and message in err
     assert not list(tmp_path.iterdir())
+
+
+def test_frf_plot_draws_the_dofs_asked_for(tmp_path, capsys, monkeypatch):
+    """``frf --plot`` honours ``--dof``: its curves are in the figure beside the floor points."""
+    from express.analysis import plots
+
+    drawn = []
+    original = plots.figure_frequency_response
+
+    def spy(frequencies, curves, **kwargs):
+        drawn.extend(curve["label"] for curve in curves)
+        return original(frequencies, curves, **kwargs)
+
+    monkeypatch.setattr(plots, "figure_frequency_response", spy)
+    status, _, _ = run(capsys, "frf", STEERED, "--dof", "W1.y", "--points", "20", "--plot", tmp_path / "frf.png")
+    assert status == 0 and (tmp_path / "frf.png").exists()
+    assert "W1.y [m]" in drawn and len(drawn) >= 2

@@ -174,11 +174,14 @@ def _figure(vehicle: Any, frequencies: Any, series: dict, amplitude: float, spee
     from ..analysis.plots import figure_frequency_response, save_figure
 
     accelerations = [n for n in series if series[n][1] == "m/s^2"]
-    if accelerations:
-        curves = [{"label": _LABELS.get(n, n), "values": np.abs(series[n][0])} for n in accelerations]
+    others = [n for n in series if n not in accelerations]  # the --dof displacements
+    curves = [{"label": _LABELS.get(n, n), "values": np.abs(series[n][0])} for n in accelerations]
+    curves += [{"label": f"{n} [{series[n][1]}]", "values": np.abs(series[n][0])} for n in others]
+    if accelerations and others:
+        ylabel = "amplitude (units in the legend)"
+    elif accelerations:
         ylabel = "acceleration amplitude [m/s²]"
     else:
-        curves = [{"label": f"{n} [{series[n][1]}]", "values": np.abs(series[n][0])} for n in series]
         ylabel = "displacement amplitude"
     title = (f"{vehicle.equations.name}: response to Y = {amplitude * 1e3:g} mm at {speed / common.KMH:.0f} km/h"
              if speed == speed else f"{vehicle.equations.name}: response to each ground input ({amplitude * 1e3:g} mm)")
