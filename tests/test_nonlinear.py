@@ -1,6 +1,6 @@
 """Wheel/rail nonlinearities: flange contact, Shen-Hedrick-Elkins saturation, creep forces.
 
-Physics in ``/work/shared/design/rail.md`` (paper eqs. 8-11); axes x forward, y left,
+Physics in ``docs/rail-conventions.md`` (paper eqs. 8-11); axes x forward, y left,
 yaw positive turning left.
 """
 

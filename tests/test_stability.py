@@ -1,6 +1,6 @@
 """Tests of express.analysis.stability: eigenvalues, root locus, critical speed.
 
-Independent checks (``/work/shared/design/rail.md``):
+Independent checks (``docs/rail-conventions.md``):
 
 * Klingel's kinematic wavelength of a free wheelset and of a rigid two-axle bogie;
 * the critical speed of a wheelset restrained to a fixed frame against the Routh-Hurwitz
