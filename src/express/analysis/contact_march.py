@@ -36,19 +36,16 @@ __all__ = [
     "contact_arrays", "contact_force_history", "contact_outputs", "contact_rhs", "linear_coefficients", "march_contact",
 ]
 
-def linear_coefficients(vehicle, speed: float) -> np.ndarray:
-    """The model's linear wheel/rail terms of every wheelset at ``speed`` [m/s], shape
-    (n_wheelsets, 12): ``K_y., K_psi.`` entries on (y, psi), ``C`` on (y', psi'), ``P`` on
-    (yR, rho), lateral row then yaw row (see the module docstring)."""
-    model = vehicle.model
+def _linear_terms(model) -> list[list[tuple[int, object]]]:
+    """``(slot, expression)`` of every wheelset's linear wheel/rail terms (cached by model)."""
+    cached = _TERMS.get(id(model))
+    if cached is not None and cached[0] is model:
+        return cached[1]
     rail = model.rail
-    if not isinstance(rail.speed, sp.Symbol):
-        raise ValueError("the contact simulation needs the model's speed as a parameter (rail.speed = \"v\")")
-    values = {**vehicle.values, rail.speed.name: float(speed)}
     nodes = profile_nodes(model)
     by_body = station_of(model)
-    out = np.zeros((len(rail.wheelsets), 12))
-    for j, wheelset in enumerate(rail.wheelsets):
+    terms_of = []
+    for wheelset in rail.wheelsets:
         node = nodes.get(wheelset.body)
         curvature = by_body[wheelset.body].curvature_input
         stiffness, damping, forces = wheelset_terms(wheelset, rail.speed, curvature,
@@ -58,18 +55,56 @@ def linear_coefficients(vehicle, speed: float) -> np.ndarray:
                 (y, irregularity_input(wheelset), "P"): 4, (y, curvature, "P"): 5,
                 (psi, y, "K"): 6, (psi, psi, "K"): 7, (psi, y, "C"): 8, (psi, psi, "C"): 9,
                 (psi, irregularity_input(wheelset), "P"): 10, (psi, curvature, "P"): 11}
-        for kind, terms in (("K", stiffness), ("C", damping), ("P", forces)):
-            for row, column, value in terms:
-                index = slot.get((row, column, kind))
-                if index is not None:
-                    out[j, index] += expression_value(value, values)
+        terms_of.append([(slot[(row, column, kind)], value)
+                         for kind, terms in (("K", stiffness), ("C", damping), ("P", forces))
+                         for row, column, value in terms if (row, column, kind) in slot])
+    if len(_TERMS) >= 16:
+        _TERMS.pop(next(iter(_TERMS)))
+    _TERMS[id(model)] = (model, terms_of)
+    return terms_of
+
+
+_TERMS: dict[int, tuple] = {}
+
+
+def linear_coefficients(vehicle, speed: float) -> np.ndarray:
+    """The model's linear wheel/rail terms of every wheelset at ``speed`` [m/s], shape
+    (n_wheelsets, 12): ``K_y., K_psi.`` entries on (y, psi), ``C`` on (y', psi'), ``P`` on
+    (yR, rho), lateral row then yaw row (see the module docstring)."""
+    model = vehicle.model
+    rail = model.rail
+    if not isinstance(rail.speed, sp.Symbol):
+        raise ValueError("the contact simulation needs the model's speed as a parameter (rail.speed = \"v\")")
+    values = {**vehicle.values, rail.speed.name: float(speed)}
+    terms_of = _linear_terms(model)
+    out = np.zeros((len(terms_of), 12))
+    for j, terms in enumerate(terms_of):
+        for index, value in terms:
+            out[j, index] += expression_value(value, values)
     return out
 
 
 def contact_arrays(contacts: list[WheelsetContact], law: str = "fastsim") -> dict:
-    """The tables and rail maps of the wheelsets stacked for the compiled march."""
+    """The tables and rail maps of the wheelsets stacked for the compiled march (cached
+    for the same contacts)."""
     if law not in LAWS:
         raise ValueError(f"creep law {law!r}: use one of {', '.join(LAWS)}")
+    key = tuple((id(c.tables), id(c.rail_map), c.wheel_load, c.friction, c.rail_stiffness) for c in contacts)
+    held = tuple(item for c in contacts for item in (c.tables, c.rail_map))
+    cached = _ARRAYS.get(key)
+    if cached is not None and all(a is b for a, b in zip(cached[0], held, strict=True)):
+        return {**cached[1], "law": LAWS[law]}
+    arrays = _stack(contacts)
+    if len(_ARRAYS) >= 16:
+        _ARRAYS.pop(next(iter(_ARRAYS)))
+    _ARRAYS[key] = (held, arrays)
+    return {**arrays, "law": LAWS[law]}
+
+
+_ARRAYS: dict[tuple, tuple] = {}
+
+
+def _stack(contacts: list[WheelsetContact]) -> dict:
     count = len(contacts)
     t_len = max(c.tables.data.shape[2] for c in contacts)
     m_len = max(c.rail_map.contact.shape[1] for c in contacts)
@@ -88,7 +123,7 @@ def contact_arrays(contacts: list[WheelsetContact], law: str = "fastsim") -> dic
         arrays["t_count"][j], arrays["m_count"][j] = data.shape[2], rail_map.shape[1]
         arrays["load"][j], arrays["friction"][j] = contact.wheel_load, contact.friction
         arrays["shear"][j], arrays["wall"][j] = contact.tables.shear_modulus, contact.wall
-    arrays.update(tables=tables, maps=maps, law=LAWS[law])
+    arrays.update(tables=tables, maps=maps)
     return arrays
 
 

@@ -118,7 +118,7 @@ def polach_forces(normal, friction, a, b, shear_modulus, c11, c22, c23, xi, eta,
 # --------------------------------------------------------------------------- FASTSIM
 
 #: Strips across and elements along each strip of :func:`fastsim`.
-FASTSIM_GRID = (4, 6)
+FASTSIM_GRID = (3, 5)
 
 
 def _fastsim_factors(strips: int, elements: int) -> tuple[float, float]:
