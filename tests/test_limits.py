@@ -317,3 +317,21 @@ def test_a_model_without_dofs_is_bad_input_for_the_analyses(tmp_path, capsys, te
         status, _, err = run(capsys, command, path)
         assert status == 2 and errors(err) == [f"error: {path}: model: no DOFs: no body has a DOF, there is nothing "
                                                "to analyse"]
+
+
+@pytest.mark.parametrize(
+    "argv, status, expected",
+    [
+        (["--set", "ky2=-150000"], 1, "the vehicle is unstable at 120.0 km/h (least-damped eigenvalue 3.786 + "
+                                      "0.02735j 1/s, car body sway"),
+        (["--speed", "520"], 1, "the vehicle is unstable at 520.0 km/h (least-damped eigenvalue 1.585 + 25.77j 1/s, "
+                                "hunting"),
+        (["--speed", "400"], 0, ""),  # below the critical speed, 420.8 km/h
+    ],
+)
+def test_a_frequency_response_of_an_unstable_vehicle_is_no_valid_result(capsys, argv, status, expected):
+    """A steady state exists only when every free motion decays: above the critical
+    speed, or with a negative lateral stiffness, frf exits 1 naming the mode."""
+    code, _, err = run(capsys, "frf", CONVENTIONAL, "--points", "8", *argv)
+    assert code == status, err
+    assert expected in err

@@ -228,6 +228,31 @@ def steady_response(
         raise AnalysisError("the dynamic stiffness -w^2 M + i w C + K is singular at one of the frequencies") from None
 
 
+def require_stable(vehicle: VehicleModel, speed: float) -> None:
+    """Refuse a frequency response of a vehicle that is unstable at ``speed``: the
+    response to a sinusoid is a steady state only when every free motion decays; an
+    unstable one grows without bound whatever the excitation (issue 17).
+
+    Raises
+    ------
+    AnalysisError
+        Naming the speed and the least-damped eigenvalue with its mode.
+    """
+    values = np.linalg.eigvals(vehicle.state_matrix(speed))
+    if values.size == 0 or not values.real.max() > 1e-9 * max(1.0, float(np.abs(values).max())):
+        return  # rigid-body modes (eigenvalue 0) are rounding away from stable, not unstable
+    from ..diagnostics import AnalysisError
+    from ..units import KMH
+    from .stability import eigen_analysis
+
+    mode = eigen_analysis(vehicle, speed).modes[0]
+    raise AnalysisError(
+        f"the vehicle is unstable at {speed / KMH:.1f} km/h (least-damped eigenvalue {mode.real:.4g} "
+        f"{'+' if mode.imag >= 0 else '-'} {abs(mode.imag):.4g}j 1/s, {mode.describe()}): its response to a "
+        "sinusoid grows without bound, there is no steady state to report"
+    )
+
+
 def irregularity_delays(vehicle: VehicleModel, speed: float) -> np.ndarray:
     """``t_n = (x_lead - x_n) / v`` [s] for every wheelset, the leading one (largest x)
     at 0. Shape (n_wheelsets,)."""
@@ -266,7 +291,8 @@ def frequency_response(
     ValueError
         For a model without wheelsets or a non-positive speed.
     AnalysisError
-        For a frequency at which the dynamic stiffness is singular.
+        For a frequency at which the dynamic stiffness is singular, or a vehicle that
+        is unstable at the speed (:func:`require_stable`).
 
     Examples
     --------
@@ -287,6 +313,7 @@ def frequency_response(
     f = np.atleast_1d(np.asarray(frequencies, dtype=float))
     if f.ndim != 1 or not np.all(np.isfinite(f)) or np.any(f < 0):
         raise ValueError("frequencies must be a 1-D sequence of finite values >= 0 [Hz]")
+    require_stable(vehicle, v)
     w = 2.0 * np.pi * f
     inputs = list(vehicle.inputs)
     columns = [inputs.index(name) for name in vehicle.layout.irregularity]
