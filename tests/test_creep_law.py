@@ -125,7 +125,7 @@ def test_fastsim_grid_convergence():
     creep = (-0.0183, -0.039, -1.94)
     reference = _fastsim(15e3, MU, a, b, G, *c, *creep, *_fastsim_grid(40, 40), *_fastsim_factors(40, 40))
     coarse = fastsim(15e3, MU, a, b, G, *c, *creep)
-    # the 6 x 6 grid of the simulation is within 3 % of mu N of a 40 x 40 grid
+    # the simulation's coarse grid (FASTSIM_GRID) is within 3 % of mu N of a 40 x 40 grid
     assert np.abs(np.subtract(coarse, reference)).max() < 0.03 * MU * 15e3
 
 
