@@ -335,3 +335,13 @@ def test_a_frequency_response_of_an_unstable_vehicle_is_no_valid_result(capsys, 
     code, _, err = run(capsys, "frf", CONVENTIONAL, "--points", "8", *argv)
     assert code == status, err
     assert expected in err
+
+
+def test_check_model_refuses_a_wheelset_listed_twice_in_a_model_built_in_python():
+    from dataclasses import replace
+
+    from express.model import check_model
+
+    car = load_model(CONVENTIONAL)
+    rail = replace(car.rail, wheelsets=car.rail.wheelsets + car.rail.wheelsets[:1])
+    assert [str(p) for p in check_model(replace(car, rail=rail))] == [f"{CONVENTIONAL}:89: wheelset W1: listed twice"]

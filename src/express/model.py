@@ -452,10 +452,16 @@ def _check_pins(model: Model, hosts: dict[str, str], bodies: dict[str, Body], gr
 
 
 def _check_rail_references(model: Model, bodies: dict[str, Body], problems: list[Problem]) -> None:
-    """Wheelsets and output points name known bodies; a wheelset has the y and rz DOFs."""
+    """Wheelsets and output points name known bodies; a wheelset has the y and rz DOFs
+    and is listed once (its weight against its wheel load: :mod:`express.parameter_ranges`)."""
     source = model.source
     if model.rail is not None:
+        listed: set[str] = set()
         for wheelset in model.rail.wheelsets:
+            if wheelset.body in listed:
+                problems.append(Problem(source, wheelset.line, f"wheelset {wheelset.body}", "listed twice"))
+                continue
+            listed.add(wheelset.body)
             if wheelset.body not in bodies:
                 problems.append(
                     Problem(source, wheelset.line, f"wheelset {wheelset.body}", "unknown body")
