@@ -16,6 +16,8 @@ __all__ = ["MAX_SWEEP", "add_parser", "parse_range", "run"]
 
 #: Most values of one ``--conicities`` sweep.
 MAX_SWEEP = 10_000
+#: ``--vstart``: the first speed of the ramp-down (``--nonlinear``).
+VSTART = common.Quantity("--vstart", "speed", "km/h", 0.0, 1000.0, open_low=True)
 
 
 def parse_range(text: str, option: str = "--conicities") -> list[float]:
@@ -80,8 +82,8 @@ def add_parser(subparsers) -> None:
                         help="also the nonlinear critical speed: ramp-down from above the linear one with a "
                         "disturbance (contact from the profiles' tables when the model has them); -o writes the "
                         "bifurcation diagram's points")
-    parser.add_argument("--vstart", type=common.SPEED, metavar="SPEED",
-                        help=common.SPEED.help("with --nonlinear: first speed of the ramp-down", "1.2 x the linear V_cr"))
+    parser.add_argument("--vstart", type=VSTART, metavar="SPEED",
+                        help=VSTART.help("with --nonlinear: first speed of the ramp-down", "1.2 x the linear V_cr"))
     parser.add_argument("--creep-law", choices=("fastsim", "polach"), default="fastsim",
                         help="with --nonlinear and profiles: the creep law (default fastsim)")
     common.add_json_option(parser)
