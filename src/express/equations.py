@@ -161,8 +161,9 @@ class EquationsOfMotion:
     matrices : dict of str to sympy immutable matrix
         ``M``, ``C``, ``K`` (n x n) and, when inputs exist, ``P`` and ``Pd`` (n x m),
         in the order of :data:`MATRIX_ORDER`; further keys may follow.  The generator
-        gives ``sympy.ImmutableSparseMatrix`` (only the non-zeros are stored; use
-        ``todok()`` to walk them); dense ``ImmutableMatrix`` works too.
+        gives ``sympy.ImmutableSparseMatrix`` when the matrix is mostly zeros (a train's:
+        only the non-zeros are stored; ``todok()`` walks them), ``ImmutableMatrix``
+        otherwise (:func:`express.generator.symbolic_matrix`).
     parameters : tuple of str
         Sorted names of every parameter symbol appearing in the matrices.
     values : dict of str to float

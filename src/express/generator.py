@@ -29,7 +29,7 @@ from .kinematics import end_motion, generalized_coordinates
 from .model import AXES, DOF_NAMES, Model, check_model
 from .parameters import display_unit
 
-__all__ = ["AddedTerms", "GenerationResult", "generate", "pin_transformation"]
+__all__ = ["SPARSE_BELOW", "AddedTerms", "GenerationResult", "generate", "pin_transformation", "symbolic_matrix"]
 
 
 @dataclass(frozen=True)
@@ -75,15 +75,16 @@ class GenerationResult:
         The matrices.
     warnings : tuple of Problem
         Suspicious features (a DOF with zero mass or inertia).
-    transformation : sympy.ImmutableSparseMatrix
-        ``T`` with ``q = T q_r`` (full DOFs x reduced DOFs), sparse.
+    transformation : sympy immutable matrix
+        ``T`` with ``q = T q_r`` (full DOFs x reduced DOFs); sparse for big models
+        (:func:`symbolic_matrix`).
     full_dofs : tuple of str
         Generalized coordinates before elimination (rows of ``T``).
     """
 
     equations: EquationsOfMotion
     warnings: tuple[Problem, ...]
-    transformation: sp.ImmutableSparseMatrix
+    transformation: sp.MatrixBase
     full_dofs: tuple[str, ...]
 
 
@@ -469,11 +470,8 @@ def _generate(model: Model, keep_virtual: bool, added: AddedTerms, domain: Exact
     parts = _assemble(model, added, domain, deflections, reduced, t_rows, set() if keep_virtual else pin_element_ids)
     n, m = len(reduced), len(inputs)
 
-    def build(entries: dict[tuple[int, int], Any], columns: int) -> sp.ImmutableSparseMatrix:
-        # sparse: the cost follows the non-zeros (a train's matrices are > 99 % zeros)
-        return sp.ImmutableSparseMatrix(
-            n, columns, {key: domain.readable(value) for key, value in sorted(entries.items()) if value}
-        )
+    def build(entries: dict[tuple[int, int], Any], columns: int) -> sp.MatrixBase:
+        return symbolic_matrix(n, columns, {key: domain.readable(value) for key, value in entries.items() if value})
 
     matrices = {"M": build(parts.mass, n), "C": build(parts.damping, n), "K": build(parts.stiffness, n)}
     if inputs:
@@ -507,12 +505,30 @@ def _generate(model: Model, keep_virtual: bool, added: AddedTerms, domain: Exact
         derivation=derivation_steps(model),
     )
     warnings = _generation_warnings(model, reduced, matrices["M"], parts.clearances)
-    t_matrix = sp.ImmutableSparseMatrix(
+    t_matrix = symbolic_matrix(
         len(full_dofs),
         n,
-        {(i, j): domain.readable(value) for i, dof in enumerate(full_dofs) for j, value in sorted(t_rows[dof].items()) if value},
+        {(i, j): domain.readable(value) for i, dof in enumerate(full_dofs) for j, value in t_rows[dof].items() if value},
     )
     return GenerationResult(equations, tuple(warnings), t_matrix, tuple(full_dofs))
+
+
+#: A matrix with fewer non-zeros than this share of its entries is built sparse.
+SPARSE_BELOW = 1 / 16
+
+
+def symbolic_matrix(rows: int, columns: int, entries: dict[tuple[int, int], sp.Expr]) -> sp.MatrixBase:
+    """An immutable SymPy matrix of the non-zero ``entries``, built at the cost of the
+    smaller of its two forms: sparse (``ImmutableSparseMatrix``, about 80 us per
+    non-zero: SymPy sorts them) when fewer than :data:`SPARSE_BELOW` of the entries
+    are non-zero, as in a train's matrices (> 99 % zeros), dense (about 5 us per entry)
+    otherwise, as in a single car's.  Both print, compare and index alike."""
+    if len(entries) < SPARSE_BELOW * rows * columns:
+        return sp.ImmutableSparseMatrix(rows, columns, dict(sorted(entries.items())))
+    flat = [sp.S.Zero] * (rows * columns)
+    for (i, j), value in entries.items():
+        flat[i * columns + j] = value
+    return sp.ImmutableMatrix(rows, columns, flat)
 
 
 def _clearance(element, gradient: dict, inputs_gradient: dict, dofs: list[str], inputs: list[str], domain) -> ClearanceTerm:
