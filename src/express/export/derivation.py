@@ -102,16 +102,21 @@ def derivation_plan(eom: EquationsOfMotion) -> DerivationPlan:
         Only the steps that lead to a parameter of the matrices are kept (a step whose
         results no matrix uses is left out, with the given parameters only it needs).
 
+    A function step of a kind the exports cannot write as code (the conicity from
+    wheel and rail profiles, a contact-geometry computation) is left out: its results
+    are given parameters of the export, with the values they had at generation.
+
     Raises
     ------
     ValueError
-        For a function step the exports cannot write (unknown kind, other arguments),
-        or a parameter set by two steps.
+        For a known function step with other arguments, or a parameter set by two steps.
     """
     needed = set(eom.parameters)
     kept: list[DerivationStep] = []
     for step in reversed(eom.derivation):
         if isinstance(step, DerivationCall):
+            if step.kind not in FUNCTIONS:
+                continue  # computed numerically only (e.g. "profiles"): its results are given values
             _check_call(step)
         if needed & set(step_outputs(step)):
             kept.append(step)
