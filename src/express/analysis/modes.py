@@ -18,6 +18,7 @@ import numpy as np
 from ..parameters import expression_value
 from ..statespace import VehicleModel
 from ..topology import Topology, classify_bodies
+from ..units import KMH
 
 __all__ = ["DOMINANT_COUNT", "EigenResult", "Mode", "modes_of"]
 
@@ -152,7 +153,7 @@ class EigenResult:
     @property
     def speed_kmh(self) -> float:
         """Speed [km/h] (nan for a model without rail data)."""
-        return self.speed * 3.6
+        return self.speed / KMH
 
     @property
     def max_real(self) -> float:

@@ -45,6 +45,7 @@ import numpy as np
 
 from ..statespace import VehicleModel
 from ..threads import limited_blas
+from ..units import KMH
 from .modes import EigenResult, Mode, modes_of
 
 __all__ = [
@@ -92,7 +93,7 @@ class CriticalSpeed:
     @property
     def speed_kmh(self) -> float:
         """Critical speed [km/h]."""
-        return self.speed * 3.6
+        return self.speed / KMH
 
     def describe(self) -> str:
         """One line: the speed and the mode that goes unstable."""
@@ -362,7 +363,7 @@ def critical_speed(
         mode = _least_stable_mode(vehicle, float(v_min))
         return CriticalSpeed(float(v_min), mode, True, (float(v_min), float(v_min)), evaluations + 1)
     lo, hi = float(grid[first - 1]), float(grid[first])
-    tolerance = tolerance_kmh / 3.6
+    tolerance = tolerance_kmh * KMH
     while hi - lo > tolerance:
         mid = 0.5 * (lo + hi)
         evaluations += 1

@@ -22,6 +22,7 @@ from pathlib import Path
 from typing import Any
 
 from ..diagnostics import UsageError
+from ..units import KMH
 
 __all__ = [
     "AMPLITUDE",
@@ -43,7 +44,6 @@ __all__ = [
     "running_speed",
 ]
 
-KMH = 1.0 / 3.6
 _BARE_NUMBER = re.compile(r"\s*[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?\s*\Z")
 _NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 

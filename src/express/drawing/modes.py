@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from ..statespace import VehicleModel
+from ..units import KMH
 from .geometry import ModelGeometry, displaced_geometry, point_displacement
 from .views import figure_model
 
@@ -90,7 +91,7 @@ def _displaced(geometry: ModelGeometry, mode: ModeShape, phase: float, scale: fl
 
 
 def _title(geometry: ModelGeometry, mode: ModeShape, label: str) -> str:
-    speed = f" at {mode.speed * 3.6:.0f} km/h" if np.isfinite(mode.speed) else ""
+    speed = f" at {mode.speed / KMH:.0f} km/h" if np.isfinite(mode.speed) else ""
     what = f": {label}" if label else ""
     return (f"{geometry.name}, mode {mode.number}{what}{speed} — f = {mode.frequency_hz:.3f} Hz, "
             f"damping ratio {mode.damping_ratio:.3f}")

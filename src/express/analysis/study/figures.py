@@ -10,7 +10,7 @@ import numpy as np
 
 __all__ = ["figure_study_map", "figure_tornado"]
 
-KMH = 1.0 / 3.6
+from ...units import KMH
 
 
 def _figure(figsize):

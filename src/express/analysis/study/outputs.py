@@ -41,7 +41,7 @@ from .critical import CriticalOptions, CriticalSpeedSearch, StateBlocks
 
 __all__ = ["OUTPUTS", "OutputSettings", "PointOutputs"]
 
-KMH = 1.0 / 3.6
+from ...units import KMH
 
 #: Output name -> (SI unit, group). The group decides which analysis runs.
 OUTPUTS: dict[str, tuple[str, str]] = {
