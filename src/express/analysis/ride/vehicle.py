@@ -68,6 +68,7 @@ from ...model import Model
 from ...parameters import expression_value
 from ...rail.track.spectra import COMPONENTS, ERRI_LEVELS, FRA_CLASSES, TrackSpectrum
 from ...statespace import VehicleModel
+from ...units import KMH
 from .spectral import check_frequencies, check_psd, resolvent_solve, spatial_to_temporal, spectral_rms
 
 __all__ = [
@@ -408,7 +409,7 @@ def _check_stable(vehicle: VehicleModel, a: np.ndarray, v: float) -> None:
     worst = eigenvalues[np.argmax(eigenvalues.real)] if eigenvalues.size else 0.0
     if eigenvalues.size and worst.real > 1e-6 * max(1.0, float(np.abs(eigenvalues).max())):
         raise AnalysisError(
-            f"ride: {vehicle.equations.name} is unstable at {v * 3.6:.4g} km/h (eigenvalue {worst.real:.4g} "
+            f"ride: {vehicle.equations.name} is unstable at {v / KMH:.4g} km/h (eigenvalue {worst.real:.4g} "
             f"{worst.imag:+.4g}i 1/s, e.g. hunting above the critical speed): no stationary random response"
         )
 
