@@ -124,3 +124,13 @@ def test_decorated_functions_keep_their_name_and_documentation():
     assert stability.root_locus.__name__ == "root_locus"
     assert "Eigenvalues of" in stability.root_locus.__doc__
     assert simulate.simulate.__wrapped__.__name__ == "simulate"
+
+
+def test_a_bad_environment_variable_is_exit_2_on_the_command_line(monkeypatch, capsys):
+    from express.cli import main
+
+    monkeypatch.setenv(ENVIRONMENT_VARIABLE, "lots")
+    status = main(["eigen", "examples/conventional.toml"])
+    err = capsys.readouterr().err
+    assert status == 2
+    assert err.startswith("error: ") and ENVIRONMENT_VARIABLE in err and len(err.splitlines()) == 1

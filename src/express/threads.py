@@ -35,6 +35,8 @@ import threading
 from collections.abc import Callable, Iterator
 from typing import Any, TypeVar
 
+from .diagnostics import UsageError
+
 __all__ = ["ENVIRONMENT_VARIABLE", "blas_limit", "blas_threads", "limited_blas"]
 
 #: Name of the environment variable that sets the limit (``0``/``none``: no limit).
@@ -54,9 +56,9 @@ def blas_limit() -> int | None:
 
     Raises
     ------
-    ValueError
-        When the variable is set to something else than a non-negative integer or
-        ``none``.
+    UsageError
+        (a ``ValueError``) When the variable is set to something else than a
+        non-negative integer or ``none``: the CLI prints it as one line, status 2.
     """
     text = os.environ.get(ENVIRONMENT_VARIABLE, "").strip().lower()
     if not text:
@@ -68,7 +70,10 @@ def blas_limit() -> int | None:
     except ValueError:
         limit = -1
     if limit < 0:
-        raise ValueError(f"{ENVIRONMENT_VARIABLE}={text!r}: give a number of threads (>= 1), or 0 or 'none' for no limit")
+        raise UsageError(
+            f"environment variable {ENVIRONMENT_VARIABLE}={text!r}: expected a number of threads (>= 1), "
+            "or 0 or 'none' for no limit"
+        )
     return limit
 
 
