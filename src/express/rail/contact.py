@@ -1,5 +1,8 @@
 """Wheel/rail creep coefficients from the Hertz ellipse and Kalker's linear theory.
 
+(size-reason: about 60 lines are Kalker's Table E.3 as literal data, kept beside the
+interpolation that reads it; without the table the module is under 600 lines.)
+
 This module owns the small-creepage ("linear") tangential contact law used by the
 linear vehicle models:
 
