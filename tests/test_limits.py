@@ -10,8 +10,10 @@ the error texts (a short excerpt of a file at most, one line per problem).
 
 from __future__ import annotations
 
+import importlib.util
 import math
 import time
+import tomllib
 from pathlib import Path
 
 import numpy as np
@@ -21,7 +23,7 @@ from cli_support import CONVENTIONAL, LEVER, run
 from express.diagnostics import ModelError, UsageError
 from express.expressions import ExpressionError, parse_expression
 from express.io import load_model, parse_classic, parse_toml_model
-from express.limits import LIMITS, limit
+from express.limits import LIMITS, limit, read_input_text
 from express.rail.contact import creep_coefficients, kalker_coefficients
 from express.rail.nonlinear import saturation_factor
 
@@ -119,6 +121,41 @@ def test_a_device_as_model_stops_at_the_size_limit(monkeypatch):
 
     with pytest.raises(ModelError, match=r"larger than the limit|NUL bytes"):
         read_classic("/dev/zero")
+
+
+def _train_toml(cars: int) -> str:
+    spec = importlib.util.spec_from_file_location("make_vehicles", EXAMPLES / "make_vehicles.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module.vehicle_toml(True, cars=cars)
+
+
+@pytest.mark.parametrize("cars", [100, 150])
+def test_long_trains_pass_the_default_limits(tmp_path, monkeypatch, cars):
+    """Issue 16's 100-car train (and a 150-car one) is read without any
+    ``EXPRESS_MAX_*`` variable: the reader's own count, on the parsed file, is within
+    every default.  (Generating the train is ``benchmarks/bench_scaling.py``'s work.)"""
+    for spec in LIMITS.values():
+        monkeypatch.delenv(spec.variable, raising=False)
+    from express.io.toml_model import _size_problems
+
+    path = tmp_path / f"train{cars}.toml"
+    path.write_text(_train_toml(cars), encoding="utf-8")
+    data = tomllib.loads(read_input_text(path))  # within the file-size limit, or this raises
+    counts = {key: len(data[key]) for key in ("bodies", "elements", "points")}
+    assert counts == {"bodies": 11 * cars, "elements": 56 * cars - 2, "points": 112 * cars - 4}
+    assert _size_problems(data, str(path)) == []
+    assert all(counts[key] <= limit(key) for key in counts)
+
+
+def test_a_train_beyond_the_defaults_is_refused_by_its_size(monkeypatch):
+    """The defaults stay a bound: 179 cars of the forced-steering car exceed the
+    elements and connection-point limits (checked on counts, not a generated file)."""
+    for spec in LIMITS.values():
+        monkeypatch.delenv(spec.variable, raising=False)
+    assert 11 * 178 <= limit("bodies") and 56 * 178 - 2 <= limit("elements") and 112 * 178 - 4 <= limit("points")
+    assert 56 * 179 - 2 > limit("elements") and 112 * 179 - 4 > limit("points")
+    assert limit("bodies") < 11 * 200
 
 
 def test_deeply_nested_toml_is_a_model_error():
