@@ -84,9 +84,9 @@ def model():
     return parse_toml_model(WHEELSET, "wheelset.toml")
 
 
-def test_reader_and_rail_layer_agree_on_the_node():
-    assert PROFILE_INPUTS == profile_contact.INPUTS
-    assert PROFILE_OUTPUTS == profile_contact.OUTPUTS
+def test_reader_and_rail_layer_share_one_definition_of_the_node():
+    assert profile_contact.INPUTS is PROFILE_INPUTS
+    assert profile_contact.OUTPUTS is PROFILE_OUTPUTS
 
 
 def test_results_of_the_node(model):

@@ -26,9 +26,9 @@ from ..units import UnitError, check_dimension, parse_quantity
 
 __all__ = ["PROFILE_INPUTS", "PROFILE_OUTPUTS", "conicity_value"]
 
-#: Arguments: (key, dimension, default); ``None``: the wheelset's own value (r0, wheel
-#: load).  Equal to :data:`express.rail.profile_contact.INPUTS` (a test keeps them so;
-#: the reader does not import the rail layer).
+#: Arguments of the ``"profiles"`` node: (key, dimension, default); ``None``: the
+#: wheelset's own value (r0, wheel load).  The one definition: the rail layer's
+#: :data:`express.rail.profile_contact.INPUTS` is this tuple.
 PROFILE_INPUTS = (
     ("gauge", "length", 1.435),
     ("flange_back", "length", 1.360),
@@ -39,7 +39,7 @@ PROFILE_INPUTS = (
     ("youngs_modulus", "pressure", 206e9),
     ("poisson", "dimensionless", 0.3),
 )
-#: Results: (key, parameter name suffix, dimension) as :data:`express.rail.profile_contact.OUTPUTS`.
+#: Results: (key, parameter name suffix, dimension); :data:`express.rail.profile_contact.OUTPUTS`.
 PROFILE_OUTPUTS = (
     ("conicity", "", "dimensionless"),
     ("epsilon", "epsilon", "dimensionless"),

@@ -28,6 +28,7 @@ import numpy as np
 import sympy as sp
 
 from ..diagnostics import ModelError
+from ..io.toml_contact import PROFILE_INPUTS, PROFILE_OUTPUTS
 from ..model import Derivation, Model
 from ..parameters import expression_value
 from .conicity import equivalent_conicity
@@ -61,34 +62,12 @@ __all__ = [
 #: Kind of the derivation node.
 KIND = "profiles"
 #: Arguments of the node: (key, dimension, default); ``None``: the wheelset's own value
-#: (``wheel_radius`` is its r0, ``wheel_load`` its wheel load).
-INPUTS = (
-    ("gauge", "length", 1.435),
-    ("flange_back", "length", 1.360),
-    ("inclination", "dimensionless", 1.0 / 40.0),
-    ("wheel_radius", "length", None),
-    ("amplitude", "length", 3e-3),
-    ("wheel_load", "force", None),
-    ("youngs_modulus", "pressure", 206e9),
-    ("poisson", "dimensionless", 0.3),
-)
-#: Results: (key, suffix of the parameter name, dimension).  The conicity takes the
-#: node's name itself; the others ``<name>_<suffix>``.
-OUTPUTS = (
-    ("conicity", "", "dimensionless"),
-    ("epsilon", "epsilon", "dimensionless"),
-    ("sigma", "sigma", "dimensionless"),
-    ("delta0", "delta0", "angle"),
-    ("half_distance", "l0", "length"),
-    ("radius", "r0", "length"),
-    ("f11", "f11", "force"),
-    ("f22", "f22", "force"),
-    ("f23", "f23", "rotational_stiffness"),
-    ("lateral_stiffness", "ky", "stiffness"),
-    ("yaw_stiffness", "kpsi", "rotational_stiffness"),
-    ("angle_factor", "g", "dimensionless"),
-    ("lateral_factor", "gy", "dimensionless"),
-)
+#: (``wheel_radius`` is its r0, ``wheel_load`` its wheel load).  Results: (key, suffix
+#: of the parameter name, dimension); the conicity takes the node's name itself, the
+#: others ``<name>_<suffix>``.  Defined once, by the reader of the model file (a lower
+#: layer), which makes the node.
+INPUTS = PROFILE_INPUTS
+OUTPUTS = PROFILE_OUTPUTS
 
 
 @lru_cache(maxsize=8)
