@@ -173,8 +173,31 @@ def test_ride_bad_input_exits_2(capsys, tmp_path, argv, mentions):
 
 
 def test_ride_above_the_critical_speed_exits_1_and_writes_nothing(capsys, tmp_path):
-    output = tmp_path / "psd.csv"
-    assert_fails(capsys, 1, "ride", CONVENTIONAL, "--track", "ERRI-low", "--speed", "500", "-o", output, mentions="unstable")
+    """The check of ``express frf`` (``analysis.frequency.require_stable``): the same least-damped mode."""
+    output, plot = tmp_path / "psd.csv", tmp_path / "psd.png"
+    err = assert_fails(capsys, 1, "ride", CONVENTIONAL, "--track", "ERRI-low", "--speed", "500", "-o", output,
+                       "--plot", plot, mentions="unstable at 500.0 km/h")
+    assert "no stationary response" in err and "hunting" in err and "Traceback" not in err
+    assert not output.exists() and not plot.exists()
+    frf = assert_fails(capsys, 1, "frf", CONVENTIONAL, "--speed", "500", mentions="unstable at 500.0 km/h")
+    eigenvalue = frf.split("least-damped eigenvalue ")[1].split(",")[0]
+    assert f"least-damped eigenvalue {eigenvalue}," in err
+
+
+@pytest.mark.parametrize("level", [1, 5])
+def test_ride_aar_classes_are_the_us_class_spectra(capsys, level):
+    aar = run_json(capsys, "ride", CONVENTIONAL, "--track", f"AAR-{level}", "--speed", "100", "--points", "200")
+    fra = run_json(capsys, "ride", CONVENTIONAL, "--track", f"fra_{level}", "--speed", "100", "--points", "200")
+    assert aar["track"] == f"AAR-{level}" and aar["components"] == ["alignment"]
+    assert aar["output_points"] == fra["output_points"] and aar["wheelsets"] == fra["wheelsets"]
+
+
+def test_ride_unknown_track_class_lists_every_valid_name(capsys, tmp_path):
+    from express.analysis.ride.vehicle import TRACK_CLASSES
+
+    output = tmp_path / "never.csv"
+    err = assert_input_error(capsys, "ride", CONVENTIONAL, "--track", "AAR-7", "-o", output, mentions="unknown track class")
+    assert all(name in err for name in TRACK_CLASSES) and "AAR-6" in err and len(err.strip().splitlines()) == 1
     assert not output.exists()
 
 
@@ -184,7 +207,7 @@ def test_ride_help_lists_the_library_track_classes(capsys):
 
     assert ride.TRACK_CLASSES == TRACK_CLASSES
     status, out, _ = run(capsys, "ride", "--help")
-    assert status == 0 and "ERRI-low" in out and "FRA-6" in out
+    assert status == 0 and "ERRI-low" in out and "FRA-6" in out and "AAR-6" in out
 
 
 def test_ride_needs_rail_data(capsys, tmp_path):

@@ -12,6 +12,7 @@ from scipy.integrate import quad
 from express.analysis.ride import spatial_to_temporal, spectral_variance
 from express.rail.track.irregularity import Harmonics, SpectrumIrregularity
 from express.rail.track.spectra import (
+    AAR_CLASSES,
     ERRI_LEVELS,
     FRA_CLASSES,
     SPECTRA,
@@ -80,6 +81,30 @@ def test_fra_alignment_classes(c: int) -> None:
         assert FRA_CLASSES["alignment"][c - 1] is SPECTRA[f"fra{c}"]
 
 
+def test_fra_class_5_vertical_known_value_in_si() -> None:
+    """Unit check by hand: A_v = 0.2095 cm^2 rad/m is 0.2095e-4 m^2 rad/m; at Omega = Omega_c
+    the PSD is k A_v / (2 Omega_c^2) = 0.25 x 0.2095 / (2 x 0.67980) = 0.038522 cm^2/(rad/m)
+    = 3.8522e-6 m^2/(rad/m) (a cm^2 slip would give 1e4 times that, a missing one 1e-4)."""
+    vertical = FRA_CLASSES["vertical"][4]
+    assert vertical.psd(0.8245) == pytest.approx(3.8522e-6, rel=1e-4)
+    # and the alignment of class 6 at 1 rad/m: 0.25 x 0.0339e-4 x 0.67980 / (1 x 1.67980)
+    assert FRA_CLASSES["alignment"][5].psd(1.0) == pytest.approx(3.4298e-7, rel=1e-4)
+
+
+@pytest.mark.parametrize("component", ["vertical", "alignment", "cross_level"])
+@pytest.mark.parametrize("c", range(1, 7))
+def test_aar_classes_are_the_us_class_spectra(component: str, c: int) -> None:
+    aar, fra = AAR_CLASSES[component][c - 1], FRA_CLASSES[component][c - 1]
+    assert aar.name.startswith(f"AAR class {c}") and aar.component == component
+    np.testing.assert_allclose(aar.psd(W), fra.psd(W), rtol=0)  # same published constants
+    a_cm2 = FRA_AA[c - 1] if component == "alignment" else FRA_AV[c - 1]
+    expected = fra_cross_level(W, a_cm2, FRA_WS[c - 1]) if component == "cross_level" else fra_profile(W, a_cm2)
+    np.testing.assert_allclose(aar.psd(W), expected, rtol=1e-12)
+    if component != "alignment":
+        assert get_spectrum(f"aar{c}", component) is aar
+    assert "gauge" not in AAR_CLASSES and "gauge" not in FRA_CLASSES  # neither source defines one
+
+
 def all_new_spectra() -> list[object]:
     out: list[object] = [sp for comp in ("vertical", "cross_level", "gauge") for sp in ERRI_LEVELS[comp].values()]
     out += [sp for comp in ("vertical", "alignment", "cross_level") for sp in FRA_CLASSES[comp]]
@@ -104,7 +129,8 @@ def test_finite_at_zero_wavenumber_and_total_variance(spectrum) -> None:
 
 def test_alignment_registry_keeps_the_track_file_names() -> None:
     assert set(SPECTRA) == {"fra5", "fra6", "erri_low", "erri_high"}
-    assert set(SPECTRA_BY_COMPONENT["vertical"]) == {"erri_low", "erri_high", *(f"fra{c}" for c in range(1, 7))}
+    assert set(SPECTRA_BY_COMPONENT["vertical"]) == {"erri_low", "erri_high", *(f"fra{c}" for c in range(1, 7)),
+                                                     *(f"aar{c}" for c in range(1, 7))}
     assert set(SPECTRA_BY_COMPONENT["gauge"]) == {"erri_low", "erri_high"}
     assert get_spectrum("ERRI-High", "cross_level") is ERRI_LEVELS["cross_level"]["high"]
     with pytest.raises(KeyError, match="known gauge spectra: erri_low, erri_high"):

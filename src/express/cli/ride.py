@@ -18,7 +18,7 @@ __all__ = ["MAX_POINTS", "TRACK_CLASSES", "add_parser", "read_psd_table", "run"]
 MAX_POINTS = 100_000
 #: The track classes of :data:`express.analysis.ride.vehicle.TRACK_CLASSES`, for --help
 #: without importing NumPy (a test keeps the two equal).
-TRACK_CLASSES = ("ERRI-low", "ERRI-high", *(f"FRA-{k}" for k in range(1, 7)))
+TRACK_CLASSES = ("ERRI-low", "ERRI-high", *(f"FRA-{k}" for k in range(1, 7)), *(f"AAR-{k}" for k in range(1, 7)))
 #: RMS below which a direction counts as not excited (not drawn) [m/s^2].
 _NEGLIGIBLE = 1e-9
 _PSD_UNITS = {"n": ("1/m", {"m^2/(1/m)", "m^3"}), "omega": ("rad/m", {"m^2/(rad/m)", "m^3/rad", "m^3"})}

@@ -66,9 +66,9 @@ from ...diagnostics import AnalysisError, InputError
 from ...kinematics import end_motion
 from ...model import Model
 from ...parameters import expression_value
-from ...rail.track.spectra import COMPONENTS, ERRI_LEVELS, FRA_CLASSES, TrackSpectrum
+from ...rail.track.spectra import AAR_CLASSES, COMPONENTS, ERRI_LEVELS, FRA_CLASSES, TrackSpectrum
 from ...statespace import VehicleModel
-from ...units import KMH
+from ..frequency import require_stable
 from .spectral import check_frequencies, check_psd, resolvent_solve, spatial_to_temporal, spectral_rms
 
 __all__ = [
@@ -89,8 +89,8 @@ AXES = ("x", "y", "z")
 #: Default frequency band [Hz] and number of log-spaced frequencies of :func:`ride_response`.
 DEFAULT_BAND = (0.1, 50.0)
 DEFAULT_POINTS = 2000
-#: Named track classes: every component their source defines (FRA has no gauge).
-TRACK_CLASSES = ("ERRI-low", "ERRI-high", *(f"FRA-{k}" for k in range(1, 7)))
+#: Named track classes: every component their source defines (FRA / AAR have no gauge).
+TRACK_CLASSES = ("ERRI-low", "ERRI-high", *(f"FRA-{k}" for k in range(1, 7)), *(f"AAR-{k}" for k in range(1, 7)))
 ACCELERATION_UNIT = "m/s^2"
 _RAIL_GROUND = re.compile(r"(?P<body>[A-Za-z][A-Za-z0-9_]*?)_rail(?P<side>[LR]?)\.(?P<axis>r?[xyz])\Z")
 # (axis, side) of a rail ground -> coefficient of each component
@@ -127,8 +127,10 @@ def track_class_spectra(name: str) -> dict[str, TrackSpectrum]:
     """The spectra of a named track class, by component.
 
     ``ERRI-low`` / ``ERRI-high``: ORE B176 alignment and vertical, DB cross level and
-    gauge; ``FRA-1`` ... ``FRA-6``: alignment, vertical and cross level (``docs/ride.md``).
-    Case, ``_`` and spaces are ignored.
+    gauge; ``FRA-1`` ... ``FRA-6`` and ``AAR-1`` ... ``AAR-6`` (the same US class
+    spectra under either name, :data:`~express.rail.track.spectra.AAR_CLASSES`):
+    alignment, vertical and cross level, no gauge (``docs/ride.md``). Case, ``_`` and
+    spaces are ignored.
 
     Raises
     ------
@@ -139,10 +141,10 @@ def track_class_spectra(name: str) -> dict[str, TrackSpectrum]:
     if key in ("erri-low", "erri-high"):
         level = key.split("-")[1]
         return {component: ERRI_LEVELS[component][level] for component in COMPONENTS}
-    match = re.fullmatch(r"fra-?([1-6])", key)
+    match = re.fullmatch(r"(fra|aar)-?([1-6])", key)
     if match:
-        k = int(match.group(1)) - 1
-        return {component: FRA_CLASSES[component][k] for component in ("alignment", "vertical", "cross_level")}
+        classes, k = (FRA_CLASSES if match.group(1) == "fra" else AAR_CLASSES), int(match.group(2)) - 1
+        return {component: classes[component][k] for component in ("alignment", "vertical", "cross_level")}
     raise InputError(f"unknown track class {name!r}; known: {', '.join(TRACK_CLASSES)}")
 
 
@@ -404,14 +406,16 @@ def _speed(vehicle: VehicleModel, speed: float | None) -> float:
     return v
 
 
-def _check_stable(vehicle: VehicleModel, a: np.ndarray, v: float) -> None:
-    eigenvalues = np.linalg.eigvals(a)
-    worst = eigenvalues[np.argmax(eigenvalues.real)] if eigenvalues.size else 0.0
-    if eigenvalues.size and worst.real > 1e-6 * max(1.0, float(np.abs(eigenvalues).max())):
-        raise AnalysisError(
-            f"ride: {vehicle.equations.name} is unstable at {v / KMH:.4g} km/h (eigenvalue {worst.real:.4g} "
-            f"{worst.imag:+.4g}i 1/s, e.g. hunting above the critical speed): no stationary random response"
-        )
+def _check_stable(vehicle: VehicleModel, v: float) -> None:
+    """:func:`express.analysis.frequency.require_stable` (the check of ``express frf``),
+    its message said for a random excitation: above the critical speed a free motion
+    grows, so no stationary response (and no PSD) exists."""
+    try:
+        require_stable(vehicle, v)
+    except AnalysisError as error:
+        reason = str(error).split(": its response to a sinusoid")[0]
+        raise AnalysisError(f"ride: {vehicle.equations.name}: {reason}: its response to a random track grows "
+                            "without bound, there is no stationary response (PSD, RMS, comfort) to report") from None
 
 
 def _undriven_notes(vehicle: VehicleModel, inputs: RailInputs) -> list[str]:
@@ -479,10 +483,12 @@ def ride_response(
             used.append(component)
         elif component in spectra:
             notes.append(f"{component}: the model has no input it drives (rail grounds, docs/ride.md)")
+        elif felt:
+            notes.append(f"{component}: no spectrum given (e.g. FRA/AAR classes define none for gauge): left at zero")
     input_psd = {c: check_psd(spatial_to_temporal(spectra[c].psd, f, v), f.size, f"ride ({c} spectrum)") for c in used}
     rows, directions, sides = _output_rows(vehicle, inputs, v)
     a, b, bd = vehicle.state_matrix(v), vehicle.input_matrix(v), vehicle.input_rate_matrix(v)
-    _check_stable(vehicle, a, v)
+    _check_stable(vehicle, v)
     w = 2.0 * math.pi * f
     n_f, n_j = f.size, len(used)
     mixing = inputs.mixing[:, [COMPONENTS.index(c) for c in used]]  # (K, J)

@@ -10,13 +10,15 @@ Every spectrum is a :class:`TrackSpectrum`: a one-sided PSD ``S(Omega)``
 irregularity over a band is the integral of ``S`` over that band, and that integral in
 closed form (:meth:`TrackSpectrum.variance`).
 
-Vertical profile, cross-level (rail height difference) and gauge spectra, FRA classes
-1-6 (:data:`FRA_CLASSES`), ERRI / ORE B176 low and high (:data:`ERRI_LEVELS`) and
-user tables (:class:`TabulatedSpectrum`) follow the same conventions (end of the
-module; ``docs/ride.md``); seeded realisations of any of them are the cosine sums of
+Vertical profile, cross-level (rail height difference) and gauge spectra, US classes
+1-6 as FRA (:data:`FRA_CLASSES`) or AAR (:data:`AAR_CLASSES`) classes (vertical,
+alignment, cross level; no gauge spectrum is defined for them), ERRI / ORE B176 low
+and high (:data:`ERRI_LEVELS`: all four components) and user tables
+(:class:`TabulatedSpectrum`) follow the same conventions (end of the module;
+``docs/ride.md``); seeded realisations of any of them are the cosine sums of
 :class:`~express.rail.track.irregularity.Harmonics`.
 
-Adding a spectrum (another component or other classes, e.g. AAR): write a frozen dataclass deriving from :class:`TrackSpectrum`
+Adding a spectrum (another component or other classes): write a frozen dataclass deriving from :class:`TrackSpectrum`
 with a ``name`` field, its :attr:`~TrackSpectrum.component`, :meth:`~TrackSpectrum.psd`
 and the antiderivative :meth:`~TrackSpectrum.primitive`; then
 :func:`register_spectrum` its instances under the names a track file uses.
@@ -35,6 +37,7 @@ from numpy.typing import ArrayLike
 from ._common import FloatArray
 
 __all__ = [
+    "AAR_CLASSES",
     "COMPONENTS",
     "ERRI_HIGH",
     "ERRI_LEVELS",
@@ -532,6 +535,22 @@ FRA_CLASSES: dict[str, tuple[TrackSpectrum, ...]] = {
     "cross_level": tuple(FRACrossLevelSpectrum(f"FRA class {c} cross level", A_v=a, omega_s=s)
                          for c, (a, s) in enumerate(zip(FRA_A_V, FRA_OMEGA_S, strict=True), 1)),
 }
+#: The same six US classes under the name AAR (see :data:`AAR_CLASSES`).
+AAR_CLASSES: dict[str, tuple[TrackSpectrum, ...]] = {
+    "vertical": tuple(FRAVerticalSpectrum(f"AAR class {c} vertical", A_v=a) for c, a in enumerate(FRA_A_V, 1)),
+    "alignment": tuple(FRAAlignmentSpectrum(f"AAR class {c} alignment", A_a=a) for c, a in enumerate(FRA_A_A, 1)),
+    "cross_level": tuple(FRACrossLevelSpectrum(f"AAR class {c} cross level", A_v=a, omega_s=s)
+                         for c, (a, s) in enumerate(zip(FRA_A_V, FRA_OMEGA_S, strict=True), 1)),
+}
+"""The US six-class spectra as "AAR classes": the constants of :data:`FRA_CLASSES`.
+
+The spectra of US track classes 1-6 (FRA track safety classes; measurements analysed
+by Hamid et al., DOT/FRA/ORD-83/03, 1983) are tabulated once, with A_v, A_a,
+Omega_s, Omega_c and k, in Garg & Dukkipati (1984); later work quotes that one table
+as the "FRA" or the "AAR" (Association of American Railroads) class spectra. No
+separate AAR constants were found, so ``AAR-k`` is the FRA class k spectrum under the
+other name (its own objects, labelled "AAR class k ...", for messages and plots).
+"""
 #: ERRI / ORE B176 (and DB) spectra by component and level.
 ERRI_LEVELS: dict[str, dict[str, TrackSpectrum]] = {
     "alignment": {"low": ERRI_LOW, "high": ERRI_HIGH},
@@ -551,3 +570,5 @@ for _component in ("vertical", "cross_level", "gauge"):
         register_spectrum(f"erri_{_level}", _new)
     for _class, _new in enumerate(FRA_CLASSES.get(_component, ()), 1):
         register_spectrum(f"fra{_class}", _new)
+    for _class, _new in enumerate(AAR_CLASSES.get(_component, ()), 1):
+        register_spectrum(f"aar{_class}", _new)
