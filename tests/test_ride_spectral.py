@@ -36,6 +36,7 @@ G0 = 4 * math.pi * S0  # the same, one-sided in Hz
 FREQS = np.concatenate([[0.0], np.logspace(-5, 5, 40001)])
 
 M, C, K = 1200.0, 3000.0, 4.0e5  # single DOF [kg, N s/m, N/m]
+QC = {"ms": 400.0, "mu": 45.0, "ks": 2.2e4, "cs": 1.6e3, "kt": 2.0e5}  # quarter car [kg, N/m, N s/m]
 
 
 def sdof(input_kind: str) -> tuple[np.ndarray, ...]:
@@ -76,7 +77,7 @@ def quarter_car() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     States (zs - zu, zu - r, zs', zu'); outputs body acceleration, suspension and tyre
     deflections.
     """
-    ms, mu, ks, cs, kt = 400.0, 45.0, 2.2e4, 1.6e3, 2.0e5
+    ms, mu, ks, cs, kt = QC["ms"], QC["mu"], QC["ks"], QC["cs"], QC["kt"]
     A = np.array([
         [0, 0, 1, -1],
         [0, 0, 0, 1],
@@ -95,6 +96,51 @@ def test_quarter_car_white_base_velocity_against_lyapunov() -> None:
     # independent: stationary covariance P of x' = A x + B w, A P + P A^T + 2 pi S0 B B^T = 0
     P = linalg.solve_continuous_lyapunov(A, -2 * math.pi * S0 * B @ B.T)
     np.testing.assert_allclose(variance, np.diag(Cm @ P @ Cm.T), rtol=2e-4)
+
+
+def newland_i4(a: tuple[float, ...], b: tuple[float, ...]) -> float:
+    """``int_-inf^inf |H|^2 dw`` for ``H = sum_k b_k (i w)^k / sum_k a_k (i w)^k`` (a: 5, b: 4
+    coefficients, stable denominator), the closed form of the integral table (James,
+    Nichols & Phillips, 1947; Newland, *Random Vibrations*, appendix 1)."""
+    a0, a1, a2, a3, a4 = a
+    b0, b1, b2, b3 = b
+    top = (b0**2 / a0 * (a2 * a3 - a1 * a4) + a3 * (b1**2 - 2 * b0 * b2) + a1 * (b2**2 - 2 * b1 * b3)
+           + b3**2 / a4 * (a1 * a2 - a0 * a3))
+    return math.pi * top / (a1 * (a2 * a3 - a1 * a4) - a0 * a3**2)
+
+
+def quarter_car_denominator() -> tuple[float, ...]:
+    """``(ms s^2 + cs s + ks)(mu s^2 + cs s + ks + kt) - (cs s + ks)^2`` by powers of s."""
+    ms, mu, ks, cs, kt = QC["ms"], QC["mu"], QC["ks"], QC["cs"], QC["kt"]
+    return (ks * kt, cs * kt, ms * (ks + kt) + mu * ks, cs * (ms + mu), ms * mu)
+
+
+def test_quarter_car_white_force_closed_form() -> None:
+    """White force S0 on the body of the quarter car: body displacement and velocity
+    variances ``S0 I4`` with ``z_s / F = (mu s^2 + cs s + ks + kt) / D(s)``."""
+    A, _, _ = quarter_car()
+    B = np.array([[0.0], [0.0], [1 / QC["ms"]], [0.0]])  # force on the body; the road stays at 0
+    Cm = np.array([[1.0, 1.0, 0, 0], [0, 0, 1.0, 0]])  # z_s = (z_s - z_u) + (z_u - r); z_s'
+    H = frequency_response(A, B, Cm, None, FREQS)
+    variance = spectral_variance(FREQS, output_autospectra(H, np.full((FREQS.size, 1), G0)))
+    den, (mu, cs, kk) = quarter_car_denominator(), (QC["mu"], QC["cs"], QC["ks"] + QC["kt"])
+    assert variance[0] == pytest.approx(S0 * newland_i4(den, (kk, cs, mu, 0.0)), rel=1e-5)
+    assert variance[1] == pytest.approx(S0 * newland_i4(den, (0.0, kk, cs, mu)), rel=1e-5)
+    # the closed form is not circular: it agrees with the stationary covariance too
+    P = linalg.solve_continuous_lyapunov(A, -2 * math.pi * S0 * B @ B.T)
+    np.testing.assert_allclose(variance, np.diag(Cm @ P @ Cm.T), rtol=1e-5)
+
+
+def test_quarter_car_white_base_velocity_closed_form() -> None:
+    """White road velocity S0: body velocity ``kt (cs s + ks) / D`` and acceleration
+    ``s kt (cs s + ks) / D`` per unit road velocity, variances ``S0 I4``."""
+    A, B, _ = quarter_car()
+    Cm = np.array([[0, 0, 1.0, 0], A[2]])  # z_s', z_s''
+    H = frequency_response(A, B, Cm, None, FREQS)
+    variance = spectral_variance(FREQS, output_autospectra(H, np.full((FREQS.size, 1), G0)))
+    den, kt, ks, cs = quarter_car_denominator(), QC["kt"], QC["ks"], QC["cs"]
+    assert variance[0] == pytest.approx(S0 * newland_i4(den, (kt * ks, kt * cs, 0.0, 0.0)), rel=1e-5)
+    assert variance[1] == pytest.approx(S0 * newland_i4(den, (0.0, kt * ks, kt * cs, 0.0)), rel=1e-4)
 
 
 def test_time_domain_realisation_rms_within_3_percent_of_spectral() -> None:

@@ -117,8 +117,8 @@ def test_wb_equals_the_bs6841_form() -> None:
 
 def test_get_weighting_and_errors() -> None:
     assert get_weighting("wd") is WD and get_weighting(" Wb ") is WB
-    with pytest.raises(InputError, match=r"unknown weighting 'Wp'.*Wb, Wc, Wd, Wk"):
-        get_weighting("Wp")
+    with pytest.raises(InputError, match=r"unknown weighting 'Wq'.*Wb, Wc, Wd, Wk"):
+        get_weighting("Wq")
     with pytest.raises(InputError) as err:
         FrequencyWeighting("bad", f1=-1.0, f2=100.0, f5=2.0, Q4=0.0)
     lines = str(err.value).splitlines()

