@@ -109,3 +109,78 @@ def test_cli_eigenvalue_and_mistakes(tmp_path: Path, capsys) -> None:
     assert "kx9" in capsys.readouterr().err
     assert main(["sensitivity", str(STEERED), "--vmax", "100"]) == 1  # stable up to 100 km/h: nothing to differentiate
     assert "stable" in capsys.readouterr().err
+
+
+# ------------------------------------------------------------------ compiled once per model
+
+
+def test_matrix_derivatives_against_differences_of_the_compiled_matrices(steered) -> None:
+    """dM/dq, dC/dq, dK/dq (compiled derivatives) against central differences of the
+    compiled matrices themselves (express.numeric), at a speed."""
+    from express.analysis.study.derivatives import matrix_derivatives
+    from express.numeric import compile_matrices
+
+    equations = steered.equations
+    derivatives = matrix_derivatives(equations)
+    compiled = compile_matrices(equations)
+    values = dict(steered.values, v=40.0)
+    exact = derivatives.matrices(values)
+    for name in ("kx1", "cyaw", "Gamma", "a", "mc", "f1", "v"):
+        step = 1e-6 * abs(values[name])
+        plus = compiled(compiled.vector({**values, name: values[name] + step}))
+        minus = compiled(compiled.vector({**values, name: values[name] - step}))
+        for key in ("M", "C", "K"):
+            difference = (plus[key] - minus[key]) / (2 * step)
+            scale = max(np.abs(difference).max(), 1e-300)
+            assert np.abs(exact[name][key] - difference).max() <= 1e-6 * scale, (name, key)
+        assert any(np.abs(exact[name][key]).max() > 0 for key in ("M", "C", "K")), name
+    assert "hf" not in derivatives.parameters  # the floor height is not in M, C, K
+
+
+def test_no_symbolic_work_per_point(steered, monkeypatch) -> None:
+    """Once compiled, a point's sensitivities and eigenvalue derivatives use no SymPy
+    differentiation or code generation, and share the compiled derivatives."""
+    import sympy
+
+    from express.analysis.study.derivatives import graph_rates, matrix_derivatives
+
+    critical_speed_sensitivity(steered, ["kx1"])  # compiles (or finds) the derivatives
+    compiled = matrix_derivatives(steered.equations), graph_rates(steered.model, steered.equations)
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("symbolic work per point")
+
+    point = steered.with_values({"kx1": 3e6, "mc": 32e3})
+    for name in ("diff", "lambdify", "cse"):
+        monkeypatch.setattr(sympy, name, refuse)
+    result = critical_speed_sensitivity(point, PARAMETERS)
+    eigenvalue_derivatives(point, 30.0, ["kx1", "mc"])
+    assert (matrix_derivatives(point.equations), graph_rates(point.model, point.equations)) == compiled
+    assert result.critical_speed > 0 and result.critical_speed != pytest.approx(_crossing(steered), rel=1e-6)
+
+
+def test_a_derived_parameter_given_a_value_leaves_the_graph(steered) -> None:
+    """With P0 given (as --set P0=... does), the masses no longer move it, and P0 moves
+    the creep coefficients through Kalker's table."""
+    given = steered.with_values({"P0": steered.values["P0"] * 1.1})
+    assert set(parameter_rates(given, "mc")) == {"mc"}
+    rates = parameter_rates(given, "P0")
+    assert set(rates) == {"P0", "f1", "f2"} and rates["f1"] == pytest.approx(2 / 3 * given.values["f1"] / given.values["P0"], rel=1e-6)
+    assert set(parameter_rates(steered, "mc")) == {"mc", "P0", "f1", "f2"}  # the first graph is still right
+
+
+@pytest.mark.slow
+def test_through_the_profiles_derivation_against_finite_difference() -> None:
+    """Manchester vehicle 1 on S1002/60E1: the conicity and the contact parameters come
+    from the profiles derivation node (a function with text settings), r0 and nu reach
+    the matrices through it and through Kalker's table."""
+    options = CriticalOptions(v_max=150.0, tolerance=0.0)
+    vehicle = load_vehicle(ROOT / "examples" / "manchester-s1002.toml")
+    rates = parameter_rates(vehicle, "r0")
+    assert rates["Gamma_e"] != 0 and rates["Gamma_e_f11"] != 0
+    result = critical_speed_sensitivity(vehicle, ["r0", "nu", "kx1"], options)
+    for record in result.sensitivities:
+        step = 1e-4 * record.value
+        plus = fast_critical_speed(vehicle.with_values({record.name: record.value + step}), options).crossing.speed
+        minus = fast_critical_speed(vehicle.with_values({record.name: record.value - step}), options).crossing.speed
+        assert record.derivative == pytest.approx((plus - minus) / (2 * step), rel=0.01)

@@ -49,6 +49,7 @@ from .units import DIMENSIONS, KMH, Dimension, UnitError, check_dimension, forma
 
 __all__ = [
     "DerivationFunction",
+    "derivation_function",
     "display_unit",
     "display_value",
     "evaluation_order",
@@ -81,7 +82,14 @@ def register_derivation(kind: str, function: DerivationFunction) -> None:
     _FUNCTIONS[kind] = function
 
 
-def _function(kind: str) -> DerivationFunction:
+def derivation_function(kind: str) -> DerivationFunction:
+    """The function registered as ``kind`` (its module imported on first use).
+
+    Raises
+    ------
+    ValueError
+        For a kind no module registers.
+    """
     if kind not in _FUNCTIONS and kind in _PROVIDERS:
         importlib.import_module(_PROVIDERS[kind])
     try:
@@ -320,7 +328,7 @@ def _derive(derivation: Derivation, model: Model, values: Mapping[str, float]) -
         except (KeyError, ValueError) as error:
             return Problem(model.source, derivation.line, derivation.item, f"{argument}: {_reason(error)}")
     try:
-        results = dict(_function(derivation.kind)(**arguments, **dict(derivation.settings)))
+        results = dict(derivation_function(derivation.kind)(**arguments, **dict(derivation.settings)))
     except ValueError as error:
         return Problem(model.source, derivation.line, derivation.item, str(error))
     bad = sorted(key for key, value in results.items() if not math.isfinite(value))

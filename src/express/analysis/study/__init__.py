@@ -19,6 +19,8 @@ critical
     Fast critical speed (exact crossing, same reported value as the stability code).
 sensitivity
     Exact derivatives of eigenvalues and of the critical speed.
+derivatives
+    Derivatives of the matrices and of the parameter graph, compiled once per model.
 optimise
     Bounded optimisation with constraints; Sobol indices.
 figures

@@ -9,17 +9,13 @@ eigenvector, ``u`` from the singular value decomposition of ``Q(lambda)``)::
     d lambda / dp = - u^H (lambda^2 dM/dp + lambda dC/dp + dK/dp) q / (u^H (2 lambda M + C) q)
 
 the derivative ``y^H (dA/dp) x / (y^H x)`` of the state form written for the matrices
-that are differentiated: every entry of ``M``, ``C`` and ``K`` is differentiated (SymPy)
-with respect to every parameter symbol it holds, once per set of equations.
-A parameter enters the matrices directly or through
-the parameters derived from it (the live graph of :mod:`express.parameters`): the chain
-rule ``dA/dp = sum_q (dA/dq) (dq/dp)`` takes ``dq/dp`` forward through the graph in its
-evaluation order, **exactly** for a derived parameter given by an expression (its
-SymPy derivative), and for the outputs of a derivation function without a closed form
-(``[rail.creep]``: the creep coefficients from the wheel load, radii and elastic
-constants through the Hertz ellipse and Kalker's table) as a central difference of that
-one function along the direction its arguments move (relative step ``1e-4`` of the
-argument that moves most). No eigenvalue is ever differenced.
+that are differentiated. The derivatives ``dM/dq``, ``dC/dq``, ``dK/dq`` of every
+parameter symbol ``q`` are compiled once per model and evaluated per point from the
+parameter values, and a parameter acts directly and through the parameters derived from
+it by the chain rule ``dA/dp = sum_q (dA/dq) (dq/dp)`` forward through the live graph
+(:mod:`express.analysis.study.derivatives`: exact for derived expressions, a central
+difference of the one derivation function for the creep coefficients; no eigenvalue is
+ever differenced). All eigenvalues of a sweep share one evaluation of the derivatives.
 
 At the critical speed the crossing eigenvalue satisfies ``Re lambda(v*, p) = threshold``;
 the implicit function theorem gives::
@@ -34,6 +30,7 @@ with ``dQ/dv = -lambda C1 / v^2`` (the creep damping ``C = C0 + C1 / v``). The d
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -42,19 +39,16 @@ import sympy as sp
 
 from ...statespace import VehicleModel
 from .critical import CriticalOptions, StateBlocks, fast_critical_speed
+from .derivatives import graph_rates, matrix_derivatives
 
 __all__ = [
     "CriticalSpeedSensitivity",
-    "MatrixDerivatives",
     "ParameterSensitivity",
     "critical_speed_sensitivity",
     "eigenvalue_derivatives",
     "parameter_rates",
     "sensitivity_parameters",
 ]
-
-#: Relative step of the central difference of a derivation function.
-DERIVED_STEP = 1e-4
 
 
 @dataclass(frozen=True)
@@ -111,58 +105,6 @@ class CriticalSpeedSensitivity:
         }
 
 
-class MatrixDerivatives:
-    """Numerical ``dM/dq``, ``dC/dq``, ``dK/dq`` for every parameter symbol ``q`` of a
-    set of equations, from their symbolic entries differentiated once (SymPy) and
-    compiled into one function.
-
-    Parameters
-    ----------
-    equations : EquationsOfMotion
-    """
-
-    def __init__(self, equations):
-        self.equations = equations
-        self.n = len(equations.dofs)
-        symbols = [sp.Symbol(name) for name in equations.parameters]
-        self.slots: list[tuple[str, str, int, int]] = []  # (parameter, matrix, i, j)
-        expressions = []
-        for key in ("M", "C", "K"):
-            for (i, j), entry in equations.matrices[key].todok().items():
-                entry = sp.sympify(entry)
-                for symbol in sorted(entry.free_symbols, key=lambda s: s.name):
-                    derivative = sp.diff(entry, symbol)
-                    if derivative != 0:
-                        self.slots.append((symbol.name, key, i, j))
-                        expressions.append(derivative)
-        self.parameters = tuple(sorted({slot[0] for slot in self.slots}))
-        self._function = sp.lambdify(symbols, expressions, modules="math") if expressions else None
-
-    def __call__(self, values: dict[str, float]) -> dict[str, dict[str, np.ndarray]]:
-        """``{q: {"M": dM/dq, "C": dC/dq, "K": dK/dq}}`` at ``values`` (SI; the speed
-        parameter gives the speed of ``C``), each shape (n, n)."""
-        result: dict[str, dict[str, np.ndarray]] = {}
-        if self._function is None:
-            return result
-        numbers = self._function(*[float(values[name]) for name in self.equations.parameters])
-        for (name, key, i, j), number in zip(self.slots, numbers, strict=True):
-            blocks = result.setdefault(name, {k: np.zeros((self.n, self.n)) for k in ("M", "C", "K")})
-            blocks[key][i, j] = number
-        return result
-
-
-_DERIVATIVES: dict[int, MatrixDerivatives] = {}
-
-
-def _matrix_derivatives(equations) -> MatrixDerivatives:
-    cached = _DERIVATIVES.get(id(equations))
-    if cached is None or cached.equations is not equations:
-        if len(_DERIVATIVES) >= 4:
-            _DERIVATIVES.pop(next(iter(_DERIVATIVES)))
-        cached = _DERIVATIVES[id(equations)] = MatrixDerivatives(equations)
-    return cached
-
-
 def _speed_name(vehicle: VehicleModel) -> str | None:
     model = vehicle.model
     if model is None or model.rail is None or not isinstance(model.rail.speed, sp.Symbol):
@@ -181,66 +123,16 @@ def sensitivity_parameters(vehicle: VehicleModel) -> list[str]:
                   if name != speed and getattr(p, "expression", None) is None and not getattr(p, "derived_by", None))
 
 
-def _number(expression, values: dict[str, float]) -> float:
-    from ...parameters import expression_value
-
-    try:
-        return expression_value(expression, values)
-    except ValueError:  # a function the float walk does not know: let SymPy evaluate it
-        return float(sp.sympify(expression).xreplace({sp.Symbol(k): v for k, v in values.items()}))
-
-
-def _expression_rate(expression, values: dict[str, float], rates: dict[str, float]) -> float:
-    """``d expression / dp`` from the rates of its symbols (exact: SymPy derivative)."""
-    expression = sp.sympify(expression)
-    total = 0.0
-    for symbol in expression.free_symbols:
-        rate = rates.get(symbol.name, 0.0)
-        if rate:
-            total += _number(sp.diff(expression, symbol), values) * rate
-    return total
-
-
-def _derivation_rates(node, values: dict[str, float], rates: dict[str, float]) -> dict[str, float]:
-    """Rates of a derivation's outputs: central difference of its function along the
-    direction in which its arguments move."""
-    from ... import parameters as graph
-
-    arguments = {name: _number(expression, values) for name, expression, _ in node.inputs}
-    direction = {name: _expression_rate(expression, values, rates) for name, expression, _ in node.inputs}
-    moving = {name: d for name, d in direction.items() if d}
-    if not moving:
-        return {}
-    step = DERIVED_STEP * min(abs(arguments[name]) / abs(d) if arguments[name] else 1.0 / abs(d)
-                              for name, d in moving.items())
-    function = graph._function(node.kind)  # the node's registered function (rail layer)
-    plus = function(**{k: a + step * direction[k] for k, a in arguments.items()})
-    minus = function(**{k: a - step * direction[k] for k, a in arguments.items()})
-    return {name: (plus[key] - minus[key]) / (2.0 * step) for key, name, _ in node.outputs}
+def _rates(vehicle: VehicleModel, names: Sequence[str]) -> dict[str, np.ndarray]:
+    if vehicle.model is None:
+        return {name: np.eye(len(names))[k] for k, name in enumerate(names)}
+    return graph_rates(vehicle.model, vehicle.equations).rates(vehicle.values, names)
 
 
 def parameter_rates(vehicle: VehicleModel, name: str) -> dict[str, float]:
     """``dq/dp`` of every parameter ``q`` that depends on ``p = name`` (``p`` itself: 1),
-    forward through the live parameter graph (module docstring)."""
-    from ...model import Derivation
-    from ...parameters import evaluation_order
-
-    model = vehicle.model
-    rates = {name: 1.0}
-    if model is None:
-        return rates
-    values = dict(vehicle.values)
-    for node in evaluation_order(model):
-        if isinstance(node, Derivation):
-            for target, rate in _derivation_rates(node, values, rates).items():
-                parameter = model.parameters.get(target)
-                if rate and parameter is not None and parameter.derived_by == node.item:
-                    rates[target] = rate
-        elif node.expression is not None:
-            rate = _expression_rate(node.expression, values, rates)
-            if rate:
-                rates[node.name] = rate
-    return rates
+    forward through the live parameter graph (:class:`~.derivatives.GraphRates`)."""
+    return {q: float(rate[0]) for q, rate in _rates(vehicle, [name]).items()}
 
 
 def _left_null_vector(pencil: np.ndarray) -> np.ndarray:
@@ -249,30 +141,28 @@ def _left_null_vector(pencil: np.ndarray) -> np.ndarray:
     return left[:, -1]
 
 
-def _pencil_derivatives(vehicle, speed, eigenvalue, state_vector, names):
-    """``d lambda / dp`` for every name in ``names``, and ``d lambda / dv`` (module docstring)."""
+def _pencil_derivatives(vehicle: VehicleModel, speed: float, eigenvalues, state_vectors,
+                        names: Sequence[str]) -> tuple[np.ndarray, np.ndarray]:
+    """``d lambda_k / dp`` for every name, shape (len(names), E), and ``d lambda_k / dv``,
+    shape (E,), of the eigenpairs ``(eigenvalues[k], state_vectors[:, k])`` of ``A(speed)``
+    (module docstring)."""
     n = vehicle.n
+    lam = np.atleast_1d(np.asarray(eigenvalues, dtype=complex))
+    right = np.asarray(state_vectors, dtype=complex).reshape(-1, lam.size)[:n]
+    damping = vehicle.damping(speed)
+    left = np.column_stack([_left_null_vector(x**2 * vehicle.mass + x * damping + vehicle.stiffness) for x in lam])
+    scale = np.einsum("ik,ik->k", left.conj(), (2 * vehicle.mass @ right) * lam + damping @ right)
     values = dict(vehicle.values)
     speed_name = _speed_name(vehicle)
     if speed_name is not None:
         values[speed_name] = float(speed)
-    lam = complex(eigenvalue)
-    damping = vehicle.damping(speed)
-    q = np.asarray(state_vector)[:n]
-    u = _left_null_vector(lam**2 * vehicle.mass + lam * damping + vehicle.stiffness)
-    scale = u.conj() @ ((2 * lam * vehicle.mass + damping) @ q)
-    per_symbol = {}
-    for symbol, d in _matrix_derivatives(vehicle.equations)(values).items():
-        per_symbol[symbol] = -(u.conj() @ ((lam**2 * d["M"] + lam * d["C"] + d["K"]) @ q)) / scale
-    result = {}
-    for name in names:
-        total = 0.0 + 0.0j
-        for q_name, rate in parameter_rates(vehicle, name).items():
-            if q_name in per_symbol:
-                total += rate * per_symbol[q_name]
-        result[name] = complex(total)
-    speed_rate = -(u.conj() @ ((lam * -vehicle.damping_creep / speed**2) @ q)) / scale
-    return result, complex(speed_rate)
+    derivatives = matrix_derivatives(vehicle.equations)
+    per_symbol = derivatives.contract(derivatives(values), lam, left, right)  # (symbols, E)
+    rates = _rates(vehicle, names)
+    jacobian = np.array([rates.get(q, np.zeros(len(names))) for q in derivatives.parameters]).reshape(-1, len(names))
+    result = -(jacobian.T @ per_symbol) / scale
+    speed_rate = -np.einsum("ik,ik->k", left.conj(), (-vehicle.damping_creep / speed**2) @ right) * lam / scale
+    return result, speed_rate
 
 
 def eigenvalue_derivatives(
@@ -298,12 +188,8 @@ def eigenvalue_derivatives(
     names = parameters if parameters is not None else sensitivity_parameters(vehicle)
     values, right = scipy.linalg.eig(vehicle.state_matrix(float(speed)))
     order = np.lexsort((-values.imag, -values.real))
-    result = {name: np.zeros(values.size, dtype=complex) for name in names}
-    for position, k in enumerate(order):
-        rates, _ = _pencil_derivatives(vehicle, speed, values[k], right[:, k], names)
-        for name in names:
-            result[name][position] = rates[name]
-    return values[order], result
+    rates, _ = _pencil_derivatives(vehicle, float(speed), values[order], right[:, order], names)
+    return values[order], {name: rates[k] for k, name in enumerate(names)}
 
 
 def critical_speed_sensitivity(
@@ -345,9 +231,9 @@ def critical_speed_sensitivity(
         raise ValueError("the crossing could not be located exactly (not a simple oscillatory mode)")
     rates, rate_v = _pencil_derivatives(vehicle, crossing.speed, crossing.eigenvalue, crossing.vector, names)
     records = []
-    for name in names:
+    for k, name in enumerate(names):
         value = float(vehicle.values[name]) if name in vehicle.values else float("nan")
-        derivative = -rates[name].real / rate_v.real + 0.0  # no "-0"
+        derivative = -rates[k, 0].real / rate_v[0].real + 0.0  # no "-0"
         elasticity = value / crossing.speed * derivative if value != 0 and math.isfinite(value) else 0.0
         records.append(ParameterSensitivity(name, value, float(derivative), float(elasticity)))
     return CriticalSpeedSensitivity(crossing.speed, crossing.frequency, tuple(records))
