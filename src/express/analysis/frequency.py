@@ -171,16 +171,21 @@ _CHUNK_BYTES = 1 << 20
 
 
 def steady_response(
-    vehicle: VehicleModel, frequencies: np.ndarray, speed: float, columns: list[int], amplitudes: np.ndarray
+    vehicle: VehicleModel, frequencies: np.ndarray, speed: float, columns: list[int], amplitudes: np.ndarray,
+    *, route: str | None = None,
 ) -> np.ndarray:
     """Complex amplitudes ``X`` of every DOF for input amplitudes ``U`` at every frequency.
 
-    ``(-w^2 M + i w C(v) + K) X = (P(v) + i w Pd) U``, with ``U`` given in the input
-    ``columns``.  Few frequencies: one stacked solve of the dynamic stiffness.  Many (at
-    least twice the number of states): through one Schur form of the state matrix, a
-    back substitution per frequency (:func:`express.analysis.ride.spectral.resolvent_solve`),
-    ``x = (i w I - A)^-1 (B + i w Bd) U`` and ``X = x[:n]``, the same solution to
-    rounding (1e-9 relative on the steered car, whose lever mode is stiff).
+    ``(-w^2 M + i w C(v) + K) X = (P(v) + i w Pd) U``, solved by the cheapest of three
+    routes (:func:`express.analysis.banded.choose_route`), all the same solution to
+    rounding (1e-9 relative on the steered car, whose lever mode is stiff):
+
+    - ``"stacked"``: a dense solve of the dynamic stiffness per frequency, in stacks;
+    - ``"banded"``: a banded LU per frequency when the DOFs couple only near the
+      diagonal (trains: :mod:`express.analysis.banded`);
+    - ``"schur"``: one Schur form of the state matrix, then a back substitution per
+      frequency (:func:`express.analysis.ride.spectral.resolvent_solve`),
+      ``x = (i w I - A)^-1 (B + i w Bd) U`` and ``X = x[:n]``; for many frequencies.
 
     Parameters
     ----------
@@ -193,6 +198,8 @@ def steady_response(
         Indices of the ``k`` driven inputs.
     amplitudes : numpy.ndarray, complex, shape (F, k, J)
         ``U``: ``J`` sets of input amplitudes per frequency.
+    route : {"stacked", "banded", "schur"}, optional
+        Force one route (tests, benchmarks); chosen by cost by default.
 
     Returns
     -------
@@ -203,9 +210,16 @@ def steady_response(
     AnalysisError
         At a frequency where the dynamic stiffness is singular.
     """
+    from .banded import band_layout, choose_route, solve_banded_stiffness
+
     w = 2.0 * np.pi * np.asarray(frequencies, dtype=float)
+    damping = vehicle.damping(speed)
+    layout = band_layout(vehicle.mass, damping, vehicle.stiffness)
+    route = route or choose_route(vehicle.n, vehicle.form.size, w.size, layout)
+    if route not in ("stacked", "banded", "schur"):
+        raise ValueError(f"route must be 'stacked', 'banded' or 'schur', got {route!r}")
     try:
-        if w.size >= 2 * vehicle.form.size:
+        if route == "schur":
             from .ride.spectral import resolvent_solve
 
             b = vehicle.input_matrix(speed)[:, columns]
@@ -216,6 +230,8 @@ def steady_response(
         p = vehicle.forcing(speed)[:, columns]
         pd = vehicle.forcing_rate(speed)[:, columns]
         rhs = p @ amplitudes + (1j * w)[:, None, None] * (pd @ amplitudes)
+        if route == "banded":
+            return solve_banded_stiffness(vehicle.mass, damping, vehicle.stiffness, w, rhs, layout)
         out = np.empty((w.size, vehicle.n, rhs.shape[2]), dtype=complex)
         chunk = max(1, _CHUNK_BYTES // (16 * vehicle.n * vehicle.n))  # stacks that stay in cache
         for start in range(0, w.size, chunk):
