@@ -19,8 +19,16 @@ them alike):
 Also printed: the heavy libraries (SymPy, SciPy, Matplotlib, Numba, NumPy) found in
 ``sys.modules`` after ``express --help`` in a fresh interpreter, and the import time of
 ``express.cli`` (``python -X importtime``).  Target: ``express --help`` <= 0.3 s wall.
-The last line is ``help_s=<x> import_numpy_s=<y> ratio=<x/y>``.  Exit code 0 even when
-the target is missed (``TARGET MISSED``).
+
+Then the **one-car commands** a script calls (``--one-car`` runs only these): ``express
+generate examples/forced-steering.toml --format json -o <temporary file>``, ``express
+eigen`` and ``express critical-speed`` of the same car, fresh processes, medians of
+``--runs`` starts taking turns, against ``python -c "import numpy, sympy"`` (what the
+symbolic model needs at least), with the heavy modules each leaves in ``sys.modules``
+(Numba, ``scipy.optimize``, Matplotlib, ...: none of them is needed by these commands).
+
+The last line is ``help_s=<x> import_numpy_s=<y> ratio=<x/y> generate_s=<z>``.  Exit
+code 0 even when the target is missed (``TARGET MISSED``).
 """
 
 from __future__ import annotations
@@ -41,6 +49,10 @@ from machine import cpu_name, usable_cores  # benchmarks/machine.py
 ROOT = Path(__file__).resolve().parents[1]
 TARGET_S = 0.3
 HEAVY = ("sympy", "scipy", "matplotlib", "numba", "numpy")
+#: Modules a one-car command does not need; each found loaded is printed.
+NEEDLESS = ("numba", "scipy.optimize", "scipy.integrate", "scipy.interpolate", "scipy.signal", "matplotlib",
+            "express.rail.profile_contact", "express.rail.contact_tables", "express.analysis.simulate")
+CAR = ROOT / "examples" / "forced-steering.toml"
 
 
 def environment() -> dict[str, str]:
@@ -94,9 +106,48 @@ def cli_import_ms() -> float:
     return float("nan")
 
 
+def one_car_commands(output: Path) -> dict[str, list[str]]:
+    script = Path(sys.executable).with_name("express")
+    express = [str(script)] if script.is_file() else [sys.executable, "-m", "express"]
+    return {
+        "express generate car --format json": [*express, "generate", str(CAR), "--format", "json", "-o", str(output)],
+        "express eigen car": [*express, "eigen", str(CAR)],
+        "express critical-speed car": [*express, "critical-speed", str(CAR)],
+        "python -c 'import numpy, sympy' (baseline)": [sys.executable, "-c", "import numpy, sympy"],
+    }
+
+
+def needless_modules(arguments: list[str]) -> list[str]:
+    """The modules of :data:`NEEDLESS` loaded by ``express <arguments>`` in a fresh interpreter."""
+    code = ("import sys, contextlib, io\nfrom express.cli import main\n"
+            f"with contextlib.redirect_stdout(io.StringIO()):\n    main({arguments!r})\n"
+            f"print(','.join(m for m in {NEEDLESS!r} if m in sys.modules))")
+    done = subprocess.run([sys.executable, "-c", code], env=environment(), capture_output=True, text=True, check=True)
+    return [m for m in done.stdout.strip().splitlines()[-1].split(",") if m]
+
+
+def one_car(runs: int) -> float:
+    """Print the one-car section; return the median of the generate command [s]."""
+    import tempfile
+
+    with tempfile.TemporaryDirectory(prefix="express-cli-") as folder:
+        output = Path(folder) / "car.json"
+        named = one_car_commands(output)
+        medians = time_starts(named, runs)
+        baseline = medians["python -c 'import numpy, sympy' (baseline)"]
+        print(f"\none-car commands (examples/forced-steering.toml), wall time of a fresh start, medians of {runs}:")
+        for name, value in medians.items():
+            print(f"  {name:44s} {value:6.3f} s   ratio to import numpy, sympy {value / baseline:.2f}")
+        for name, arguments in (("generate", ["generate", str(CAR), "--format", "json", "-o", str(output)]),
+                                ("eigen", ["eigen", str(CAR)]), ("critical-speed", ["critical-speed", str(CAR)])):
+            print(f"  modules not needed but loaded by {name}: {', '.join(needless_modules(arguments)) or 'none'}")
+    return medians["express generate car --format json"]
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--runs", type=int, default=15, help="starts per command (default 15)")
+    parser.add_argument("--one-car", action="store_true", help="only the one-car commands")
     args = parser.parse_args(argv)
     try:
         load = ", ".join(f"{x:.2f}" for x in os.getloadavg())
@@ -106,6 +157,10 @@ def main(argv=None) -> int:
     print(f"date        {datetime.datetime.now().isoformat(timespec='seconds')}")
     print(f"python      {platform.python_version()} ({sys.executable})")
     print(f"cpu         {cpu_name()}; usable cores {usable_cores()}; load average {load}")
+    if args.one_car:
+        generate_s = one_car(args.runs)
+        print(f"\ngenerate_s={generate_s:.3f}")
+        return 0
     named = commands()
     medians = time_starts(named, args.runs)
     baseline = medians["python -c 'import numpy' (baseline)"]
@@ -116,9 +171,10 @@ def main(argv=None) -> int:
     print(f"\nheavy modules after express --help: {', '.join(heavy) or 'none'} (of {', '.join(HEAVY)})")
     print(f"import time of express.cli (cumulative, -X importtime): {cli_import_ms():.1f} ms")
     help_s = medians.get("express --help", medians["python -m express --help"])
+    generate_s = one_car(args.runs)
     if help_s > TARGET_S:
         print(f"\nTARGET MISSED: express --help {help_s:.3f} s > {TARGET_S} s")
-    print(f"\nhelp_s={help_s:.3f} import_numpy_s={baseline:.3f} ratio={help_s / baseline:.2f}")
+    print(f"\nhelp_s={help_s:.3f} import_numpy_s={baseline:.3f} ratio={help_s / baseline:.2f} generate_s={generate_s:.3f}")
     return 0
 
 

@@ -13,18 +13,22 @@ ground inputs of the core model, if any, come first.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
+from typing import Any
 
 from ..generator import AddedTerms, GenerationResult, generate
-from ..model import Model
+from ..model import Derivation, Model
 from ..parameters import register_derivation
-from .contact import creep_coefficients
 from .curve import Station, cant_deficiency_forces, curvature_point_inputs, station_of, stations
-from .profile_contact import KIND as PROFILES
-from .profile_contact import contact_terms, profile_derivation, profile_nodes
 from .wheelrail import flange_input, irregularity_input, wheelset_terms
 
 __all__ = ["RailLayout", "generate_vehicle", "rail_layout", "rail_terms"]
+
+#: Kind of the profiles derivation (:data:`express.rail.profile_contact.KIND`, spelled
+#: here so that a model without profiles never imports that module: it brings Numba and
+#: the contact tables, some 0.2 s of start-up, issue 16).
+PROFILES = "profiles"
 
 
 @dataclass(frozen=True)
@@ -77,11 +81,11 @@ def rail_terms(model: Model) -> AddedTerms:
         return AddedTerms()
     layout = rail_layout(model)
     by_body = station_of(model)
-    nodes = profile_nodes(model)
+    nodes = _profile_nodes(model)
     stiffness, damping, forces = [], [], []
     for wheelset in rail.wheelsets:
         node = nodes.get(wheelset.body)
-        contact = contact_terms(node) if node is not None else None
+        contact = _contact_terms(node) if node is not None else None
         k, c, p = wheelset_terms(wheelset, rail.speed, by_body[wheelset.body].curvature_input, contact)
         stiffness += k
         damping += c
@@ -111,12 +115,38 @@ def generate_vehicle(model: Model, *, keep_virtual: bool = False, with_rail: boo
     return generate(model, keep_virtual=keep_virtual, added=added)
 
 
+def _profile_nodes(model: Model) -> dict[str, Derivation]:
+    """:func:`express.rail.profile_contact.profile_nodes`, imported only for a model
+    that has a profiles derivation."""
+    if not any(derivation.kind == PROFILES for derivation in model.derivations):
+        return {}
+    from .profile_contact import profile_nodes
+
+    return profile_nodes(model)
+
+
+def _contact_terms(node: Derivation) -> dict:
+    from .profile_contact import contact_terms
+
+    return contact_terms(node)
+
+
 def _kalker(wheel_load: float, wheel_radius: float, rail_head_radius: float, youngs_modulus: float, poisson: float) -> dict[str, float]:
     """The ``"kalker"`` derivation of ``[rail.creep]``: f11, f22 [N] per wheel from the
     Hertz ellipse and Kalker's Table E.3 (:func:`express.rail.contact.creep_coefficients`)."""
+    from .contact import creep_coefficients  # SciPy's special functions and root finder: on first use
+
     coefficients = creep_coefficients(wheel_load, wheel_radius, rail_head_radius, youngs_modulus, poisson)
     return {"f11": coefficients.f11, "f22": coefficients.f22}
 
 
+def _profiles(**arguments: Any) -> Mapping[str, float]:
+    """The ``"profiles"`` derivation (:func:`express.rail.profile_contact.profile_derivation`),
+    its module imported on first use."""
+    from .profile_contact import profile_derivation
+
+    return profile_derivation(**arguments)
+
+
 register_derivation("kalker", _kalker)
-register_derivation(PROFILES, profile_derivation)
+register_derivation(PROFILES, _profiles)
