@@ -416,9 +416,60 @@ def test_point_comfort_uses_the_weightings_per_direction(models):
     assert lateral_only.directions == ("y",) and lateral_only.n_mv == pytest.approx(6 * front.a_p95["y"], rel=1e-9)
 
 
+MANCHESTER = "examples/manchester.toml"
+_MANCHESTER_MASSES = {"CB": 32000.0, "T1": 2615.0, "T2": 2615.0, **{f"W{k}": 1813.0 for k in range(1, 5)}}
+
+
+@pytest.fixture(scope="module")
+def manchester(tmp_path_factory):
+    """The Manchester benchmark vehicle (its rails are grounds T1_GF, ... named by the
+    bogie substructure), with an output point at every body's centre of mass."""
+    from pathlib import Path
+
+    text = Path(__file__).resolve().parents[1].joinpath(MANCHESTER).read_text(encoding="utf-8")
+    extra = "".join(f'[rail.outputs.cg_{b}]\nbody = "{b}"\noffset = [0, 0, 0]\n' for b in _MANCHESTER_MASSES)
+    marker = "[rail.outputs.floor_front]"
+    path = tmp_path_factory.mktemp("ride_manchester") / "manchester.toml"
+    path.write_text(text.replace(marker, extra + marker, 1), encoding="utf-8")
+    return load_vehicle(path)
+
+
+def test_manchester_vehicle_rails_are_found_by_topology(manchester):
+    inputs = rail_inputs(manchester)
+    assert inputs.rail_grounds == {"T1_GF": ("W1", ""), "T1_GR": ("W2", ""), "T2_GF": ("W3", ""), "T2_GR": ("W4", "")}
+    stations = {w.name: w.station for w in manchester.wheelsets}
+    for ground, (wheelset, _) in inputs.rail_grounds.items():
+        k = inputs.names.index(f"{ground}.z")
+        assert inputs.positions[k] == pytest.approx(stations[wheelset])  # delayed like its wheelset
+        assert dict(zip(("alignment", "vertical", "cross_level", "gauge"), inputs.mixing[k], strict=True)) == {
+            "alignment": 0.0, "vertical": 1.0, "cross_level": 0.0, "gauge": 0.0}
+
+
+def test_manchester_vehicle_wheel_loads_balance_the_inertia_forces(manchester):
+    """Issue 14 item 2 on the Manchester vehicle: vertical and lateral inputs together.
+    The rails are the only external vertical forces on the straight track, so at every
+    frequency the sum of the dynamic wheel loads equals sum m_b z_b'' over the bodies
+    (for each component); lateral alignment loads the two wheels of a wheelset
+    oppositely (roll), the vertical profile alike."""
+    f = np.geomspace(0.5, 30.0, 300)
+    response = ride_response(manchester, track_class_spectra("ERRI-high"), 100 / 3.6, f)
+    assert response.components == ("alignment", "vertical")
+    inertia = sum(m * response.transfer[:, response.index(f"cg_{b}.az")] for b, m in _MANCHESTER_MASSES.items())
+    loads = sum(response.transfer[:, response.index(f"W{k}.dQ{side}")] for k in range(1, 5) for side in "LR")
+    np.testing.assert_allclose(loads, inertia, rtol=0, atol=1e-8 * np.abs(loads).max())
+    lateral, vertical = response.components.index("alignment"), response.components.index("vertical")
+    left, right = (response.transfer[:, response.index(f"W1.dQ{side}")] for side in "LR")
+    scale = np.abs(left[:, lateral]).max()
+    assert scale > 0 and np.abs(left[:, lateral] + right[:, lateral]).max() < 1e-8 * scale
+    np.testing.assert_allclose(left[:, vertical], right[:, vertical], rtol=1e-7)
+    assert response.rms("floor_front.az") > 0.02 and response.rms("floor_front.ay") > 0.02  # m/s^2
+
+
 def test_track_classes():
     assert set(track_class_spectra("ERRI-low")) == {"alignment", "vertical", "cross_level", "gauge"}
     assert set(track_class_spectra("fra 5")) == {"alignment", "vertical", "cross_level"}
+    assert track_class_spectra("AAR-5")["vertical"].psd(0.5) == track_class_spectra("FRA-5")["vertical"].psd(0.5)
+    assert track_class_spectra("aar_2")["cross_level"].name == "AAR class 2 cross level"
     assert math.isclose(track_class_spectra("Erri_High")["vertical"].A, 1.080e-6)
     with pytest.raises(InputError, match="known: ERRI-low"):
         track_class_spectra("FRA-7")

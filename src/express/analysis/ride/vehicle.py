@@ -190,25 +190,43 @@ def _value(vehicle: VehicleModel, expression: Any, what: str) -> float:
         raise InputError(f"{what}: {error}") from None
 
 
+def _wheelset_grounds(vehicle: VehicleModel) -> dict[str, str]:
+    """Grounds that hold one rail wheelset and nothing else, whatever their names:
+    ground id -> wheelset (e.g. the Manchester vehicle's ``T1_GF`` under ``W1``). Such a
+    ground is that wheelset's rail ground for both rails (side ``""``)."""
+    model = _model(vehicle)
+    ground_ids = {ground.id for ground in model.grounds}
+    hosts = {point.id: point.host for point in model.points}
+    wheelsets = {w.name for w in vehicle.wheelsets}
+    held: dict[str, set[str]] = {}
+    for element in model.elements:
+        ends = (hosts.get(element.s_end), hosts.get(element.t_end))
+        for here, there in (ends, ends[::-1]):
+            if here in ground_ids and there not in ground_ids:
+                held.setdefault(here, set()).add(str(there))
+    return {ground: next(iter(bodies)) for ground, bodies in held.items() if len(bodies) == 1 and bodies <= wheelsets}
+
+
 def rail_inputs(vehicle: VehicleModel) -> RailInputs:
     """Which inputs of ``vehicle`` the track drives, with what, from where (module docstring)."""
     model = _model(vehicle)
     bodies = {body.id: body for body in model.bodies} if model is not None else {}
     stations = {w.name: w.station for w in vehicle.wheelsets}
     irregularity = {f"{w.name}.yR": w.name for w in vehicle.wheelsets}
+    under_wheelsets = _wheelset_grounds(vehicle)
     names, columns, positions, rows, undriven = [], [], [], [], []
     grounds: dict[str, tuple[str, str]] = {}
     for column, name in enumerate(vehicle.inputs):
         mix: dict[str, float] | None = None
+        ground, _, axis = name.partition(".")
+        match = _RAIL_GROUND.match(name)
         if name in irregularity:
             mix, position = {"alignment": 1.0}, stations[irregularity[name]]
-        else:
-            match = _RAIL_GROUND.match(name)
-            if match and match["body"] in bodies:
-                grounds[name.split(".")[0]] = (match["body"], match["side"])
-                mix = _RAIL_MIXING.get((match["axis"], match["side"]))
-                body = bodies[match["body"]]
-                position = _value(vehicle, body.position[0], f"body {body.id} position")
+        elif (match and match["body"] in bodies) or ground in under_wheelsets:
+            body_id, side = (match["body"], match["side"]) if match and match["body"] in bodies else (under_wheelsets[ground], "")
+            grounds[ground] = (body_id, side)
+            mix = _RAIL_MIXING.get((axis, side))
+            position = _value(vehicle, bodies[body_id].position[0], f"body {body_id} position")
         if mix is None:
             undriven.append(name)
             continue
@@ -286,6 +304,7 @@ def _wheel_load_rows(vehicle: VehicleModel, inputs: RailInputs, rows: _Rows) -> 
     model = _model(vehicle)
     n, m = vehicle.n, rows.m
     hosts = {point.id: point.host for point in model.points}
+    points = {point.id: point for point in model.points}
     loads: dict[str, dict[str, np.ndarray]] = {}  # body -> side -> [k dq, c dq, k du, c du]
     for element in model.elements:
         on_ground = [hosts.get(end) in inputs.rail_grounds for end in (element.s_end, element.t_end)]
@@ -295,6 +314,9 @@ def _wheel_load_rows(vehicle: VehicleModel, inputs: RailInputs, rows: _Rows) -> 
         if element.series or element.gap is not None:
             raise InputError(f"{what}: a series or clearance element cannot carry the wheel load in a ride analysis")
         body, side = inputs.rail_grounds[hosts[element.s_end if on_ground[0] else element.t_end]]
+        if not side:  # one ground under both wheels: the side of the element's wheel end (+y left)
+            lateral = _value(vehicle, points[element.t_end if on_ground[0] else element.s_end].offset[1], what)
+            side = "L" if lateral > 0 else "R" if lateral < 0 else ""
         delta_q, delta_u = np.zeros(n), np.zeros(m)
         for end, sign in ((element.s_end, 1.0), (element.t_end, -1.0)):
             dofs, ground_inputs = end_motion(model, end, element.direction, False)
@@ -308,7 +330,7 @@ def _wheel_load_rows(vehicle: VehicleModel, inputs: RailInputs, rows: _Rows) -> 
         parts = loads.setdefault(body, {}).setdefault(side, np.zeros(2 * (n + m)))
         parts += np.concatenate([k * delta_q, c * delta_q, k * delta_u, c * delta_u])
     for body, by_side in loads.items():
-        shared = by_side.get("", np.zeros(2 * (n + m)))  # one ground under both wheels
+        shared = by_side.get("", np.zeros(2 * (n + m)))  # elements on the centre line: half to each wheel
         for side in ("L", "R"):
             row = 0.5 * shared + by_side.get(side, np.zeros(2 * (n + m)))
             rows.add(f"{body}.dQ{side}", "N", d0=row[:n], d1=row[n:2 * n], e0=row[2 * n:2 * n + m], e1=row[2 * n + m:])
