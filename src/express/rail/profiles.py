@@ -12,9 +12,10 @@ A profile is a curve ``(y, z)`` in its own *side frame*, in metres (``docs/conta
 * rail: origin at the crown of the upright (not inclined) rail, on its axis; ``z <= 0``.
 
 The same file serves a left and a right wheel (rail): the right one is its mirror image.
-Profile files are plain text: ``#`` comments, an optional header ``y_mm,z_mm`` (or
-``y_m,z_m``) naming the unit, then two numbers a line separated by a comma, semicolon or
-blanks.  Every problem found is reported at once, with file and line, as a
+Profile files of contact software (SIMPACK ``.prr``/``.prw``, MiniProf ``.ban``/``.whl``)
+are read by :mod:`express.rail.profile_formats`.  Two-column files are plain text: ``#``
+comments, an optional header ``y_mm,z_mm`` (or ``y_m,z_m``) naming the unit, then two
+numbers a line separated by a comma, semicolon or blanks.  Every problem found is reported at once, with file and line, as a
 :class:`~express.diagnostics.ModelError`.
 """
 
@@ -34,6 +35,7 @@ from ..limits import read_input_text
 __all__ = [
     "STANDARD_PROFILES",
     "Profile",
+    "check_profile_points",
     "parse_inclination",
     "parse_profile",
     "read_profile",
@@ -123,7 +125,9 @@ def read_profile(
     spike_tolerance: float = 0.5e-3,
     min_points: int = 10,
 ) -> Profile:
-    """Read and validate a two-column profile file (see the module docstring).
+    """Read and validate a profile file: two columns (see the module docstring), or by
+    its suffix a ``.prr``/``.prw`` (SIMPACK) or ``.ban``/``.whl`` (MiniProf) file of
+    contact software (:mod:`express.rail.profile_formats`).
 
     Parameters
     ----------
@@ -148,6 +152,11 @@ def read_profile(
     """
     path = Path(path)
     text = read_input_text(path, what="profile")  # bounded (EXPRESS_MAX_FILE_MB), UTF-8 text
+    if path.suffix.lower() in (".prr", ".prw", ".ban", ".whl"):
+        from .profile_formats import parse_profile_format  # it builds on this module
+
+        return parse_profile_format(text, kind, file=str(path), units=units, name=name or path.stem,
+                                    spike_tolerance=spike_tolerance, min_points=min_points)
     return parse_profile(
         text, kind, file=str(path), units=units, name=name or path.stem,
         spike_tolerance=spike_tolerance, min_points=min_points,
@@ -180,7 +189,7 @@ def parse_profile(
     z = np.array([row[2] for row in rows])
     if len(rows) > 1 and np.all(np.diff(y) < 0):  # a file written from the other end
         lines, y, z = lines[::-1], y[::-1], z[::-1]
-    problems += _check_points(y, z, lines, file, kind, unit, spike_tolerance, min_points)
+    problems += check_profile_points(y, z, lines, file, kind, unit, spike_tolerance, min_points)
     if problems:
         raise ModelError(problems)
     factor = _UNITS[unit or "m"]
@@ -253,7 +262,10 @@ def _resolve_unit(header_unit: str | None, option: str | None, file: str, proble
     return unit
 
 
-def _check_points(y, z, lines, file, kind, unit, spike_tolerance, min_points) -> list[Problem]:
+def check_profile_points(y, z, lines, file, kind, unit, spike_tolerance, min_points) -> list[Problem]:
+    """The problems of points ``y``, ``z`` (increasing y; in ``unit``, or None when it is
+    unknown) read from ``lines`` of ``file``: too few, y not increasing, an implausible
+    extent for the unit, the origin outside, spikes."""
     problems: list[Problem] = []
     if len(y) < min_points:
         problems.append(Problem(file, None, "", f"{len(y)} points: a {kind} profile needs at least {min_points}"))
