@@ -465,6 +465,27 @@ def test_manchester_vehicle_wheel_loads_balance_the_inertia_forces(manchester):
     assert response.rms("floor_front.az") > 0.02 and response.rms("floor_front.ay") > 0.02  # m/s^2
 
 
+def test_gauge_drives_lateral_rail_grounds_and_a_class_without_gauge_says_so(tmp_path):
+    """A lateral spring from W1's left wheel to its left rail: that rail's y input is
+    a + g/2, so gauge moves the car; the FRA / AAR classes define no gauge spectrum, and
+    the response says that gauge was left at zero."""
+    text = two_axle_toml().replace("[rail]", _element("W1_lateralL", "W1_cL", "W1_gL", "y", "kl", 0) + "\n[rail]", 1)
+    path = tmp_path / "lateral_rail.toml"
+    path.write_text(text, encoding="utf-8")
+    vehicle = load_vehicle(path)
+    inputs = rail_inputs(vehicle)
+    k = inputs.names.index("W1_railL.y")
+    assert dict(zip(("alignment", "vertical", "cross_level", "gauge"), inputs.mixing[k], strict=True)) == {
+        "alignment": 1.0, "vertical": 0.0, "cross_level": 0.0, "gauge": 0.5}
+    f = np.geomspace(0.5, 20.0, 200)
+    erri = ride_response(vehicle, track_class_spectra("ERRI-low"), 20.0, f)
+    assert "gauge" in erri.components and np.abs(erri.transfer[:, erri.index("W1.Y"), erri.components.index("gauge")]).max() > 0
+    for name in ("FRA-4", "AAR-4"):
+        response = ride_response(vehicle, track_class_spectra(name), 20.0, f)
+        assert "gauge" not in response.components
+        assert any(note.startswith("gauge: no spectrum given") for note in response.notes)
+
+
 def test_track_classes():
     assert set(track_class_spectra("ERRI-low")) == {"alignment", "vertical", "cross_level", "gauge"}
     assert set(track_class_spectra("fra 5")) == {"alignment", "vertical", "cross_level"}
