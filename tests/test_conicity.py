@@ -246,3 +246,50 @@ def test_cli_conicity_bad_input_writes_nothing(tmp_path, capsys):
     assert main(["conicity", "--amplitudes", "1:2:1"]) == 2
     assert "give either --delta-r FILE.csv or the two profiles" in capsys.readouterr().err
     assert main(["conicity", "S1002", "60E1", "--amplitudes", "1:2:0"]) == 2
+
+
+def test_cli_wavelength_from_r0_and_contact_distance(tmp_path, capsys):
+    """``--r0``/``--contact-distance`` add the kinematic wavelength of the equivalent cone,
+    which must equal the half-period of the nonlinear wheelset equation integrated here."""
+    from express.cli import main
+
+    y = np.linspace(-0.008, 0.008, 161)
+    delta_r = 0.3 * y + 60 * y**3
+    path_text = "y_m,delta_r_m\n" + "".join(f"{a:.6f},{b:.9f}\n" for a, b in zip(y, delta_r, strict=True))
+    function = parse_delta_r(path_text, "dr.csv")
+    path = tmp_path / "dr.csv"
+    path.write_text(path_text)
+    assert main(["conicity", "--delta-r", str(path), "--r0", "500 mm", "--contact-distance", "1.5",
+                 "--amplitudes", "2:6:2", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert list(data) == ["amplitude_m", "tan_gamma_e", "wavelength_m"]
+    for amplitude, wavelength in zip(data["amplitude_m"], data["wavelength_m"], strict=True):
+        _, tan_gamma = kinematic_wavelength(function.y, function.delta_r, -amplitude, e=1.5, r0=0.5)
+        assert 2 * math.pi * math.sqrt(1.5 * 0.5 / (2 * tan_gamma)) == pytest.approx(wavelength, rel=1e-5)
+        assert 5 < wavelength < 40  # m: a hunting wavelength of a conical-ish wheelset
+
+
+#: A malformed delta r file of each kind the issue names -> the first problem line.
+BAD_DELTA_R = {
+    "empty": ("", "dr.csv: header: missing header"),
+    "nan": (GOOD.replace("-0.0070,-0.002100", "-0.0070,nan"), "dr.csv:3: delta_r: 'nan' is not a finite number"),
+    "non-monotonic": (GOOD.replace("-0.0060,", "-0.0075,"), "dr.csv:4: y: y = -0.0075 does not increase"),
+    "wrong-columns": (GOOD.replace("-0.0070,-0.002100", "-0.0070,1,2"), "dr.csv:3: expected 2 columns (y, delta_r), found 3"),
+    "wrong-header": (GOOD.replace("y_m,delta_r_m", "y,dr"), "dr.csv:1: header: 'y,dr': expected the columns y_m,delta_r_m"),
+    "wrong-units": (GOOD.replace("0.0080,0.002400", "8.0,2.4"), "dr.csv:18: y: 8 is 8 m, implausible for a wheelset"),
+}
+
+
+@pytest.mark.parametrize("kind", list(BAD_DELTA_R))
+def test_cli_malformed_delta_r_file_exit_2_nothing_written(tmp_path, capsys, kind):
+    from express.cli import main
+
+    text, first = BAD_DELTA_R[kind]
+    bad = tmp_path / "dr.csv"
+    bad.write_text(text)
+    out, fig = tmp_path / "c.csv", tmp_path / "c.png"
+    assert main(["conicity", "--delta-r", str(bad), "-o", str(out), "--plot", str(fig)]) == 2
+    err = capsys.readouterr().err.splitlines()
+    assert err and all(line.startswith(f"error: {tmp_path}/") for line in err), err
+    assert err[0].startswith(f"error: {tmp_path}/{first}"), err
+    assert not out.exists() and not fig.exists() and list(tmp_path.iterdir()) == [bad]

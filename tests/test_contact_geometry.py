@@ -301,3 +301,32 @@ def test_cli_contact_geometry_bad_profile(tmp_path, capsys):
     assert "60E1 is a rail profile, given as the wheel" in capsys.readouterr().err
     assert main(["contact-geometry", "S1002", "60E1", "--gauge", "1435"]) == 2  # bare numbers are SI
     assert "outside the valid range" in capsys.readouterr().err
+
+
+GOOD_WHEEL = "y_mm,z_mm\n" + "".join(f"{y},{0.05 * y}\n" for y in range(-40, 41, 2))
+#: A malformed profile file of each kind the issue names -> the first problem line
+#: (the file's data start on line 2).
+BAD_PROFILES = {
+    "empty": ("", "w.csv: no profile points"),
+    "nan": (GOOD_WHEEL.replace("\n0,0.0\n", "\n0,nan\n"), "w.csv:22: vertical coordinate: 'nan' is not a finite number"),
+    "non-monotonic": (GOOD_WHEEL.replace("\n-36,", "\n-39,"), "w.csv:4: lateral coordinate: y = -39 does not increase"),
+    "wrong-columns": (GOOD_WHEEL.replace("\n0,0.0\n", "\n0,0.0,1\n"), "w.csv:22: expected 2 columns (lateral, vertical), found 3"),
+    "wrong-header": (GOOD_WHEEL.replace("y_mm,z_mm", "lateral,height"), "w.csv:1: header: 'lateral, height': expected the columns"),
+    "wrong-units": (GOOD_WHEEL.replace("y_mm,z_mm", "y_m,z_m"), "w.csv: units: the profile spans 80 m x 4 m, too large"),
+}
+
+
+@pytest.mark.parametrize("command", ["contact-geometry", "conicity"])
+@pytest.mark.parametrize("kind", list(BAD_PROFILES))
+def test_cli_malformed_profile_exit_2_nothing_written(tmp_path, capsys, kind, command):
+    from express.cli import main
+
+    text, first = BAD_PROFILES[kind]
+    bad = tmp_path / "w.csv"
+    bad.write_text(text)
+    out, fig = tmp_path / "t.csv", tmp_path / "t.png"
+    assert main([command, str(bad), "60E1", "-o", str(out), "--plot", str(fig)]) == 2
+    err = capsys.readouterr().err.splitlines()
+    assert err and all(line.startswith(f"error: {tmp_path}/w.csv") for line in err), err
+    assert err[0].startswith(f"error: {tmp_path}/{first}"), err
+    assert list(tmp_path.iterdir()) == [bad]
