@@ -15,7 +15,8 @@ text     :func:`~.text.to_text`                 ``.txt``
 
 Modules: :mod:`.json_export` owns the JSON contract and the matrix order/shape checks
 shared by all exporters; :mod:`.matlab` the MATLAB/Octave function file and the
-safe-local-name rules; :mod:`.python_module` the numpy module; :mod:`.latex` the LaTeX
+safe-local-name rules; :mod:`.python_module` the numpy module; :mod:`.assignments` the
+non-zero assignments and entry printing those two share; :mod:`.latex` the LaTeX
 fragment and name typesetting; :mod:`.text` the terminal view.
 
 A MATLAB function file must be saved as ``<function name>.m``; :func:`to_matlab` takes

@@ -80,8 +80,9 @@ import sympy as sp
 from sympy.printing.octave import OctaveCodePrinter
 
 from express.equations import DerivationCall, DerivationStep, DerivedParameter, EquationsOfMotion
+from express.export.assignments import EntryCode, matrix_assignments
 from express.export.derivation import FUNCTIONS, DerivationPlan, derivation_plan
-from express.export.json_export import matrix_entries, matrix_items, parameter_symbols, shown_value
+from express.export.json_export import matrix_items, parameter_symbols, shown_value
 from express.export.kalker_code import KALKER_MATLAB_FUNCTIONS, matlab_kalker
 
 __all__ = [
@@ -325,25 +326,6 @@ def call_temporaries(plan: DerivationPlan, taken: Iterable[str]) -> dict[tuple[i
     return names
 
 
-class _Code:
-    """``expr -> MATLAB text`` with the renaming applied, each distinct entry printed once."""
-
-    def __init__(self, rename: dict[sp.Symbol, sp.Symbol]) -> None:
-        self.printer = _Printer({"strict": True})
-        self.rename = rename
-        self.cache: dict[sp.Expr, str] = {}
-
-    def __call__(self, expr: sp.Expr) -> str:
-        text = self.cache.get(expr)
-        if text is None:
-            try:
-                text = self.printer.doprint(expr.xreplace(self.rename) if self.rename else expr)
-            except NotImplementedError as exc:
-                raise ValueError(f"cannot write {sp.sstr(expr)!r} in MATLAB: {exc}") from exc
-            self.cache[expr] = text
-        return text
-
-
 def to_matlab(eom: EquationsOfMotion, name: str | None = None) -> str:
     """Write the equations of motion as a MATLAB / GNU Octave function file.
 
@@ -393,7 +375,7 @@ def to_matlab(eom: EquationsOfMotion, name: str | None = None) -> str:
     if plan.steps:
         reserved += [VALUES_OUTPUT, *KALKER_MATLAB_FUNCTIONS]
     locals_ = matlab_local_names(names, reserved)
-    code = _Code(symbol_renaming(eom, items, locals_, step_expressions(plan)))
+    code = EntryCode(_Printer({"strict": True}), symbol_renaming(eom, items, locals_, step_expressions(plan)), "in MATLAB")
     given = plan.given if plan.steps else eom.parameters
     out = _header(eom, fname, items, plan, locals_)
     if given and all(par in eom.values for par in given):
@@ -407,13 +389,9 @@ def to_matlab(eom: EquationsOfMotion, name: str | None = None) -> str:
         out += _derivation_code(plan, locals_, code)
     for key, mat in items:
         out += ["", f"{key} = zeros({mat.rows}, {mat.cols});"]
-        entries = matrix_entries(mat)
-        lookup = {(i, j): value for i, j, value in entries}
-        for i, j, entry in entries:
-            if j < i and lookup.get((j, i)) == entry:
-                out.append(f"{key}({i + 1}, {j + 1}) = {key}({j + 1}, {i + 1});")
-            else:
-                out.append(f"{key}({i + 1}, {j + 1}) = {code(entry)};")
+        for a in matrix_assignments(mat):
+            i, j = a.row + 1, a.column + 1
+            out.append(f"{key}({i}, {j}) = {key}({j}, {i});" if a.entry is None else f"{key}({i}, {j}) = {code(a.entry)};")
     if plan.steps:
         out += ["", f"if nargout > {len(outputs)}", f"    {VALUES_OUTPUT} = struct();"]
         out += [f"    {_field(par, VALUES_OUTPUT)} = {locals_[par]};" for par in (*plan.given, *plan.derived)]
@@ -495,7 +473,7 @@ def _step_text(step: DerivationStep) -> str:
     return f"{lhs} of {_CALLS[step.kind]}({call})  ({step.item})"
 
 
-def _derivation_code(plan: DerivationPlan, locals_: dict[str, str], code: _Code) -> list[str]:
+def _derivation_code(plan: DerivationPlan, locals_: dict[str, str], code: EntryCode) -> list[str]:
     """Each derived parameter from p when set there, else computed."""
     out = ["", "% Derived parameters: computed from the given ones unless set in p."]
     temporaries = call_temporaries(plan, set(locals_.values()) | set(KALKER_MATLAB_FUNCTIONS))

@@ -46,8 +46,9 @@ import sympy as sp
 from sympy.printing.numpy import NumPyPrinter
 
 from express.equations import DerivedParameter, EquationsOfMotion
+from express.export.assignments import EntryCode, matrix_assignments
 from express.export.derivation import FUNCTIONS, DerivationPlan, derivation_plan
-from express.export.json_export import matrix_entries, matrix_items, shown_value
+from express.export.json_export import matrix_items, shown_value
 from express.export.kalker_code import KALKER_PYTHON_NAMES, python_kalker
 from express.export.matlab import (
     call_temporaries,
@@ -110,25 +111,6 @@ def _dict(mapping: dict[str, str]) -> str:
     return "{\n" + "".join(f"    {k!r}: {v},\n" for k, v in mapping.items()) + "}"
 
 
-class _Code:
-    """``expr -> numpy text`` with the renaming applied, each distinct entry printed once."""
-
-    def __init__(self, rename: dict[sp.Symbol, sp.Symbol]) -> None:
-        self.printer = _Printer({"strict": True, "fully_qualified_modules": True})
-        self.rename = rename
-        self.cache: dict[sp.Expr, str] = {}
-
-    def __call__(self, expr: sp.Expr) -> str:
-        text = self.cache.get(expr)
-        if text is None:
-            try:
-                text = self.printer.doprint(expr.xreplace(self.rename) if self.rename else expr)
-            except NotImplementedError as exc:
-                raise ValueError(f"cannot write {sp.sstr(expr)!r} with numpy: {exc}") from exc
-            self.cache[expr] = text
-        return text
-
-
 def to_python(eom: EquationsOfMotion) -> str:
     """Write the equations of motion as an importable Python module using numpy.
 
@@ -167,20 +149,17 @@ def to_python(eom: EquationsOfMotion) -> str:
         )
 
     locals_ = local_names(exported_names(eom, plan), usable)
-    code = _Code(symbol_renaming(eom, items, locals_, step_expressions(plan)))
+    printer = _Printer({"strict": True, "fully_qualified_modules": True})
+    code = EntryCode(printer, symbol_renaming(eom, items, locals_, step_expressions(plan)), "with numpy")
     body: list[str] = []
     b = body.append
     for par in eom.parameters:
         b(f"    {locals_[par]} = float(p[{par!r}])")
     for key, mat in items:
         b(f"    {key} = numpy.zeros(({mat.rows}, {mat.cols}))")
-        entries = matrix_entries(mat)
-        lookup = {(i, j): value for i, j, value in entries}
-        for i, j, entry in entries:
-            if j < i and lookup.get((j, i)) == entry:
-                b(f"    {key}[{i}, {j}] = {key}[{j}, {i}]")
-            else:
-                b(f"    {key}[{i}, {j}] = {code(entry)}")
+        for a in matrix_assignments(mat):
+            i, j = a.row, a.column
+            b(f"    {key}[{i}, {j}] = {key}[{j}, {i}]" if a.entry is None else f"    {key}[{i}, {j}] = {code(a.entry)}")
     b("    return {" + ", ".join(f"{key!r}: {key}" for key in names) + "}")
     derivation = _parameter_values(plan, locals_, code) if plan.steps else []
     modules = set(code.printer.module_imports)
@@ -288,7 +267,7 @@ _CHECKS = [
 ]
 
 
-def _parameter_values(plan: DerivationPlan, locals_: dict[str, str], code: _Code) -> list[str]:
+def _parameter_values(plan: DerivationPlan, locals_: dict[str, str], code: EntryCode) -> list[str]:
     """``parameter_values(p)``: the given values, then each derivation step."""
     lines = [
         "def parameter_values(p=None):",
