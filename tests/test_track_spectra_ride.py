@@ -187,7 +187,8 @@ def test_table_problems_lists_every_problem() -> None:
 
 
 @pytest.mark.parametrize("spectrum", [ERRI_LEVELS["vertical"]["high"], ERRI_LEVELS["cross_level"]["low"],
-                                      FRA_CLASSES["cross_level"][3], FRA_CLASSES["vertical"][5]],
+                                      ERRI_LEVELS["gauge"]["high"], FRA_CLASSES["cross_level"][3],
+                                      FRA_CLASSES["vertical"][5], AAR_CLASSES["alignment"][3]],
                          ids=lambda sp: sp.name)
 def test_seeded_realisation_has_the_band_variance(spectrum) -> None:
     """Sum of cosines with random phases (Harmonics.draw): over one period the mean square
