@@ -217,3 +217,15 @@ def test_cli_bad_format_file_exit_2_nothing_written(tmp_path, capsys, command):
     assert capsys.readouterr().err.splitlines() == [
         f"error: {bad}:{prw_line(PRW_POINT)}: point: '54.719724841\\tnan' is not a finite number"]
     assert not out.exists()
+
+
+def test_model_with_a_bad_format_file_exits_2_naming_both_files(tmp_path, capsys):
+    from express.cli import main
+    from test_profile_contact import WHEELSET
+
+    (tmp_path / "bad.prw").write_text(PRW.replace(PRW_POINT, "54.719724841\tnan"), encoding="utf-8")
+    model = tmp_path / "m.toml"
+    model.write_text(WHEELSET.replace('wheel = "S1002"', 'wheel = "bad.prw"'), encoding="utf-8")
+    assert main(["eigen", str(model), "--speed", "100"]) == 2
+    err = capsys.readouterr().err
+    assert f"{model}:" in err and f"{tmp_path / 'bad.prw'}:{prw_line(PRW_POINT)}:" in err and "not a finite number" in err
