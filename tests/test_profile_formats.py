@@ -229,3 +229,39 @@ def test_model_with_a_bad_format_file_exits_2_naming_both_files(tmp_path, capsys
     assert main(["eigen", str(model), "--speed", "100"]) == 2
     err = capsys.readouterr().err
     assert f"{model}:" in err and f"{tmp_path / 'bad.prw'}:{prw_line(PRW_POINT)}:" in err and "not a finite number" in err
+
+
+# --- fuzzing: mutated files end cleanly (status 0, 1 or 2, no traceback, nothing written when refused)
+
+
+def _fuzz_run(folder: Path, argv: list) -> None:
+    from fuzz_support import assert_untouched, check, snapshot
+
+    target = folder / "out.csv"
+    target.write_text("an earlier result\n")
+    before = snapshot(folder)
+    status, _, _ = check([*argv, "-o", target])
+    if status != 0:
+        assert_untouched(before, folder, argv)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name, command", [("S1002.prw", ["conicity", "{path}", "60E1"]),
+                                           ("60E1.ban", ["contact-geometry", "S1002", "{path}", "--y-range=-8:8:0.5"])])
+def test_mutated_format_files_end_cleanly(tmp_path_factory, name, command):
+    from hypothesis import given
+    from hypothesis import strategies as st
+
+    from fuzz_support import fuzz, mutated
+
+    text = (DATA / name).read_text(encoding="utf-8")
+
+    @fuzz(15)
+    @given(data=st.data())
+    def run(data):
+        folder = tmp_path_factory.mktemp("format")
+        path = folder / name
+        path.write_text(data.draw(mutated(text), label=name), encoding="utf-8")
+        _fuzz_run(folder, [str(path) if part == "{path}" else part for part in command])
+
+    run()
