@@ -62,8 +62,8 @@ def add_profile_arguments(parser: argparse.ArgumentParser, required: bool = True
     """WHEEL RAIL and the track and wheelset dimensions (shared with ``conicity``)."""
     nargs = 2 if required else "*"
     parser.add_argument("profiles", nargs=nargs, metavar="WHEEL RAIL",
-                        help="wheel and rail profile: a file (docs/contact.md) or a standard name "
-                        "(S1002; 60E1 alias UIC60)")
+                        help="wheel and rail profile: a file (two columns; or by its suffix SIMPACK .prw/.prr, "
+                        "MiniProf .whl/.ban; docs/contact.md) or a standard name (S1002; 60E1 alias UIC60)")
     parser.add_argument("--units", choices=("mm", "m"), help="unit of profile files without a header line")
     parser.add_argument("--gauge", type=GAUGE, default=1.435, help=GAUGE.help("track gauge, 14 mm below the rail top", "1435 mm"))
     parser.add_argument("--flange-back", type=FLANGE_BACK, default=1.360,
