@@ -112,3 +112,32 @@ speed = "200 km/h"
     assert [(r["output"], r["parameter"]) for r in rows] == [("least_damping_ratio", "Gamma"), ("least_damping_ratio", "hf")]
     assert math.isclose(float(rows[0]["ST"]), indices["ST"][0])
     assert np.isfinite(read_table(output)["least_damping_ratio"]).all()
+
+
+def test_bundled_optimisation_under_a_QP_limit_in_the_paper_curve(tmp_path: Path) -> None:
+    """examples/studies/optimise_critical_speed.toml, a short run: maximise the critical
+    speed subject to max Q/P <= 0.5 in the paper's R = 400 m curve. The constraint binds
+    (points beyond it are evaluated and set aside) and the best point is the fastest of
+    the feasible ones; its outputs are those of the analyses at its values."""
+    from express.analysis.study.critical import fast_critical_speed
+    from express.analysis.study.outputs import OutputSettings, PointOutputs
+    from express.statespace import load_vehicle
+
+    bundled = ROOT / "examples" / "studies" / "optimise_critical_speed.toml"
+    text = bundled.read_text().replace('"../forced-steering.toml"', f'"{MODEL}"')
+    text = text.replace("population = 8", "population = 3").replace("iterations = 20", "iterations = 3")
+    path = tmp_path / "optimise.toml"
+    path.write_text(text)
+    summary = run_study(read_study(path), tmp_path / "history.csv", workers=2)
+    table = read_table(tmp_path / "history.csv")
+    quotient, speeds = table["max_QP"], table["critical_speed"]
+    feasible = quotient <= 0.5
+    assert feasible.any() and not feasible.all()  # the limit binds
+    best = summary.extra["best"]
+    assert feasible[best["point"]] and best["outputs"]["critical_speed"] == speeds[feasible].max()
+    assert speeds[~feasible].max() > best["outputs"]["critical_speed"]  # faster designs broke the limit
+    values = {"kx1": best["parameters"]["kx1"], "lLL": best["parameters"]["lLL"]}
+    vehicle = load_vehicle(MODEL, values)
+    again, _ = PointOutputs(["critical_speed", "max_QP"], OutputSettings())(vehicle)
+    assert again == best["outputs"]
+    assert again["critical_speed"] == fast_critical_speed(vehicle).speed
