@@ -32,7 +32,7 @@ from numba import njit
 from ..diagnostics import ModelError, Problem, RowProblems, excerpt
 from ..limits import read_input_text
 from .contact_geometry import ContactSetup, ContactTable, contact_geometry
-from .profiles import Profile
+from .profiles import Profile, row_numbers
 
 __all__ = [
     "DeltaR",
@@ -99,18 +99,8 @@ def parse_delta_r(text: str, file: str = "<delta_r>") -> DeltaR:
         if len(fields) != 2:
             bad.add(number, "", f"expected 2 columns (y, delta_r), found {len(fields)}", line)
             continue
-        values = []
-        for column, field in zip(("y", "delta_r"), fields, strict=True):
-            try:
-                value = float(field)
-            except ValueError:
-                bad.add(number, column, "not a number", field, "{found} is {message}")
-                continue
-            if not math.isfinite(value):
-                bad.add(number, column, "not a finite number", field, "{found} is {message}")
-                continue
-            values.append(value)
-        if len(values) == 2:
+        values = row_numbers(fields, ("y", "delta_r"), number, bad)
+        if values is not None:
             rows.append((number, values[0], values[1]))
     problems += bad.problems()
     if factors is None and not any(p.item == "header" for p in problems):

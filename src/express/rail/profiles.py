@@ -39,6 +39,7 @@ __all__ = [
     "parse_inclination",
     "parse_profile",
     "read_profile",
+    "row_numbers",
     "s1002_height",
     "smooth_profile",
     "standard_profile",
@@ -216,21 +217,28 @@ def _parse_rows(text: str, file: str, problems: list[Problem]) -> tuple[str | No
         if len(fields) != 2:
             bad.add(number, "", f"expected 2 columns (lateral, vertical), found {len(fields)}", line)
             continue
-        values = []
-        for column, field in zip(("lateral", "vertical"), fields, strict=True):
-            try:
-                value = float(field)
-            except ValueError:
-                bad.add(number, f"{column} coordinate", "not a number", field, "{found} is {message}")
-                continue
-            if not math.isfinite(value):
-                bad.add(number, f"{column} coordinate", "not a finite number", field, "{found} is {message}")
-                continue
-            values.append(value)
-        if len(values) == 2:
+        values = row_numbers(fields, ("lateral coordinate", "vertical coordinate"), number, bad)
+        if values is not None:
             rows.append((number, values[0], values[1]))
     problems += bad.problems()
     return header_unit, rows
+
+
+def row_numbers(fields: list[str], columns: tuple[str, ...], number: int, bad: RowProblems) -> list[float] | None:
+    """The ``fields`` of data row ``number`` as finite numbers, or ``None`` once every
+    bad one is added to ``bad`` (its item the column's name in ``columns``)."""
+    values = []
+    for column, field in zip(columns, fields, strict=True):
+        try:
+            value = float(field)
+        except ValueError:
+            bad.add(number, column, "not a number", field, "{found} is {message}")
+            continue
+        if not math.isfinite(value):
+            bad.add(number, column, "not a finite number", field, "{found} is {message}")
+            continue
+        values.append(value)
+    return values if len(values) == len(columns) else None
 
 
 def _all_numbers(fields: list[str]) -> bool:
