@@ -465,10 +465,10 @@ def test_manchester_vehicle_wheel_loads_balance_the_inertia_forces(manchester):
     assert response.rms("floor_front.az") > 0.02 and response.rms("floor_front.ay") > 0.02  # m/s^2
 
 
-def test_gauge_drives_lateral_rail_grounds_and_a_class_without_gauge_says_so(tmp_path):
+def test_gauge_drives_lateral_rail_grounds_and_a_spectrum_without_gauge_says_so(tmp_path):
     """A lateral spring from W1's left wheel to its left rail: that rail's y input is
-    a + g/2, so gauge moves the car; the FRA / AAR classes define no gauge spectrum, and
-    the response says that gauge was left at zero."""
+    a + g/2, so gauge moves the car, with the ERRI and the US classes' gauge spectra; a
+    set of spectra without gauge gets a note that gauge was left at zero."""
     text = two_axle_toml().replace("[rail]", _element("W1_lateralL", "W1_cL", "W1_gL", "y", "kl", 0) + "\n[rail]", 1)
     path = tmp_path / "lateral_rail.toml"
     path.write_text(text, encoding="utf-8")
@@ -482,13 +482,16 @@ def test_gauge_drives_lateral_rail_grounds_and_a_class_without_gauge_says_so(tmp
     assert "gauge" in erri.components and np.abs(erri.transfer[:, erri.index("W1.Y"), erri.components.index("gauge")]).max() > 0
     for name in ("FRA-4", "AAR-4"):
         response = ride_response(vehicle, track_class_spectra(name), 20.0, f)
-        assert "gauge" not in response.components
-        assert any(note.startswith("gauge: no spectrum given") for note in response.notes)
+        assert "gauge" in response.components and not any(n.startswith("gauge:") for n in response.notes)
+    without = {c: s for c, s in track_class_spectra("FRA-4").items() if c != "gauge"}
+    response = ride_response(vehicle, without, 20.0, f)
+    assert "gauge" not in response.components
+    assert any(note.startswith("gauge: no spectrum given") for note in response.notes)
 
 
 def test_track_classes():
     assert set(track_class_spectra("ERRI-low")) == {"alignment", "vertical", "cross_level", "gauge"}
-    assert set(track_class_spectra("fra 5")) == {"alignment", "vertical", "cross_level"}
+    assert set(track_class_spectra("fra 5")) == {"alignment", "vertical", "cross_level", "gauge"}
     assert track_class_spectra("AAR-5")["vertical"].psd(0.5) == track_class_spectra("FRA-5")["vertical"].psd(0.5)
     assert track_class_spectra("aar_2")["cross_level"].name == "AAR class 2 cross level"
     assert math.isclose(track_class_spectra("Erri_High")["vertical"].A, 1.080e-6)

@@ -63,6 +63,8 @@ def expected_cases() -> list[tuple[str, str, object]]:
     for c in range(1, 7):
         cases.append(("vertical", f"fra{c}", fra_profile(W, FRA_AV[c - 1])))
         cases.append(("cross_level", f"fra{c}", fra_cross_level(W, FRA_AV[c - 1], FRA_WS[c - 1])))
+        cases.append(("gauge", f"fra{c}", fra_cross_level(W, FRA_AV[c - 1], FRA_WS[c - 1])))
+        cases.append(("gauge", f"aar{c}", fra_cross_level(W, FRA_AV[c - 1], FRA_WS[c - 1])))
     return cases
 
 
@@ -91,23 +93,23 @@ def test_fra_class_5_vertical_known_value_in_si() -> None:
     assert FRA_CLASSES["alignment"][5].psd(1.0) == pytest.approx(3.4298e-7, rel=1e-4)
 
 
-@pytest.mark.parametrize("component", ["vertical", "alignment", "cross_level"])
+@pytest.mark.parametrize("component", ["vertical", "alignment", "cross_level", "gauge"])
 @pytest.mark.parametrize("c", range(1, 7))
 def test_aar_classes_are_the_us_class_spectra(component: str, c: int) -> None:
     aar, fra = AAR_CLASSES[component][c - 1], FRA_CLASSES[component][c - 1]
     assert aar.name.startswith(f"AAR class {c}") and aar.component == component
     np.testing.assert_allclose(aar.psd(W), fra.psd(W), rtol=0)  # same published constants
     a_cm2 = FRA_AA[c - 1] if component == "alignment" else FRA_AV[c - 1]
-    expected = fra_cross_level(W, a_cm2, FRA_WS[c - 1]) if component == "cross_level" else fra_profile(W, a_cm2)
+    two_rail = component in ("cross_level", "gauge")  # one form for both (spectra.FRAGaugeSpectrum)
+    expected = fra_cross_level(W, a_cm2, FRA_WS[c - 1]) if two_rail else fra_profile(W, a_cm2)
     np.testing.assert_allclose(aar.psd(W), expected, rtol=1e-12)
     if component != "alignment":
         assert get_spectrum(f"aar{c}", component) is aar
-    assert "gauge" not in AAR_CLASSES and "gauge" not in FRA_CLASSES  # neither source defines one
 
 
 def all_new_spectra() -> list[object]:
     out: list[object] = [sp for comp in ("vertical", "cross_level", "gauge") for sp in ERRI_LEVELS[comp].values()]
-    out += [sp for comp in ("vertical", "alignment", "cross_level") for sp in FRA_CLASSES[comp]]
+    out += [sp for comp in ("vertical", "alignment", "cross_level", "gauge") for sp in FRA_CLASSES[comp]]
     out.append(TabulatedSpectrum("table", (0.05, 0.3, 1.0, 4.0), (2e-5, 4e-6, 1e-7, 0.0), "vertical"))
     return out
 
@@ -120,7 +122,7 @@ def test_band_variance_is_the_integral_of_the_psd(spectrum, lo: float, hi: float
 
 
 @pytest.mark.parametrize("spectrum", [*ERRI_LEVELS["cross_level"].values(), *ERRI_LEVELS["gauge"].values(),
-                                      *FRA_CLASSES["cross_level"]], ids=lambda sp: sp.name)
+                                      *FRA_CLASSES["cross_level"], *FRA_CLASSES["gauge"]], ids=lambda sp: sp.name)
 def test_finite_at_zero_wavenumber_and_total_variance(spectrum) -> None:
     assert np.isfinite(spectrum.psd(0.0))
     total = quad(spectrum.psd, 0.0, np.inf, limit=500, epsabs=0.0, epsrel=1e-10)[0]
@@ -131,10 +133,10 @@ def test_alignment_registry_keeps_the_track_file_names() -> None:
     assert set(SPECTRA) == {"fra5", "fra6", "erri_low", "erri_high"}
     assert set(SPECTRA_BY_COMPONENT["vertical"]) == {"erri_low", "erri_high", *(f"fra{c}" for c in range(1, 7)),
                                                      *(f"aar{c}" for c in range(1, 7))}
-    assert set(SPECTRA_BY_COMPONENT["gauge"]) == {"erri_low", "erri_high"}
+    assert set(SPECTRA_BY_COMPONENT["gauge"]) == set(SPECTRA_BY_COMPONENT["vertical"])
     assert get_spectrum("ERRI-High", "cross_level") is ERRI_LEVELS["cross_level"]["high"]
-    with pytest.raises(KeyError, match="known gauge spectra: erri_low, erri_high"):
-        get_spectrum("fra3", "gauge")
+    with pytest.raises(KeyError, match=r"known gauge spectra: erri_low, erri_high, fra1, .*aar6"):
+        get_spectrum("fra7", "gauge")
 
 
 def test_cross_level_height_difference_does_not_depend_on_b() -> None:

@@ -89,7 +89,7 @@ AXES = ("x", "y", "z")
 #: Default frequency band [Hz] and number of log-spaced frequencies of :func:`ride_response`.
 DEFAULT_BAND = (0.1, 50.0)
 DEFAULT_POINTS = 2000
-#: Named track classes: every component their source defines (FRA / AAR have no gauge).
+#: Named track classes: every component their source defines (all four).
 TRACK_CLASSES = ("ERRI-low", "ERRI-high", *(f"FRA-{k}" for k in range(1, 7)), *(f"AAR-{k}" for k in range(1, 7)))
 ACCELERATION_UNIT = "m/s^2"
 _RAIL_GROUND = re.compile(r"(?P<body>[A-Za-z][A-Za-z0-9_]*?)_rail(?P<side>[LR]?)\.(?P<axis>r?[xyz])\Z")
@@ -129,7 +129,7 @@ def track_class_spectra(name: str) -> dict[str, TrackSpectrum]:
     ``ERRI-low`` / ``ERRI-high``: ORE B176 alignment and vertical, DB cross level and
     gauge; ``FRA-1`` ... ``FRA-6`` and ``AAR-1`` ... ``AAR-6`` (the same US class
     spectra under either name, :data:`~express.rail.track.spectra.AAR_CLASSES`):
-    alignment, vertical and cross level, no gauge (``docs/ride.md``). Case, ``_`` and
+    alignment, vertical, cross level and gauge (``docs/ride.md``). Case, ``_`` and
     spaces are ignored.
 
     Raises
@@ -144,7 +144,7 @@ def track_class_spectra(name: str) -> dict[str, TrackSpectrum]:
     match = re.fullmatch(r"(fra|aar)-?([1-6])", key)
     if match:
         classes, k = (FRA_CLASSES if match.group(1) == "fra" else AAR_CLASSES), int(match.group(2)) - 1
-        return {component: classes[component][k] for component in ("alignment", "vertical", "cross_level")}
+        return {component: classes[component][k] for component in COMPONENTS}
     raise InputError(f"unknown track class {name!r}; known: {', '.join(TRACK_CLASSES)}")
 
 
@@ -506,7 +506,7 @@ def ride_response(
         elif component in spectra:
             notes.append(f"{component}: the model has no input it drives (rail grounds, docs/ride.md)")
         elif felt:
-            notes.append(f"{component}: no spectrum given (e.g. FRA/AAR classes define none for gauge): left at zero")
+            notes.append(f"{component}: no spectrum given (e.g. a table without that column): left at zero")
     input_psd = {c: check_psd(spatial_to_temporal(spectra[c].psd, f, v), f.size, f"ride ({c} spectrum)") for c in used}
     rows, directions, sides = _output_rows(vehicle, inputs, v)
     a, b, bd = vehicle.state_matrix(v), vehicle.input_matrix(v), vehicle.input_rate_matrix(v)

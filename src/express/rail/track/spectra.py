@@ -12,7 +12,7 @@ closed form (:meth:`TrackSpectrum.variance`).
 
 Vertical profile, cross-level (rail height difference) and gauge spectra, US classes
 1-6 as FRA (:data:`FRA_CLASSES`) or AAR (:data:`AAR_CLASSES`) classes (vertical,
-alignment, cross level; no gauge spectrum is defined for them), ERRI / ORE B176 low
+alignment, and one form for cross level and gauge), ERRI / ORE B176 low
 and high (:data:`ERRI_LEVELS`: all four components) and user tables
 (:class:`TabulatedSpectrum`) follow the same conventions (end of the module;
 ``docs/ride.md``); seeded realisations of any of them are the cosine sums of
@@ -57,6 +57,7 @@ __all__ = [
     "ERRIVerticalSpectrum",
     "FRAAlignmentSpectrum",
     "FRACrossLevelSpectrum",
+    "FRAGaugeSpectrum",
     "FRAVerticalSpectrum",
     "TabulatedSpectrum",
     "TrackSpectrum",
@@ -369,6 +370,25 @@ class FRACrossLevelSpectrum(TrackSpectrum):
 
 
 @dataclass(frozen=True)
+class FRAGaugeSpectrum(FRACrossLevelSpectrum):
+    """US FRA gauge spectrum of one track class [m^2/(rad/m)]: the cross-level form and
+    constants of :class:`FRACrossLevelSpectrum`, for the gauge deviation [m].
+
+    Notes
+    -----
+    The US class spectra are tabulated for "cross level and gauge" together, one PSD
+    ``4 k A_v Omega_c^2 / ((Omega^2 + Omega_c^2)(Omega^2 + Omega_s^2))`` for both (Zhai,
+    *Vehicle-Track Coupled Dynamics*, Springer 2020, the US track spectra; the same in
+    public implementations of those spectra, e.g. a MATLAB script of the classes 5 and 6
+    labelled "cross level and gauge irregularity" with A_v = 0.2095 and 0.0339 cm^2 rad/m,
+    Omega_s = 0.8209 and 0.4380 rad/m, the constants held here).  Hamid et al. (1983)
+    fitted gauge separately; their own gauge constants were not found in public material.
+    """
+
+    component: ClassVar[str] = "gauge"
+
+
+@dataclass(frozen=True)
 class ERRIVerticalSpectrum(ERRIAlignmentSpectrum):
     """ORE B176 / ERRI vertical profile spectrum: the form of
     :class:`ERRIAlignmentSpectrum` with ``A_v`` = 4.032e-7 (low) or 1.080e-6 (high)
@@ -534,6 +554,8 @@ FRA_CLASSES: dict[str, tuple[TrackSpectrum, ...]] = {
                   FRA_CLASS_5, FRA_CLASS_6),
     "cross_level": tuple(FRACrossLevelSpectrum(f"FRA class {c} cross level", A_v=a, omega_s=s)
                          for c, (a, s) in enumerate(zip(FRA_A_V, FRA_OMEGA_S, strict=True), 1)),
+    "gauge": tuple(FRAGaugeSpectrum(f"FRA class {c} gauge", A_v=a, omega_s=s)
+                   for c, (a, s) in enumerate(zip(FRA_A_V, FRA_OMEGA_S, strict=True), 1)),
 }
 #: The same six US classes under the name AAR (see :data:`AAR_CLASSES`).
 AAR_CLASSES: dict[str, tuple[TrackSpectrum, ...]] = {
@@ -541,6 +563,8 @@ AAR_CLASSES: dict[str, tuple[TrackSpectrum, ...]] = {
     "alignment": tuple(FRAAlignmentSpectrum(f"AAR class {c} alignment", A_a=a) for c, a in enumerate(FRA_A_A, 1)),
     "cross_level": tuple(FRACrossLevelSpectrum(f"AAR class {c} cross level", A_v=a, omega_s=s)
                          for c, (a, s) in enumerate(zip(FRA_A_V, FRA_OMEGA_S, strict=True), 1)),
+    "gauge": tuple(FRAGaugeSpectrum(f"AAR class {c} gauge", A_v=a, omega_s=s)
+                   for c, (a, s) in enumerate(zip(FRA_A_V, FRA_OMEGA_S, strict=True), 1)),
 }
 """The US six-class spectra as "AAR classes": the constants of :data:`FRA_CLASSES`.
 
