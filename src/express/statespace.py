@@ -18,6 +18,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from functools import cached_property
 from pathlib import Path
 from typing import Any
 
@@ -28,7 +29,7 @@ from .diagnostics import ModelError, Problem
 from .equations import STROKE, EquationsOfMotion
 from .first_order import FirstOrderError, StateForm, state_form
 from .model import Model
-from .numeric import CompiledExpressions, CompiledMatrices, compile_matrices
+from .numeric import CompiledExpressions, CompiledMatrices, EigenBlocks, compile_matrices
 from .parameters import expression_value, override_values, undefined_name_problems, with_values
 from .rail.build import RailLayout, generate_vehicle, rail_layout
 from .threads import limited_blas
@@ -208,10 +209,18 @@ class VehicleModel:
             f"{len(self.wheelsets)} wheelsets{speed}>"
         )
 
+    @cached_property
+    def eigen_blocks(self) -> EigenBlocks:
+        """``A(v)`` split once into the diagonal blocks that carry its eigenvalues
+        (:class:`express.numeric.EigenBlocks`: exact; one block when nothing splits)."""
+        return EigenBlocks(self.form.a0, self.form.a1)
+
     @limited_blas
     def eigenvalues(self, v: float) -> np.ndarray:
-        """Eigenvalues of ``A(v)`` [1/s], shape (2n,)."""
-        return np.linalg.eigvals(self.state_matrix(v))
+        """Eigenvalues of ``A(v)`` [1/s], complex, shape (N,), block after block
+        (:attr:`eigen_blocks`; the same set as :func:`numpy.linalg.eigvals` of
+        :meth:`state_matrix`, in another order)."""
+        return self.eigen_blocks.eigenvalues(np.array([float(v)]))[0]
 
 
 def _state_form(vehicle: VehicleModel) -> StateForm:
