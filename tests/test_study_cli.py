@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from express.analysis.study.results import read_table
+from express.analysis.study.run import default_workers
 from express.cli import main
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -65,6 +65,7 @@ def test_issue_study_runs_as_written_and_equals_single_runs(issue_study: Path) -
     output = issue_study.parent / "x.csv"
     summary = _cli_json(["study", str(issue_study), "-o", str(output), "--json"])
     assert summary["points"] == 6 and summary["failed"] == 0
+    assert summary["workers"] == min(default_workers(), 6)  # all local cores by default
     lines = output.read_text().splitlines()
     assert lines[0] == "Gamma,kx1_N_m,critical_speed_m_s,error"
     rows = [line.split(",") for line in lines[1:]]

@@ -230,6 +230,14 @@ def test_dead_worker_process_has_its_points_run_again(tmp_path: Path, slow_refer
     assert output.read_bytes() == reference
 
 
+def _dask_worker_processes(pid: int) -> list:
+    """The worker processes that ``dask worker --nworkers 2`` (process ``pid``) started."""
+    import psutil
+
+    return [child for child in psutil.Process(pid).children()
+            if "resource_tracker" not in " ".join(child.cmdline()) and child.is_running()]
+
+
 def _free_port() -> int:
     with socket.socket() as probe:
         probe.bind(("127.0.0.1", 0))
@@ -238,6 +246,8 @@ def _free_port() -> int:
 
 @pytest.mark.slow
 def test_dask_scheduler_and_worker_on_localhost_give_the_same_results(tmp_path: Path, slow_reference) -> None:
+    """A real ``dask scheduler`` and ``dask worker`` (2 processes) on localhost: the file of
+    the local run; then again with one worker process killed mid-study."""
     study, reference = slow_reference
     port = _free_port()
     address = f"tcp://127.0.0.1:{port}"
@@ -259,6 +269,18 @@ def test_dask_scheduler_and_worker_on_localhost_give_the_same_results(tmp_path: 
         out, err = run.communicate(timeout=600)
         assert run.returncode == 0, err
         assert json.loads(out)["workers"] == 2
+        assert output.read_bytes() == reference
+        # a Dask worker process that dies mid-study: the scheduler runs its points elsewhere
+        output = tmp_path / "dask-killed.csv"
+        run = _express(["study", str(study), "-o", str(output), "--scheduler", address, "--json"])
+        _wait_for_lines(checkpoint_path(output), 1 + 20, run)
+        victims = _dask_worker_processes(worker.pid)
+        assert len(victims) == 2, victims
+        victims[0].send_signal(signal.SIGKILL)
+        assert _lines(checkpoint_path(output)) < 1 + 144  # killed mid-study
+        out, err = run.communicate(timeout=600)
+        assert run.returncode == 0, err
+        assert json.loads(out)["failed"] == 0 and not victims[0].is_running()
         assert output.read_bytes() == reference
     finally:
         for process in (worker, scheduler):

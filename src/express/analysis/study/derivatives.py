@@ -77,7 +77,7 @@ class MatrixDerivatives:
         Number of non-zero derivative entries (all matrices and symbols).
     """
 
-    def __init__(self, equations):
+    def __init__(self, equations) -> None:
         self.equations = equations
         self.n = len(equations.dofs)
         slots: list[tuple[str, int, int, int, sp.Expr]] = []  # (symbol, matrix, i, j, derivative)
@@ -153,7 +153,7 @@ class GraphRates:
     model : Model
     """
 
-    def __init__(self, model):
+    def __init__(self, model) -> None:
         self.model = model
         expressions: list[sp.Expr] = []
         self._steps: list[tuple] = []
