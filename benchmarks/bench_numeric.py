@@ -146,6 +146,15 @@ def report(name: str, ours: float, default: float, single: float, target: bool) 
     return ratio
 
 
+def _route(vehicle, frequencies: np.ndarray) -> str:
+    """The route ``frequency_response`` takes (``express.analysis.banded.choose_route``)."""
+    from express.analysis.banded import band_layout, choose_route
+
+    layout = band_layout(vehicle.mass, vehicle.damping(vehicle.speed), vehicle.stiffness)
+    route = choose_route(vehicle.n, vehicle.form.size, frequencies.size, layout)
+    return {"schur": "Schur form", "stacked": "stacked solve", "banded": "banded LU"}.get(route, route)
+
+
 def bench_frf(vehicle, label: str, runs: int) -> float:
     from express.analysis.frequency import frequency_response
 
@@ -156,7 +165,7 @@ def bench_frf(vehicle, label: str, runs: int) -> float:
             lambda f=frequencies: frequency_response(vehicle, f), lambda f=frequencies: frf_loop(vehicle, f), runs
         )
         difference = np.abs(result.X - plain).max() / np.abs(plain).max()
-        route = "Schur form" if count >= 2 * vehicle.form.size else "stacked solve"
+        route = _route(vehicle, frequencies)
         measured = report(f"frf, {count} frequencies, {label}", ours, default, single, count == FREQUENCIES[2])
         print(f"  {'':42s} route: {route}; largest difference {difference:.1e} of the largest amplitude")
         if count == FREQUENCIES[2]:
