@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import importlib.util
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -174,3 +175,60 @@ def test_sparse_evaluation_equals_the_dense_one(tmp_path):
         assert sparse[key].shape == dense[key].shape
         assert np.array_equal(sparse[key].toarray(), dense[key]), key
         assert sparse[key].nnz == np.count_nonzero(dense[key])
+
+
+# every numerical path after the vehicle is built: no symbolic work per point (issue 16)
+_PER_POINT = {
+    "eigenvalues": lambda car: car.eigenvalues(30.0),
+    "root_locus": lambda car: _stability().root_locus(car, np.linspace(5.0, 100.0, 20)),
+    "eigen_analysis": lambda car: _stability().eigen_analysis(car, 30.0),
+    "critical_speed": lambda car: _stability().critical_speed(car, v_max=150.0),
+    "critical_speed_vs_conicity": lambda car: _stability().critical_speed_vs_conicity(car, [0.1, 0.2], v_max=150.0),
+    "frequency_response": lambda car: _frequency().frequency_response(car, np.linspace(0.1, 20.0, 200)),
+    "with_values": lambda car: car.with_values({"Gamma": 0.2, "mc": 30000.0}),
+    "simulate": lambda car: _simulate(car),
+}
+
+
+def _stability():
+    from express.analysis import stability
+
+    return stability
+
+
+def _frequency():
+    from express.analysis import frequency
+
+    return frequency
+
+
+def _simulate(car):
+    from express.analysis.simulate import simulate
+    from express.rail.track import paper_curve
+
+    return simulate(car, paper_curve(), end=20.0)
+
+
+@pytest.fixture(scope="module")
+def steered_car():
+    return vehicle_model(load_model(EXAMPLES / "forced-steering.toml"))
+
+
+@pytest.mark.parametrize("name", list(_PER_POINT))
+def test_no_symbolic_evaluation_per_point(steered_car, monkeypatch, name):
+    """Deliver 2: once the vehicle is built, eigen, critical speed (over conicities too),
+    frf, simulate and ``with_values`` evaluate compiled functions only: SymPy's
+    ``subs``, ``xreplace``, ``evalf`` and ``lambdify`` all raise if called."""
+    _PER_POINT[name](steered_car)  # imports and caches outside the watch
+
+    def forbidden(*args, **kwargs):
+        raise AssertionError(f"{name}: symbolic evaluation in a numerical path")
+
+    for owner in (sp.Basic, sp.MatrixBase):
+        for attribute in ("subs", "xreplace"):
+            monkeypatch.setattr(owner, attribute, forbidden)
+    for owner in (sp.core.evalf.EvalfMixin, sp.MatrixBase):
+        monkeypatch.setattr(owner, "evalf", forbidden)
+    monkeypatch.setattr(sp, "lambdify", forbidden)
+    monkeypatch.setattr(sys.modules["sympy.utilities.lambdify"], "lambdify", forbidden)
+    _PER_POINT[name](steered_car)
