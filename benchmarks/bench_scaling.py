@@ -63,7 +63,7 @@ PER_CAR = {"bodies": (11, 0), "elements": (56, 2), "points": (112, 4)}
 #: The child of item 2: argv = model file, output file; prints one JSON line.
 PHASES = """
 import json, resource, sys, time
-import express.io, express.rail.build, express.export  # everything imported before measuring
+import express.io, express.rail.build, express.rail.contact, express.export  # everything imported before measuring
 from express.export import to_json
 from express.io.output import write_text
 
