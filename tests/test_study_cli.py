@@ -24,22 +24,11 @@ import pytest
 
 from express.analysis.study.run import default_workers
 from express.cli import main
+from test_study_spec import ISSUE_STUDY
 
 ROOT = Path(__file__).resolve().parents[1]
 MODEL = ROOT / "examples" / "forced-steering.toml"
 
-#: The study file of issue 13, verbatim (as tests/test_study_spec.py reads it).
-ISSUE_STUDY = """\
-[study]
-model = "examples/forced-steering.toml"   # relative to the study file
-kind = "grid"                             # grid | lhs | sobol | optimise | sobol-indices
-outputs = ["critical_speed"]
-[study.parameters]
-Gamma = { values = [0.05, 0.1, 0.2] }
-kx1 = { from = "1 MN/m", to = "4 MN/m", count = 2 }
-[study.set]                               # fixed overrides for every point
-cyaw = "200 kN*s/m"
-"""
 
 
 @pytest.fixture()
