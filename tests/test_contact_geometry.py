@@ -288,6 +288,17 @@ def test_cli_contact_geometry(tmp_path, capsys):
     assert len(lines) == 6 and fig.stat().st_size > 10_000
 
 
+@pytest.mark.parametrize("y_range", [["--y-range", "-1:1:0.5"], ["--y-range", "-1:1:0.5 mm"], ["--y-range=-1:1:0.5"],
+                                     ["--y-range", "-.001:0.001:0.0005 m"]])
+def test_cli_y_range_may_start_with_a_minus(tmp_path, y_range):
+    """A range that starts with a minus is the option's value, with or without ``=``."""
+    from express.cli import main
+
+    out = tmp_path / "t.csv"
+    assert main(["contact-geometry", "S1002", "60E1", *y_range, "-o", str(out)]) == 0
+    assert [line.split(",")[0] for line in out.read_text().splitlines()[1:]] == ["-0.001", "-0.0005", "0", "0.0005", "0.001"]
+
+
 def test_cli_contact_geometry_bad_profile(tmp_path, capsys):
     from express.cli import main
 

@@ -32,6 +32,7 @@ from typing import Any, NoReturn
 from .. import __version__
 from ..diagnostics import EXIT_ANALYSIS, EXIT_INPUT, EXIT_INTERNAL, EXIT_OK, AnalysisError, InputError
 from . import (
+    common,
     conicity,
     contact_geometry,
     convert,
@@ -132,7 +133,7 @@ def _quiet_stdout() -> None:
 
 def _run(parser: argparse.ArgumentParser, argv: Sequence[str] | None) -> int:
     try:
-        args = parser.parse_args(argv)
+        args = parser.parse_args(None if argv is None else common.join_negative_values(list(argv)))
     except SystemExit as exit_:  # --help, --version, a usage mistake
         return exit_.code if isinstance(exit_.code, int) else (EXIT_OK if exit_.code is None else EXIT_INPUT)
     values: dict[str, Any] = vars(args)

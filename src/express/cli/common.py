@@ -38,11 +38,47 @@ __all__ = [
     "add_model_arguments",
     "count",
     "figure_path",
+    "join_negative_values",
     "load_rail_vehicle",
     "note",
     "print_json",
     "running_speed",
 ]
+
+#: Options whose value may start with a minus sign followed by a digit (``--y-range
+#: -10:10:0.5``): argparse takes such a token for an option unless it is a plain number.
+NEGATIVE_VALUE_OPTIONS = ("--y-range",)
+_NEGATIVE_START = re.compile(r"-\.?\d")
+
+
+def join_negative_values(argv: list[str]) -> list[str]:
+    """``["--y-range", "-10:10:0.5"]`` -> ``["--y-range=-10:10:0.5"]`` for the options of
+    :data:`NEGATIVE_VALUE_OPTIONS`; every other token unchanged.
+
+    Examples
+    --------
+    >>> join_negative_values(["contact-geometry", "S1002", "60E1", "--y-range", "-5:5:1"])
+    ['contact-geometry', 'S1002', '60E1', '--y-range=-5:5:1']
+    """
+    out: list[str] = []
+    tokens = iter(argv)
+    for token in tokens:
+        if token == "--":
+            out.append(token)
+            out.extend(tokens)
+            break
+        if token in NEGATIVE_VALUE_OPTIONS:
+            following = next(tokens, None)
+            if following is not None and _NEGATIVE_START.match(following):
+                out.append(f"{token}={following}")
+                continue
+            out.append(token)
+            if following is not None:
+                out.append(following)
+            continue
+        out.append(token)
+    return out
+
 
 _BARE_NUMBER = re.compile(r"\s*[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?\s*\Z")
 _NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")

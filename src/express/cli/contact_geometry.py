@@ -61,8 +61,8 @@ def _inclination(text: str) -> float:
 def add_profile_arguments(parser: argparse.ArgumentParser, required: bool = True) -> None:
     """WHEEL RAIL and the track and wheelset dimensions (shared with ``conicity``)."""
     nargs = 2 if required else "*"
-    parser.add_argument("profiles", nargs=nargs, metavar="WHEEL RAIL",
-                        help="wheel and rail profile: a file (two columns; or by its suffix SIMPACK .prw/.prr, "
+    parser.add_argument("profiles", nargs=nargs, metavar="PROFILE",
+                        help="the wheel profile, then the rail profile: each a file (two columns; or by its suffix SIMPACK .prw/.prr, "
                         "MiniProf .whl/.ban; docs/contact.md) or a standard name (S1002; 60E1 alias UIC60)")
     parser.add_argument("--units", choices=("mm", "m"), help="unit of profile files without a header line")
     parser.add_argument("--gauge", type=GAUGE, default=1.435, help=GAUGE.help("track gauge, 14 mm below the rail top", "1435 mm"))
@@ -117,8 +117,7 @@ def add_parser(subparsers) -> None:
     )
     add_profile_arguments(parser)
     parser.add_argument("--y-range", type=span("--y-range"), default=None, metavar="START:STOP:STEP",
-                        help="lateral displacements [mm unless a unit follows]; default -10:10:0.01 mm "
-                        "(write --y-range=-10:10:0.01 when it starts with a minus)")
+                        help="lateral displacements [mm unless a unit follows]; default -10:10:0.01 mm")
     parser.add_argument("-o", "--output", metavar="FILE", help="the table as CSV, units in the header (- for standard output)")
     parser.add_argument("--plot", type=common.figure_path, metavar="FILE", help="delta r, contact angles and contact points (.png, .svg or .pdf)")
     common.add_json_option(parser)
