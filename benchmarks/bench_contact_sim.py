@@ -132,10 +132,10 @@ def main() -> None:
     options = parser.parse_args()
     runs = 3 if options.quick else options.runs
     travel = 4.0 if options.quick else 10.0
+    from express.base.threads import blas_threads
     from express.io import load_model
+    from express.numeric.statespace import vehicle_model
     from express.rail.contact_tables import _CACHE
-    from express.statespace import vehicle_model
-    from express.threads import blas_threads
 
     print(f"machine: {cpu_name()}, {usable_cores()} usable cores; one thread")
     begin = time.perf_counter()

@@ -61,7 +61,7 @@ def _median(function, runs: int) -> float:
 def _with_stops(model, gap: float):
     import sympy as sp
 
-    from express.model import Element, Parameter
+    from express.model.records import Element, Parameter
 
     dampers = {e.id: e for e in model.elements}
     stops = tuple(
@@ -100,9 +100,9 @@ def main() -> int:
     args = parser.parse_args()
     from express.analysis.stability import critical_speed
     from express.io import load_model
+    from express.numeric.statespace import vehicle_model
     from express.rail.build import generate_vehicle
     from express.rail.track import paper_curve
-    from express.statespace import vehicle_model
 
     print(f"machine: {cpu_name()}, {usable_cores()} usable cores; one thread")
     model = load_model(ROOT / "examples" / "conventional.toml")

@@ -48,17 +48,16 @@ for _extra in (ROOT / "examples", ROOT / "src"):
         sys.path.insert(0, str(_extra))
 
 import sympy as sp  # noqa: E402
+from make_vehicles import vehicle_toml  # noqa: E402
 from sympy.core.cache import clear_cache  # noqa: E402
 from sympy.printing.octave import OctaveCodePrinter  # noqa: E402
-
-from machine import cpu_name, usable_cores  # noqa: E402  (benchmarks/machine.py)
 
 from express.export import FORMATS  # noqa: E402
 from express.export.json_export import dense_rows, matrix_items, parameter_symbols  # noqa: E402
 from express.export.matlab import matlab_local_names, symbol_renaming, to_matlab  # noqa: E402
 from express.io import load_model  # noqa: E402
 from express.rail.build import generate_vehicle  # noqa: E402
-from make_vehicles import vehicle_toml  # noqa: E402
+from machine import cpu_name, usable_cores  # noqa: E402  (benchmarks/machine.py)
 
 # --------------------------------------------------------------------------- baselines
 # Copies of the writers as they were before the exports followed the non-zero entries

@@ -60,15 +60,14 @@ for _extra in (ROOT / "examples", ROOT / "src"):
 import numpy as np  # noqa: E402
 import scipy  # noqa: E402
 import sympy as sp  # noqa: E402
-
-from machine import cpu_name, usable_cores  # noqa: E402  (benchmarks/machine.py)
 import sympy.physics.mechanics  # noqa: E402,F401  (imported before any timing, also in child processes)
+from make_vehicles import vehicle_toml  # noqa: E402
 from sympy.core.cache import clear_cache  # noqa: E402
 
-from express.generator import generate  # noqa: E402
+from express.assembly.generator import generate  # noqa: E402
 from express.io import load_model  # noqa: E402
 from express.rail.build import generate_vehicle  # noqa: E402
-from make_vehicles import vehicle_toml  # noqa: E402
+from machine import cpu_name, usable_cores  # noqa: E402  (benchmarks/machine.py)
 
 VEHICLE_TARGET_S = 0.5
 TRAIN_TARGET_S = 10.0  # for 10 cars; scaled linearly for larger trains

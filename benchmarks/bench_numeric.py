@@ -7,7 +7,7 @@ Run from the repository root::
     PYTHONPATH=src python3 benchmarks/bench_numeric.py --quick    # ~20 s
 
 Unlike the other benchmark scripts this one does NOT pin BLAS to one thread through the
-environment: the library limits its own BLAS threads (``express.threads``), and that is
+environment: the library limits its own BLAS threads (``express.base.threads``), and that is
 part of what is measured.  The plain-NumPy baselines are timed twice, with the default
 BLAS threads (what a user's loop gets) and inside ``threadpool_limits(1)`` (the best a
 plain loop can do here); the ratio is taken against the faster of the two.
@@ -21,11 +21,11 @@ baselines in the same process, on the same numeric matrices):
 2. An eigenvalue sweep: ``root_locus`` at 400 speeds 5..500 km/h (100 for the train).  Baseline: a loop of
    ``numpy.linalg.eigvals(vehicle.state_matrix(v))``.  Besides the two models below, the
    sweep also runs on the conventional car (20 DOFs) and the Manchester 3-D car (31 DOFs),
-   whose state matrices split into diagonal blocks (``express.numeric.EigenBlocks``: 34 + 6
+   whose state matrices split into diagonal blocks (``express.numeric.compiled.EigenBlocks``: 34 + 6
    and 42 + 20 states); the blocks of each model are printed.
 3. ``VehicleModel.with_values`` (one conicity; one car-body mass, which moves the wheel
    load and the creep coefficients through the parameter graph).  Baseline: a fresh
-   ``vehicle_model(express.model.with_values(model, changes))`` (regeneration).
+   ``vehicle_model(express.model.records.with_values(model, changes))`` (regeneration).
    The arrays of both are compared exactly.
 
 Models: the forced-steering car (24 DOFs) and a 5-car train of it (120 DOFs), written by
@@ -193,8 +193,8 @@ def bench_eig(vehicle, label: str, runs: int) -> float:
 
 
 def bench_with_values(vehicle, model, label: str, runs: int) -> float:
-    from express.model import with_values
-    from express.statespace import vehicle_model
+    from express.model.records import with_values
+    from express.numeric.statespace import vehicle_model
 
     worst = 0.0
     for changes in ({"Gamma": 0.2}, {"mc": 33000.0}):
@@ -238,7 +238,7 @@ def main(argv=None) -> int:
     runs = args.runs or (3 if args.quick else 9)
 
     from express.io import load_model
-    from express.statespace import vehicle_model
+    from express.numeric.statespace import vehicle_model
 
     print("EXPRESS numeric benchmark" + (" (--quick)" if args.quick else ""))
     print(machine())

@@ -209,7 +209,7 @@ def main() -> int:
 
     from express.analysis.ride.summaries import point_comfort, wheel_forces
     from express.analysis.ride.vehicle import rail_inputs, ride_response, track_class_spectra
-    from express.statespace import load_vehicle
+    from express.numeric.statespace import load_vehicle
 
     print(f"express ride benchmark, {datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M} UTC")
     print(f"machine: {cpu_name()}, {usable_cores()} usable cores, load average {os.getloadavg()[0]:.2f}; "

@@ -27,7 +27,7 @@ over 10, 20 and 40 cars.  Targets (issue 16): the 100-car train generated and ex
 in <= 60 s, exponents <= 1.3.
 
 The 100-car train (1 100 bodies, 5 598 elements, 11 196 connection points) is within
-the readers' default limits (``express.limits``: 2 000 bodies, 10 000 elements, 20 000
+the readers' default limits (``express.base.limits``: 2 000 bodies, 10 000 elements, 20 000
 points, up to 178 cars): no ``EXPRESS_MAX_*`` variable is set for the default sizes.
 Only a size beyond the defaults (``--cars 200``) gets the limits it needs raised for
 its own processes, and the script says so.  The last line is
@@ -104,7 +104,7 @@ def make_vehicles():
 def environment(cars: int, notes: list[str]) -> dict[str, str]:
     """This checkout first on the path; the model limits raised only for a train beyond the defaults."""
     sys.path.insert(0, str(ROOT / "src"))
-    from express.limits import LIMITS
+    from express.base.limits import LIMITS
 
     env = dict(os.environ)
     env["PYTHONPATH"] = os.pathsep.join([str(ROOT / "src"), env.get("PYTHONPATH", "")]).rstrip(os.pathsep)

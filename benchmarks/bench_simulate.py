@@ -39,7 +39,7 @@ the same process, same run):
 
 5. The library's ``simulate()`` against the CLI's (issue 16): in a child process that
    keeps the default BLAS threads, ``simulate()`` called from Python (the library limits
-   its own threads, ``express.threads``) against the same call under the CLI's thread
+   its own threads, ``express.base.threads``) against the same call under the CLI's thread
    setting (the baseline; target: ratio <= 1.25, i.e. as fast within the noise), and,
    for information, with the limit switched off (``EXPRESS_BLAS_THREADS=none``: how the
    library ran before) and the whole ``express simulate`` command in-process.
@@ -221,8 +221,8 @@ class Bench:
 
     # ------------------------------------------------------------------ 3. critical speed
     def critical_speed(self, stability, vehicles, models):
-        from express.model import with_values
-        from express.statespace import vehicle_model
+        from express.model.records import with_values
+        from express.numeric.statespace import vehicle_model
 
         args = self.args
         conicities = np.linspace(*CONICITIES)
@@ -371,8 +371,8 @@ from threadpoolctl import threadpool_info
 from express.analysis.simulate import simulate
 from express.cli import _one_blas_thread, main
 from express.rail.track import paper_curve
-from express.statespace import load_vehicle
-from express.threads import blas_threads
+from express.numeric.statespace import load_vehicle
+from express.base.threads import blas_threads
 
 model, runs = sys.argv[1], int(sys.argv[2])
 vehicle, track = load_vehicle(model), paper_curve()
@@ -513,8 +513,8 @@ def main(argv=None) -> int:
 
 def _run(args) -> int:
     from express.io import load_model
+    from express.numeric.statespace import vehicle_model
     from express.rail.track import paper_curve
-    from express.statespace import vehicle_model
 
     try:
         from express.analysis import stability

@@ -111,7 +111,7 @@ def _target(ok: bool) -> str:
 def evaluations(runs: int, quick: bool) -> float:
     from express.analysis.stability import critical_speed
     from express.analysis.study.critical import CriticalOptions, fast_critical_speed
-    from express.statespace import load_vehicle
+    from express.numeric.statespace import load_vehicle
 
     base = load_vehicle(MODEL)
     gammas = (0.1, 0.2) if quick else (0.08, 0.1, 0.15, 0.2, 0.3, 0.4)

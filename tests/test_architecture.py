@@ -14,25 +14,21 @@ PACKAGE = Path(__file__).resolve().parents[1] / "src" / "express"
 
 #: Module prefix -> layer, first match wins (the order of docs/architecture.md).
 LAYERS = [
-    ("express.diagnostics", 0), ("express.expressions", 0), ("express.units", 0),
-    ("express.io.toml_lines", 0), ("express.io.output", 0), ("express.threads", 0), ("express.limits", 0),
-    ("express.model", 1), ("express.parameters", 1), ("express.parameter_units", 1),
-    ("express.substructures", 1), ("express.topology", 1), ("express.parameter_ranges", 1),
+    ("express.base", 0), ("express.io.toml_lines", 0), ("express.io.output", 0),
+    ("express.model", 1),
     ("express.io", 2),
-    ("express.kinematics", 3), ("express.algebra", 3), ("express.generator", 3), ("express.equations", 3),
-    ("express.first_order", 3), ("express.gravity", 3), ("express.clearance", 3),
+    ("express.assembly", 3),
     ("express.rail", 4),
-    ("express.numeric", 5), ("express.statespace", 5),
+    ("express.numeric", 5),
     ("express.analysis", 6),
     ("express.export", 7), ("express.drawing", 7), ("express.report", 7),
-    ("express.cli", 8), ("express.__main__", 8),
+    ("express.paper", 8),  # the paper's demo runs every stage, the exports and report included
+    ("express.cli", 9), ("express.__main__", 9),
     ("express", 0),  # the package's __init__ only
 ]
 
 
 def _layer(module: str) -> int:
-    if module.startswith("express.analysis.demo"):
-        return 7  # the paper's demo runs every stage, the exports included
     for prefix, layer in LAYERS:
         if module == prefix or (prefix != "express" and module.startswith(prefix + ".")):
             return layer

@@ -18,8 +18,8 @@ import sympy as sp
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from express.base.diagnostics import ModelError
 from express.cli import main
-from express.diagnostics import ModelError
 from express.io import load_model
 from express.io.classic import parse_classic, read_classic
 

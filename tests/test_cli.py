@@ -17,7 +17,7 @@ import pytest
 import express
 from cli_support import CONVENTIONAL, LEVER, ROOT, assert_input_error, run
 from express import cli
-from express.diagnostics import AnalysisError, ModelError, OutputError, Problem, UsageError
+from express.base.diagnostics import AnalysisError, ModelError, OutputError, Problem, UsageError
 
 SRC = ROOT / "src"
 

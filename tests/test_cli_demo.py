@@ -40,7 +40,7 @@ def _fake_demo(fail: bool):
 def test_demo_files_are_all_or_nothing(capsys, monkeypatch, tmp_path, fail):
     """A demo that fails half-way leaves the earlier files of the output directory as
     they were (status 70: an internal failure); one that succeeds replaces them all."""
-    import express.analysis.demo as library
+    import express.paper.demo as library
 
     outdir = tmp_path / "out"
     outdir.mkdir()

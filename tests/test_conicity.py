@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from express.diagnostics import ModelError
+from express.base.diagnostics import ModelError
 from express.rail.conicity import (
     DeltaR,
     conicity_from_profiles,

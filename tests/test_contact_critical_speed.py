@@ -13,7 +13,7 @@ from pathlib import Path
 import pytest
 
 from express.cli import main
-from express.statespace import load_vehicle
+from express.numeric.statespace import load_vehicle
 
 MODEL = Path(__file__).resolve().parents[1] / "examples" / "manchester-s1002.toml"
 

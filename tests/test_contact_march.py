@@ -20,9 +20,9 @@ from scipy.integrate import solve_ivp
 from express.analysis.contact_march import contact_rhs, linear_coefficients
 from express.analysis.simulate import simulate
 from express.io.toml_model import parse_toml_model
+from express.numeric.statespace import vehicle_model
 from express.rail.profile_contact import wheelset_contacts
 from express.rail.track import Straight, Track
-from express.statespace import vehicle_model
 from test_contact_geometry import arc_wheel
 from test_profile_contact import WHEELSET
 

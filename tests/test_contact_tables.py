@@ -23,7 +23,7 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from express.parameters import expression_value
+from express.model.parameters import expression_value
 from express.rail.contact import hertz_contact, kalker_coefficients
 from express.rail.contact_forces import quasi_static_forces, wheelset_contact
 from express.rail.contact_geometry import ContactSetup, contact_geometry
@@ -150,7 +150,7 @@ def test_kernel_slopes_are_the_linear_model(tmp_path):
         return np.array([f["Y"], f["M"]])
 
     # the linear model's terms, evaluated
-    from express.model import Wheelset
+    from express.model.records import Wheelset
 
     symbols = {key: sp.Symbol(key) for key in ("f1", "f2", "conicity", "r0", "b", "kR")}
     wheelset = Wheelset("W", symbols["f1"], symbols["f2"], symbols["conicity"], symbols["r0"], symbols["b"],

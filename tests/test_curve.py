@@ -116,7 +116,7 @@ def test_stations_group_equal_positions_whatever_their_form(positions, expected)
     different forms share a station, in file order."""
     import dataclasses
 
-    from express.expressions import parse_expression
+    from express.base.expressions import parse_expression
 
     body = MODEL.bodies[0]
     bodies = tuple(

@@ -15,12 +15,12 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from express.analysis import demo_summary as ds
-from express.analysis.demo_curving import CurveGeometry, Curving
-from express.analysis.demo_frequency import FloorResponse
-from express.analysis.demo_lever import LeverStep, lever_cases
-from express.analysis.demo_stability import StabilitySweep, vcr_shape
-from express.analysis.paper import PAPER
+from express.paper import demo_summary as ds
+from express.paper.demo_curving import CurveGeometry, Curving
+from express.paper.demo_frequency import FloorResponse
+from express.paper.demo_lever import LeverStep, lever_cases
+from express.paper.demo_stability import StabilitySweep, vcr_shape
+from express.paper.numbers import PAPER
 
 FIGURES = ("fig3_lever_step", "fig9_curving", "fig10_frequency_response", "fig11_critical_speed",
            "stability_root_locus", "stability_damping")
@@ -360,9 +360,9 @@ def test_summary_numbers_reproduce_the_papers_trends(demo):
 def soft_link():
     """The bundled cars with a soft steering link, k_LU = 0.1 MN/m instead of 5 MN/m (the case
     of issue 9): the Fig. 9 and Fig. 11 records."""
-    from express.analysis.demo import find_examples, load_cars
-    from express.analysis.demo_curving import measure_curving
-    from express.analysis.demo_stability import measure_stability
+    from express.paper.demo import find_examples, load_cars
+    from express.paper.demo_curving import measure_curving
+    from express.paper.demo_stability import measure_stability
 
     cars = load_cars(find_examples(), {"kLU": 0.1e6})
     curving = measure_curving(cars, check=False)

@@ -6,13 +6,13 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from express.diagnostics import ModelError
+from express.base.diagnostics import ModelError
 from express.drawing.geometry import displaced_geometry, model_geometry, point_displacement
 from express.drawing.modes import animate_mode_shape, figure_mode_shape, mode_shape
 from express.drawing.views import figure_model
 from express.io import load_model
-from express.statespace import load_vehicle
-from express.topology import classify_bodies
+from express.model.topology import classify_bodies
+from express.numeric.statespace import load_vehicle
 
 
 def _evaluator(values):

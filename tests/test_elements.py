@@ -10,8 +10,8 @@ from __future__ import annotations
 import pytest
 import sympy as sp
 
-from express.diagnostics import ModelError
-from express.generator import generate
+from express.assembly.generator import generate
+from express.base.diagnostics import ModelError
 from express.io import parse_toml_model
 
 k, c, J1, J2, m, kb, hb, b = sp.symbols("k c J1 J2 m kb hb b")

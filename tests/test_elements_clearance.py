@@ -10,12 +10,12 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from express.clearance import clearance_force, clearances_of
-from express.diagnostics import ModelError
-from express.generator import generate
+from express.assembly.clearance import clearance_force, clearances_of
+from express.assembly.generator import generate
+from express.base.diagnostics import ModelError
 from express.io import load_model, parse_toml_model
-from express.model import Element, Parameter
-from express.statespace import vehicle_model
+from express.model.records import Element, Parameter
+from express.numeric.statespace import vehicle_model
 
 ROOT = Path(__file__).resolve().parents[1]
 

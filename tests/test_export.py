@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from express.equations import EquationsOfMotion
+from express.assembly.equations import EquationsOfMotion
 from express.export import FORMATS, SUFFIXES, default_suffix
 from express.export.json_export import dense_rows, matrix_entries, matrix_items, to_json
 from express.export.latex import MAX_MATRIX_ROWS, latex_dof_name, latex_symbol_name, to_latex

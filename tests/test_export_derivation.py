@@ -19,18 +19,18 @@ import numpy as np
 import pytest
 import sympy as sp
 
+from express.assembly.equations import DerivationCall, DerivedParameter, EquationsOfMotion
 from express.cli import main
-from express.equations import DerivationCall, DerivedParameter, EquationsOfMotion
 from express.export import FORMATS
 from express.export.derivation import derivation_plan, step_outputs
 from express.export.kalker_code import python_kalker
 from express.export.matlab import to_matlab
 from express.export.python_module import to_python
 from express.io import load_model
-from express.parameters import with_values
+from express.model.parameters import with_values
+from express.numeric.statespace import load_vehicle
 from express.rail.build import generate_vehicle
 from express.rail.contact import creep_coefficients
-from express.statespace import load_vehicle
 from octave_runner import assert_matrices_close, evaluate_matrices, require_octave, run_octave
 
 ROOT = Path(__file__).resolve().parents[1]

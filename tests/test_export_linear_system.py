@@ -12,7 +12,7 @@ import scipy.io
 from express.export.linear_system import linear_system, numeric_matrices, to_control, to_scipy
 from express.io.output import mat_bytes as to_mat_bytes
 from express.io.output import npz_bytes as to_npz_bytes
-from express.statespace import load_vehicle
+from express.numeric.statespace import load_vehicle
 
 MODELS = ["examples/conventional.toml", "examples/forced-steering.toml"]
 

@@ -1,4 +1,4 @@
-"""Tests of the restricted expression grammar (``express.expressions``).
+"""Tests of the restricted expression grammar (``express.base.expressions``).
 
 Model-file values are numbers or arithmetic on parameter names.  They must be parsed
 into *exact* SymPy expressions (``0.3`` is ``3/10``, never a float) and must never be
@@ -20,7 +20,7 @@ import sympy as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from express.expressions import ExpressionError, is_valid_name, parse_expression, parse_number
+from express.base.expressions import ExpressionError, is_valid_name, parse_expression, parse_number
 
 SRC = Path(__file__).resolve().parents[1] / "src"
 a, b, c = sp.symbols("a b c")
@@ -301,7 +301,7 @@ def _parse_in_subprocess(text: str, timeout: float = 10.0) -> str:
     """Parse ``text`` in a child process; return 'ok' or 'refused', fail on a hang."""
     code = (
         "import sys\n"
-        "from express.expressions import parse_expression, ExpressionError\n"
+        "from express.base.expressions import parse_expression, ExpressionError\n"
         "try:\n"
         "    parse_expression(sys.argv[1])\n"
         "    print('ok')\n"

@@ -16,7 +16,7 @@ import pytest
 
 from express.analysis.frequency import FrequencyResponse, frequency_response, irregularity_delays
 from express.io import load_model
-from express.statespace import point_lateral_row, vehicle_model
+from express.numeric.statespace import point_lateral_row, vehicle_model
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 SPEED = 120 / 3.6

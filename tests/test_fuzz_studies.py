@@ -17,7 +17,7 @@ from hypothesis import strategies as st
 
 from cli_support import CONVENTIONAL
 from express.analysis.study.spec import parse_study
-from express.diagnostics import InputError
+from express.base.diagnostics import InputError
 from fuzz_support import NASTY_NUMBERS, assert_untouched, check, fuzz, mutated, snapshot, time_limit
 
 pytestmark = pytest.mark.slow

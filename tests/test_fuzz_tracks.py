@@ -15,7 +15,7 @@ from hypothesis import assume, given
 from hypothesis import strategies as st
 
 from cli_support import CONVENTIONAL
-from express.diagnostics import InputError
+from express.base.diagnostics import InputError
 from express.rail.track import load_track
 from fuzz_support import NASTY_NUMBERS, assert_untouched, check, fuzz, mutated, snapshot, time_limit
 

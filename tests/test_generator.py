@@ -1,4 +1,4 @@
-"""Tests of the generator (``express.generator.generate``).
+"""Tests of the generator (``express.assembly.generator.generate``).
 
 Three kinds of evidence that the generated M, C, K (and P, Pd) are right:
 
@@ -24,10 +24,10 @@ from pathlib import Path
 import pytest
 import sympy as sp
 
-from express.diagnostics import ModelError
-from express.generator import generate
+from express.assembly.generator import generate
+from express.base.diagnostics import ModelError
 from express.io import load_model, parse_classic, read_classic
-from express.model import Body, ConnectionPoint, Element, Ground, Model, PinnedJoint
+from express.model.records import Body, ConnectionPoint, Element, Ground, Model, PinnedJoint
 
 ROOT = Path(__file__).resolve().parents[1]
 SRC = ROOT / "src"

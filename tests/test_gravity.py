@@ -17,9 +17,9 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from express.diagnostics import ModelError
-from express.generator import generate
-from express.gravity import element_length, static_preloads
+from express.assembly.generator import generate
+from express.assembly.gravity import element_length, static_preloads
+from express.base.diagnostics import ModelError
 from express.io import load_model, parse_toml_model
 from express.rail.build import generate_vehicle
 

@@ -36,7 +36,7 @@ import pytest
 import sympy as sp
 from scipy.integrate import solve_ivp
 
-from express.generator import generate
+from express.assembly.generator import generate
 from express.io import read_classic
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -199,8 +199,8 @@ def test_printed_case_3_would_turn_the_lever(lever):
 def _lever_vehicle(damping: float):
     """The lever of Table 1, case 1, as a numerical model (no rail data)."""
     from express.io import load_model
-    from express.model import with_values
-    from express.statespace import vehicle_model
+    from express.model.records import with_values
+    from express.numeric.statespace import vehicle_model
 
     chosen = {name.name: float(value) for name, value in values_for(*TABLE_1[1]).items()}
     chosen["c"] = damping

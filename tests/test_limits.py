@@ -1,8 +1,8 @@
 """Issue 17: bounded work, physical valid ranges, refused input, no traceback.
 
-The limits of :mod:`express.limits` (expression size, nesting, exponents, constants,
+The limits of :mod:`express.base.limits` (expression size, nesting, exponents, constants,
 file size, model size; overrides through environment variables), the valid ranges of
-:mod:`express.parameter_ranges` (``--set mu=0``, ``G=0``, ``ky1=1e300``, a car body
+:mod:`express.model.parameter_ranges` (``--set mu=0``, ``G=0``, ``ky1=1e300``, a car body
 listed as a wheelset), the honest exit statuses of the issue's cases (``ky2=-150000``
 and ``cy2=-300000`` diverge: status 1; ``mc=0`` is a DOF without mass: status 2), and
 the error texts (a short excerpt of a file at most, one line per problem).
@@ -20,10 +20,10 @@ import pytest
 import tomllib
 
 from cli_support import CONVENTIONAL, LEVER, run
-from express.diagnostics import ModelError, UsageError
-from express.expressions import ExpressionError, parse_expression
+from express.base.diagnostics import ModelError, UsageError
+from express.base.expressions import ExpressionError, parse_expression
+from express.base.limits import LIMITS, limit, read_input_text
 from express.io import load_model, parse_classic, parse_toml_model
-from express.limits import LIMITS, limit, read_input_text
 from express.rail.contact import creep_coefficients, kalker_coefficients
 from express.rail.nonlinear import saturation_factor
 
@@ -377,7 +377,7 @@ def test_a_frequency_response_of_an_unstable_vehicle_is_no_valid_result(capsys, 
 def test_check_model_refuses_a_wheelset_listed_twice_in_a_model_built_in_python():
     from dataclasses import replace
 
-    from express.model import check_model
+    from express.model.records import check_model
 
     car = load_model(CONVENTIONAL)
     rail = replace(car.rail, wheelsets=car.rail.wheelsets + car.rail.wheelsets[:1])

@@ -12,8 +12,8 @@ import pytest
 import sympy as sp
 
 from express.io import load_model
+from express.numeric.statespace import vehicle_model
 from express.rail.build import generate_vehicle
-from express.statespace import vehicle_model
 
 ROOT = Path(__file__).resolve().parents[1]
 MODEL = ROOT / "examples" / "manchester.toml"

@@ -12,8 +12,8 @@ import numpy as np
 import pytest
 
 from express.analysis.integrator import _feedback
+from express.numeric.statespace import WheelsetData
 from express.rail.nonlinear import flange_penetration, linear_creepages, saturation_factor, wheelset_forces
-from express.statespace import WheelsetData
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -226,7 +226,7 @@ def test_numba_feedback_matches_wheelset_forces(flange, saturation):
 @pytest.fixture(scope="module")
 def conventional():
     from express.io import load_model
-    from express.statespace import vehicle_model
+    from express.numeric.statespace import vehicle_model
 
     return vehicle_model(load_model(ROOT / "examples" / "conventional.toml"))
 

@@ -16,9 +16,9 @@ import pytest
 
 from cli_support import assert_input_error, run
 from express.analysis.nonlinear_stability import limit_cycle, nonlinear_critical_speed
+from express.base.units import KMH
 from express.io.toml_model import parse_toml_model
-from express.statespace import vehicle_model
-from express.units import KMH
+from express.numeric.statespace import vehicle_model
 from test_profile_contact import WHEELSET
 
 

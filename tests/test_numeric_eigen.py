@@ -1,4 +1,4 @@
-"""Eigenvalues by diagonal blocks (:class:`express.numeric.EigenBlocks`, issue 16).
+"""Eigenvalues by diagonal blocks (:class:`express.numeric.compiled.EigenBlocks`, issue 16).
 
 The splitting is exact: the strongly connected components of the state matrix's
 sparsity pattern permute it into block-triangular form (checked on the pattern of every
@@ -18,8 +18,8 @@ from scipy.sparse import csr_array
 from scipy.sparse.csgraph import connected_components
 
 from express.analysis.stability import max_real_part, root_locus
-from express.numeric import EigenBlocks, diagonal_blocks, strong_components
-from express.statespace import load_vehicle
+from express.numeric.compiled import EigenBlocks, diagonal_blocks, strong_components
+from express.numeric.statespace import load_vehicle
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 #: Every bundled model with values, and the sizes of its diagonal blocks.

@@ -1,4 +1,4 @@
-"""express.numeric: matrices compiled once per model, against SymPy's own evaluation."""
+"""express.numeric.compiled: matrices compiled once per model, against SymPy's own evaluation."""
 
 from __future__ import annotations
 
@@ -10,12 +10,12 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from express.equations import EquationsOfMotion
+from express.assembly.equations import EquationsOfMotion
 from express.io import load_model
-from express.numeric import CompiledExpressions, compile_matrices
-from express.parameters import expression_value
+from express.model.parameters import expression_value
+from express.numeric.compiled import CompiledExpressions, compile_matrices
+from express.numeric.statespace import vehicle_model
 from express.rail.build import generate_vehicle
-from express.statespace import vehicle_model
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
@@ -151,7 +151,7 @@ def test_floats_keep_full_precision():
 
 def test_rail_numbers_are_the_graph_evaluator_values():
     """Speed, wheelset data and station positions of the compiled path are exactly the
-    graph evaluator's (:func:`express.parameters.expression_value`)."""
+    graph evaluator's (:func:`express.model.parameters.expression_value`)."""
     model = load_model(EXAMPLES / "forced-steering.toml")
     vehicle = vehicle_model(model).with_values({"Gamma": 0.17, "mw": 1500.0})
     values = vehicle.values

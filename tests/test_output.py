@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from express.diagnostics import InputError, OutputError
+from express.base.diagnostics import InputError, OutputError
 from express.io import output
 from express.io.output import (
     check_destination,

@@ -1,4 +1,4 @@
-"""The parameter graph (express.parameters) and the unit checks (express.parameter_units)."""
+"""The parameter graph (express.model.parameters) and the unit checks (express.model.parameter_units)."""
 
 from __future__ import annotations
 
@@ -11,12 +11,11 @@ from pathlib import Path
 import pytest
 import sympy as sp
 
-from express.diagnostics import ModelError
-from express.expressions import parse_expression
+from express.base.diagnostics import ModelError
+from express.base.expressions import parse_expression
+from express.base.units import DIMENSIONS, KMH
 from express.io import load_model, model_to_toml, parse_toml_model
-from express.model import Derivation, Parameter
-from express.model import with_values as model_with_values
-from express.parameters import (
+from express.model.parameters import (
     display_value,
     evaluation_order,
     expression_value,
@@ -25,9 +24,10 @@ from express.parameters import (
     units_map,
     with_values,
 )
+from express.model.records import Derivation, Parameter
+from express.model.records import with_values as model_with_values
+from express.numeric.statespace import load_vehicle, vehicle_model
 from express.rail.contact import creep_coefficients
-from express.statespace import load_vehicle, vehicle_model
-from express.units import DIMENSIONS, KMH
 
 ROOT = Path(__file__).resolve().parents[1]
 FORCED = ROOT / "examples" / "forced-steering.toml"
@@ -138,7 +138,7 @@ def test_changing_a_mass_reevaluates_wheel_load_and_creep_coefficients(steered):
 
 @pytest.mark.parametrize("change", [{"mc": "60 t"}, {"mc": 60000.0}, {"mc": "60000"}])
 def test_every_override_path_reevaluates_dependents(steered, steered_vehicle, change):
-    """--set (load_vehicle), VehicleModel.with_values and express.model.with_values agree."""
+    """--set (load_vehicle), VehicleModel.with_values and express.model.records.with_values agree."""
     expected = with_values(steered, {"mc": 60000.0})
     wheel_load = expected.parameters["P0"].value
     f1 = expected.parameters["f1"].value
@@ -506,7 +506,7 @@ def test_reader_and_model_layers_do_not_import_rail(where):
 
 
 def test_importing_the_reader_does_not_import_rail_or_pint():
-    code = "import sys, express.io, express.parameters; print(sorted(m for m in sys.modules if m.startswith(('express.rail', 'pint'))))"
+    code = "import sys, express.io, express.model.parameters; print(sorted(m for m in sys.modules if m.startswith(('express.rail', 'pint'))))"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert out.strip() == "[]"
 

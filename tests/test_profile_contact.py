@@ -9,16 +9,16 @@ import math
 import numpy as np
 import pytest
 
-from express.diagnostics import ModelError
+from express.base.diagnostics import ModelError
 from express.io.toml_contact import PROFILE_INPUTS, PROFILE_OUTPUTS
 from express.io.toml_model import parse_toml_model
-from express.parameters import with_values
+from express.model.parameters import with_values
+from express.numeric.statespace import vehicle_model
 from express.rail import profile_contact
 from express.rail.conicity import conicity_from_profiles
 from express.rail.contact_geometry import ContactSetup
 from express.rail.contact_tables import contact_tables, linear_contact_parameters
 from express.rail.profiles import standard_profile
-from express.statespace import vehicle_model
 
 #: A wheelset held by lateral and longitudinal springs to the ground: the smallest rail
 #: vehicle (used by tests/test_nonlinear_critical_speed.py too).

@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from express.diagnostics import ModelError
+from express.base.diagnostics import ModelError
 from express.io.toml_model import parse_toml_model
 from express.rail.conicity import equivalent_conicity
 from express.rail.contact_geometry import ContactSetup, contact_geometry

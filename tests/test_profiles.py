@@ -9,7 +9,7 @@ from importlib import resources
 import numpy as np
 import pytest
 
-from express.diagnostics import ModelError
+from express.base.diagnostics import ModelError
 from express.rail.profiles import (
     _S1002_BREAKS,
     _UIC60_BREAKS,

@@ -19,8 +19,8 @@ import sympy as sp
 
 from express.export import FORMATS
 from express.io import load_model
+from express.numeric.statespace import vehicle_model
 from express.rail.build import generate_vehicle
-from express.statespace import vehicle_model
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 LEVERS = ("L1.ry", "L2.ry", "L3.ry", "L4.ry")

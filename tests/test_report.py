@@ -4,11 +4,10 @@ from __future__ import annotations
 
 import pytest
 
+from browser import artifact_dir, inspect_page
+from express.numeric.statespace import load_vehicle
 from express.report.build import report_html
 from express.report.page import Figure, Section, Table, render_page
-from express.statespace import load_vehicle
-
-from browser import artifact_dir, inspect_page
 
 
 @pytest.fixture(scope="module")

@@ -23,7 +23,7 @@ from express.analysis.ride import (
     sperling_weighting,
     window_rms,
 )
-from express.diagnostics import InputError
+from express.base.diagnostics import InputError
 
 FS = 200.0
 

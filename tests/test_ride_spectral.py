@@ -28,7 +28,7 @@ from express.analysis.ride import (
     wheelbase_filter,
     wheelset_delays,
 )
-from express.diagnostics import InputError
+from express.base.diagnostics import InputError
 
 S0 = 2.5  # two-sided white-noise level [unit^2/(rad/s)]
 G0 = 4 * math.pi * S0  # the same, one-sided in Hz

@@ -24,9 +24,9 @@ from express.analysis.ride.summaries import (
     y_over_q_level,
 )
 from express.analysis.ride.vehicle import rail_inputs, ride_response, track_class_spectra
-from express.diagnostics import AnalysisError, InputError
+from express.base.diagnostics import AnalysisError, InputError
+from express.numeric.statespace import load_vehicle
 from express.rail.track.spectra import TrackSpectrum
-from express.statespace import load_vehicle
 
 # --- small models written for the tests --------------------------------------------------
 

@@ -19,7 +19,7 @@ from express.analysis.ride import (
     sperling_weighting,
     weigh_time_history,
 )
-from express.diagnostics import InputError
+from express.base.diagnostics import InputError
 
 FREQS = np.logspace(-2, 3, 400)
 

@@ -19,7 +19,7 @@ from express.analysis.study.sensitivity import (
     sensitivity_parameters,
 )
 from express.cli import main
-from express.statespace import load_vehicle
+from express.numeric.statespace import load_vehicle
 
 ROOT = Path(__file__).resolve().parents[1]
 STEERED = ROOT / "examples" / "forced-steering.toml"
@@ -116,9 +116,9 @@ def test_cli_eigenvalue_and_mistakes(tmp_path: Path, capsys) -> None:
 
 def test_matrix_derivatives_against_differences_of_the_compiled_matrices(steered) -> None:
     """dM/dq, dC/dq, dK/dq (compiled derivatives) against central differences of the
-    compiled matrices themselves (express.numeric), at a speed."""
+    compiled matrices themselves (express.numeric.compiled), at a speed."""
     from express.analysis.study.derivatives import matrix_derivatives
-    from express.numeric import compile_matrices
+    from express.numeric.compiled import compile_matrices
 
     equations = steered.equations
     derivatives = matrix_derivatives(equations)

@@ -19,12 +19,12 @@ import pytest
 import scipy.linalg
 import sympy as sp
 
-from express.diagnostics import ModelError
-from express.first_order import state_form
-from express.generator import generate
+from express.assembly.first_order import state_form
+from express.assembly.generator import generate
+from express.base.diagnostics import ModelError
 from express.io import load_model, parse_toml_model
-from express.model import Element, Parameter
-from express.statespace import vehicle_model
+from express.model.records import Element, Parameter
+from express.numeric.statespace import vehicle_model
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -18,11 +18,11 @@ import numpy as np
 import pytest
 
 from express.analysis.simulate import continuous_rhs, derived_outputs, simulate, track_inputs
-from express.diagnostics import OutputError
+from express.base.diagnostics import OutputError
 from express.io import load_model
 from express.io.output import column_name
+from express.numeric.statespace import vehicle_model
 from express.rail.track import SinusoidIrregularity, Straight, Track, paper_curve
-from express.statespace import vehicle_model
 
 ROOT = Path(__file__).resolve().parents[1]
 RADIUS = 400.0

@@ -30,7 +30,7 @@ from express.analysis.stability import (
     root_locus,
 )
 from express.io import load_model, parse_toml_model
-from express.statespace import vehicle_model
+from express.numeric.statespace import vehicle_model
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 

@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 import sympy as sp
 
+from express.base.diagnostics import ModelError
 from express.cli import main
-from express.diagnostics import ModelError
 from express.io import load_model, parse_toml_model
-from express.statespace import SingularMassError, vehicle_model
+from express.numeric.statespace import SingularMassError, vehicle_model
 
 WHEELSET = """
 [model]
@@ -100,7 +100,7 @@ def test_with_values_equals_a_fresh_evaluation_exactly(vehicle, changes):
     """Re-evaluation through the compiled functions (derived parameters following: a
     new mass moves the wheel load and the creep coefficients) gives exactly the arrays
     and wheelset data of a vehicle generated from scratch with those values."""
-    from express.parameters import with_values
+    from express.model.parameters import with_values
 
     changed = vehicle.with_values(changes)
     fresh = vehicle_model(with_values(vehicle.model, changes))

@@ -140,8 +140,8 @@ def test_the_vehicle_is_compiled_once_per_worker(issue_study: Path, monkeypatch,
     """The symbolic matrices are compiled once (before the pool forks: its workers
     inherit the vehicle) and every point is evaluated from its values; counted across
     processes through a file."""
-    from express import numeric
     from express.analysis.study import runner
+    from express.numeric import compiled as numeric
 
     monkeypatch.setattr(runner, "_WORKERS", {})  # no worker kept from an earlier study in this process
     record = tmp_path / "compiled.txt"

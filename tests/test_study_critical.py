@@ -10,7 +10,7 @@ import pytest
 
 from express.analysis.stability import critical_speed
 from express.analysis.study.critical import CriticalOptions, StateBlocks, fast_critical_speed, hopf_point
-from express.statespace import load_vehicle
+from express.numeric.statespace import load_vehicle
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -121,7 +121,7 @@ def test_bundled_optimisation_under_a_QP_limit_in_the_paper_curve(tmp_path: Path
     the feasible ones; its outputs are those of the analyses at its values."""
     from express.analysis.study.critical import fast_critical_speed
     from express.analysis.study.outputs import OutputSettings, PointOutputs
-    from express.statespace import load_vehicle
+    from express.numeric.statespace import load_vehicle
 
     bundled = ROOT / "examples" / "studies" / "optimise_critical_speed.toml"
     text = bundled.read_text().replace('"../forced-steering.toml"', f'"{MODEL}"')

@@ -85,7 +85,7 @@ def test_formats_hold_the_same_numbers(tmp_path: Path) -> None:
 
     metadata = pq.read_schema(tmp_path / "r.parquet").metadata
     assert metadata[b"express.study"].decode() == spec.text
-    assert json.loads(metadata[b"express.units"])["kx1"] == "N/m"
+    assert json.loads(metadata[b"express.base.units"])["kx1"] == "N/m"
     with xr.open_dataset(tmp_path / "r.nc", engine="scipy") as data:
         assert data["critical_speed"].dims == ("Gamma", "kx1")
         assert data["critical_speed"].attrs["units"] == "m/s" and data["kx1"].attrs["units"] == "N/m"
@@ -317,8 +317,8 @@ def test_track_frf_and_damping_outputs_equal_the_analyses(tmp_path: Path) -> Non
     """The outputs other than the critical speed, against the library calls they stand for."""
     from express.analysis.frequency import frequency_response
     from express.analysis.simulate import simulate
+    from express.numeric.statespace import load_vehicle
     from express.rail.track import paper_curve
-    from express.statespace import load_vehicle
 
     body = """outputs = ["max_Q", "max_QP", "max_lever_angle", "frf_peak_acceleration", "frf_peak_frequency",
            "least_damping_ratio", "least_damping_frequency"]

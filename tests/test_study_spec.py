@@ -12,8 +12,8 @@ import pytest
 
 from express.analysis.study.sampling import grid_points, saltelli_points, sample_points
 from express.analysis.study.spec import parse_study, read_study
+from express.base.diagnostics import ModelError
 from express.cli import main
-from express.diagnostics import ModelError
 
 ROOT = Path(__file__).resolve().parents[1]
 MODEL = ROOT / "examples" / "forced-steering.toml"

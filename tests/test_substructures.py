@@ -10,11 +10,11 @@ from pathlib import Path
 import pytest
 import sympy as sp
 
-from express.diagnostics import ModelError
+from express.base.diagnostics import ModelError
 from express.io import load_model, parse_toml_model
-from express.model import Body, ConnectionPoint, Element, Ground
+from express.model.records import Body, ConnectionPoint, Element, Ground
+from express.model.substructures import Instance, Substructure, instantiate, with_instances
 from express.rail.build import generate_vehicle
-from express.substructures import Instance, Substructure, instantiate, with_instances
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "examples"))

@@ -1,4 +1,4 @@
-"""express.threads: the numerical paths limit BLAS threads themselves and restore them."""
+"""express.base.threads: the numerical paths limit BLAS threads themselves and restore them."""
 
 from __future__ import annotations
 
@@ -6,12 +6,12 @@ import numpy as np
 import pytest
 from threadpoolctl import threadpool_info, threadpool_limits
 
-from express import threads
 from express.analysis import frequency, simulate, stability
+from express.base import threads
+from express.base.threads import ENVIRONMENT_VARIABLE, blas_limit, blas_threads, limited_blas
 from express.io import load_model
+from express.numeric.statespace import vehicle_model
 from express.rail.track import paper_curve
-from express.statespace import vehicle_model
-from express.threads import ENVIRONMENT_VARIABLE, blas_limit, blas_threads, limited_blas
 
 KMH = 1 / 3.6
 

@@ -19,9 +19,9 @@ import sympy as sp
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from express.assembly.generator import generate
+from express.base.diagnostics import ModelError
 from express.cli import main
-from express.diagnostics import ModelError
-from express.generator import generate
 from express.io import load_model, model_to_toml, parse_toml_model, read_classic, read_toml_model
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 
 from express.io import load_model
-from express.topology import classify_bodies
+from express.model.topology import classify_bodies
 
 
 @pytest.mark.parametrize(

@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from express.diagnostics import InputError, ModelError
+from express.base.diagnostics import InputError, ModelError
 from express.rail.track import (
     EXCERPT_CHARS,
     FRA_CLASS_5,
@@ -153,7 +153,7 @@ def test_bad_track_file_reports_everything(tmp_path):
     assert isinstance(err, ValueError) and isinstance(err, InputError)
     msg = str(err)
     expected = [  # in line order
-        # km/s is a speed unit (express.units): refused by the documented range instead
+        # km/s is a speed unit (express.base.units): refused by the documented range instead
         f"{f}:1: track: 'speed' must be > 0 and at most 1000 km/h (277.8 m/s), got '120 km/s'",
         f"{f}:2: track: unknown key 'colour'",
         f"{f}:11: segment 2 (transition): 'shape' must be one of linear, sine, got 'cosine'",

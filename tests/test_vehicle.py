@@ -8,11 +8,11 @@ import numpy as np
 import pytest
 import sympy as sp
 
+from express.assembly.generator import generate
 from express.cli import main
-from express.generator import generate
 from express.io import load_model
 from express.io.classic_writer import model_to_classic
-from express.statespace import vehicle_model
+from express.numeric.statespace import vehicle_model
 
 STEERED = "examples/forced-steering.toml"
 CONVENTIONAL = "examples/conventional.toml"

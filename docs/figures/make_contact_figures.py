@@ -21,7 +21,7 @@ from matplotlib.figure import Figure
 
 from express.analysis.plots import STYLE, save_figure
 from express.cli import main
-from express.diagnostics import ModelError
+from express.base.diagnostics import ModelError
 from express.rail.conicity import equivalent_conicity, parse_delta_r
 
 HERE = Path(__file__).resolve().parent

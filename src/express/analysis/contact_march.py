@@ -25,12 +25,12 @@ import numpy as np
 import sympy as sp
 from numba import njit
 
-from ..parameters import expression_value
-from ..rail.contact_forces import LAWS, OUTPUTS, WORK_COLUMNS, WheelsetContact, wheelset_forces
-from ..rail.curve import station_of
-from ..rail.profile_contact import contact_terms, profile_nodes
-from ..rail.wheelrail import irregularity_input, wheelset_terms
-from .integrator import _bump_stops
+from express.analysis.integrator import _bump_stops
+from express.model.parameters import expression_value
+from express.rail.contact_forces import LAWS, OUTPUTS, WORK_COLUMNS, WheelsetContact, wheelset_forces
+from express.rail.curve import station_of
+from express.rail.profile_contact import contact_terms, profile_nodes
+from express.rail.wheelrail import irregularity_input, wheelset_terms
 
 __all__ = [
     "contact_arrays", "contact_force_history", "contact_outputs", "contact_rhs", "linear_coefficients", "march_contact",
@@ -294,7 +294,7 @@ def contact_rhs(vehicle, track, contacts: list[WheelsetContact], *, speed: float
                 law: str = "fastsim"):
     """The contact simulation's equations as ``f(t, x)`` for reference integrations
     (``scipy.integrate.solve_ivp``); bump stops are not included."""
-    from .simulate import track_inputs
+    from express.analysis.simulate import track_inputs
 
     v = float(vehicle.speed if speed is None else speed)
     a, b, bd = vehicle.state_matrix(v), vehicle.input_matrix(v), vehicle.input_rate_matrix(v)

@@ -26,14 +26,14 @@ Output points
 -------------
 The model's ``[rail.outputs]`` (e.g. ``floor_front``, ``floor_rear``: the car-body
 floor above the bogie centres) are points on bodies; their lateral displacement is
-``u_y = y + rz lx - rx lz`` (:func:`express.statespace.point_lateral_row`) and their
+``u_y = y + rz lx - rx lz`` (:func:`express.numeric.statespace.point_lateral_row`) and their
 lateral acceleration amplitude is ``-w^2 u_y``.
 
 Examples
 --------
 >>> import numpy as np
 >>> from express.io import load_model
->>> from express.statespace import vehicle_model
+>>> from express.numeric.statespace import vehicle_model
 >>> car = vehicle_model(load_model("examples/forced-steering.toml"))
 >>> frf = frequency_response(car, np.linspace(0.2, 20.0, 100))
 >>> frf.acceleration_of("floor_front").shape
@@ -49,8 +49,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..statespace import VehicleModel, point_lateral_row
-from ..threads import limited_blas
+from express.base.threads import limited_blas
+from express.numeric.statespace import VehicleModel, point_lateral_row
 
 __all__ = [
     "FrequencyResponse", "TransferFunctions", "dynamic_stiffness", "frequency_response", "ground_response",
@@ -210,7 +210,7 @@ def steady_response(
     AnalysisError
         At a frequency where the dynamic stiffness is singular.
     """
-    from .banded import band_layout, choose_route, solve_banded_stiffness
+    from express.analysis.banded import band_layout, choose_route, solve_banded_stiffness
 
     w = 2.0 * np.pi * np.asarray(frequencies, dtype=float)
     damping = vehicle.damping(speed)
@@ -220,7 +220,7 @@ def steady_response(
         raise ValueError(f"route must be 'stacked', 'banded' or 'schur', got {route!r}")
     try:
         if route == "schur":
-            from .ride.spectral import resolvent_solve
+            from express.analysis.ride.spectral import resolvent_solve
 
             b = vehicle.input_matrix(speed)[:, columns]
             bd = vehicle.input_rate_matrix(speed)[:, columns]
@@ -239,7 +239,7 @@ def steady_response(
             out[part] = np.linalg.solve(dynamic_stiffness(vehicle, w[part], speed), rhs[part])
         return out
     except np.linalg.LinAlgError:
-        from ..diagnostics import AnalysisError
+        from express.base.diagnostics import AnalysisError
 
         raise AnalysisError("the dynamic stiffness -w^2 M + i w C + K is singular at one of the frequencies") from None
 
@@ -257,9 +257,9 @@ def require_stable(vehicle: VehicleModel, speed: float) -> None:
     values = np.linalg.eigvals(vehicle.state_matrix(speed))
     if values.size == 0 or not values.real.max() > 1e-9 * max(1.0, float(np.abs(values).max())):
         return  # rigid-body modes (eigenvalue 0) are rounding away from stable, not unstable
-    from ..diagnostics import AnalysisError
-    from ..units import KMH
-    from .stability import eigen_analysis
+    from express.analysis.stability import eigen_analysis
+    from express.base.diagnostics import AnalysisError
+    from express.base.units import KMH
 
     mode = eigen_analysis(vehicle, speed).modes[0]
     raise AnalysisError(
@@ -313,7 +313,7 @@ def frequency_response(
     Examples
     --------
     >>> from express.io import load_model
-    >>> from express.statespace import vehicle_model
+    >>> from express.numeric.statespace import vehicle_model
     >>> car = vehicle_model(load_model("examples/conventional.toml"))
     >>> frf = frequency_response(car, [1.0, 2.0], speed=120 / 3.6)
     >>> [round(float(t), 4) for t in frf.delays]  # 0, 2a/v, 2 lT/v, 2 (a + lT)/v
@@ -436,10 +436,10 @@ def ground_response(
     Examples
     --------
     >>> from express.io import load_model
-    >>> from express.statespace import vehicle_model
+    >>> from express.numeric.statespace import vehicle_model
     >>> values = {"J1": 2.0, "J2": 0.5, "b": 0.4, "c": 300.0, "kLL": 5.5e6, "kLU": 5e5,
     ...           "lLL": 0.06, "lLU": 0.3, "m": 20.0}
-    >>> from express.model import with_values
+    >>> from express.model.records import with_values
     >>> lever = vehicle_model(with_values(load_model("examples/lever.exp"), values))
     >>> tf = ground_response(lever, [0.0, 10.0])
     >>> tf.inputs

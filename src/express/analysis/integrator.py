@@ -1,7 +1,7 @@
 """Time marching of ``x' = A x + e(t) + G z(x, t)`` with exact discretization.
 
 The nonlinear forces ``z`` are the wheel/rail corrections of every wheelset and the
-forces of the bump stops (clearance elements, :mod:`express.clearance`).
+forces of the bump stops (clearance elements, :mod:`express.assembly.clearance`).
 
 The linear part is discretized exactly (matrix exponential, first-order hold on the
 known forcing ``e``: track curvature, cant, irregularity and their rates), so the
@@ -93,7 +93,7 @@ def _feedback(x, ivy, ivpsi, k, iy, ipsi, y_rail, rho, speed, f1, f2, conicity, 
 
 @njit(cache=True, fastmath=False)
 def _bump_stops(x, k, index, coefficient, offset, gap, stiffness, progressive, first, z):
-    """Bump-stop forces ``-F`` (express.clearance) into ``z[first:]``; the deflection
+    """Bump-stop forces ``-F`` (express.assembly.clearance) into ``z[first:]``; the deflection
     of stop ``s`` is ``sum coefficient[s, :] x[index[s, :]]`` (its few nonzero terms)."""
     for s in range(gap.size):
         delta = offset[k, s]
@@ -164,7 +164,7 @@ def march(phi, drive, g0, g1, x0, wheel_rail, *, flange=True, saturation=True, p
         state), ``ivy``, ``ivpsi`` (their velocities in the state), ``y_rail`` and
         ``rho`` (steps + 1, n_wheelsets), ``speed`` and the per-wheelset arrays ``f1,
         f2, conicity, r0, b, clearance, k_rail, limit``; optionally the bump stops
-        (:mod:`express.clearance`): ``stop_rows`` (n_stops, N) deflection over the
+        (:mod:`express.assembly.clearance`): ``stop_rows`` (n_stops, N) deflection over the
         state, ``stop_offset`` (steps + 1, n_stops) its input part, ``stop_gap``,
         ``stop_k``, ``stop_k3`` (n_stops,).
     progress : callable, optional

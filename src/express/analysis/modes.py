@@ -3,7 +3,7 @@
 A mode is one eigenvalue of ``A(v)`` with what moves in it: the participation share of
 every DOF (rotations weighed by the body's radius of gyration, so that radians compare
 with metres) and a short label from documented heuristics on the bodies' roles
-(:mod:`express.topology`): hunting, wheelset, bogie frame, steering lever or car-body
+(:mod:`express.model.topology`): hunting, wheelset, bogie frame, steering lever or car-body
 modes.  :func:`modes_of` builds them; :mod:`express.analysis.stability` finds the modes
 at a speed and the critical speed.
 """
@@ -15,10 +15,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..parameters import expression_value
-from ..statespace import VehicleModel
-from ..topology import Topology, classify_bodies
-from ..units import KMH
+from express.base.units import KMH
+from express.model.parameters import expression_value
+from express.model.topology import Topology, classify_bodies
+from express.numeric.statespace import VehicleModel
 
 __all__ = ["DOMINANT_COUNT", "EigenResult", "Mode", "modes_of"]
 
@@ -137,7 +137,7 @@ class EigenResult:
     Examples
     --------
     >>> from express.io import load_model
-    >>> from express.statespace import vehicle_model
+    >>> from express.numeric.statespace import vehicle_model
     >>> from express.analysis.stability import eigen_analysis
     >>> car = vehicle_model(load_model("examples/conventional.toml"))
     >>> result = eigen_analysis(car, 30.0)
@@ -201,7 +201,7 @@ class EigenResult:
 
 
 def _roles(vehicle: VehicleModel) -> Topology:
-    """The role of every body (:func:`express.topology.classify_bodies`); without a
+    """The role of every body (:func:`express.model.topology.classify_bodies`); without a
     model, the wheelsets are known from the rail data and every other body is a car body."""
     model = vehicle.model
     if model is None:

@@ -30,12 +30,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..rail.track import Straight, Track
-from ..statespace import VehicleModel
-from ..threads import limited_blas
-from ..units import KMH
-from .simulate import simulate
-from .stability import CriticalSpeed, critical_speed
+from express.analysis.simulate import simulate
+from express.analysis.stability import CriticalSpeed, critical_speed
+from express.base.threads import limited_blas
+from express.base.units import KMH
+from express.numeric.statespace import VehicleModel
+from express.rail.track import Straight, Track
 
 __all__ = ["BifurcationPoint", "NonlinearCriticalSpeed", "limit_cycle", "nonlinear_critical_speed"]
 

@@ -22,10 +22,10 @@ Derived quantities (``rail.md``):
 ``theta_<lever>``
     Rotation of each steering lever [rad] (bodies carrying a pin's virtual DOF).
 ``stop_<element>``
-    Force of each bump stop (clearance element, :mod:`express.clearance`) [N; N m for
+    Force of each bump stop (clearance element, :mod:`express.assembly.clearance`) [N; N m for
     a rotational one], zero inside its gap.
 
-Series (Maxwell) elements make the state ``[q; q_D']`` (:mod:`express.first_order`);
+Series (Maxwell) elements make the state ``[q; q_D']`` (:mod:`express.assembly.first_order`);
 ``q_dot`` of their damper strokes comes from the first-order equations.
 """
 
@@ -37,14 +37,14 @@ from pathlib import Path
 
 import numpy as np
 
-from ..clearance import clearance_force, clearances_of
-from ..rail.build import RailLayout
-from ..rail.nonlinear import wheelset_forces
-from ..rail.track import Track
-from ..statespace import VehicleModel
-from ..threads import limited_blas
-from ..topology import classify_bodies
-from .integrator import discretize, march
+from express.analysis.integrator import discretize, march
+from express.assembly.clearance import clearance_force, clearances_of
+from express.base.threads import limited_blas
+from express.model.topology import classify_bodies
+from express.numeric.statespace import VehicleModel
+from express.rail.build import RailLayout
+from express.rail.nonlinear import wheelset_forces
+from express.rail.track import Track
 
 __all__ = ["SimulationResult", "TrackInputs", "bogie_of_wheelsets", "lever_bodies", "simulate", "track_inputs"]
 
@@ -108,14 +108,14 @@ class SimulationResult:
     def to_csv(self) -> str:
         """CSV text: a header of column names with their SI units (``time_s``, ``Q1_N``,
         :func:`express.io.output.column_name`), then one row per time step."""
-        from ..io.output import csv_text
+        from express.io.output import csv_text
 
         return csv_text(self.series(), self.units())
 
     def save(self, path: str | Path) -> None:
         """Save as ``.csv``, ``.npz`` or ``.mat`` (by suffix), written whole or not at
         all through :mod:`express.io.output` (``"-"``: CSV on standard output)."""
-        from ..io.output import mat_bytes, npz_bytes, write_bytes, write_text
+        from express.io.output import mat_bytes, npz_bytes, write_bytes, write_text
 
         suffix = "" if str(path) == "-" else Path(path).suffix.lower()
         if suffix not in ("", ".csv", ".npz", ".mat") or (suffix == "" and str(path) != "-"):
@@ -140,7 +140,7 @@ def _safe_keys(columns: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
 
 
 def lever_bodies(vehicle: VehicleModel) -> list[str]:
-    """The steering levers (:func:`express.topology.classify_bodies`), in pin order."""
+    """The steering levers (:func:`express.model.topology.classify_bodies`), in pin order."""
     return list(classify_bodies(vehicle.model).levers) if vehicle.model is not None else []
 
 
@@ -152,7 +152,7 @@ def _lever_rotation(vehicle: VehicleModel, body: str) -> str:
 
 
 def bogie_of_wheelsets(vehicle: VehicleModel) -> dict[str, str]:
-    """The bogie each wheelset is suspended from (:func:`express.topology.classify_bodies`)."""
+    """The bogie each wheelset is suspended from (:func:`express.model.topology.classify_bodies`)."""
     return dict(classify_bodies(vehicle.model).bogie_of) if vehicle.model is not None else {}
 
 
@@ -258,7 +258,7 @@ def simulate(
         Include flange contact and creep saturation (both on, as in the paper's Fig. 9).
     initial_state : numpy.ndarray, shape (N,), optional
         The state ``[q; q']`` at the start (zero by default); with series elements
-        ``[q; q_D']`` (:mod:`express.first_order`), N = ``vehicle.form.size``.
+        ``[q; q_D']`` (:mod:`express.assembly.first_order`), N = ``vehicle.form.size``.
     progress : bool, optional
         Show a progress bar; by default only when standard error is a terminal.
     clearances : bool, optional
@@ -310,7 +310,7 @@ def simulate(
     show = _terminal_progress() if progress is None else (_terminal_progress() if progress else None)
     tables = _contact_tables(vehicle, contact, creep_law) if (flange or saturation) else None
     if tables is not None:  # the contact from the profiles' tables
-        from .contact_march import linear_coefficients, march_contact
+        from express.analysis.contact_march import linear_coefficients, march_contact
 
         states, history = march_contact(
             np.ascontiguousarray(phi), np.ascontiguousarray(drive), np.ascontiguousarray(g0),
@@ -326,7 +326,7 @@ def simulate(
     q_dot = vehicle.form.velocities(states, inputs.u, inputs.u_rate)
     outputs = derived_outputs(vehicle, q, q_dot, inputs, v, flange=flange, saturation=saturation)
     if tables is not None:
-        from .contact_march import contact_outputs
+        from express.analysis.contact_march import contact_outputs
 
         iy = [w.y for w in vehicle.wheelsets]
         outputs.update(contact_outputs(history, [w.wheel_load for w in vehicle.wheelsets], q[:, iy] - inputs.y_rail))
@@ -349,8 +349,8 @@ def _contact_tables(vehicle: VehicleModel, contact: str | None, creep_law: str) 
         raise ValueError(f'contact must be "tables" or "deadband", not {contact!r}')
     if contact == "deadband" or vehicle.model is None:
         return None
-    from ..rail.profile_contact import wheelset_contacts
-    from .contact_march import contact_arrays
+    from express.analysis.contact_march import contact_arrays
+    from express.rail.profile_contact import wheelset_contacts
 
     contacts = wheelset_contacts(vehicle.model, vehicle.values, vehicle.wheelsets)
     if any(c is None for c in contacts):

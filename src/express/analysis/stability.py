@@ -24,7 +24,7 @@ critical_speed_vs_conicity
 Examples
 --------
 >>> from express.io import load_model
->>> from express.statespace import vehicle_model
+>>> from express.numeric.statespace import vehicle_model
 >>> car = vehicle_model(load_model("examples/conventional.toml"))
 >>> result = eigen_analysis(car, 30.0)
 >>> result.modes[0].real < 0          # stable at 30 m/s
@@ -43,10 +43,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..statespace import VehicleModel
-from ..threads import limited_blas
-from ..units import KMH
-from .modes import EigenResult, Mode, modes_of
+from express.analysis.modes import EigenResult, Mode, modes_of
+from express.base.threads import limited_blas
+from express.base.units import KMH
+from express.numeric.statespace import VehicleModel
 
 __all__ = [
     "CriticalSpeed",
@@ -127,7 +127,7 @@ def eigen_analysis(vehicle: VehicleModel, speed: float | None = None) -> EigenRe
     Parameters
     ----------
     vehicle : VehicleModel
-        Numerical vehicle (:func:`express.statespace.vehicle_model`).
+        Numerical vehicle (:func:`express.numeric.statespace.vehicle_model`).
     speed : float, optional
         Forward speed ``v`` [m/s], > 0; the model's own speed by default.  Ignored
         for a model without rail data (:attr:`EigenResult.speed` is then nan).
@@ -158,7 +158,7 @@ def eigen_analysis(vehicle: VehicleModel, speed: float | None = None) -> EigenRe
     Examples
     --------
     >>> from express.io import load_model
-    >>> from express.statespace import vehicle_model
+    >>> from express.numeric.statespace import vehicle_model
     >>> car = vehicle_model(load_model("examples/forced-steering.toml"))
     >>> result = eigen_analysis(car, 120 / 3.6)
     >>> print(result.table())                                    # doctest: +ELLIPSIS
@@ -240,7 +240,7 @@ def root_locus(vehicle: VehicleModel, speeds: Iterable[float]) -> np.ndarray:
     Examples
     --------
     >>> from express.io import load_model
-    >>> from express.statespace import vehicle_model
+    >>> from express.numeric.statespace import vehicle_model
     >>> car = vehicle_model(load_model("examples/conventional.toml"))
     >>> locus = root_locus(car, np.linspace(10.0, 150.0, 1000))
     >>> locus.shape
@@ -317,7 +317,7 @@ def critical_speed(
     Examples
     --------
     >>> from express.io import load_model
-    >>> from express.statespace import vehicle_model
+    >>> from express.numeric.statespace import vehicle_model
     >>> car = vehicle_model(load_model("examples/conventional.toml"))
     >>> cs = critical_speed(car)
     >>> cs.unstable_at_min, 50.0 < cs.speed < 150.0
@@ -391,7 +391,7 @@ def critical_speed_vs_conicity(
     Examples
     --------
     >>> from express.io import load_model
-    >>> from express.statespace import vehicle_model
+    >>> from express.numeric.statespace import vehicle_model
     >>> car = vehicle_model(load_model("examples/conventional.toml"))
     >>> [round(c.speed_kmh) for c in critical_speed_vs_conicity(car, [0.1, 0.2])]
     [421, 361]

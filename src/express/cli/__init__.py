@@ -7,8 +7,8 @@ arguments), runs the handler and maps what it raises to an exit status
 
 =====  =================================================================================
 0      success
-1      the analysis could not give a valid result (:class:`~express.diagnostics.AnalysisError`)
-2      bad input (:class:`~express.diagnostics.InputError`: a model, a value, a destination);
+1      the analysis could not give a valid result (:class:`~express.base.diagnostics.AnalysisError`)
+2      bad input (:class:`~express.base.diagnostics.InputError`: a model, a value, a destination);
        one ``error:`` line per problem
 70     an unexpected internal error: one line; the traceback with ``--debug``
 =====  =================================================================================
@@ -29,9 +29,9 @@ import warnings
 from collections.abc import Iterator, Sequence
 from typing import Any, NoReturn
 
-from .. import __version__
-from ..diagnostics import EXIT_ANALYSIS, EXIT_INPUT, EXIT_INTERNAL, EXIT_OK, AnalysisError, InputError
-from . import (
+from express import __version__
+from express.base.diagnostics import EXIT_ANALYSIS, EXIT_INPUT, EXIT_INTERNAL, EXIT_OK, AnalysisError, InputError
+from express.cli import (
     common,
     conicity,
     contact_geometry,
@@ -87,11 +87,11 @@ def build_parser() -> argparse.ArgumentParser:
 @contextlib.contextmanager
 def _one_blas_thread(numeric: bool) -> Iterator[None]:
     """BLAS on one thread while a numerical command runs (restored afterwards;
-    :mod:`express.threads`); commands that compute nothing numerical skip all of it."""
+    :mod:`express.base.threads`); commands that compute nothing numerical skip all of it."""
     if not numeric:
         yield
         return
-    from ..threads import blas_threads  # the library's own limit (EXPRESS_BLAS_THREADS)
+    from express.base.threads import blas_threads  # the library's own limit (EXPRESS_BLAS_THREADS)
 
     with blas_threads():
         yield

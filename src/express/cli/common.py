@@ -21,8 +21,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from ..diagnostics import UsageError
-from ..units import KMH
+from express.base.diagnostics import UsageError
+from express.base.units import KMH
 
 __all__ = [
     "AMPLITUDE",
@@ -95,7 +95,7 @@ class Quantity:
     option : str
         The option's name, for messages (``--speed``).
     dimension : str
-        Expected dimension (a name of :mod:`express.units`, e.g. ``"speed"``).
+        Expected dimension (a name of :mod:`express.base.units`, e.g. ``"speed"``).
     bare_unit : str
         Unit of a number given without one (``"km/h"``, ``"s"``).
     low, high : float
@@ -122,7 +122,7 @@ class Quantity:
         return f"{what} [bare number: {self.bare_unit}; or with a unit]; {self.range_text}{tail}"
 
     def __call__(self, text: str) -> float:
-        from ..units import to_si, unit_factor
+        from express.base.units import to_si, unit_factor
 
         try:
             if _BARE_NUMBER.match(text):
@@ -141,7 +141,7 @@ class Quantity:
 
 def _parse_with_unit(text: str, dimension: str) -> float:
     """``"30 m/s"`` -> 30.0, refusing a unit of another dimension."""
-    from ..units import parse_quantity
+    from express.base.units import parse_quantity
 
     value, _unit = parse_quantity(text, dimension)
     return float(value)
@@ -212,7 +212,7 @@ def add_json_option(parser: argparse.ArgumentParser) -> None:
 
 def figure_path(text: str) -> Path:
     """``--plot FILE``: a figure file by suffix (the ``type=`` of argparse)."""
-    from ..analysis.plots import FIGURE_SUFFIXES
+    from express.analysis.plots import FIGURE_SUFFIXES
 
     path = Path(text)
     if path.suffix.lower() not in FIGURE_SUFFIXES:
@@ -231,7 +231,7 @@ def load_rail_vehicle(model: Path, overrides: dict[str, str], command: str) -> A
     UsageError
         The model has no rail data.
     """
-    from ..statespace import load_vehicle
+    from express.numeric.statespace import load_vehicle
 
     vehicle = load_vehicle(model, overrides)
     if vehicle.layout is None or not vehicle.wheelsets:
@@ -258,8 +258,8 @@ def running_speed(vehicle: Any, speed: float | None) -> float:
 
 def load_track(path: Path | None) -> Any:
     """The track of ``--track`` (default: the paper's curve)."""
-    from ..rail.track import load_track as read_track
-    from ..rail.track import paper_curve
+    from express.rail.track import load_track as read_track
+    from express.rail.track import paper_curve
 
     if path is None:
         return paper_curve()
@@ -278,7 +278,7 @@ def note(message: str) -> None:
 
 def print_json(data: dict) -> None:
     """``data`` as indented JSON on standard output (NumPy values converted, nan -> null)."""
-    from ..io.output import json_text
+    from express.io.output import json_text
 
     sys.stdout.write(json_text(data))
 
@@ -298,8 +298,8 @@ def load_model_with(model: Path, overrides: dict[str, str]) -> Any:
     ModelError
         A bad file or override (every problem at once).
     """
-    from ..io import load_model
-    from ..model import with_values
+    from express.io import load_model
+    from express.model.records import with_values
 
     loaded = load_model(model)
     return with_values(loaded, overrides) if overrides else loaded

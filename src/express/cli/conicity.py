@@ -9,9 +9,9 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from ..diagnostics import InputError, UsageError
-from . import common
-from .contact_geometry import add_profile_arguments, load_profiles, setup_from, span
+from express.base.diagnostics import InputError, UsageError
+from express.cli import common
+from express.cli.contact_geometry import add_profile_arguments, load_profiles, setup_from, span
 
 __all__ = ["add_parser", "figure_conicity", "run"]
 
@@ -50,8 +50,8 @@ def run(
     """Compute tan(gamma_e) at every amplitude and write the outputs together."""
     import numpy as np
 
-    from ..io.output import output_transaction, write_csv
-    from ..rail.conicity import conicity_from_profiles, equivalent_conicity, read_delta_r
+    from express.io.output import output_transaction, write_csv
+    from express.rail.conicity import conicity_from_profiles, equivalent_conicity, read_delta_r
 
     if not ((delta_r is not None and not profiles) or (delta_r is None and len(profiles) == 2)):
         raise UsageError("conicity: give either --delta-r FILE.csv or the two profiles WHEEL RAIL")
@@ -89,7 +89,7 @@ def run(
         if output is not None:
             write_csv(output, columns, column_units)
         if plot is not None:
-            from ..analysis.plots import save_figure
+            from express.analysis.plots import save_figure
 
             save_figure(figure_conicity(amplitude, tan_gamma, label), plot)
     for path in [p for p in (output, plot) if p is not None and str(p) != "-"]:
@@ -116,7 +116,7 @@ def figure_conicity(amplitude, tan_gamma, title: str):
     import matplotlib
     from matplotlib.figure import Figure
 
-    from ..analysis.plots import STYLE
+    from express.analysis.plots import STYLE
 
     with matplotlib.rc_context(STYLE):
         figure = Figure(figsize=(6.4, 3.6))

@@ -10,8 +10,8 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from ..diagnostics import UsageError
-from . import common
+from express.base.diagnostics import UsageError
+from express.cli import common
 
 __all__ = ["add_parser", "add_profile_arguments", "figure_contact_geometry", "load_profiles", "run", "setup_from"]
 
@@ -50,7 +50,7 @@ def span(option: str, default_unit: str = "mm", positive: bool = False):
 
 
 def _inclination(text: str) -> float:
-    from ..rail.profiles import parse_inclination
+    from express.rail.profiles import parse_inclination
 
     try:
         return parse_inclination(text)
@@ -75,7 +75,7 @@ def add_profile_arguments(parser: argparse.ArgumentParser, required: bool = True
 
 
 def setup_from(gauge: float, flange_back: float, inclination: float, wheel_radius: float):
-    from ..rail.contact_geometry import ContactSetup
+    from express.rail.contact_geometry import ContactSetup
 
     try:
         return ContactSetup(gauge=gauge, flange_back=flange_back, inclination=inclination, wheel_radius=wheel_radius)
@@ -85,8 +85,8 @@ def setup_from(gauge: float, flange_back: float, inclination: float, wheel_radiu
 
 def load_profiles(names: list[str], units: str | None):
     """The wheel and rail :class:`~express.rail.profiles.Profile` of ``WHEEL RAIL``."""
-    from ..diagnostics import ModelError
-    from ..rail.profiles import STANDARD_PROFILES, read_profile, standard_profile
+    from express.base.diagnostics import ModelError
+    from express.rail.profiles import STANDARD_PROFILES, read_profile, standard_profile
 
     standard = {name.upper() for name in STANDARD_PROFILES} | {"UIC60"}
     profiles: list = []
@@ -132,8 +132,8 @@ def run(
     """Compute the table and write the outputs together; returns the exit status."""
     import numpy as np
 
-    from ..io.output import output_transaction, write_csv
-    from ..rail.contact_geometry import contact_geometry
+    from express.io.output import output_transaction, write_csv
+    from express.rail.contact_geometry import contact_geometry
 
     if output == "-" and as_json:
         raise UsageError("-o - and --json both write to standard output; choose one")
@@ -154,7 +154,7 @@ def run(
             columns, column_units = table_columns(table)
             write_csv(output, columns, column_units)
         if plot is not None:
-            from ..analysis.plots import save_figure
+            from express.analysis.plots import save_figure
 
             save_figure(figure_contact_geometry(table, f"{wheel.name} on {rail.name}"), plot)
     for path in [p for p in (output, plot) if p is not None and str(p) != "-"]:
@@ -228,7 +228,7 @@ def figure_contact_geometry(table, title: str):
     import numpy as np
     from matplotlib.figure import Figure
 
-    from ..analysis.plots import STYLE
+    from express.analysis.plots import STYLE
 
     with matplotlib.rc_context(STYLE):
         figure = Figure(figsize=(7.0, 7.6))

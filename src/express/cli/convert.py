@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from . import common
+from express.cli import common
 
 __all__ = ["add_parser", "run"]
 
@@ -22,8 +22,8 @@ def add_parser(subparsers) -> None:
 
 def run(model: Path, overrides: dict[str, str], *, output: str | None = None) -> int:
     """Convert and write; returns the exit status."""
-    from ..io import model_to_toml
-    from ..io.output import STDOUT, output_transaction, write_text
+    from express.io import model_to_toml
+    from express.io.output import STDOUT, output_transaction, write_text
 
     output = output or STDOUT
     with output_transaction(inputs=[model]) as outputs:
@@ -39,8 +39,8 @@ def run(model: Path, overrides: dict[str, str], *, output: str | None = None) ->
 def _check_loads_back(text: str, output: str) -> None:
     """Every file ``convert`` writes loads back; one that would not is a bug of the
     writer, reported as an internal error before anything is written."""
-    from ..diagnostics import ModelError
-    from ..io import parse_toml_model
+    from express.base.diagnostics import ModelError
+    from express.io import parse_toml_model
 
     try:
         parse_toml_model(text, source=output)

@@ -9,8 +9,8 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from ..diagnostics import UsageError
-from . import common
+from express.base.diagnostics import UsageError
+from express.cli import common
 
 __all__ = ["MAX_SWEEP", "add_parser", "parse_range", "run"]
 
@@ -97,7 +97,7 @@ def run(
     creep_law: str = "fastsim",
 ) -> int:
     """Find the critical speed (and the sweep) and write the outputs all together."""
-    from ..io.output import output_transaction
+    from express.io.output import output_transaction
 
     if not vmax > vmin:
         raise UsageError(f"--vmax {vmax / common.KMH:g} km/h: must be above --vmin {vmin / common.KMH:g} km/h")
@@ -138,7 +138,7 @@ def run(
 
 
 def _compute(vehicle: Any, options: dict, conicities: list[float] | None, parameter: str) -> tuple[Any, list | None]:
-    from ..analysis.stability import critical_speed, critical_speed_vs_conicity
+    from express.analysis.stability import critical_speed, critical_speed_vs_conicity
 
     result = critical_speed(vehicle, **options)
     sweep = None
@@ -154,7 +154,7 @@ def _speeds(sweep: list) -> Any:
 
 
 def _write_sweep(output: str, parameter: str, conicities: list[float], sweep: list) -> None:
-    from ..io.output import write_csv
+    from express.io.output import write_csv
 
     speeds = _speeds(sweep)
     columns = {parameter: conicities, "critical_speed": speeds, "critical_speed_kmh": speeds / common.KMH,
@@ -184,12 +184,12 @@ def _figure(vehicle: Any, plot: Path, vmin: float, vmax: float, result: Any, con
             parameter: str, sweep: list | None) -> None:
     import numpy as np
 
-    from ..analysis import plots
-    from ..analysis.stability import root_locus
+    from express.analysis import plots
+    from express.analysis.stability import root_locus
 
     name = vehicle.equations.name
     if conicities is not None and sweep is not None:
-        from ..analysis.demo_stability import unstable_windows
+        from express.paper.demo_stability import unstable_windows
 
         speeds_kmh = _speeds(sweep) / common.KMH
         at_min = np.array([bool(c is not None and c.unstable_at_min) for c in sweep])
@@ -237,8 +237,8 @@ def _print(name: str, result: Any, vmax: float, conicities: list[float] | None, 
 def _run_nonlinear(model: Path, overrides: dict[str, str], vmin: float, vmax: float, tolerance: float,
                    output: str | None, plot: Path | None, as_json: bool, vstart: float | None, creep_law: str) -> int:
     """The linear and the nonlinear critical speed (ramp-down), the bifurcation diagram."""
-    from ..diagnostics import AnalysisError
-    from ..io.output import output_transaction
+    from express.base.diagnostics import AnalysisError
+    from express.io.output import output_transaction
 
     if output == "-" and as_json:
         raise UsageError("-o - and --json both write to standard output; choose one")
@@ -250,8 +250,8 @@ def _run_nonlinear(model: Path, overrides: dict[str, str], vmin: float, vmax: fl
         if plot is not None:
             transaction.declare(plot, binary=True)
         vehicle = common.load_rail_vehicle(model, overrides, "critical-speed")
-        from ..analysis.nonlinear_stability import nonlinear_critical_speed
-        from ..analysis.stability import critical_speed
+        from express.analysis.nonlinear_stability import nonlinear_critical_speed
+        from express.analysis.stability import critical_speed
 
         linear = critical_speed(vehicle, v_min=vmin, v_max=vmax, tolerance_kmh=tolerance / common.KMH)
         if vstart is None and (linear is None or linear.unstable_at_min):
@@ -288,7 +288,7 @@ def _nonlinear_fields(result: Any) -> dict:
 
 
 def _write_bifurcation(output: str, result: Any) -> None:
-    from ..io.output import write_csv
+    from express.io.output import write_csv
 
     points = result.points
     columns = {"speed": [p.speed for p in points], "speed_kmh": [p.speed_kmh for p in points],
@@ -298,8 +298,8 @@ def _write_bifurcation(output: str, result: Any) -> None:
 
 
 def _bifurcation_figure(vehicle: Any, plot: Path, result: Any) -> None:
-    from ..analysis import plots
-    from ..analysis.plots.bifurcation import figure_bifurcation
+    from express.analysis import plots
+    from express.analysis.plots.bifurcation import figure_bifurcation
 
     points = result.points
     linear = result.linear

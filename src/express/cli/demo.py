@@ -1,12 +1,12 @@
 """``express demo``: the paper's results with the bundled vehicles
-(:func:`express.analysis.demo.run_demo`), written all together or not at all."""
+(:func:`express.paper.demo.run_demo`), written all together or not at all."""
 
 from __future__ import annotations
 
 from pathlib import Path
 
-from ..diagnostics import UsageError
-from . import common
+from express.base.diagnostics import UsageError
+from express.cli import common
 
 __all__ = ["add_parser", "run"]
 
@@ -25,8 +25,8 @@ def add_parser(subparsers) -> None:
 
 def run(outdir: Path, *, examples: Path | None = None) -> int:
     """Run the demo inside one output transaction; returns the exit status."""
-    from ..analysis.demo import find_examples, run_demo
-    from ..io.output import check_destination, output_transaction
+    from express.io.output import check_destination, output_transaction
+    from express.paper.demo import find_examples, run_demo
 
     if outdir.exists() and not outdir.is_dir():
         raise UsageError(f"{outdir}: is a file, not a directory")

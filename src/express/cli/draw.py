@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from . import common
+from express.cli import common
 
 __all__ = ["add_parser", "run"]
 
@@ -24,9 +24,9 @@ def add_parser(subparsers) -> None:
 
 def run(model: Path, overrides: dict[str, str], *, output: Path) -> int:
     """Draw the model to ``output``; returns the exit status."""
-    from ..analysis.plots import save_figure
-    from ..drawing.views import figure_model
-    from ..io.output import output_transaction
+    from express.analysis.plots import save_figure
+    from express.drawing.views import figure_model
+    from express.io.output import output_transaction
 
     with output_transaction(inputs=[model]) as outputs:
         outputs.declare(output, binary=True)
@@ -38,9 +38,9 @@ def run(model: Path, overrides: dict[str, str], *, output: Path) -> int:
 
 def model_geometry_of(model):
     """The drawing geometry of a model at its parameter values (shared with ``eigen --plot``)."""
-    from ..drawing.geometry import model_geometry
-    from ..parameters import expression_value
-    from ..topology import classify_bodies
+    from express.drawing.geometry import model_geometry
+    from express.model.parameters import expression_value
+    from express.model.topology import classify_bodies
 
     values = model.values()
     return model_geometry(model, lambda expression: expression_value(expression, values), classify_bodies(model).role)

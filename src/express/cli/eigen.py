@@ -5,8 +5,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ..diagnostics import AnalysisError, UsageError
-from . import common
+from express.base.diagnostics import AnalysisError, UsageError
+from express.cli import common
 
 __all__ = ["add_parser", "run"]
 
@@ -39,7 +39,7 @@ def run(model: Path, overrides: dict[str, str], *, speed: float | None = None, a
     if mode is not None and not (plot or animate):
         raise UsageError("--mode N is drawn by --plot FILE or --animate FILE; give one")
     if mode is not None:
-        from ..io.output import output_transaction
+        from express.io.output import output_transaction
 
         with output_transaction(inputs=[model]) as outputs:
             for path in (plot, animate):
@@ -56,11 +56,11 @@ def run(model: Path, overrides: dict[str, str], *, speed: float | None = None, a
 
 def _draw_mode(model: Path, overrides: dict[str, str], speed: float | None, number: int,
                plot: Path | None, animate: str | None) -> None:
-    from ..analysis.plots import save_figure
-    from ..analysis.stability import eigen_analysis
-    from ..drawing.modes import animate_mode_shape, figure_mode_shape, mode_shape
-    from ..io.output import write_bytes
-    from .draw import model_geometry_of
+    from express.analysis.plots import save_figure
+    from express.analysis.stability import eigen_analysis
+    from express.cli.draw import model_geometry_of
+    from express.drawing.modes import animate_mode_shape, figure_mode_shape, mode_shape
+    from express.io.output import write_bytes
 
     vehicle = common.load_rail_vehicle(model, overrides, "eigen")
     v = common.running_speed(vehicle, speed)
@@ -79,8 +79,8 @@ def _draw_mode(model: Path, overrides: dict[str, str], speed: float | None, numb
 def _table(model: Path, overrides: dict[str, str], speed: float | None, as_json: bool) -> int:
     import numpy as np
 
-    from ..analysis.stability import eigen_analysis
-    from ..statespace import load_vehicle
+    from express.analysis.stability import eigen_analysis
+    from express.numeric.statespace import load_vehicle
 
     vehicle = load_vehicle(model, overrides)  # any model: without rail data A has no speed
     rail = vehicle.layout is not None and bool(vehicle.wheelsets)

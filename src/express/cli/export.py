@@ -5,8 +5,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ..diagnostics import UsageError
-from . import common
+from express.base.diagnostics import UsageError
+from express.cli import common
 
 __all__ = ["add_parser", "run"]
 
@@ -30,8 +30,8 @@ def add_parser(subparsers) -> None:
 def run(model: Path, overrides: dict[str, str], *, output: str, fmt: str | None = None,
         speed: float | None = None) -> int:
     """Write the numerical model; returns the exit status."""
-    from ..export.linear_system import linear_system, numeric_matrices
-    from ..io.output import mat_bytes, npz_bytes, output_transaction, write_bytes
+    from express.export.linear_system import linear_system, numeric_matrices
+    from express.io.output import mat_bytes, npz_bytes, output_transaction, write_bytes
 
     suffix = Path(output).suffix.lower()
     fmt = fmt or next((name for name, s in FORMATS.items() if s == suffix), None)
@@ -42,7 +42,7 @@ def run(model: Path, overrides: dict[str, str], *, output: str, fmt: str | None 
         vehicle = common.load_rail_vehicle(model, overrides, "export")
         v = common.running_speed(vehicle, speed)
         if fmt == "fmu":
-            from ..export.fmu import to_fmu_bytes
+            from express.export.fmu import to_fmu_bytes
 
             data = to_fmu_bytes(linear_system(vehicle, v), vehicle.equations.name,
                                 f"{vehicle.equations.name} at {v / common.KMH:g} km/h (EXPRESS)")

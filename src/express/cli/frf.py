@@ -7,8 +7,8 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from ..diagnostics import AnalysisError, UsageError
-from . import common
+from express.base.diagnostics import AnalysisError, UsageError
+from express.cli import common
 
 __all__ = ["MAX_POINTS", "add_parser", "run"]
 
@@ -52,7 +52,7 @@ def run(
     """Compute the response and write the outputs all together; returns the exit status."""
     import numpy as np
 
-    from ..io.output import output_transaction, write_csv
+    from express.io.output import output_transaction, write_csv
 
     dofs = list(dofs or [])
     if not fmax > fmin:
@@ -64,7 +64,7 @@ def run(
             transaction.declare(output)
         if plot is not None:
             transaction.declare(plot, binary=True)
-        from ..statespace import load_vehicle
+        from express.numeric.statespace import load_vehicle
 
         vehicle = load_vehicle(model, overrides)  # any model: without rail data, from its ground inputs
         rail = vehicle.layout is not None and bool(vehicle.wheelsets)
@@ -108,7 +108,7 @@ def _series(vehicle: Any, dofs: list[str], frequencies: Any, amplitude: float, s
     """name -> (complex amplitudes, unit): output points' accelerations, then the DOFs."""
     import numpy as np
 
-    from ..analysis.frequency import frequency_response
+    from express.analysis.frequency import frequency_response
 
     for dof in dofs:
         if dof not in vehicle.dofs:
@@ -133,7 +133,7 @@ def _ground_series(vehicle: Any, dofs: list[str], frequencies: Any, amplitude: f
     input alone at ``amplitude`` (:func:`express.analysis.frequency.ground_response`)."""
     import numpy as np
 
-    from ..analysis.frequency import ground_response
+    from express.analysis.frequency import ground_response
 
     for dof in dofs:
         if dof not in vehicle.dofs:
@@ -171,7 +171,7 @@ def _columns(frequencies: Any, series: dict) -> tuple[dict, dict]:
 def _figure(vehicle: Any, frequencies: Any, series: dict, amplitude: float, speed: float, plot: Path) -> None:
     import numpy as np
 
-    from ..analysis.plots import figure_frequency_response, save_figure
+    from express.analysis.plots import figure_frequency_response, save_figure
 
     accelerations = [n for n in series if series[n][1] == "m/s^2"]
     others = [n for n in series if n not in accelerations]  # the --dof displacements

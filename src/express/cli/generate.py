@@ -4,8 +4,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ..diagnostics import UsageError
-from . import common
+from express.base.diagnostics import UsageError
+from express.cli import common
 
 __all__ = ["add_parser", "run"]
 
@@ -31,7 +31,7 @@ def run(
     keep_virtual: bool = False, no_rail: bool = False,
 ) -> int:
     """Generate and write the equations; returns the exit status."""
-    from ..io.output import STDOUT, output_transaction, write_text
+    from express.io.output import STDOUT, output_transaction, write_text
 
     output = output or STDOUT
     if fmt == "matlab" and output != STDOUT and Path(output).suffix != ".m":
@@ -47,10 +47,10 @@ def run(
 
 def _export(model: Path, overrides: dict[str, str], fmt: str, output: str, *, keep_virtual: bool,
             with_rail: bool) -> tuple[str, int]:
-    from ..export import FORMATS as EXPORTERS
-    from ..export import to_matlab
-    from ..io.output import STDOUT
-    from ..rail.build import generate_vehicle
+    from express.export import FORMATS as EXPORTERS
+    from express.export import to_matlab
+    from express.io.output import STDOUT
+    from express.rail.build import generate_vehicle
 
     loaded = common.load_model_with(model, overrides)
     result = generate_vehicle(loaded, keep_virtual=keep_virtual, with_rail=with_rail)

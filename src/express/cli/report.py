@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from . import common
+from express.cli import common
 
 __all__ = ["add_parser", "run"]
 
@@ -24,9 +24,9 @@ def add_parser(subparsers) -> None:
 
 def run(model: Path, overrides: dict[str, str], *, output: str, speed: float | None = None) -> int:
     """Write the report; returns the exit status."""
-    from ..io.output import output_transaction, write_text
-    from ..report.build import report_html
-    from ..statespace import load_vehicle
+    from express.io.output import output_transaction, write_text
+    from express.numeric.statespace import load_vehicle
+    from express.report.build import report_html
 
     with output_transaction(inputs=[model]) as outputs:
         outputs.declare(output)

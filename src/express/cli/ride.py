@@ -9,8 +9,8 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from ..diagnostics import ModelError, Problem, UsageError
-from . import common
+from express.base.diagnostics import ModelError, Problem, UsageError
+from express.cli import common
 
 __all__ = ["MAX_POINTS", "TRACK_CLASSES", "add_parser", "read_psd_table", "run"]
 
@@ -57,9 +57,9 @@ def run(
     """Compute the response and write the outputs all together; returns the exit status."""
     import numpy as np
 
-    from ..analysis.ride.summaries import point_comfort, wheel_forces
-    from ..analysis.ride.vehicle import ride_response
-    from ..io.output import output_transaction
+    from express.analysis.ride.summaries import point_comfort, wheel_forces
+    from express.analysis.ride.vehicle import ride_response
+    from express.io.output import output_transaction
 
     if not fmax > fmin:
         raise UsageError(f"--fmax {fmax:g} Hz: must be above --fmin {fmin:g} Hz")
@@ -101,8 +101,8 @@ def _is_table(track: str) -> bool:
 
 
 def _spectra(track: str, table: bool) -> tuple[dict, str]:
-    from ..analysis.ride.vehicle import track_class_spectra
-    from ..diagnostics import InputError
+    from express.analysis.ride.vehicle import track_class_spectra
+    from express.base.diagnostics import InputError
 
     if table:
         return read_psd_table(Path(track)), track
@@ -136,7 +136,7 @@ def read_psd_table(path: Path) -> dict:
     UsageError
         The file cannot be read.
     """
-    from ..rail.track.spectra import COMPONENTS, TabulatedSpectrum
+    from express.rail.track.spectra import COMPONENTS, TabulatedSpectrum
 
     source = str(path)
     try:
@@ -252,7 +252,7 @@ def _psd_unit(unit: str) -> str:
 
 
 def _write_csv(output: str, response: Any) -> None:
-    from ..io.output import write_csv
+    from express.io.output import write_csv
 
     columns: dict[str, Any] = {"frequency": response.frequencies}
     units = {"frequency": "Hz"}
@@ -266,8 +266,8 @@ def _write_csv(output: str, response: Any) -> None:
 
 
 def _figure(vehicle: Any, response: Any, track: str, plot: Path) -> None:
-    from ..analysis.plots import save_figure
-    from ..analysis.ride.figures import figure_ride_spectra
+    from express.analysis.plots import save_figure
+    from express.analysis.ride.figures import figure_ride_spectra
 
     spectra = {}
     for point, axes in response.directions.items():

@@ -7,8 +7,8 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from ..diagnostics import AnalysisError, UsageError
-from . import common
+from express.base.diagnostics import AnalysisError, UsageError
+from express.cli import common
 
 __all__ = ["add_parser", "run"]
 
@@ -41,7 +41,7 @@ def run(model: Path, overrides: dict[str, str], *, quantity: str = "critical-spe
         speed: float | None = None, vmin: float = 1.0, vmax: float = 150.0, plot: Path | None = None,
         as_json: bool = False) -> int:
     """Compute and print the sensitivities; returns the exit status."""
-    from ..io.output import output_transaction
+    from express.io.output import output_transaction
 
     if not vmax > vmin:
         raise UsageError(f"--vmax {vmax / common.KMH:g} km/h: must be above --vmin {vmin / common.KMH:g} km/h")
@@ -69,7 +69,7 @@ def run(model: Path, overrides: dict[str, str], *, quantity: str = "critical-spe
 
 
 def _names(vehicle, parameters: list[str] | None) -> list[str]:
-    from ..analysis.study.sensitivity import sensitivity_parameters
+    from express.analysis.study.sensitivity import sensitivity_parameters
 
     known = sensitivity_parameters(vehicle)
     if parameters is None:
@@ -87,16 +87,16 @@ def _names(vehicle, parameters: list[str] | None) -> list[str]:
 
 
 def _critical(vehicle, names: list[str], vmin: float, vmax: float, plot: Path | None) -> dict:
-    from ..analysis.study.critical import CriticalOptions
-    from ..analysis.study.sensitivity import critical_speed_sensitivity
+    from express.analysis.study.critical import CriticalOptions
+    from express.analysis.study.sensitivity import critical_speed_sensitivity
 
     try:
         result = critical_speed_sensitivity(vehicle, names, CriticalOptions(v_min=vmin, v_max=vmax, tolerance=0.0))
     except ValueError as error:
         raise AnalysisError(f"sensitivity: {error}") from None
     if plot is not None:
-        from ..analysis.plots import save_figure
-        from ..analysis.study.figures import figure_tornado
+        from express.analysis.plots import save_figure
+        from express.analysis.study.figures import figure_tornado
 
         save_figure(figure_tornado(result, title=f"{vehicle.equations.name}: critical speed "
                                    f"{result.critical_speed / common.KMH:.1f} km/h, sensitivities"), plot)
@@ -104,7 +104,7 @@ def _critical(vehicle, names: list[str], vmin: float, vmax: float, plot: Path | 
 
 
 def _eigenvalue(vehicle, names: list[str], speed: float) -> dict:
-    from ..analysis.study.sensitivity import eigenvalue_derivatives
+    from express.analysis.study.sensitivity import eigenvalue_derivatives
 
     eigenvalues, derivatives = eigenvalue_derivatives(vehicle, speed, names)
     k = 0

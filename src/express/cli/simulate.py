@@ -16,8 +16,8 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
-from ..diagnostics import AnalysisError, UsageError
-from . import common
+from express.base.diagnostics import AnalysisError, UsageError
+from express.cli import common
 
 __all__ = ["DIVERGED_CLEARANCES", "MAX_STEPS", "add_parser", "run"]
 
@@ -71,7 +71,7 @@ def run(
     as_json: bool = False,
 ) -> int:
     """Simulate and write the outputs all together; returns the exit status."""
-    from ..io.output import output_transaction
+    from express.io.output import output_transaction
 
     outputs = list(outputs or [])
     if "-" in outputs and as_json:
@@ -123,7 +123,7 @@ def _files_read_by(road: Any) -> list[str]:
 def _simulate(vehicle: Any, road: Any, speed: float, dt: float, linear: bool) -> Any:
     import numpy as np
 
-    from ..analysis.simulate import simulate
+    from express.analysis.simulate import simulate
 
     with np.errstate(over="ignore", invalid="ignore"):  # a diverging run is reported by find_divergence
         return simulate(vehicle, road, speed=speed, dt=dt, flange=not linear, saturation=not linear,
@@ -134,7 +134,7 @@ def _write(result: Any, outputs: list[str], plot: Path | None, title: str) -> No
     for path in outputs:
         result.save(path)
     if plot is not None:
-        from ..analysis.plots import figure_simulation, save_figure
+        from express.analysis.plots import figure_simulation, save_figure
 
         save_figure(figure_simulation(result.distance, result.outputs, title=title), plot)
 
@@ -168,7 +168,7 @@ def _diverged(result: Any, vehicle: Any, divergence: Divergence, outputs: list[s
     """Keep the history before ``divergence`` beside each output; return the message."""
     import numpy as np
 
-    from ..analysis.stability import eigen_analysis
+    from express.analysis.stability import eigen_analysis
 
     k = divergence.index
     message = (f"simulate: the run diverged at t = {result.time[k]:.4g} s, d1 = {result.distance[k]:.1f} m: "

@@ -7,8 +7,8 @@ import math
 import sys
 from pathlib import Path
 
-from ..diagnostics import UsageError
-from . import common
+from express.base.diagnostics import UsageError
+from express.cli import common
 
 __all__ = ["add_parser", "run"]
 
@@ -39,8 +39,8 @@ def add_parser(subparsers) -> None:
 def run(study: Path, output: str, *, workers: int | None = None, scheduler: str | None = None, resume: bool = False,
         plot: Path | None = None, as_json: bool = False) -> int:
     """Run the study and write its results; returns the exit status."""
-    from ..analysis.study.run import run_study
-    from ..analysis.study.spec import read_study
+    from express.analysis.study.run import run_study
+    from express.analysis.study.spec import read_study
 
     if scheduler is not None and workers is not None:
         raise UsageError("--workers is for local processes; with --scheduler the cluster's workers run the points")
@@ -62,7 +62,7 @@ def run(study: Path, output: str, *, workers: int | None = None, scheduler: str 
 def _check_plot(spec, plot: Path) -> None:
     if spec.kind != "grid" or not 1 <= len(spec.parameters) <= 2:
         raise UsageError("--plot draws a grid study of one or two parameters")
-    from ..io.output import check_destination
+    from express.io.output import check_destination
 
     check_destination(plot, inputs=[spec.path, spec.model], binary=True)
 
@@ -70,10 +70,10 @@ def _check_plot(spec, plot: Path) -> None:
 def _plot(spec, output: Path, plot: Path) -> None:
     import numpy as np
 
-    from ..analysis.plots import save_figure
-    from ..analysis.study.figures import figure_study_map
-    from ..analysis.study.outputs import OUTPUTS
-    from ..analysis.study.results import read_table
+    from express.analysis.plots import save_figure
+    from express.analysis.study.figures import figure_study_map
+    from express.analysis.study.outputs import OUTPUTS
+    from express.analysis.study.results import read_table
 
     table = read_table(output)
     name = spec.outputs[0]
@@ -88,7 +88,7 @@ def _plot(spec, output: Path, plot: Path) -> None:
 
 def _display(r) -> tuple[float, str]:
     """Display factor and unit of a parameter: as the study file wrote it."""
-    from ..units import unit_factor
+    from express.base.units import unit_factor
 
     if r.unit:
         return unit_factor(r.unit), r.unit

@@ -17,8 +17,8 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ..diagnostics import ModelError, Problem
-from ..model import Model
+from express.base.diagnostics import ModelError, Problem
+from express.model.records import Model
 
 __all__ = ["DrawnBody", "DrawnElement", "ModelGeometry", "displaced_geometry", "model_geometry", "point_displacement"]
 
@@ -93,7 +93,7 @@ def model_geometry(model: Model, value: Callable[[object], float], roles: Mappin
         Turns a parameter expression into a float [SI]; raises ``ModelError`` (or
         ``KeyError``/``ValueError``) for an expression it cannot evaluate.
     roles : mapping of str to str, optional
-        Body id -> role (``express.topology``), drawn in the body's style.
+        Body id -> role (``express.model.topology``), drawn in the body's style.
 
     Raises
     ------

@@ -18,10 +18,10 @@ from pathlib import Path
 
 import numpy as np
 
-from ..statespace import VehicleModel
-from ..units import KMH
-from .geometry import ModelGeometry, displaced_geometry, point_displacement
-from .views import figure_model
+from express.base.units import KMH
+from express.drawing.geometry import ModelGeometry, displaced_geometry, point_displacement
+from express.drawing.views import figure_model
+from express.numeric.statespace import VehicleModel
 
 __all__ = ["DISPLAY_FRACTION", "ModeShape", "animate_mode_shape", "figure_mode_shape", "mode_shape"]
 
@@ -108,7 +108,7 @@ def animate_mode_shape(geometry: ModelGeometry, mode: ModeShape, suffix: str, la
     self-contained HTML page (``".html"``), returned as bytes."""
     from matplotlib.animation import FuncAnimation, PillowWriter
 
-    from .views import draw_view
+    from express.drawing.views import draw_view
 
     if suffix not in (".gif", ".html"):
         raise ValueError(f"animation format {suffix!r}: use .gif or .html")

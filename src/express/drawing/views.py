@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .geometry import DrawnElement, ModelGeometry
+from express.drawing.geometry import DrawnElement, ModelGeometry
 
 __all__ = ["VIEWS", "draw_view", "figure_model"]
 

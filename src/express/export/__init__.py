@@ -1,4 +1,4 @@
-"""Exporters: turn an :class:`~express.equations.EquationsOfMotion` into text.
+"""Exporters: turn an :class:`~express.assembly.equations.EquationsOfMotion` into text.
 
 Every exporter is a pure function ``EquationsOfMotion -> str``; writing the file is the
 caller's job. The same record always gives the same string.
@@ -27,7 +27,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
-from express.equations import EquationsOfMotion
+from express.assembly.equations import EquationsOfMotion
 from express.export.json_export import to_json
 from express.export.latex import to_latex
 from express.export.matlab import to_matlab

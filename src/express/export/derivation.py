@@ -4,7 +4,7 @@ A model's parameters are *given* (a number, from the file or ``--set``) or *deri
 from others: closed forms (``P0 = g*(mc + 2*mt + 4*mw)/8``) and function nodes without a
 closed form (``[rail.creep]``: f1, f2 from the Hertz ellipse and Kalker's table).  The
 equations record keeps these steps in evaluation order
-(:attr:`~express.equations.EquationsOfMotion.derivation`); this module owns
+(:attr:`~express.assembly.equations.EquationsOfMotion.derivation`); this module owns
 
 * :func:`derivation_plan`: the steps an export needs for the parameters of its matrices
   (in order), the parameters they compute and the given parameters the export takes;
@@ -21,7 +21,7 @@ from typing import Any
 
 import sympy as sp
 
-from express.equations import DerivationCall, DerivationStep, DerivedParameter, EquationsOfMotion
+from express.assembly.equations import DerivationCall, DerivationStep, DerivedParameter, EquationsOfMotion
 
 __all__ = ["FUNCTIONS", "DerivationPlan", "derivation_json", "derivation_plan", "step_outputs"]
 
@@ -49,7 +49,7 @@ class DerivationPlan:
         Names the steps compute, in evaluation order.
     steps : tuple of DerivedParameter or DerivationCall
         The steps needed by the matrices, in evaluation order (a subsequence of the
-        record's :attr:`~express.equations.EquationsOfMotion.derivation`).
+        record's :attr:`~express.assembly.equations.EquationsOfMotion.derivation`).
     """
 
     given: tuple[str, ...]

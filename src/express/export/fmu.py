@@ -23,8 +23,8 @@ import uuid
 import zipfile
 from pathlib import Path
 
-from ..io.output import npz_bytes
-from .linear_system import LinearSystem
+from express.export.linear_system import LinearSystem
+from express.io.output import npz_bytes
 
 __all__ = ["fmu_model_name", "to_fmu_bytes"]
 

@@ -6,7 +6,7 @@ This module owns
   that outside tools read), and :func:`dense_rows`, which gives the dense rows of a
   matrix from either form of the contract;
 * :func:`matrix_items`, the canonical order of the matrices of an
-  :class:`~express.equations.EquationsOfMotion` and the check of their shapes, used by
+  :class:`~express.assembly.equations.EquationsOfMotion` and the check of their shapes, used by
   every exporter so that all formats list the same matrices in the same order;
 * :func:`matrix_entries`, the non-zero entries of a matrix in row-major order, read
   from its sparse storage: every exporter walks these, so that its cost follows the
@@ -45,9 +45,9 @@ from typing import Any
 import sympy as sp
 from sympy.matrices.immutable import ImmutableRepMatrix
 
-from express.equations import MATRIX_ORDER, EquationsOfMotion
+from express.assembly.equations import MATRIX_ORDER, EquationsOfMotion
+from express.base.units import UnitError, format_quantity
 from express.export.derivation import derivation_json, derivation_plan
-from express.units import UnitError, format_quantity
 
 __all__ = [
     "FORMAT",

@@ -35,7 +35,7 @@ import re
 import sympy as sp
 from sympy.printing.latex import LatexPrinter, greek_letters_set, translate
 
-from express.equations import EquationsOfMotion
+from express.assembly.equations import EquationsOfMotion
 from express.export.json_export import matrix_entries, matrix_items, parameter_symbols, shown_value
 
 __all__ = ["MAX_COLUMNS", "MAX_MATRIX_ROWS", "latex_dof_name", "latex_symbol_name", "to_latex"]

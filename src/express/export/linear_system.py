@@ -13,7 +13,7 @@ displacements and velocities).  The result is a standard ``(A, B, C, D)`` with
 
 Examples
 --------
->>> from express.statespace import load_vehicle
+>>> from express.numeric.statespace import load_vehicle
 >>> system = linear_system(load_vehicle("examples/conventional.toml"), 30.0)
 >>> system.A.shape, system.B.shape, system.D.shape
 ((40, 40), (40, 22), (40, 22))
@@ -28,7 +28,7 @@ from typing import Any
 
 import numpy as np
 
-from ..statespace import VehicleModel
+from express.numeric.statespace import VehicleModel
 
 __all__ = ["LinearSystem", "linear_system", "numeric_matrices", "to_control", "to_scipy"]
 
@@ -71,7 +71,7 @@ def linear_system(vehicle: VehicleModel, speed: float) -> LinearSystem:
     a = vehicle.state_matrix(speed)
     b = vehicle.input_matrix(speed)
     bd = vehicle.input_rate_matrix(speed)
-    # state [q; q_D'] (express.first_order): series elements' strokes have no rate state
+    # state [q; q_D'] (express.assembly.first_order): series elements' strokes have no rate state
     names = tuple(vehicle.dofs) + tuple(f"{vehicle.dofs[i]}_dot" for i in vehicle.form.massive)
     return LinearSystem(
         A=a,

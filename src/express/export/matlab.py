@@ -30,7 +30,7 @@ distinct entry printed once), so the cost follows their number, not ``n**2``.
 Derived parameters
 ------------------
 When the model derives parameters from others (the record's
-:attr:`~express.equations.EquationsOfMotion.derivation`), the function takes the
+:attr:`~express.assembly.equations.EquationsOfMotion.derivation`), the function takes the
 *given* parameters only (``p`` and the default struct hold those) and computes the
 derived ones after unpacking them, before the matrices::
 
@@ -79,7 +79,7 @@ from typing import Any
 import sympy as sp
 from sympy.printing.octave import OctaveCodePrinter
 
-from express.equations import DerivationCall, DerivationStep, DerivedParameter, EquationsOfMotion
+from express.assembly.equations import DerivationCall, DerivationStep, DerivedParameter, EquationsOfMotion
 from express.export.assignments import EntryCode, matrix_assignments
 from express.export.derivation import FUNCTIONS, DerivationPlan, derivation_plan
 from express.export.json_export import matrix_items, parameter_symbols, shown_value

@@ -15,7 +15,7 @@ sympy at run time, no ``eval``) and provides::
 raises ``KeyError`` naming the missing ones; ``matrices()`` uses ``VALUES`` when it has
 every parameter. To change a few values: ``matrices({**VALUES, "m": 40e3})``.
 
-A model with derived parameters (:attr:`~express.equations.EquationsOfMotion.derivation`)
+A model with derived parameters (:attr:`~express.assembly.equations.EquationsOfMotion.derivation`)
 gets a module that computes them: ``PARAMETERS`` and ``VALUES`` are then the *given*
 parameters only, and the module adds::
 
@@ -45,7 +45,7 @@ from typing import Any
 import sympy as sp
 from sympy.printing.numpy import NumPyPrinter
 
-from express.equations import DerivedParameter, EquationsOfMotion
+from express.assembly.equations import DerivedParameter, EquationsOfMotion
 from express.export.assignments import EntryCode, matrix_assignments
 from express.export.derivation import FUNCTIONS, DerivationPlan, derivation_plan
 from express.export.json_export import matrix_items, shown_value

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import sympy as sp
 
-from express.equations import EquationsOfMotion
+from express.assembly.equations import EquationsOfMotion
 from express.export.json_export import matrix_entries, matrix_items, parameter_symbols, shown_value
 
 __all__ = ["is_symmetric", "to_text"]

@@ -4,11 +4,11 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ..diagnostics import ModelError, Problem
-from ..model import Model
-from .classic import parse_classic, read_classic
-from .toml_model import parse_toml_model, read_toml_model
-from .toml_writer import model_to_toml
+from express.base.diagnostics import ModelError, Problem
+from express.io.classic import parse_classic, read_classic
+from express.io.toml_model import parse_toml_model, read_toml_model
+from express.io.toml_writer import model_to_toml
+from express.model.records import Model
 
 __all__ = ["load_model", "model_to_toml", "parse_classic", "parse_toml_model", "read_classic", "read_toml_model"]
 

@@ -13,10 +13,11 @@ from pathlib import Path
 
 import sympy as sp
 
-from ..diagnostics import ModelError, Problem
-from ..expressions import ExpressionError, parse_expression
-from ..limits import exceeded, read_input_text
-from ..model import (
+from express.base.diagnostics import ModelError, Problem
+from express.base.expressions import ExpressionError, parse_expression
+from express.base.limits import exceeded, read_input_text
+from express.model.parameter_ranges import check_ranges
+from express.model.records import (
     AXES,
     DOF_NAMES,
     Body,
@@ -27,7 +28,6 @@ from ..model import (
     PinnedJoint,
     check_model,
 )
-from ..parameter_ranges import check_ranges
 
 __all__ = ["model_name_from_path", "parse_classic", "read_classic", "read_model_text"]
 
@@ -56,7 +56,7 @@ def model_name_from_path(path: str | Path) -> str:
 
 def read_model_text(path: str | Path) -> str:
     """The text of a model file, refused beyond the size limit before it is read
-    whole (:func:`express.limits.read_input_text`, ``EXPRESS_MAX_FILE_MB``) and when
+    whole (:func:`express.base.limits.read_input_text`, ``EXPRESS_MAX_FILE_MB``) and when
     it is not UTF-8 text."""
     return read_input_text(path)
 

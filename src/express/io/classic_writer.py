@@ -9,8 +9,8 @@ from __future__ import annotations
 
 from typing import Any
 
-from ..model import DOF_NAMES, Model
-from .toml_writer import value_text
+from express.io.toml_writer import value_text
+from express.model.records import DOF_NAMES, Model
 
 __all__ = ["model_to_classic"]
 

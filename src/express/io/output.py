@@ -24,7 +24,7 @@ Guarantees (``docs/cli.md``, "Outputs"):
 
 :func:`write_bytes` / :func:`write_text` join the active transaction when there is one,
 so library code (figures, the demo) takes part in a command's all-or-nothing without
-knowing about it.  Errors are :class:`express.diagnostics.OutputError` (exit status 2).
+knowing about it.  Errors are :class:`express.base.diagnostics.OutputError` (exit status 2).
 """
 
 from __future__ import annotations
@@ -44,7 +44,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ..diagnostics import OutputError
+from express.base.diagnostics import OutputError
 
 __all__ = [
     "STDOUT",

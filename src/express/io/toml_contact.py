@@ -21,8 +21,8 @@ from typing import Any
 
 import sympy as sp
 
-from ..model import Derivation
-from ..units import UnitError, check_dimension, parse_quantity
+from express.base.units import UnitError, check_dimension, parse_quantity
+from express.model.records import Derivation
 
 __all__ = ["PROFILE_INPUTS", "PROFILE_OUTPUTS", "conicity_value"]
 

@@ -35,7 +35,7 @@ positions and rail data.  ``docs/model-format.md`` documents every key; in short
     non_virtual = "C6"
 
 Every problem is collected and reported with the file, the line, the item and what
-is wrong.  Values are parsed by :mod:`express.expressions`, never evaluated.
+is wrong.  Values are parsed by :mod:`express.base.expressions`, never evaluated.
 """
 
 from __future__ import annotations
@@ -48,10 +48,15 @@ from typing import Any
 
 import sympy as sp
 
-from ..diagnostics import ModelError, Problem
-from ..expressions import ExpressionError, is_valid_name, parse_expression
-from ..limits import exceeded
-from ..model import (
+from express.base.diagnostics import ModelError, Problem
+from express.base.expressions import ExpressionError, is_valid_name, parse_expression
+from express.base.limits import exceeded
+from express.base.units import UnitError, parse_quantity, unit_factor
+from express.io.classic import model_name_from_path, read_model_text
+from express.io.toml_contact import conicity_value
+from express.io.toml_lines import line_index as _line_index
+from express.model.parameters import parameter_problems, resolve
+from express.model.records import (
     DOF_NAMES,
     Body,
     ConnectionPoint,
@@ -66,11 +71,6 @@ from ..model import (
     Wheelset,
     check_model,
 )
-from ..parameters import parameter_problems, resolve
-from ..units import UnitError, parse_quantity, unit_factor
-from .classic import model_name_from_path, read_model_text
-from .toml_contact import conicity_value
-from .toml_lines import line_index as _line_index
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -213,7 +213,7 @@ def _show(value: Any) -> str:
 def _parameters(reader: _Reader, table: dict) -> dict[str, Parameter]:
     """Parameters: numbers (SI), quantities with units, or expressions of others.
 
-    Values are not computed here: :func:`express.parameters.resolve` evaluates the
+    Values are not computed here: :func:`express.model.parameters.resolve` evaluates the
     graph (in dependency order, refusing cycles) once the whole model is read.
     """
     parameters: dict[str, Parameter] = {}
@@ -519,8 +519,8 @@ def parse_toml_model(text: str, source: str = "<string>") -> Model:
     parameters = _parameters(reader, reader.table(data.get("parameters", {}), ("parameters",), "parameters"))
 
     bodies, grounds, points, elements, pins = _items(reader, data)
-    if "substructures" in data or "instances" in data:  # express.substructures
-        from .toml_substructures import read_substructures
+    if "substructures" in data or "instances" in data:  # express.model.substructures
+        from express.io.toml_substructures import read_substructures
 
         extra, found = read_substructures(reader, data)
         reader.problems.extend(found)
@@ -546,7 +546,7 @@ def parse_toml_model(text: str, source: str = "<string>") -> Model:
         gravity=_gravity(reader, data),
     )
     # a name without value is allowed (symbolic generation); an analysis that needs
-    # numbers names the items using it (express.parameters.undefined_name_problems)
+    # numbers names the items using it (express.model.parameters.undefined_name_problems)
     problems = reader.problems + check_model(model) + parameter_problems(model)
     if problems:
         raise ModelError(problems)
@@ -554,7 +554,7 @@ def parse_toml_model(text: str, source: str = "<string>") -> Model:
 
 
 def _size_problems(data: dict, source: str) -> list[Problem]:
-    """The model's size against :mod:`express.limits`, counted on the parsed file
+    """The model's size against :mod:`express.base.limits`, counted on the parsed file
     before any item is read (instances count their substructure's items)."""
 
     def count(table: Any, key: str) -> int:

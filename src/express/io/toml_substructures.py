@@ -22,7 +22,7 @@ elements attach to).  An instance names the substructure, a ``prefix`` for the i
     connect = { seat_L = "CB_T1L", seat_R = "CB_T1R" }
     rename = { T = "T1" }
 
-The expansion itself is :mod:`express.substructures`.
+The expansion itself is :mod:`express.model.substructures`.
 """
 
 from __future__ import annotations
@@ -30,7 +30,7 @@ from __future__ import annotations
 import re
 from typing import Any
 
-from ..substructures import Instance, Items, Substructure, expand
+from express.model.substructures import Instance, Items, Substructure, expand
 
 __all__ = ["read_substructures"]
 
@@ -68,7 +68,7 @@ def read_substructures(reader, data: dict) -> tuple[Items, list]:
         Problems of the expansion (missing parameters, connectors, ...); problems of
         the file's syntax go to ``reader``.
     """
-    from .toml_model import _check_id, _items
+    from express.io.toml_model import _check_id, _items
 
     substructures: dict[str, Substructure] = {}
     table = reader.table(data.get("substructures", {}), ("substructures",), "substructures")

@@ -1,6 +1,6 @@
 """Writer of the modern (TOML) model format: ``express convert``.
 
-Turns any :class:`~express.model.Model` (typically read from a classic file) into a
+Turns any :class:`~express.model.records.Model` (typically read from a classic file) into a
 TOML file that reads back to the same model.  Exact values are written as TOML
 numbers when they are decimals (``3/10`` -> ``0.3``) and as expression strings
 otherwise.
@@ -13,8 +13,8 @@ import re
 
 import sympy as sp
 
-from ..model import Model, Parameter
-from ..units import unit_factor
+from express.base.units import unit_factor
+from express.model.records import Model, Parameter
 
 __all__ = ["model_to_toml", "value_text", "value_to_toml"]
 

@@ -3,7 +3,7 @@
 Also registers the ``"kalker"`` derivation of the parameter graph (``[rail.creep]``:
 creep coefficients from the contact) and the ``"profiles"`` one (conicity and contact
 terms from wheel and rail profiles, :mod:`express.rail.profile_contact`), see
-:mod:`express.parameters`.
+:mod:`express.model.parameters`.
 
 Inputs are named and ordered as the paper's eq. (13): the irregularity at every
 wheelset (``W1.yR``, ...), the flange penetrations (``W1.dy``, ...), the curvature
@@ -17,11 +17,11 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
-from ..generator import AddedTerms, GenerationResult, generate
-from ..model import Derivation, Model
-from ..parameters import register_derivation
-from .curve import Station, cant_deficiency_forces, curvature_point_inputs, station_of, stations
-from .wheelrail import flange_input, irregularity_input, wheelset_terms
+from express.assembly.generator import AddedTerms, GenerationResult, generate
+from express.model.parameters import register_derivation
+from express.model.records import Derivation, Model
+from express.rail.curve import Station, cant_deficiency_forces, curvature_point_inputs, station_of, stations
+from express.rail.wheelrail import flange_input, irregularity_input, wheelset_terms
 
 __all__ = ["RailLayout", "generate_vehicle", "rail_layout", "rail_terms"]
 
@@ -120,13 +120,13 @@ def _profile_nodes(model: Model) -> dict[str, Derivation]:
     that has a profiles derivation."""
     if not any(derivation.kind == PROFILES for derivation in model.derivations):
         return {}
-    from .profile_contact import profile_nodes
+    from express.rail.profile_contact import profile_nodes
 
     return profile_nodes(model)
 
 
 def _contact_terms(node: Derivation) -> dict:
-    from .profile_contact import contact_terms
+    from express.rail.profile_contact import contact_terms
 
     return contact_terms(node)
 
@@ -134,7 +134,7 @@ def _contact_terms(node: Derivation) -> dict:
 def _kalker(wheel_load: float, wheel_radius: float, rail_head_radius: float, youngs_modulus: float, poisson: float) -> dict[str, float]:
     """The ``"kalker"`` derivation of ``[rail.creep]``: f11, f22 [N] per wheel from the
     Hertz ellipse and Kalker's Table E.3 (:func:`express.rail.contact.creep_coefficients`)."""
-    from .contact import creep_coefficients  # SciPy's special functions and root finder: on first use
+    from express.rail.contact import creep_coefficients  # SciPy's special functions and root finder: on first use
 
     coefficients = creep_coefficients(wheel_load, wheel_radius, rail_head_radius, youngs_modulus, poisson)
     return {"f11": coefficients.f11, "f22": coefficients.f22}
@@ -143,7 +143,7 @@ def _kalker(wheel_load: float, wheel_radius: float, rail_head_radius: float, you
 def _profiles(**arguments: Any) -> Mapping[str, float]:
     """The ``"profiles"`` derivation (:func:`express.rail.profile_contact.profile_derivation`),
     its module imported on first use."""
-    from .profile_contact import profile_derivation
+    from express.rail.profile_contact import profile_derivation
 
     return profile_derivation(**arguments)
 

@@ -29,10 +29,10 @@ from pathlib import Path
 import numpy as np
 from numba import njit
 
-from ..diagnostics import ModelError, Problem, RowProblems, excerpt
-from ..limits import read_input_text
-from .contact_geometry import ContactSetup, ContactTable, contact_geometry
-from .profiles import Profile, row_numbers
+from express.base.diagnostics import ModelError, Problem, RowProblems, excerpt
+from express.base.limits import read_input_text
+from express.rail.contact_geometry import ContactSetup, ContactTable, contact_geometry
+from express.rail.profiles import Profile, row_numbers
 
 __all__ = [
     "DeltaR",

@@ -41,7 +41,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from .contact_tables import (
+from express.rail.contact_tables import (
     ANGLE,
     ARM,
     C11,
@@ -60,7 +60,7 @@ from .contact_tables import (
     RailMap,
     rail_deflection_map,
 )
-from .creep_law import fastsim, polach
+from express.rail.creep_law import fastsim, polach
 
 __all__ = ["LAWS", "OUTPUTS", "WORK_COLUMNS", "WheelsetContact", "quasi_static_forces", "wheelset_contact", "wheelset_forces"]
 

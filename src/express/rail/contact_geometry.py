@@ -23,7 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from .profiles import Profile
+from express.rail.profiles import Profile
 
 __all__ = ["ContactJump", "ContactSetup", "ContactTable", "contact_geometry", "prepare_surfaces"]
 

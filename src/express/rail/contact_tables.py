@@ -33,9 +33,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .contact import hertz_contact, kalker_coefficients
-from .contact_geometry import ContactSetup, contact_geometry
-from .profiles import Profile
+from express.rail.contact import hertz_contact, kalker_coefficients
+from express.rail.contact_geometry import ContactSetup, contact_geometry
+from express.rail.profiles import Profile
 
 __all__ = [
     "FIELDS",

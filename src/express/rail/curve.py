@@ -26,7 +26,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from ..model import Model
+from express.model.records import Model
 
 __all__ = ["Station", "cant_deficiency_forces", "curvature_point_inputs", "stations"]
 

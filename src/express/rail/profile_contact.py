@@ -4,7 +4,7 @@ from it.
 
 A model says ``conicity = { from = "profiles", wheel = "S1002", rail = "60E1", ... }`` in
 ``[rail.wheel_rail]`` (or for one wheelset); the reader makes a
-:class:`~express.model.Derivation` of kind ``"profiles"`` whose outputs are parameters
+:class:`~express.model.records.Derivation` of kind ``"profiles"`` whose outputs are parameters
 (``docs/model-format.md``): the EN 15302 equivalent conicity at the amplitude and the
 contact quantities of the linearised wheelset, see :data:`OUTPUTS`.  Its function,
 :func:`profile_derivation`, is registered by :mod:`express.rail.build`; it is evaluated
@@ -27,14 +27,14 @@ from pathlib import Path
 import numpy as np
 import sympy as sp
 
-from ..diagnostics import ModelError
-from ..io.toml_contact import PROFILE_INPUTS, PROFILE_OUTPUTS
-from ..model import Derivation, Model
-from ..parameters import expression_value
-from .conicity import equivalent_conicity
-from .contact_forces import WheelsetContact, wheelset_contact
-from .contact_geometry import ContactSetup
-from .contact_tables import (
+from express.base.diagnostics import ModelError
+from express.io.toml_contact import PROFILE_INPUTS, PROFILE_OUTPUTS
+from express.model.parameters import expression_value
+from express.model.records import Derivation, Model
+from express.rail.conicity import equivalent_conicity
+from express.rail.contact_forces import WheelsetContact, wheelset_contact
+from express.rail.contact_geometry import ContactSetup
+from express.rail.contact_tables import (
     C11,
     C22,
     C23,
@@ -45,7 +45,7 @@ from .contact_tables import (
     contact_tables,
     linear_contact_parameters,
 )
-from .profiles import STANDARD_PROFILES, Profile, read_profile, standard_profile
+from express.rail.profiles import STANDARD_PROFILES, Profile, read_profile, standard_profile
 
 __all__ = [
     "INPUTS",
@@ -206,7 +206,7 @@ def _node_tables(node: Derivation, values: Mapping[str, float]) -> ContactTables
 def wheelset_contacts(model: Model, values: Mapping[str, float], wheelsets) -> list[WheelsetContact | None]:
     """The contact of each wheelset (``None`` where the conicity is not from profiles),
     with its wheel load, friction and rail stiffness (``wheelsets``: the numerical
-    :class:`~express.statespace.WheelsetData`, in the model's order)."""
+    :class:`~express.numeric.statespace.WheelsetData`, in the model's order)."""
     nodes = profile_nodes(model)
     contacts: list[WheelsetContact | None] = []
     for data in wheelsets:

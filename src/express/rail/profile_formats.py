@@ -49,7 +49,7 @@ inclined (as ``MBench_UIC60_v3.prr`` is) is used with inclination 1:inf.
 
 The points are then validated as two-column files are (monotonic lateral coordinate,
 plausible extent for the unit, spikes, enough points); every problem of a file is
-reported at once, with its line, as a :class:`~express.diagnostics.ModelError`.
+reported at once, with its line, as a :class:`~express.base.diagnostics.ModelError`.
 """
 
 from __future__ import annotations
@@ -60,8 +60,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..diagnostics import ModelError, Problem, RowProblems, excerpt
-from .profiles import Profile, check_profile_points
+from express.base.diagnostics import ModelError, Problem, RowProblems, excerpt
+from express.rail.profiles import Profile, check_profile_points
 
 __all__ = ["PROFILE_FORMATS", "parse_miniprof", "parse_profile_format", "parse_simpack", "profile_format"]
 

@@ -16,7 +16,7 @@ Profile files of contact software (SIMPACK ``.prr``/``.prw``, MiniProf ``.ban``/
 are read by :mod:`express.rail.profile_formats`.  Two-column files are plain text: ``#``
 comments, an optional header ``y_mm,z_mm`` (or ``y_m,z_m``) naming the unit, then two
 numbers a line separated by a comma, semicolon or blanks.  Every problem found is reported at once, with file and line, as a
-:class:`~express.diagnostics.ModelError`.
+:class:`~express.base.diagnostics.ModelError`.
 """
 
 from __future__ import annotations
@@ -29,8 +29,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..diagnostics import ModelError, Problem, RowProblems, excerpt
-from ..limits import read_input_text
+from express.base.diagnostics import ModelError, Problem, RowProblems, excerpt
+from express.base.limits import read_input_text
 
 __all__ = [
     "STANDARD_PROFILES",
@@ -154,7 +154,7 @@ def read_profile(
     path = Path(path)
     text = read_input_text(path, what="profile")  # bounded (EXPRESS_MAX_FILE_MB), UTF-8 text
     if path.suffix.lower() in (".prr", ".prw", ".ban", ".whl"):
-        from .profile_formats import parse_profile_format  # it builds on this module
+        from express.rail.profile_formats import parse_profile_format  # it builds on this module
 
         return parse_profile_format(text, kind, file=str(path), units=units, name=name or path.stem,
                                     spike_tolerance=spike_tolerance, min_points=min_points)

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import sympy as sp
 
-from ..model import Wheelset
+from express.model.records import Wheelset
 
 __all__ = ["flange_input", "irregularity_input", "wheelset_terms"]
 

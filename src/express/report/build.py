@@ -14,14 +14,14 @@ from pathlib import Path
 import numpy as np
 import sympy as sp
 
-from ..drawing.geometry import model_geometry
-from ..drawing.views import figure_model
-from ..model import Model
-from ..parameters import expression_value
-from ..statespace import VehicleModel
-from ..topology import classify_bodies
-from ..units import KMH
-from .page import Figure, Math, Section, Table, render_page, svg_of
+from express.base.units import KMH
+from express.drawing.geometry import model_geometry
+from express.drawing.views import figure_model
+from express.model.parameters import expression_value
+from express.model.records import Model
+from express.model.topology import classify_bodies
+from express.numeric.statespace import VehicleModel
+from express.report.page import Figure, Math, Section, Table, render_page, svg_of
 
 __all__ = ["MAX_EQUATION_ENTRIES", "report_html"]
 
@@ -83,7 +83,7 @@ def _parameters_section(vehicle: VehicleModel) -> Section:
     for name, parameter in sorted(model.parameters.items(), key=lambda item: item[0].lower()):
         shown = f"{parameter.value:.6g} SI" if not parameter.unit else f"{parameter.value:.6g} (SI) [{parameter.unit}]"
         try:
-            from ..units import format_quantity
+            from express.base.units import format_quantity
 
             shown = format_quantity(parameter.value, parameter.unit) if parameter.unit else f"{parameter.value:.6g}"
         except (ImportError, ValueError):
@@ -117,7 +117,7 @@ def _equations_section(vehicle: VehicleModel) -> Section:
 
 
 def _modes_section(vehicle: VehicleModel, speed: float) -> Section:
-    from ..analysis.stability import eigen_analysis
+    from express.analysis.stability import eigen_analysis
 
     result = eigen_analysis(vehicle, speed)
     rows = [(k + 1, m.real, m.imag, m.frequency_hz, m.damping_ratio, m.describe()) for k, m in enumerate(result.modes)]
@@ -129,8 +129,8 @@ def _modes_section(vehicle: VehicleModel, speed: float) -> Section:
 
 
 def _stability_section(vehicle: VehicleModel) -> Section:
-    from ..analysis.plots import figure_eigen_locus
-    from ..analysis.stability import critical_speed, root_locus
+    from express.analysis.plots import figure_eigen_locus
+    from express.analysis.stability import critical_speed, root_locus
 
     v_min, v_max = 1.0, 150.0
     result = critical_speed(vehicle, v_min=v_min, v_max=v_max)
@@ -142,8 +142,8 @@ def _stability_section(vehicle: VehicleModel) -> Section:
 
 
 def _curving_section(vehicle: VehicleModel) -> Section:
-    from ..analysis.simulate import simulate
-    from ..rail.track import paper_curve
+    from express.analysis.simulate import simulate
+    from express.rail.track import paper_curve
 
     track = paper_curve()
     run = simulate(vehicle, track, progress=False)
@@ -156,8 +156,8 @@ def _curving_section(vehicle: VehicleModel) -> Section:
 
 
 def _frequency_section(vehicle: VehicleModel) -> Section | None:
-    from ..analysis.frequency import frequency_response
-    from ..analysis.plots import figure_frequency_response
+    from express.analysis.frequency import frequency_response
+    from express.analysis.plots import figure_frequency_response
 
     rail = _model_of(vehicle).rail
     points = [p.name for p in rail.outputs] if rail is not None else []
@@ -184,7 +184,7 @@ def report_html(vehicle: VehicleModel, *, speed: float | None = None) -> str:
     Parameters
     ----------
     vehicle : VehicleModel
-        Numerical vehicle with its model (``express.statespace.load_vehicle``).
+        Numerical vehicle with its model (``express.numeric.statespace.load_vehicle``).
     speed : float, optional
         Speed of the modes table [m/s]; the model's speed by default (1 m/s for a model
         without rail data, whose matrices do not depend on it).

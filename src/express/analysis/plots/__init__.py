@@ -14,15 +14,20 @@ Modules: ``_base`` (style, figure creation, saving), ``paper_figures`` (Figs. 3,
 11 and a simulation run), ``stability_maps`` (root locus, damping ratios).
 """
 
-from ._base import FIGURE_SUFFIXES, STYLE, save_figure
-from .paper_figures import (
+from express.analysis.plots._base import FIGURE_SUFFIXES, STYLE, save_figure
+from express.analysis.plots.paper_figures import (
     figure_critical_speed,
     figure_curving,
     figure_frequency_response,
     figure_lever_step,
     figure_simulation,
 )
-from .stability_maps import figure_damping_vs_speed, figure_eigen_locus, figure_root_locus_complex, mode_branches
+from express.analysis.plots.stability_maps import (
+    figure_damping_vs_speed,
+    figure_eigen_locus,
+    figure_root_locus_complex,
+    mode_branches,
+)
 
 __all__ = [
     "FIGURE_SUFFIXES",

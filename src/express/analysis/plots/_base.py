@@ -95,12 +95,12 @@ def save_figure(figure, path: str | Path | Sequence[str | Path]) -> list[Path]:
     ------
     ValueError
         For another suffix (checked before anything is written).
-    express.diagnostics.OutputError
+    express.base.diagnostics.OutputError
         When a destination cannot be written.
     """
     import matplotlib
 
-    from ...io.output import write_bytes
+    from express.io.output import write_bytes
 
     paths = [Path(path)] if isinstance(path, (str, Path)) else [Path(p) for p in path]
     for target in paths:

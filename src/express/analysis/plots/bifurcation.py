@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._base import _BLUE, _GREY, _ORANGE, _RED, _new_figure, _styled
+from express.analysis.plots._base import _BLUE, _GREY, _ORANGE, _RED, _new_figure, _styled
 
 __all__ = ["figure_bifurcation"]
 

@@ -11,7 +11,7 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
-from ._base import (
+from express.analysis.plots._base import (
     _BLUE,
     _GREEN,
     _GREY,

@@ -12,7 +12,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from ._base import _BLUE, _GREEN, _GREY, _ORANGE, _PURPLE, _RED, _new_figure, _styled
+from express.analysis.plots._base import _BLUE, _GREEN, _GREY, _ORANGE, _PURPLE, _RED, _new_figure, _styled
 
 __all__ = ["figure_damping_vs_speed", "figure_eigen_locus", "figure_root_locus_complex", "mode_branches"]
 

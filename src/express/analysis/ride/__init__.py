@@ -10,7 +10,7 @@
 - :mod:`.figures`: acceleration PSDs with their weighted curves.
 """
 
-from .comfort import (
+from express.analysis.ride.comfort import (
     EN12299_WINDOW,
     SPERLING_BAND,
     SPERLING_CONSTANT,
@@ -23,8 +23,8 @@ from .comfort import (
     sperling_index_time,
     window_rms,
 )
-from .figures import figure_ride_spectra
-from .spectral import (
+from express.analysis.ride.figures import figure_ride_spectra
+from express.analysis.ride.spectral import (
     delay_factors,
     frequency_response,
     harmonic_realisation,
@@ -40,7 +40,7 @@ from .spectral import (
     wheelbase_filter,
     wheelset_delays,
 )
-from .summaries import (
+from express.analysis.ride.summaries import (
     PointComfort,
     WheelForces,
     comfort_from_psd,
@@ -50,8 +50,15 @@ from .summaries import (
     wheel_forces,
     y_over_q_level,
 )
-from .vehicle import TRACK_CLASSES, RailInputs, RideResponse, rail_inputs, ride_response, track_class_spectra
-from .weighting import (
+from express.analysis.ride.vehicle import (
+    TRACK_CLASSES,
+    RailInputs,
+    RideResponse,
+    rail_inputs,
+    ride_response,
+    track_class_spectra,
+)
+from express.analysis.ride.weighting import (
     WB,
     WC,
     WD,

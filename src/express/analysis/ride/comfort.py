@@ -60,9 +60,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy import stats
 
-from ...diagnostics import InputError
-from .spectral import check_frequencies, check_psd, spectral_variance
-from .weighting import WB, WD, FrequencyWeighting, sperling_weighting, weigh_time_history
+from express.analysis.ride.spectral import check_frequencies, check_psd, spectral_variance
+from express.analysis.ride.weighting import WB, WD, FrequencyWeighting, sperling_weighting, weigh_time_history
+from express.base.diagnostics import InputError
 
 __all__ = [
     "EN12299_WINDOW",

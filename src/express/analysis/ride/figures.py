@@ -12,7 +12,7 @@ from collections.abc import Mapping
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .weighting import WB, WD, sperling_weighting
+from express.analysis.ride.weighting import WB, WD, sperling_weighting
 
 __all__ = ["figure_ride_spectra"]
 
@@ -47,7 +47,7 @@ def figure_ride_spectra(
     import matplotlib
     from matplotlib.figure import Figure
 
-    from ..plots import STYLE
+    from express.analysis.plots import STYLE
 
     f = np.asarray(frequencies, dtype=float)
     axes_used = [axis for axis in ("y", "z", "x") if any(axis in by_axis for by_axis in spectra.values())]

@@ -46,7 +46,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.integrate import trapezoid
 
-from ...diagnostics import InputError
+from express.base.diagnostics import InputError
 
 __all__ = [
     "check_frequencies",

@@ -16,12 +16,12 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ...diagnostics import InputError
-from ...statespace import VehicleModel
-from .comfort import mean_comfort, mean_comfort_spectral, sperling_index, sperling_index_time
-from .spectral import check_frequencies, check_psd, spectral_rms
-from .vehicle import AXES, RideResponse, _outputs, point_rows
-from .weighting import WB, WD, weigh_time_history
+from express.analysis.ride.comfort import mean_comfort, mean_comfort_spectral, sperling_index, sperling_index_time
+from express.analysis.ride.spectral import check_frequencies, check_psd, spectral_rms
+from express.analysis.ride.vehicle import AXES, RideResponse, _outputs, point_rows
+from express.analysis.ride.weighting import WB, WD, weigh_time_history
+from express.base.diagnostics import InputError
+from express.numeric.statespace import VehicleModel
 
 __all__ = [
     "PointComfort",
@@ -222,7 +222,7 @@ def simulation_accelerations(vehicle: VehicleModel, result: Any, track: Any) -> 
     track : express.rail.track.Track
         The track of the run.
     """
-    from ..simulate import track_inputs
+    from express.analysis.simulate import track_inputs
 
     options = result.options
     linear = not (options.get("flange") or options.get("saturation") or options.get("clearances"))

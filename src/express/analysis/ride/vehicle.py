@@ -1,6 +1,6 @@
 """Vehicle-level ride: the stationary random response of a vehicle to track irregularity.
 
-This module owns the link between a :class:`~express.statespace.VehicleModel` and the
+This module owns the link between a :class:`~express.numeric.statespace.VehicleModel` and the
 spectral tools of :mod:`.spectral`: which inputs the track drives and how, which outputs
 are reported and what they are computed from, and the response itself
 (``docs/ride.md``, "Vehicle-level response"); :mod:`.summaries` turns a response into
@@ -30,7 +30,7 @@ rotations of rail grounds) stay zero and are listed in :attr:`RideResponse.notes
 Outputs
 -------
 - ``<point>.ax``, ``.ay``, ``.az``: acceleration [m/s^2] of each ``[rail.outputs]``
-  point, ``u = t + theta x r`` on its body (:mod:`express.kinematics`), for each
+  point, ``u = t + theta x r`` on its body (:mod:`express.assembly.kinematics`), for each
   direction in which the body's DOFs move the point;
 - ``<W>.Y``: lateral force of one wheel of wheelset W [N], half the wheelset's linear
   lateral creep force ``-2 f2 (y'/v - psi)`` (both wheels have the same creepage and
@@ -62,14 +62,20 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ...diagnostics import AnalysisError, InputError
-from ...kinematics import end_motion
-from ...model import Model
-from ...parameters import expression_value
-from ...rail.track.spectra import AAR_CLASSES, COMPONENTS, ERRI_LEVELS, FRA_CLASSES, TrackSpectrum
-from ...statespace import VehicleModel
-from ..frequency import require_stable
-from .spectral import check_frequencies, check_psd, resolvent_solve, spatial_to_temporal, spectral_rms
+from express.analysis.frequency import require_stable
+from express.analysis.ride.spectral import (
+    check_frequencies,
+    check_psd,
+    resolvent_solve,
+    spatial_to_temporal,
+    spectral_rms,
+)
+from express.assembly.kinematics import end_motion
+from express.base.diagnostics import AnalysisError, InputError
+from express.model.parameters import expression_value
+from express.model.records import Model
+from express.numeric.statespace import VehicleModel
+from express.rail.track.spectra import AAR_CLASSES, COMPONENTS, ERRI_LEVELS, FRA_CLASSES, TrackSpectrum
 
 __all__ = [
     "AXES",
@@ -108,7 +114,7 @@ _ROTATION_TERMS = {0: (("ry", 1, 2), ("rz", -1, 1)), 1: (("rz", 1, 0), ("rx", -1
 def _model(vehicle: VehicleModel) -> Model:
     """The vehicle's model (ride analyses need its points and bodies)."""
     if vehicle.model is None:
-        raise InputError("the ride analysis needs the vehicle's model (build it with express.statespace.load_vehicle)")
+        raise InputError("the ride analysis needs the vehicle's model (build it with express.numeric.statespace.load_vehicle)")
     return vehicle.model
 
 

@@ -54,7 +54,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.fft import next_fast_len
 
-from ...diagnostics import InputError
+from express.base.diagnostics import InputError
 
 __all__ = [
     "WB",

@@ -3,8 +3,8 @@
 **Matrices.** Every non-zero entry of ``M``, ``C`` and ``K`` is differentiated (SymPy)
 with respect to every parameter symbol it holds, once, when :class:`MatrixDerivatives`
 is built; the derivatives are compiled into one function of the parameters
-(:class:`express.numeric.CompiledExpressions`: common subexpressions shared, constants
-exact), as :mod:`express.numeric` compiles the matrices themselves. An evaluation is one
+(:class:`express.numeric.compiled.CompiledExpressions`: common subexpressions shared, constants
+exact), as :mod:`express.numeric.compiled` compiles the matrices themselves. An evaluation is one
 call of that function (a few microseconds per entry) giving the numbers of every
 ``dM/dq``, ``dC/dq``, ``dK/dq`` (``C`` at the speed in the values); the contraction
 ``u^H (lambda^2 dM/dq + lambda dC/dq + dK/dq) x`` that an eigenvalue derivative needs
@@ -12,7 +12,7 @@ is a gather and a segmented sum over these numbers, for every ``q`` and every
 eigenvalue at once. No symbolic work happens per evaluation.
 
 **Parameter graph.** A parameter acts on the matrices directly and through the
-parameters derived from it (the live graph of :mod:`express.parameters`). The rates
+parameters derived from it (the live graph of :mod:`express.model.parameters`). The rates
 ``dq/dp`` follow by the chain rule forward through the graph in its evaluation order
 (:class:`GraphRates`): the partial derivatives of every derived expression
 (``P0 = (mc + 2*mt + 4*mw)*g/8``) and of every argument of a derivation node are
@@ -35,9 +35,9 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 import sympy as sp
 
-from ...model import Derivation
-from ...numeric import CompiledExpressions
-from ...parameters import derivation_function, evaluation_order
+from express.model.parameters import derivation_function, evaluation_order
+from express.model.records import Derivation
+from express.numeric.compiled import CompiledExpressions
 
 __all__ = ["DERIVED_STEP", "GraphRates", "MatrixDerivatives", "graph_rates", "matrix_derivatives"]
 

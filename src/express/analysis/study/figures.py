@@ -10,7 +10,7 @@ import numpy as np
 
 __all__ = ["figure_study_map", "figure_tornado"]
 
-from ...units import KMH
+from express.base.units import KMH
 
 
 def _figure(figsize):
@@ -48,7 +48,7 @@ def figure_study_map(
     import matplotlib
     from matplotlib.ticker import ScalarFormatter
 
-    from ..plots import STYLE
+    from express.analysis.plots import STYLE
 
     def unpack(entry):
         name, grid, factor, shown_unit = entry[:4]
@@ -119,7 +119,7 @@ def figure_tornado(result, *, top: int = 15, change: float = 0.1, title: str = "
     """
     import matplotlib
 
-    from ..plots import STYLE
+    from express.analysis.plots import STYLE
 
     ranked = [s for s in result.ranked() if s.elasticity != 0][:top]
     with matplotlib.rc_context(STYLE):

@@ -36,11 +36,11 @@ import warnings
 
 import numpy as np
 
-from ...diagnostics import UsageError
-from .results import Checkpoint, ResultTable
-from .runner import Engine
-from .sampling import salib_problem, to_ranges
-from .spec import StudySpec
+from express.analysis.study.results import Checkpoint, ResultTable
+from express.analysis.study.runner import Engine
+from express.analysis.study.sampling import salib_problem, to_ranges
+from express.analysis.study.spec import StudySpec
+from express.base.diagnostics import UsageError
 
 __all__ = ["indices_csv", "run_optimisation", "sobol_indices"]
 

@@ -37,11 +37,11 @@ from typing import Any
 
 import numpy as np
 
-from .critical import CriticalOptions, CriticalSpeedSearch, StateBlocks
+from express.analysis.study.critical import CriticalOptions, CriticalSpeedSearch, StateBlocks
 
 __all__ = ["OUTPUTS", "OutputSettings", "PointOutputs"]
 
-from ...units import KMH
+from express.base.units import KMH
 
 #: Output name -> (SI unit, group). The group decides which analysis runs.
 OUTPUTS: dict[str, tuple[str, str]] = {
@@ -97,7 +97,7 @@ class OutputSettings:
     @classmethod
     def from_table(cls, table: dict, base: Path, problems: list[tuple[str, str]]) -> OutputSettings:
         """Parse ``[study.options]``; ``problems`` receives ``(key, message)`` pairs."""
-        from ...units import UnitError, parse_quantity
+        from express.base.units import UnitError, parse_quantity
 
         values: dict[str, Any] = {}
         for key, raw in table.items():
@@ -223,10 +223,10 @@ class PointOutputs:
                 "least_damping_frequency": float(abs(eigenvalues[keep][k].imag) / (2 * np.pi))}
 
     def _track_run(self, vehicle) -> dict[str, float]:
-        from ..simulate import simulate
+        from express.analysis.simulate import simulate
 
         if self._track is None:
-            from ...rail.track import load_track, paper_curve
+            from express.rail.track import load_track, paper_curve
 
             self._track = load_track(self.settings.track) if self.settings.track is not None else paper_curve()
         result = simulate(vehicle, self._track, speed=self._speed(vehicle), dt=self.settings.dt, progress=False)
@@ -239,7 +239,7 @@ class PointOutputs:
         return {"max_Q": largest(r"Q\d+"), "max_QP": largest(r"QP\d+"), "max_lever_angle": largest(r"theta_.+")}
 
     def _frf(self, vehicle) -> dict[str, float]:
-        from ..frequency import frequency_response
+        from express.analysis.frequency import frequency_response
 
         s = self.settings
         model = vehicle.model

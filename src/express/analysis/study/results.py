@@ -38,8 +38,8 @@ from typing import Any, TextIO
 
 import numpy as np
 
-from ...diagnostics import UsageError
-from .outputs import OUTPUTS
+from express.analysis.study.outputs import OUTPUTS
+from express.base.diagnostics import UsageError
 
 __all__ = ["FORMATS", "Checkpoint", "ResultTable", "checkpoint_path", "result_bytes"]
 
@@ -204,7 +204,7 @@ def _number(value: float) -> str:
 
 def csv_bytes(table: ResultTable) -> bytes:
     """The CSV file (module docstring)."""
-    from ...io.output import column_name
+    from express.io.output import column_name
 
     buffer = io.StringIO()
     writer = csv.writer(buffer, lineterminator="\n")
@@ -223,7 +223,7 @@ def parquet_bytes(table: ResultTable, metadata: dict[str, str]) -> bytes:
     columns = {name: pa.array(table.column(name), type=pa.float64()) for name in (*table.names, *table.outputs)}
     columns["error"] = pa.array(table.error_column(), type=pa.string())
     meta = {f"express.{k}": v for k, v in metadata.items()}
-    meta["express.units"] = json.dumps({n: table.units.get(n, "") for n in (*table.names, *table.outputs)})
+    meta["express.base.units"] = json.dumps({n: table.units.get(n, "") for n in (*table.names, *table.outputs)})
     arrow = pa.table(columns).replace_schema_metadata(meta)
     sink = io.BytesIO()
     pq.write_table(arrow, sink)

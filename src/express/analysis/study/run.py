@@ -21,14 +21,14 @@ from typing import Any
 
 import numpy as np
 
-from ... import __version__
-from ...diagnostics import UsageError
-from . import runner
-from .outputs import OUTPUTS
-from .results import FORMATS, Checkpoint, ResultTable, checkpoint_path, result_bytes
-from .runner import Engine, blocked, make_task
-from .sampling import study_points
-from .spec import StudySpec
+from express import __version__
+from express.analysis.study import runner
+from express.analysis.study.outputs import OUTPUTS
+from express.analysis.study.results import FORMATS, Checkpoint, ResultTable, checkpoint_path, result_bytes
+from express.analysis.study.runner import Engine, blocked, make_task
+from express.analysis.study.sampling import study_points
+from express.analysis.study.spec import StudySpec
+from express.base.diagnostics import UsageError
 
 __all__ = ["StudySummary", "default_workers", "parameter_units", "run_study"]
 
@@ -76,8 +76,8 @@ def default_workers() -> int:
 
 def parameter_units(spec: StudySpec) -> dict[str, str]:
     """SI unit of every varied parameter (from its dimension) and output."""
-    from ...io import load_model
-    from ...units import DIMENSIONS, dimension_of, si_unit
+    from express.base.units import DIMENSIONS, dimension_of, si_unit
+    from express.io import load_model
 
     model = load_model(spec.model)
     units = {name: unit for name, (unit, _group) in OUTPUTS.items()}
@@ -113,7 +113,7 @@ def _progress(total: int, done: int, enabled: bool):
 
 
 def _check_output(spec: StudySpec, output: Path) -> None:
-    from ...io.output import check_destination
+    from express.io.output import check_destination
 
     if output.suffix.lower() not in FORMATS:
         raise UsageError(f"-o {output}: unknown results format; use {', '.join(FORMATS)}")
@@ -152,7 +152,7 @@ def run_study(
     units = parameter_units(spec)
     workers = default_workers() if workers is None else workers
     if spec.kind == "optimise":
-        from .optimise import run_optimisation
+        from express.analysis.study.optimise import run_optimisation
 
         count = spec.optimiser["population"] * len(spec.parameters)
         engine = Engine(task, min(workers, count), scheduler)
@@ -176,7 +176,7 @@ def run_study(
         grid = [r.values for r in spec.parameters] if spec.kind == "grid" else None
         extra = {}
         if spec.kind == "sobol-indices":
-            from .optimise import sobol_indices
+            from express.analysis.study.optimise import sobol_indices
 
             extra["indices"] = sobol_indices(spec, table)
     files = _write(spec, output, table, grid, extra)
@@ -222,7 +222,7 @@ def _evaluate(engine: Engine, checkpoint: Checkpoint, points: np.ndarray, spec: 
 
 def _write(spec: StudySpec, output: Path, table: ResultTable, grid, extra: dict) -> list[str]:
     """The final file (and the indices of a sobol-indices study), all or nothing."""
-    from ...io.output import output_transaction, write_bytes
+    from express.io.output import output_transaction, write_bytes
 
     files = [str(output)]
     with output_transaction([spec.path, spec.model]) as transaction:
@@ -234,7 +234,7 @@ def _write(spec: StudySpec, output: Path, table: ResultTable, grid, extra: dict)
             files.append(str(indices_path))
         write_bytes(output, result_bytes(output, table, _metadata(spec), grid))
         if indices_path is not None:
-            from .optimise import indices_csv
+            from express.analysis.study.optimise import indices_csv
 
             write_bytes(indices_path, indices_csv(extra["indices"]))
     return files

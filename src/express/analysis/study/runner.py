@@ -1,8 +1,8 @@
 """Evaluating a study's points: in this process, on local processes or on a Dask cluster.
 
-Every worker builds the numerical vehicle **once** (:func:`express.statespace.load_vehicle`:
+Every worker builds the numerical vehicle **once** (:func:`express.numeric.statespace.load_vehicle`:
 the symbolic generation, about a second) and evaluates each point from its parameter
-vector with :meth:`~express.statespace.VehicleModel.with_values` (milliseconds), which
+vector with :meth:`~express.numeric.statespace.VehicleModel.with_values` (milliseconds), which
 re-evaluates the derived parameters. The task sent to a worker carries the model's (and
 the track's) text, so that workers on other machines need no shared files.
 
@@ -36,9 +36,9 @@ from typing import Any
 
 import numpy as np
 
-from ...diagnostics import ExpressError, UsageError
-from .outputs import OUTPUTS, OutputSettings, PointOutputs
-from .spec import StudySpec
+from express.analysis.study.outputs import OUTPUTS, OutputSettings, PointOutputs
+from express.analysis.study.spec import StudySpec
+from express.base.diagnostics import ExpressError, UsageError
 
 __all__ = ["BLOCK", "Engine", "StudyTask", "blocked", "chunk_size", "evaluate_points", "make_task"]
 
@@ -130,7 +130,7 @@ class _Worker:
     def __init__(self, task: StudyTask):
         import multiprocessing
 
-        from ...statespace import load_vehicle
+        from express.numeric.statespace import load_vehicle
 
         if multiprocessing.parent_process() is not None:  # a pool or Dask worker process
             from threadpoolctl import threadpool_limits

@@ -24,7 +24,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from .spec import ParameterRange, StudySpec
+from express.analysis.study.spec import ParameterRange, StudySpec
 
 __all__ = ["grid_points", "saltelli_points", "sample_points", "study_points", "to_ranges"]
 

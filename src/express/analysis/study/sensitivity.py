@@ -37,9 +37,9 @@ import numpy as np
 import scipy.linalg
 import sympy as sp
 
-from ...statespace import VehicleModel
-from .critical import CriticalOptions, StateBlocks, fast_critical_speed
-from .derivatives import graph_rates, matrix_derivatives
+from express.analysis.study.critical import CriticalOptions, StateBlocks, fast_critical_speed
+from express.analysis.study.derivatives import graph_rates, matrix_derivatives
+from express.numeric.statespace import VehicleModel
 
 __all__ = [
     "CriticalSpeedSensitivity",

@@ -15,8 +15,8 @@ point (``docs/studies.md``)::
     cyaw = "200 kN*s/m"
 
 Quantities are numbers (SI) or strings with a unit, checked against the parameter's
-dimension. Problems are :class:`~express.diagnostics.Problem` records naming the study
-file and line; :func:`read_study` raises :class:`~express.diagnostics.ModelError` with
+dimension. Problems are :class:`~express.base.diagnostics.Problem` records naming the study
+file and line; :func:`read_study` raises :class:`~express.base.diagnostics.ModelError` with
 all of them.
 """
 
@@ -29,9 +29,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ...diagnostics import ModelError, Problem
-from ...io.toml_lines import find_line, line_index
-from .outputs import OUTPUTS, OutputSettings
+from express.analysis.study.outputs import OUTPUTS, OutputSettings
+from express.base.diagnostics import ModelError, Problem
+from express.io.toml_lines import find_line, line_index
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -243,7 +243,7 @@ def _hint(name: str, choices) -> str:
 
 
 def _model(check: _Checker, study: dict, path: Path):
-    from ...io import load_model
+    from express.io import load_model
 
     name = study.get("model")
     if not isinstance(name, str) or not name.strip():
@@ -288,8 +288,8 @@ def _settings(check: _Checker, table: Any, path: Path) -> OutputSettings:
 
 
 def _dimension(parameter) -> Any:
-    """The parameter's dimension (a name or :class:`~express.units.Dimension`), or None."""
-    from ...units import dimension_of
+    """The parameter's dimension (a name or :class:`~express.base.units.Dimension`), or None."""
+    from express.base.units import dimension_of
 
     known = getattr(parameter, "dimension", None)
     if known is not None:
@@ -305,7 +305,7 @@ def _dimension(parameter) -> Any:
 
 def _quantity(check: _Checker, value: Any, parameter, where: tuple[str, ...], item: str) -> tuple[float, str] | None:
     """A number (SI) or ``"number unit"`` checked against the parameter's dimension."""
-    from ...units import UnitError, parse_quantity
+    from express.base.units import UnitError, parse_quantity
 
     if isinstance(value, bool) or not isinstance(value, (int, float, str)):
         check.add(where, item, f"expected a number or a quantity such as \"2 MN/m\", got {value!r}")

@@ -13,13 +13,13 @@ The package is split by what each module owns:
   (:func:`get_spectrum`, :func:`register_spectrum`);
 * :mod:`~express.rail.track.reader`: track files in TOML and CSV profiles
   (:func:`load_track`, :func:`track_from_dict`, :func:`read_profile_csv`), errors as
-  :class:`express.diagnostics.ModelError`.
+  :class:`express.base.diagnostics.ModelError`.
 
 Conventions and formats: ``docs/track.md``. Every public name is re-exported here, so
 ``from express.rail.track import paper_curve, load_track, Track`` works.
 """
 
-from .geometry import (
+from express.rail.track.geometry import (
     DIRECTIONS,
     MAX_CANT,
     MAX_TRACK_LENGTH,
@@ -31,7 +31,7 @@ from .geometry import (
     Transition,
     paper_curve,
 )
-from .irregularity import (
+from express.rail.track.irregularity import (
     MAX_HARMONICS,
     MAX_LATERAL_IRREGULARITY,
     MAX_SAMPLES,
@@ -42,7 +42,7 @@ from .irregularity import (
     SinusoidIrregularity,
     SpectrumIrregularity,
 )
-from .reader import (
+from express.rail.track.reader import (
     EXCERPT_CHARS,
     MAX_PROFILE_BYTES,
     MAX_ROW_PROBLEMS,
@@ -52,7 +52,7 @@ from .reader import (
     read_profile_csv,
     track_from_dict,
 )
-from .spectra import (
+from express.rail.track.spectra import (
     COMPONENTS,
     ERRI_HIGH,
     ERRI_LOW,
@@ -67,7 +67,7 @@ from .spectra import (
     get_spectrum,
     register_spectrum,
 )
-from .tables import CentrelineTable, SegmentTables
+from express.rail.track.tables import CentrelineTable, SegmentTables
 
 __all__ = [
     "COMPONENTS",

@@ -32,9 +32,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ._common import FieldProblem, FloatArray, as_input, as_output, is_finite_number, raise_if
-from .irregularity import Irregularity, NoIrregularity
-from .tables import CONSTANT, RAMP_CODES, CentrelineTable, SegmentTables, ramp
+from express.rail.track._common import FieldProblem, FloatArray, as_input, as_output, is_finite_number, raise_if
+from express.rail.track.irregularity import Irregularity, NoIrregularity
+from express.rail.track.tables import CONSTANT, RAMP_CODES, CentrelineTable, SegmentTables, ramp
 
 __all__ = [
     "DIRECTIONS",

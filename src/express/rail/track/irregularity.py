@@ -28,8 +28,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ._common import FieldProblem, FloatArray, as_input, as_output, is_finite_number, raise_if
-from .spectra import SPECTRA, TrackSpectrum, get_spectrum
+from express.rail.track._common import FieldProblem, FloatArray, as_input, as_output, is_finite_number, raise_if
+from express.rail.track.spectra import SPECTRA, TrackSpectrum, get_spectrum
 
 __all__ = [
     "MAX_HARMONICS",

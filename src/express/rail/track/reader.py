@@ -4,10 +4,10 @@ This module owns the file formats of ``docs/track.md``: :func:`load_track` reads
 TOML track file, :func:`track_from_dict` builds a :class:`~express.rail.track.geometry.Track`
 from its parsed content, :func:`read_profile_csv` reads a measured alignment.
 
-Bad input raises :class:`express.diagnostics.ModelError` listing EVERY problem, one
-:class:`~express.diagnostics.Problem` each, printed ``file:line: item: message``:
+Bad input raises :class:`express.base.diagnostics.ModelError` listing EVERY problem, one
+:class:`~express.base.diagnostics.Problem` each, printed ``file:line: item: message``:
 lines come from the shared TOML line index (:mod:`express.io.toml_lines`), quantities
-with units are parsed by :func:`express.units.parse_quantity` against the dimension
+with units are parsed by :func:`express.base.units.parse_quantity` against the dimension
 each field needs, and the ranges are those of the records themselves (their
 ``field_problems``), so a file and the Python API refuse the same values.
 
@@ -30,19 +30,19 @@ from typing import Any
 
 import numpy as np
 
-from ...diagnostics import ModelError, Problem
-from ...io.toml_lines import KeyPath, find_line, line_index
-from ...units import KMH, UnitError, parse_quantity
-from ._common import FieldProblem, is_finite_number, is_number
-from .geometry import DIRECTIONS, TRANSITION_SHAPES, Curve, Segment, Straight, Track, Transition
-from .irregularity import (
+from express.base.diagnostics import ModelError, Problem
+from express.base.units import KMH, UnitError, parse_quantity
+from express.io.toml_lines import KeyPath, find_line, line_index
+from express.rail.track._common import FieldProblem, is_finite_number, is_number
+from express.rail.track.geometry import DIRECTIONS, TRANSITION_SHAPES, Curve, Segment, Straight, Track, Transition
+from express.rail.track.irregularity import (
     Irregularity,
     NoIrregularity,
     ProfileIrregularity,
     SinusoidIrregularity,
     SpectrumIrregularity,
 )
-from .spectra import SPECTRA, get_spectrum
+from express.rail.track.spectra import SPECTRA, get_spectrum
 
 if sys.version_info >= (3, 11):
     import tomllib

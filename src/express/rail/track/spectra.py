@@ -34,7 +34,7 @@ from typing import ClassVar
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ._common import FloatArray
+from express.rail.track._common import FloatArray
 
 __all__ = [
     "AAR_CLASSES",

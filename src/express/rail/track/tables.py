@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._common import FloatArray
+from express.rail.track._common import FloatArray
 
 __all__ = ["CONSTANT", "LINEAR", "RAMP_CODES", "SINE", "CentrelineTable", "SegmentTables", "ramp"]
 

@@ -4,7 +4,7 @@ These are what every reader produces and every later stage consumes.  Values are
 exact SymPy expressions of parameter names; the parameters themselves (a value with
 a unit, an expression of other parameters, or the output of a :class:`Derivation`)
 travel alongside in :attr:`Model.parameters`, kept consistent by
-:mod:`express.parameters` (the parameter graph).  :func:`check_model` validates the
+:mod:`express.model.parameters` (the parameter graph).  :func:`check_model` validates the
 cross references and reports every problem at once.
 
 Axes and names follow ``conventions.md``: x forward, y left, z up; DOFs
@@ -19,8 +19,8 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
-from .diagnostics import Problem
-from .units import Dimension
+from express.base.diagnostics import Problem
+from express.base.units import Dimension
 
 __all__ = [
     "AXES",
@@ -165,7 +165,7 @@ class Parameter:
     name : str
     value : float
         Current value in SI units (derived values are kept up to date by
-        :mod:`express.parameters`; ``nan`` until a new model is evaluated).
+        :mod:`express.model.parameters`; ``nan`` until a new model is evaluated).
     unit : str
         The unit the user wrote (``""`` for a bare SI number or a derived value).
     line : int or None
@@ -175,7 +175,7 @@ class Parameter:
         primary one.
     derived_by : str or None
         The item of the :class:`Derivation` that sets it (``"rail.creep"``), if any.
-    dimension : express.units.Dimension or None
+    dimension : express.base.units.Dimension or None
         Its dimension: from its unit, its expression or where it is used; None if unknown.
     """
 
@@ -201,7 +201,7 @@ class Derivation:
     ``[rail.creep]`` is ``Derivation("kalker", "rail.creep", inputs=(("wheel_load",
     P0, "force"), ...), outputs=(("f11", "f1", "force"), ("f22", "f2", "force")))``.
     The function itself is registered by the layer that knows it
-    (:func:`express.parameters.register_derivation`).
+    (:func:`express.model.parameters.register_derivation`).
 
     Attributes
     ----------
@@ -339,8 +339,8 @@ class Model:
 
 def with_values(model: Model, overrides: Mapping[str, float | str]) -> Model:
     """A copy of ``model`` with parameter values replaced and every derived one
-    re-evaluated (``--set``); see :func:`express.parameters.with_values`."""
-    from .parameters import with_values as graph_with_values
+    re-evaluated (``--set``); see :func:`express.model.parameters.with_values`."""
+    from express.model.parameters import with_values as graph_with_values
 
     return graph_with_values(model, overrides)
 
@@ -453,7 +453,7 @@ def _check_pins(model: Model, hosts: dict[str, str], bodies: dict[str, Body], gr
 
 def _check_rail_references(model: Model, bodies: dict[str, Body], problems: list[Problem]) -> None:
     """Wheelsets and output points name known bodies; a wheelset has the y and rz DOFs
-    and is listed once (its weight against its wheel load: :mod:`express.parameter_ranges`)."""
+    and is listed once (its weight against its wheel load: :mod:`express.model.parameter_ranges`)."""
     source = model.source
     if model.rail is not None:
         listed: set[str] = set()
@@ -484,7 +484,7 @@ def _check_rail_references(model: Model, bodies: dict[str, Body], problems: list
 
 def _numeric_value(expression, parameters: dict[str, Parameter]) -> float | None:
     """Value of a parameter expression, or None when a name has no value (yet)."""
-    from .parameters import expression_value
+    from express.model.parameters import expression_value
 
     try:
         value = expression_value(expression, {name: p.value for name, p in parameters.items()})

@@ -14,9 +14,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ..units import KMH
-from .demo_common import Cars, steady_mean, write_figure, write_table
-from .paper import PAPER
+from express.base.units import KMH
+from express.paper.demo_common import Cars, steady_mean, write_figure, write_table
+from express.paper.numbers import PAPER
 
 __all__ = ["CurveGeometry", "Curving", "curve_geometry", "measure_curving", "write_curving"]
 
@@ -141,7 +141,7 @@ class Curving:
 
 
 def _runs(cars: Cars, track):
-    from .simulate import simulate
+    from express.analysis.simulate import simulate
 
     runs = {name: simulate(car, track, progress=False) for name, car in cars.items()}
     if runs["steered"].distance.size != runs["conventional"].distance.size:  # same speed and dt: same grid
@@ -173,8 +173,8 @@ def measure_curving(cars: Cars, track=None, *, check: bool = True) -> Curving:
         Also run the steered car with the ``k_LU`` estimated to give the paper's lever
         angle (one more simulation), to test that estimate.
     """
-    from ..rail.track import paper_curve
-    from .simulate import simulate
+    from express.analysis.simulate import simulate
+    from express.rail.track import paper_curve
 
     track = paper_curve() if track is None else track
     geometry = curve_geometry(track)
@@ -220,7 +220,7 @@ def _caption(curving: Curving, cars: Cars) -> str:
 
 def write_curving(outdir: Path, curving: Curving, cars: Cars, log: Callable[[str], None]) -> list[Path]:
     """Draw Fig. 9 and write it with its data; returns the paths written."""
-    from .plots import figure_curving
+    from express.analysis.plots import figure_curving
 
     steered, conventional = curving.series["steered"], curving.series["conventional"]
     figure = figure_curving(

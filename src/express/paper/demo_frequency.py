@@ -1,5 +1,5 @@
 """The demo's Fig. 10: car-body floor acceleration of both cars for a sinusoidal lateral
-irregularity of the paper's amplitude (:data:`express.analysis.paper.PAPER`)."""
+irregularity of the paper's amplitude (:data:`express.paper.numbers.PAPER`)."""
 
 from __future__ import annotations
 
@@ -9,9 +9,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ..units import KMH
-from .demo_common import Cars, write_figure, write_table
-from .paper import PAPER
+from express.base.units import KMH
+from express.paper.demo_common import Cars, write_figure, write_table
+from express.paper.numbers import PAPER
 
 __all__ = ["FLOOR_POINTS", "FRF_FREQUENCIES", "FloorResponse", "measure_floor_response", "write_floor_response"]
 
@@ -64,7 +64,7 @@ class FloorResponse:
 
 def _point_place(car, name: str) -> tuple[float, float]:
     """(x, height above rail) of an output point [m], from the model's expressions."""
-    from ..parameters import expression_value
+    from express.model.parameters import expression_value
 
     model = car.model
     point = next(p for p in model.rail.outputs if p.name == name)
@@ -78,8 +78,8 @@ def _point_place(car, name: str) -> tuple[float, float]:
 
 def measure_floor_response(cars: Cars, frequencies: np.ndarray = FRF_FREQUENCIES) -> FloorResponse:
     """Frequency responses of both cars at their model speed."""
-    from .frequency import frequency_response
-    from .stability import eigen_analysis
+    from express.analysis.frequency import frequency_response
+    from express.analysis.stability import eigen_analysis
 
     amplitude = PAPER.irregularity_amplitude.value
     amplitudes, peaks, difference = {}, {}, {}
@@ -108,7 +108,7 @@ def measure_floor_response(cars: Cars, frequencies: np.ndarray = FRF_FREQUENCIES
 
 def write_floor_response(outdir: Path, response: FloorResponse, log: Callable[[str], None]) -> list[Path]:
     """Draw Fig. 10 and write it with its data; returns the paths written."""
-    from .plots import figure_frequency_response
+    from express.analysis.plots import figure_frequency_response
 
     colours = {"floor_front": "#1f77b4", "floor_rear": "#ff7f0e"}
     where = {"floor_front": ("front", "fr"), "floor_rear": ("rear", "tr")}

@@ -12,7 +12,7 @@ Grammar::
     power  := atom (("^" | "**") unary)?      # exponent: an integer constant
     atom   := NUMBER | NAME | "(" expr ")"
 
-The work is bounded before it is done (:mod:`express.limits`): an expression has at
+The work is bounded before it is done (:mod:`express.base.limits`): an expression has at
 most 1 000 characters (``EXPRESS_MAX_EXPRESSION`` raises it), nests parentheses,
 signs and powers at most 100 levels deep, raises to integer powers ``|n| <= 64``,
 expands to at most 200 terms, and every exact constant in it lies within the range
@@ -26,7 +26,7 @@ Examples
 >>> parse_expression("__import__('os')")
 Traceback (most recent call last):
 ...
-express.expressions.ExpressionError: column 12: unexpected character "'"
+express.base.expressions.ExpressionError: column 12: unexpected character "'"
 """
 
 from __future__ import annotations
@@ -38,7 +38,7 @@ from fractions import Fraction
 
 import sympy as sp
 
-from .limits import MAX_EXPONENT, MAX_NESTING, limit
+from express.base.limits import MAX_EXPONENT, MAX_NESTING, limit
 
 __all__ = ["ExpressionError", "is_valid_name", "parse_expression", "parse_number"]
 
@@ -103,7 +103,7 @@ class _Parser:
 
     def nest(self, column: int) -> None:
         """One level deeper (a parenthesis, a sign or an exponent), refused beyond
-        :data:`~express.limits.MAX_NESTING` before Python's own recursion limit."""
+        :data:`~express.base.limits.MAX_NESTING` before Python's own recursion limit."""
         self.depth += 1
         if self.depth > MAX_NESTING:
             raise ExpressionError(

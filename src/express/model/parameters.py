@@ -1,15 +1,15 @@
 """The parameter graph of a model: given values, derived expressions, derivation nodes.
 
 A parameter is a number with a unit (*primary*), an expression of other parameters
-(*derived*: ``P0 = (mc + 2*mt + 4*mw)*g/8``, parsed by :mod:`express.expressions`,
+(*derived*: ``P0 = (mc + 2*mt + 4*mw)*g/8``, parsed by :mod:`express.base.expressions`,
 never evaluated as code), or an output of a *derivation* — a named function node for
 a computation without a closed form, such as ``[rail.creep]``: f1, f2 from the wheel
 load, radii, E and nu through the Hertz ellipse and Kalker's table.  The model keeps
-the graph (:attr:`~express.model.Parameter.expression`,
-:attr:`~express.model.Model.derivations`), and every value in
-:attr:`~express.model.Model.parameters` is current: the readers evaluate it
+the graph (:attr:`~express.model.records.Parameter.expression`,
+:attr:`~express.model.records.Model.derivations`), and every value in
+:attr:`~express.model.records.Model.parameters` is current: the readers evaluate it
 (:func:`resolve`), and :func:`with_values` — behind ``--set``,
-:meth:`VehicleModel.with_values <express.statespace.VehicleModel.with_values>` and
+:meth:`VehicleModel.with_values <express.numeric.statespace.VehicleModel.with_values>` and
 every point of a study — re-evaluates every dependent of what it changes.
 
 Derivation functions belong to the layer that knows them: the rail layer registers
@@ -40,12 +40,21 @@ from dataclasses import replace
 
 import sympy as sp
 
-from .diagnostics import ModelError, Problem
-from .expressions import ExpressionError, parse_expression
-from .model import Derivation, Model, Parameter
-from .parameter_ranges import check_ranges
-from .parameter_units import infer_dimensions, use_sites
-from .units import DIMENSIONS, KMH, Dimension, UnitError, check_dimension, format_quantity, parse_quantity, si_unit
+from express.base.diagnostics import ModelError, Problem
+from express.base.expressions import ExpressionError, parse_expression
+from express.base.units import (
+    DIMENSIONS,
+    KMH,
+    Dimension,
+    UnitError,
+    check_dimension,
+    format_quantity,
+    parse_quantity,
+    si_unit,
+)
+from express.model.parameter_ranges import check_ranges
+from express.model.parameter_units import infer_dimensions, use_sites
+from express.model.records import Derivation, Model, Parameter
 
 __all__ = [
     "DerivationFunction",
@@ -271,8 +280,8 @@ def evaluation_order(model: Model) -> tuple[Parameter | Derivation, ...]:
     """Derived parameters and derivation nodes, each after everything it uses.
 
     For an exporter that computes the derived values from the primary ones: a
-    :class:`~express.model.Parameter` step is ``name = expression``; a
-    :class:`~express.model.Derivation` step calls the function ``kind`` with its
+    :class:`~express.model.records.Parameter` step is ``name = expression``; a
+    :class:`~express.model.records.Derivation` step calls the function ``kind`` with its
     inputs and sets its outputs.
 
     Raises
@@ -362,7 +371,7 @@ def resolve(model: Model) -> Model:
     ModelError
         For the problems of :func:`parameter_problems`, a value that cannot be
         computed (division by zero, contact data out of range), or a value outside
-        the valid range of its use (:mod:`express.parameter_ranges`), all at once.
+        the valid range of its use (:mod:`express.model.parameter_ranges`), all at once.
     """
     problems = parameter_problems(model)
     if problems:
@@ -491,7 +500,7 @@ def with_values(model: Model, overrides: Mapping[str, float | str]) -> Model:
     ModelError
         For an unknown name, a value of the wrong dimension, a derived value that
         cannot be computed, or a value outside the valid range of its use
-        (:mod:`express.parameter_ranges`; a negative stiffness or damping only warns).
+        (:mod:`express.model.parameter_ranges`; a negative stiffness or damping only warns).
     """
     values = override_values(model, overrides)
     if not values:

@@ -19,10 +19,10 @@ bodies in a model          2 000                    ``EXPRESS_MAX_BODIES``      
 elements in a model        10 000                   ``EXPRESS_MAX_ELEMENTS``      the model readers
 connection points          20 000                   ``EXPRESS_MAX_POINTS``        the model readers
 parameters                 10 000                   ``EXPRESS_MAX_PARAMETERS``    the model readers
-expression length          1 000 characters         ``EXPRESS_MAX_EXPRESSION``    :mod:`express.expressions`
-nesting depth              100 levels               none                          :mod:`express.expressions`
-exponent                   integer, ``|n| <= 64``   none                          :mod:`express.expressions`
-exact constants            within a double's range  none                          :mod:`express.expressions`
+expression length          1 000 characters         ``EXPRESS_MAX_EXPRESSION``    :mod:`express.base.expressions`
+nesting depth              100 levels               none                          :mod:`express.base.expressions`
+exponent                   integer, ``|n| <= 64``   none                          :mod:`express.base.expressions`
+exact constants            within a double's range  none                          :mod:`express.base.expressions`
 =========================  =======================  ============================  ==========================
 
 The overrides are environment variables, read when a limit is checked, so that they
@@ -44,7 +44,7 @@ import os
 from dataclasses import dataclass
 from pathlib import Path
 
-from .diagnostics import ModelError, Problem, UsageError
+from express.base.diagnostics import ModelError, Problem, UsageError
 
 __all__ = ["LIMITS", "MAX_EXPONENT", "MAX_NESTING", "Limit", "exceeded", "limit", "read_input_text"]
 

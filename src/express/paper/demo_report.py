@@ -1,6 +1,6 @@
 """The demo's ``summary.md`` (the table of verdicts, how they are decided, the files) and
 ``summary.json`` (the numbers behind it), from the verdicts of
-:mod:`express.analysis.demo_summary`."""
+:mod:`express.paper.demo_summary`."""
 
 from __future__ import annotations
 
@@ -8,11 +8,11 @@ from collections.abc import Sequence
 from dataclasses import asdict
 from typing import Any
 
-from .demo_curving import Curving
-from .demo_frequency import FloorResponse
-from .demo_lever import LeverStep
-from .demo_stability import StabilitySweep, vcr_shape
-from .demo_summary import (
+from express.paper.demo_curving import Curving
+from express.paper.demo_frequency import FloorResponse
+from express.paper.demo_lever import LeverStep
+from express.paper.demo_stability import StabilitySweep, vcr_shape
+from express.paper.demo_summary import (
     CONICITY_FACTOR,
     DIFFERENT,
     FORCE_TOLERANCE,
@@ -24,7 +24,7 @@ from .demo_summary import (
     SHARP_FALL,
     Verdict,
 )
-from .paper import PAPER
+from express.paper.numbers import PAPER
 
 __all__ = ["TOLERANCES", "summary_markdown", "summary_numbers"]
 

@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
-from .model import Derivation, Model
+from express.model.records import Derivation, Model
 
 #: Order in which matrices are exported when present.
 MATRIX_ORDER = ("M", "C", "K", "P", "Pd")
@@ -113,13 +113,13 @@ def derivation_steps(model: Model) -> tuple[DerivationStep, ...]:
 
     Parameters
     ----------
-    model : express.model.Model
+    model : express.model.records.Model
         A resolved model.
 
     Returns
     -------
     tuple of DerivedParameter or DerivationCall
-        From :func:`express.parameters.evaluation_order`; a parameter given a value
+        From :func:`express.model.parameters.evaluation_order`; a parameter given a value
         explicitly (``--set P0=...``) is no longer derived and has no step, and a
         function step keeps only the outputs it still sets.
 
@@ -128,7 +128,7 @@ def derivation_steps(model: Model) -> tuple[DerivationStep, ...]:
     ModelError
         For a cycle or an undefined name in the graph.
     """
-    from .parameters import evaluation_order
+    from express.model.parameters import evaluation_order
 
     steps: list[DerivationStep] = []
     for node in evaluation_order(model):
@@ -163,7 +163,7 @@ class EquationsOfMotion:
         in the order of :data:`MATRIX_ORDER`; further keys may follow.  The generator
         gives ``sympy.ImmutableSparseMatrix`` when the matrix is mostly zeros (a train's:
         only the non-zeros are stored; ``todok()`` walks them), ``ImmutableMatrix``
-        otherwise (:func:`express.generator.symbolic_matrix`).
+        otherwise (:func:`express.assembly.generator.symbolic_matrix`).
     parameters : tuple of str
         Sorted names of every parameter symbol appearing in the matrices.
     values : dict of str to float

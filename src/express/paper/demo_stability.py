@@ -16,9 +16,9 @@ from typing import Any
 
 import numpy as np
 
-from ..units import KMH
-from .demo_common import Cars, write_figure, write_table
-from .paper import PAPER
+from express.base.units import KMH
+from express.paper.demo_common import Cars, write_figure, write_table
+from express.paper.numbers import PAPER
 
 __all__ = [
     "CONICITIES",
@@ -118,7 +118,7 @@ class VcrShape:
 def measure_stability(cars: Cars, conicities: np.ndarray = CONICITIES, *, diagnose: bool = True) -> StabilitySweep:
     """Critical speeds of both cars over ``conicities``, the unstable windows where
     ``V_cr`` jumps, and (with ``diagnose``) the link-cut check of the low-conicity fall."""
-    from .stability import critical_speed, critical_speed_vs_conicity
+    from express.analysis.stability import critical_speed, critical_speed_vs_conicity
 
     conicities = np.asarray(conicities, dtype=float)
     speeds, unstable, windows, modes, sweeps = {}, {}, {}, {}, {}
@@ -179,7 +179,7 @@ def unstable_windows(car, conicities: np.ndarray, speeds_kmh: np.ndarray, unstab
 
 def _stable_again(car, from_kmh: float, to_kmh: float, points: int = 36) -> float:
     """The lowest speed [km/h] in (from, to] at which ``car`` is stable again, or inf."""
-    from .stability import max_real_part
+    from express.analysis.stability import max_real_part
 
     speeds = np.linspace(from_kmh * KMH, to_kmh * KMH, points + 1)[1:]
     stable = np.flatnonzero(max_real_part(car, speeds) <= 0.0)
@@ -224,7 +224,7 @@ def vcr_shape(sweep: StabilitySweep, reference: float = PAPER.conicity_of_max_vc
 
 def write_stability(outdir: Path, sweep: StabilitySweep, cars: Cars, log: Callable[[str], None]) -> list[Path]:
     """Draw Fig. 11 and write it with its data; returns the paths written."""
-    from .plots import figure_critical_speed
+    from express.analysis.plots import figure_critical_speed
 
     columns: dict[str, object] = {"Gamma": sweep.conicities}
     curves = []
@@ -275,8 +275,8 @@ class StabilityMap:
 
 def measure_stability_map(car, v_max: float = 150.0, points: int = 300) -> StabilityMap:
     """Root locus of ``car`` from 1 m/s to ``v_max`` [m/s] at ``points`` speeds."""
-    from .plots import mode_branches
-    from .stability import critical_speed, root_locus
+    from express.analysis.plots import mode_branches
+    from express.analysis.stability import critical_speed, root_locus
 
     speeds = np.linspace(1.0, v_max, points)
     eigenvalues = root_locus(car, speeds)
@@ -289,7 +289,7 @@ def write_stability_map(outdir: Path, stability_map: StabilityMap, name: str, *,
                         max_frequency_hz: float = 15.0) -> list[Path]:
     """Draw the root locus in the complex plane and the damping ratios against speed;
     write both with the followed modes as CSV; returns the paths written."""
-    from .plots import figure_damping_vs_speed, figure_root_locus_complex
+    from express.analysis.plots import figure_damping_vs_speed, figure_root_locus_complex
 
     speeds_kmh = stability_map.speeds / KMH
     complex_figure = figure_root_locus_complex(

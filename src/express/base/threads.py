@@ -35,7 +35,7 @@ import threading
 from collections.abc import Callable, Iterator
 from typing import Any, TypeVar
 
-from .diagnostics import UsageError
+from express.base.diagnostics import UsageError
 
 __all__ = ["ENVIRONMENT_VARIABLE", "blas_limit", "blas_threads", "limited_blas"]
 

@@ -3,11 +3,11 @@
 A value means something only where it is used: a body's mass is a mass, and may not
 be negative; a wheelset's friction coefficient must be positive (the creep forces
 saturate at ``mu N``); a cant base of zero divides the cant by nothing.  :func:`range_problems` evaluates every use of the model
-(:func:`express.parameter_units.use_sites`) at the current values and reports each
+(:func:`express.model.parameter_units.use_sites`) at the current values and reports each
 one outside its range, naming the parameter (its file and line, or the ``--set``
 that gave it), the use and the range; :func:`check_ranges` raises them together and
-issues the warnings.  The readers (through :func:`express.parameters.resolve`) and
-:func:`express.parameters.with_values` (``--set``, studies) call it, so a bad value
+issues the warnings.  The readers (through :func:`express.model.parameters.resolve`) and
+:func:`express.model.parameters.with_values` (``--set``, studies) call it, so a bad value
 is refused before any work, with status 2 on the command line.
 
 Valid ranges (SI; "warns" marks a value below zero that is allowed with a warning):
@@ -15,7 +15,7 @@ Valid ranges (SI; "warns" marks a value below zero that is allowed with a warnin
 - body mass 0 <= m <= 1e8 kg, inertia Ix, Iy, Iz 0 <= I <= 1e11 kg m^2; zero is a
   massless idealization (the paper's lever), allowed when a pin gives the DOF its
   mass: a DOF whose generalized mass is zero is a warning of ``generate`` and is
-  refused by every numerical analysis (:mod:`express.statespace`), naming the DOF;
+  refused by every numerical analysis (:mod:`express.numeric.statespace`), naming the DOF;
 - positions, CP offsets, output offsets: |x| <= 1e5 m;
 - element stiffness and damping: |x| <= 1e15 (N/m, N s/m, N m/rad, N m s/rad), warns;
   progressive stiffness |x| <= 1e24 N/m^3 (rotational 1e15 N m/rad), warns;
@@ -32,7 +32,7 @@ the rigid elements of the tests use 1e12): they catch a value such as ``ky1=1e30
 whose matrices are numerically meaningless, and a slip of units by many orders of
 magnitude.  A negative stiffness or damping of an ordinary element is legal (a
 modelling device: a negative-stiffness mechanism, a fitted element) but is worth a
-:class:`~express.diagnostics.ModelWarning`; its consequences are the analyses' to
+:class:`~express.base.diagnostics.ModelWarning`; its consequences are the analyses' to
 judge (a simulation that diverges ends with status 1).
 
 A wheelset must carry its own weight: its mass times gravity may not exceed the load
@@ -49,10 +49,10 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from .diagnostics import ModelError, ModelWarning, Problem
-from .model import Model
-from .parameter_units import UseSite, use_sites
-from .units import KMH, format_quantity, unit_factor
+from express.base.diagnostics import ModelError, ModelWarning, Problem
+from express.base.units import KMH, format_quantity, unit_factor
+from express.model.parameter_units import UseSite, use_sites
+from express.model.records import Model
 
 __all__ = ["ValidRange", "check_ranges", "range_problems"]
 
@@ -204,7 +204,7 @@ def _value(expression: sp.Expr, values: Mapping[str, float]) -> float | None:
     if expression.is_Symbol:
         value = values.get(expression.name)
         return None if value is None or math.isnan(value) else float(value)
-    from .parameters import expression_value  # the one evaluator (parameters imports this module)
+    from express.model.parameters import expression_value  # the one evaluator (parameters imports this module)
 
     try:
         value = expression_value(expression, values)

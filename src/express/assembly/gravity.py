@@ -34,9 +34,9 @@ from dataclasses import replace
 import numpy as np
 import sympy as sp
 
-from .diagnostics import ModelError, Problem
-from .kinematics import point_motion
-from .model import AXES, DOF_NAMES, Model
+from express.assembly.kinematics import point_motion
+from express.base.diagnostics import ModelError, Problem
+from express.model.records import AXES, DOF_NAMES, Model
 
 __all__ = ["element_length", "gravity_stiffness", "static_preloads"]
 
@@ -73,7 +73,7 @@ def static_preloads(model: Model) -> dict[str, sp.Expr]:
         When no element carries a body's weight (naming the bodies), or when a value
         is missing.
     """
-    from .generator import generate  # the generator calls this module: import late
+    from express.assembly.generator import generate  # the generator calls this module: import late
 
     gravity = sp.sympify(model.gravity)
     static = _static_model(model)

@@ -22,12 +22,12 @@ from typing import Any
 
 import sympy as sp
 
-from .algebra import ExactDomain, inverted_symbols, needs_fractions
-from .diagnostics import ModelError, Problem
-from .equations import STROKE, ClearanceTerm, EquationsOfMotion, derivation_steps
-from .kinematics import end_motion, generalized_coordinates
-from .model import AXES, DOF_NAMES, Model, check_model
-from .parameters import display_unit
+from express.assembly.algebra import ExactDomain, inverted_symbols, needs_fractions
+from express.assembly.equations import STROKE, ClearanceTerm, EquationsOfMotion, derivation_steps
+from express.assembly.kinematics import end_motion, generalized_coordinates
+from express.base.diagnostics import ModelError, Problem
+from express.model.parameters import display_unit
+from express.model.records import AXES, DOF_NAMES, Model, check_model
 
 __all__ = ["SPARSE_BELOW", "AddedTerms", "GenerationResult", "generate", "pin_transformation", "symbolic_matrix"]
 
@@ -270,7 +270,7 @@ def generate(model: Model, *, keep_virtual: bool = False, added: AddedTerms | No
         raise ModelError(problems)
     added = added or AddedTerms()
     if model.gravity is not None:  # geometric stiffness of the static preloads
-        from .gravity import gravity_stiffness
+        from express.assembly.gravity import gravity_stiffness
 
         added = replace(added, stiffness=list(added.stiffness) + gravity_stiffness(model))
     expressions = list(_model_expressions(model, added))

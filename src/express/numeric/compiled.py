@@ -10,7 +10,7 @@ is ever used per point.
 
 The speed ``v`` is kept apart: the entries that contain it have their own function,
 evaluated at three speeds to separate ``C = C0 + C1 / v`` and ``P = P0 + P2 v**2``
-(checked at the third speed), which is how :class:`express.statespace.VehicleModel`
+(checked at the third speed), which is how :class:`express.numeric.statespace.VehicleModel`
 gets ``A(v) = A0 + A1 / v`` exactly.
 
 The eigenvalues of ``A(v)`` are then found block by block (:class:`EigenBlocks`): an
@@ -48,7 +48,7 @@ from typing import Any
 import numpy as np
 import sympy as sp
 
-from .equations import EquationsOfMotion
+from express.assembly.equations import EquationsOfMotion
 
 __all__ = ["CompiledMatrices", "EigenBlocks", "SpeedSplit", "compile_matrices", "diagonal_blocks", "strong_components"]
 

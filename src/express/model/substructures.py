@@ -12,7 +12,7 @@ instance's expression and every connector by the model point the instance names.
 Examples
 --------
 >>> import sympy as sp
->>> from express.model import Body, ConnectionPoint, Element, Ground
+>>> from express.model.records import Body, ConnectionPoint, Element, Ground
 >>> wheelset = Substructure(
 ...     "axle", parameters=("k",), connectors=("seat",),
 ...     bodies=(Body("W", sp.Symbol("m"), (0, 0, 0), ("y",)),),
@@ -33,8 +33,8 @@ from dataclasses import dataclass, field, replace
 
 import sympy as sp
 
-from .diagnostics import Problem
-from .model import Body, ConnectionPoint, Element, Ground, Model, PinnedJoint
+from express.base.diagnostics import Problem
+from express.model.records import Body, ConnectionPoint, Element, Ground, Model, PinnedJoint
 
 __all__ = ["Instance", "Items", "Substructure", "expand", "instantiate", "with_instances"]
 
@@ -241,8 +241,8 @@ def with_instances(model: Model, substructures: dict[str, Substructure] | list[S
     ModelError
         With every problem of the instances and of the resulting model.
     """
-    from .diagnostics import ModelError
-    from .model import check_model
+    from express.base.diagnostics import ModelError
+    from express.model.records import check_model
 
     if not isinstance(substructures, dict):
         substructures = {sub.name: sub for sub in substructures}

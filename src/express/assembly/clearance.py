@@ -17,8 +17,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .equations import EquationsOfMotion
-from .parameters import expression_value
+from express.assembly.equations import EquationsOfMotion
+from express.model.parameters import expression_value
 
 __all__ = ["Clearances", "clearance_force", "clearances_of"]
 

@@ -10,7 +10,7 @@ from typing import Any
 
 import numpy as np
 
-from ..statespace import VehicleModel
+from express.numeric.statespace import VehicleModel
 
 __all__ = ["Cars", "steady_mean", "write_figure", "write_table"]
 
@@ -47,14 +47,14 @@ def steady_mean(values: np.ndarray, distance: np.ndarray, window: tuple[float, f
 
 def write_figure(figure: Any, stem: Path) -> list[Path]:
     """Write ``figure`` as ``stem.png`` and ``stem.svg``; returns the paths."""
-    from .plots import save_figure
+    from express.analysis.plots import save_figure
 
     return save_figure(figure, [stem.with_suffix(".png"), stem.with_suffix(".svg")])
 
 
 def write_table(path: Path, columns: Mapping[str, Any]) -> Path:
     """Write ``columns`` (names carry their units, values SI) as CSV; returns ``path``."""
-    from ..io.output import csv_text, write_text
+    from express.io.output import csv_text, write_text
 
     write_text(path, csv_text(columns))
     return path

@@ -12,14 +12,14 @@
     speed (``.png``, ``.svg``; the modes in ``stability_modes.csv``).
 ``summary.md``
     Key figures next to the paper's stated values, each with a verdict computed from
-    the numbers and a sentence on why (:mod:`express.analysis.demo_summary`);
+    the numbers and a sentence on why (:mod:`express.paper.demo_summary`);
     ``summary.json`` holds the same numbers and verdicts.
 
 This module runs the steps; each figure has its own module (``demo_lever``,
 ``demo_curving``, ``demo_frequency``, ``demo_stability``) that measures a typed record
 and draws it; ``demo_summary`` turns the records into verdicts and ``demo_report``
 into ``summary.md`` and ``summary.json``; the paper's numbers live in
-:mod:`express.analysis.paper`.  Nothing
+:mod:`express.paper.numbers`.  Nothing
 here is tuned to the paper: the vehicle parameters are the bundled ones
 (``docs/parameters.md``).
 """
@@ -32,12 +32,12 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from .demo_common import Cars
-from .demo_curving import Curving, measure_curving, write_curving
-from .demo_frequency import FloorResponse, measure_floor_response, write_floor_response
-from .demo_lever import LeverStep, lever_cases, lever_step_response, measure_lever, write_lever
-from .demo_report import summary_markdown, summary_numbers
-from .demo_stability import (
+from express.paper.demo_common import Cars
+from express.paper.demo_curving import Curving, measure_curving, write_curving
+from express.paper.demo_frequency import FloorResponse, measure_floor_response, write_floor_response
+from express.paper.demo_lever import LeverStep, lever_cases, lever_step_response, measure_lever, write_lever
+from express.paper.demo_report import summary_markdown, summary_numbers
+from express.paper.demo_stability import (
     StabilityMap,
     StabilitySweep,
     measure_stability,
@@ -45,8 +45,8 @@ from .demo_stability import (
     write_stability,
     write_stability_map,
 )
-from .demo_summary import Verdict, summary_rows
-from .paper import PAPER
+from express.paper.demo_summary import Verdict, summary_rows
+from express.paper.numbers import PAPER
 
 __all__ = [
     "LEVER_CASES",
@@ -80,7 +80,7 @@ def find_examples(examples: Path | None = None) -> Path:
 
 def load_cars(examples: Path, overrides: Mapping[str, float] | None = None) -> Cars:
     """The two bundled cars, with ``overrides`` (SI) applied where a car has the parameter."""
-    from ..statespace import load_vehicle
+    from express.numeric.statespace import load_vehicle
 
     cars = Cars(load_vehicle(examples / _MODELS["steered"]), load_vehicle(examples / _MODELS["conventional"]))
     return cars.with_values(overrides) if overrides else cars
@@ -121,8 +121,8 @@ def measure_demo(cars: Cars, lever_equations, *, stability_map: bool = False) ->
 
 def _matrices(outdir: Path, equations: Mapping[str, Any], log: Callable[[str], None]) -> None:
     """The symbolic matrices of each model as MATLAB (the name is the file's), LaTeX and JSON."""
-    from ..export import to_json, to_latex, to_matlab
-    from ..io.output import write_text
+    from express.export import to_json, to_latex, to_matlab
+    from express.io.output import write_text
 
     counts = []
     for eq in equations.values():
@@ -147,9 +147,9 @@ def run_demo(outdir: str | Path = "demo-out", *, examples: Path | None = None,
     log : callable
         Receives one line per step (progress and key numbers).
     """
-    from ..io import load_model
-    from ..io.output import json_text, write_text
-    from ..rail.build import generate_vehicle
+    from express.io import load_model
+    from express.io.output import json_text, write_text
+    from express.rail.build import generate_vehicle
 
     start = time.perf_counter()
     outdir = Path(outdir)

@@ -4,7 +4,7 @@ Tanifuji, K. and Suzuki, H. (2001), the automatic generation of equations of mot
 rail vehicles with linkages (EXPRESS), summarized in ``docs/results.md``.  The paper's
 figures are not machine-readable; what it states in its text and in Table 1 is recorded
 here, each with the figure, table or section it comes from.  Nothing else in the package
-types these numbers: the demo (:mod:`express.analysis.demo`) compares its results with
+types these numbers: the demo (:mod:`express.paper.demo`) compares its results with
 :data:`PAPER`, and the track and vehicle values it uses are read from the track and
 model objects.
 

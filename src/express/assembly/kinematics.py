@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import sympy as sp
 
-from .model import AXES, Model
+from express.model.records import AXES, Model
 
 __all__ = ["end_motion", "generalized_coordinates", "point_motion", "point_rotation"]
 

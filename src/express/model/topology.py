@@ -29,7 +29,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from .model import Model
+from express.model.records import Model
 
 __all__ = ["Topology", "classify_bodies"]
 

@@ -1,6 +1,6 @@
 """The demo's summary: each row a :class:`Verdict` computed from the results.
 
-A verdict holds the paper's value (:data:`express.analysis.paper.PAPER`), this run's
+A verdict holds the paper's value (:data:`express.paper.numbers.PAPER`), this run's
 value, the predicate between them and the words the predicate decides: a row says
 "agrees" only when its test passes, and the explanations that follow are chosen by
 further tests on the numbers (which way a difference goes, whether a check run reached
@@ -16,12 +16,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..units import KMH
-from .demo_curving import Curving
-from .demo_frequency import FloorResponse
-from .demo_lever import LEVER_VALUES, LeverStep, swapped_cases
-from .demo_stability import StabilitySweep, VcrShape, vcr_shape
-from .paper import PAPER
+from express.base.units import KMH
+from express.paper.demo_curving import Curving
+from express.paper.demo_frequency import FloorResponse
+from express.paper.demo_lever import LEVER_VALUES, LeverStep, swapped_cases
+from express.paper.demo_stability import StabilitySweep, VcrShape, vcr_shape
+from express.paper.numbers import PAPER
 
 __all__ = [
     "CONICITY_FACTOR",

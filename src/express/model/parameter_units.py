@@ -11,7 +11,7 @@ inside an expression is a pure number in a product and takes the dimension of th
 sum it is added to (``h1 - 0.3`` is a length).
 
 :func:`infer_dimensions` returns the dimension of every parameter it could settle
-and one :class:`~express.diagnostics.Problem` per mismatch, e.g.
+and one :class:`~express.base.diagnostics.Problem` per mismatch, e.g.
 ``bad.toml:12: parameter hc: used as a length (body CB position) but has unit kg``.
 """
 
@@ -23,9 +23,9 @@ from fractions import Fraction
 
 import sympy as sp
 
-from .diagnostics import Problem
-from .model import AXES, Model
-from .units import DIMENSIONS, Dimension, UnitError, describe_dimension, dimension_of, unit_dimension
+from express.base.diagnostics import Problem
+from express.base.units import DIMENSIONS, Dimension, UnitError, describe_dimension, dimension_of, unit_dimension
+from express.model.records import AXES, Model
 
 __all__ = ["UseSite", "infer_dimensions", "use_sites"]
 
@@ -48,8 +48,8 @@ _CUBIC = Dimension(Fraction(1), Fraction(-2), Fraction(-2))  # N/m^3, a progress
 class UseSite:
     """One place a value is used: ``what`` of ``item`` must have ``dimension``.
 
-    ``dimension`` is a name of :data:`express.units.DIMENSIONS` or a
-    :class:`~express.units.Dimension`; ``line`` the line of the item.
+    ``dimension`` is a name of :data:`express.base.units.DIMENSIONS` or a
+    :class:`~express.base.units.Dimension`; ``line`` the line of the item.
     """
 
     expression: sp.Expr

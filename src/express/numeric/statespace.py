@@ -25,15 +25,15 @@ from typing import Any
 import numpy as np
 import sympy as sp
 
-from .diagnostics import ModelError, Problem
-from .equations import STROKE, EquationsOfMotion
-from .first_order import FirstOrderError, StateForm, state_form
-from .model import Model
-from .numeric import CompiledExpressions, CompiledMatrices, EigenBlocks, compile_matrices
-from .parameters import expression_value, override_values, undefined_name_problems, with_values
-from .rail.build import RailLayout, generate_vehicle, rail_layout
-from .threads import limited_blas
-from .units import KMH
+from express.assembly.equations import STROKE, EquationsOfMotion
+from express.assembly.first_order import FirstOrderError, StateForm, state_form
+from express.base.diagnostics import ModelError, Problem
+from express.base.threads import limited_blas
+from express.base.units import KMH
+from express.model.parameters import expression_value, override_values, undefined_name_problems, with_values
+from express.model.records import Model
+from express.numeric.compiled import CompiledExpressions, CompiledMatrices, EigenBlocks, compile_matrices
+from express.rail.build import RailLayout, generate_vehicle, rail_layout
 
 __all__ = [
     "SingularMassError",
@@ -121,7 +121,7 @@ class VehicleModel:
     _rail_numbers: Any = field(default=None, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        # x = [q; q_D'] (express.first_order): [q; q'] unless series elements add
+        # x = [q; q_D'] (express.assembly.first_order): [q; q'] unless series elements add
         # first-order coordinates (damper strokes)
         self.form = _state_form(self)
         self.mass_inverse = self.form.mass_inverse
@@ -163,7 +163,7 @@ class VehicleModel:
     def state_matrix(self, v: float) -> np.ndarray:
         """State-space ``A(v)`` at speed ``v`` [m/s], shape (N, N), state ``[q; q']``
         (N = 2n; with series elements ``[q; q_D']``, N = n + n_D: their strokes are
-        first-order coordinates, :mod:`express.first_order`)."""
+        first-order coordinates, :mod:`express.assembly.first_order`)."""
         return self.form.state_matrix(v)
 
     def input_matrix(self, v: float) -> np.ndarray:
@@ -179,7 +179,7 @@ class VehicleModel:
         """The same vehicle with some parameter values changed, re-evaluated
         numerically from the compiled matrices (about a millisecond; no regeneration).
 
-        Every derived parameter follows (:func:`express.parameters.with_values`): a
+        Every derived parameter follows (:func:`express.model.parameters.with_values`): a
         new mass changes the wheel load, the creep coefficients and all they feed.
 
         Parameters
@@ -212,7 +212,7 @@ class VehicleModel:
     @cached_property
     def eigen_blocks(self) -> EigenBlocks:
         """``A(v)`` split once into the diagonal blocks that carry its eigenvalues
-        (:class:`express.numeric.EigenBlocks`: exact; one block when nothing splits)."""
+        (:class:`express.numeric.compiled.EigenBlocks`: exact; one block when nothing splits)."""
         return EigenBlocks(self.form.a0, self.form.a1)
 
     @limited_blas
@@ -276,7 +276,7 @@ def _invert_mass(mass: np.ndarray, equations: EquationsOfMotion, model: Model | 
 
 def evaluate_matrices(equations: EquationsOfMotion, values: Mapping[str, float]) -> dict[str, np.ndarray]:
     """Every matrix of ``equations`` as float arrays at ``values`` (compiled once for
-    this call; keep a :func:`express.numeric.compile_matrices` to evaluate often).
+    this call; keep a :func:`express.numeric.compiled.compile_matrices` to evaluate often).
 
     Raises
     ------
@@ -478,7 +478,7 @@ def load_vehicle(
     >>> vehicle.wheelsets[0].conicity
     0.2
     """
-    from .io import load_model
+    from express.io import load_model
 
     path = Path(path)
     model = load_model(path)

@@ -1,6 +1,6 @@
 """The demo's Fig. 3: the lever of the paper's Figs. 2 and 5 after a step of ``q1``.
 
-The leverage cases are Table 1's (:data:`express.analysis.paper.PAPER`); a case whose
+The leverage cases are Table 1's (:data:`express.paper.numbers.PAPER`); a case whose
 printed numbers violate its own condition is used with its arms swapped when that
 satisfies it (case 3), and the summary says so.
 """
@@ -13,8 +13,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .demo_common import write_figure, write_table
-from .paper import PAPER, LeverCase
+from express.paper.demo_common import write_figure, write_table
+from express.paper.numbers import PAPER, LeverCase
 
 __all__ = [
     "LEVER_DAMPING",
@@ -80,7 +80,7 @@ def lever_step_response(equations, case: LeverCase | Mapping[str, float], time_s
     """
     from scipy.linalg import expm
 
-    from ..statespace import evaluate_matrices
+    from express.numeric.statespace import evaluate_matrices
 
     values = {**LEVER_VALUES, **_case_values(case)}
     values = {name: values[name] for name in equations.parameters}
@@ -152,7 +152,7 @@ def swapped_cases(lever: LeverStep) -> list[tuple[LeverCase, LeverCase]]:
 
 def write_lever(outdir: Path, lever: LeverStep, log: Callable[[str], None]) -> list[Path]:
     """Draw Fig. 3 and write it with its data; returns the paths written."""
-    from .plots import figure_lever_step
+    from express.analysis.plots import figure_lever_step
 
     columns: dict[str, object] = {"time_s": lever.time}
     drawn = []
