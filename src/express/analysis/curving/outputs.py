@@ -1,0 +1,177 @@
+"""The wheel/rail quantities of a curving result, named as engineers name them.
+
+One record, :class:`WheelRailOutputs`, holds them for a time history (``N`` instants)
+or a steady state (``N = 1``); the steady-state solver and the time march both build it,
+so their columns are the same (``docs/curving.md``, "Outputs").  Per wheel (``L`` left,
+``R`` right; wheelsets numbered from the front, 1, 2, ...):
+
+``Q{n}{s}`` [N]
+    vertical wheel load (from the model's vertical contact, or the quasi-static
+    estimate of :mod:`express.rail.load_transfer` for a lateral-only model; the
+    ``loads`` attribute says which);
+``Y{n}{s}`` [N]
+    lateral force from the rail on the wheel in the track plane, +y to the left;
+``YQ{n}{s}`` [-]
+    the derailment quotient: the lateral force toward the track centre (the guiding
+    force, ``-Y`` on the left wheel, ``+Y`` on the right) over Q; flange climbing needs
+    it large and positive;
+``Fx{n}{s}`` [N]
+    longitudinal creep force on the wheel, +x forward;
+``u{n}{s}`` [m], ``gamma{n}{s}`` [rad]
+    lateral contact position on the rail (from its nominal point, +y left) and the
+    contact angle (positive, the flank's slope toward the wheel's own flange);
+``flanging{n}{s}`` [-]
+    1 when the contact angle exceeds :data:`FLANGE_CONTACT_ANGLE` (flange contact), else 0.
+
+Per wheelset: ``SY{n}`` [N], the track shift force ``Y_L + Y_R`` (Prud'homme's ΣY,
++y left); ``aoa{n}`` [rad], the angle of attack (the wheelset's yaw from the track
+tangent at its station, positive turning the front to the left). Per vehicle: ``dQQ0``
+[-], the largest wheel unloading ``(Q0 - Q) / Q0`` over all wheels.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+__all__ = ["FLANGE_CONTACT_ANGLE", "SIDES", "WheelRailOutputs", "column_unit"]
+
+FloatArray = NDArray[np.float64]
+
+#: Contact angle beyond which a contact counts as flange contact [rad]: 30 degrees.  The
+#: tread of S1002 on 60E1 (1:40) keeps its contact angle below about 10 degrees over the
+#: flange clearance; from the flange root on it climbs steeply to the flank's 70 degrees,
+#: so any threshold between about 20 and 60 degrees marks the same contacts.
+FLANGE_CONTACT_ANGLE = math.radians(30.0)
+#: Wheel suffixes, in the order of the last axis of the per-wheel arrays.
+SIDES = ("L", "R")
+
+
+def _per_wheel(values: ArrayLike, name: str) -> FloatArray:
+    array = np.asarray(values, dtype=float)
+    if array.ndim != 3 or array.shape[2] != 2:
+        raise ValueError(f"{name} must have shape (instants, wheelsets, 2), got {array.shape}")
+    return array
+
+
+@dataclass(frozen=True)
+class WheelRailOutputs:
+    """Wheel/rail quantities at ``N`` instants of ``n`` wheelsets (see the module docstring).
+
+    Attributes
+    ----------
+    vertical_load : numpy.ndarray, shape (N, n, 2)
+        Q of each wheel, left then right [N].
+    lateral_force : numpy.ndarray, shape (N, n, 2)
+        Y in the track plane, +y left [N].
+    longitudinal_force : numpy.ndarray, shape (N, n, 2)
+        Longitudinal creep force, +x forward [N].
+    contact_position : numpy.ndarray, shape (N, n, 2)
+        Lateral contact position on the rail [m].
+    contact_angle : numpy.ndarray, shape (N, n, 2)
+        Contact angle [rad], >= 0 toward the wheel's flange.
+    angle_of_attack : numpy.ndarray, shape (N, n)
+        Yaw of each wheelset from the track [rad].
+    static_load : numpy.ndarray, shape (n,)
+        Q0 of each wheel of each wheelset [N].
+    loads : str
+        Where Q comes from: ``"dynamic"`` (the model's vertical contact),
+        ``"quasi-static estimate"`` (:mod:`express.rail.load_transfer`) or ``"static"``.
+    """
+
+    vertical_load: FloatArray
+    lateral_force: FloatArray
+    longitudinal_force: FloatArray
+    contact_position: FloatArray
+    contact_angle: FloatArray
+    angle_of_attack: FloatArray
+    static_load: FloatArray
+    loads: str = "quasi-static estimate"
+
+    def __post_init__(self) -> None:
+        shape = _per_wheel(self.vertical_load, "vertical_load").shape
+        for name in ("lateral_force", "longitudinal_force", "contact_position", "contact_angle"):
+            if _per_wheel(getattr(self, name), name).shape != shape:
+                raise ValueError(f"{name} must have the shape of vertical_load {shape}")
+        if np.shape(self.angle_of_attack) != shape[:2]:
+            raise ValueError(f"angle_of_attack must have shape {shape[:2]}, got {np.shape(self.angle_of_attack)}")
+        if np.shape(self.static_load) != shape[1:2] or not np.all(np.asarray(self.static_load) > 0):
+            raise ValueError(f"static_load must be {shape[1]} positive loads, got {self.static_load!r}")
+
+    @property
+    def wheelsets(self) -> int:
+        """Number of wheelsets n."""
+        return int(self.vertical_load.shape[1])
+
+    @property
+    def guiding_force(self) -> FloatArray:
+        """Lateral force toward the track centre on each wheel [N], shape (N, n, 2):
+        ``-Y`` on the left wheel, ``+Y`` on the right."""
+        return self.lateral_force * np.array([-1.0, 1.0])
+
+    @property
+    def y_over_q(self) -> FloatArray:
+        """Derailment quotient Y/Q of each wheel (guiding force over Q), shape (N, n, 2)."""
+        return self.guiding_force / self.vertical_load
+
+    @property
+    def flange_contact(self) -> NDArray[np.bool_]:
+        """Whether each wheel is in flange contact, shape (N, n, 2)."""
+        return self.contact_angle > FLANGE_CONTACT_ANGLE
+
+    @property
+    def track_shift_force(self) -> FloatArray:
+        """ΣY of each wheelset, ``Y_L + Y_R`` [N], shape (N, n)."""
+        return self.lateral_force.sum(axis=2)
+
+    @property
+    def wheel_unloading(self) -> FloatArray:
+        """``(Q0 - Q) / Q0`` of each wheel, shape (N, n, 2)."""
+        q0 = self.static_load[None, :, None]
+        return (q0 - self.vertical_load) / q0
+
+    @property
+    def vehicle_unloading(self) -> FloatArray:
+        """ΔQ/Q0 of the vehicle: the largest wheel unloading at each instant, shape (N,)."""
+        return self.wheel_unloading.reshape(self.wheel_unloading.shape[0], -1).max(axis=1)
+
+    def columns(self) -> dict[str, FloatArray]:
+        """Every column by name (module docstring), each of shape (N,), in a fixed order."""
+        out: dict[str, FloatArray] = {}
+        per_wheel = (("Q", self.vertical_load), ("Y", self.lateral_force), ("YQ", self.y_over_q),
+                     ("Fx", self.longitudinal_force), ("u", self.contact_position), ("gamma", self.contact_angle),
+                     ("flanging", self.flange_contact.astype(float)))
+        for j in range(self.wheelsets):
+            for prefix, values in per_wheel:
+                for k, side in enumerate(SIDES):
+                    out[f"{prefix}{j + 1}{side}"] = values[:, j, k]
+            out[f"SY{j + 1}"] = self.track_shift_force[:, j]
+            out[f"aoa{j + 1}"] = self.angle_of_attack[:, j]
+        out["dQQ0"] = self.vehicle_unloading
+        return out
+
+    def units(self) -> dict[str, str]:
+        """SI unit of every column of :meth:`columns` (``""`` for ratios and flags)."""
+        return {name: column_unit(name) for name in self.columns()}
+
+
+#: Units of the columns by name prefix (longest prefixes first).
+_UNITS = (("flanging", ""), ("gamma", "rad"), ("dQQ0", ""), ("aoa", "rad"), ("YQ", ""), ("Fx", "N"), ("SY", "N"),
+          ("Q", "N"), ("Y", "N"), ("u", "m"))
+
+
+def column_unit(name: str) -> str:
+    """SI unit of a column of :meth:`WheelRailOutputs.columns`.
+
+    Examples
+    --------
+    >>> column_unit("YQ1L"), column_unit("SY2"), column_unit("gamma1R")
+    ('', 'N', 'rad')
+    """
+    for prefix, unit in _UNITS:
+        if name.startswith(prefix):
+            return unit
+    raise KeyError(name)
