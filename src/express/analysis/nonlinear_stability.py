@@ -21,6 +21,14 @@ the first dead one is halved, always restarting from the last live state, until 
 narrower than ``tolerance``.  Every run is a :func:`express.analysis.simulate.simulate`
 with the contact from the profiles' tables when the model has them (else the dead-band
 flange and creep saturation).
+
+**Step-size check.**  The runs use a fixed step ``dt``; the speed at which a cycle dies
+moves with it (the test wheelset of ``tests/test_nonlinear_critical_speed.py``: 238.3 km/h
+at 5 ms, 239.25 km/h at 2.5 ms and below).  So the search is repeated with ``dt`` halved,
+from the last live state just above the found speed, until halving ``dt`` moves the result
+by no more than ``tolerance`` (or ``refinements`` halvings were made).  The result keeps
+every step's speed (:attr:`NonlinearCriticalSpeed.step_checks`), the ``dt`` it used and
+its uncertainty: the final bracket's width plus the change of the last halving.
 """
 
 from __future__ import annotations
@@ -37,7 +45,7 @@ from express.base.units import KMH
 from express.numeric.statespace import VehicleModel
 from express.rail.track import Straight, Track
 
-__all__ = ["BifurcationPoint", "NonlinearCriticalSpeed", "limit_cycle", "nonlinear_critical_speed"]
+__all__ = ["BifurcationPoint", "NonlinearCriticalSpeed", "StepCheck", "limit_cycle", "nonlinear_critical_speed"]
 
 
 @dataclass(frozen=True)
@@ -71,6 +79,28 @@ class BifurcationPoint:
 
 
 @dataclass(frozen=True)
+class StepCheck:
+    """The search at one time step.
+
+    Attributes
+    ----------
+    dt : float
+        Time step [s].
+    speed : float or None
+        Lowest speed with a limit cycle at this step [m/s].
+    bracket : tuple of float
+        ``(dead, alive)`` [m/s] at this step.
+    runs : int
+        Simulations run at this step.
+    """
+
+    dt: float
+    speed: float | None
+    bracket: tuple[float, float]
+    runs: int
+
+
+@dataclass(frozen=True)
 class NonlinearCriticalSpeed:
     """Result of :func:`nonlinear_critical_speed`.
 
@@ -83,7 +113,7 @@ class NonlinearCriticalSpeed:
         ``(dead, alive)`` [m/s]: the cycle died at ``dead`` and lived at ``alive``
         (``dead`` is ``nan`` when it lived down to ``v_min``).
     points : tuple of BifurcationPoint
-        Every run, in the order run.
+        Every run of the ramp at the first step (the bifurcation diagram), in the order run.
     linear : CriticalSpeed or None
         The linear critical speed of the same model.
     wheelset : str
@@ -92,10 +122,13 @@ class NonlinearCriticalSpeed:
         The contact model of the runs.
     options : dict
         ``v_start``, ``v_min``, ``step``, ``tolerance``, ``duration``, ``dt``,
-        ``disturbance``, ``threshold``, ``persistence``, ``extensions``.
+        ``disturbance``, ``threshold``, ``persistence``, ``extensions``, ``refinements``.
     state : numpy.ndarray or None
         The state ``[q; q_D']`` at the end of the run at :attr:`speed` (on the limit
         cycle), for restarting there.
+    step_checks : tuple of StepCheck
+        The search at each time step, the first ``options["dt"]``, each next one half the
+        previous; :attr:`speed` and :attr:`bracket` are the last one's.
     """
 
     speed: float | None
@@ -106,11 +139,37 @@ class NonlinearCriticalSpeed:
     contact: str
     options: dict = field(default_factory=dict)
     state: np.ndarray | None = field(default=None, repr=False, compare=False)
+    step_checks: tuple[StepCheck, ...] = ()
 
     @property
     def speed_kmh(self) -> float | None:
         """[km/h]."""
         return None if self.speed is None else self.speed / KMH
+
+    @property
+    def dt(self) -> float:
+        """The time step of :attr:`speed` [s]."""
+        return self.step_checks[-1].dt if self.step_checks else float(self.options["dt"])
+
+    @property
+    def step_change(self) -> float:
+        """How far the last halving of ``dt`` moved :attr:`speed` [m/s] (``nan``: not
+        checked, or no cycle at one of the steps)."""
+        if len(self.step_checks) < 2 or self.step_checks[-1].speed is None or self.step_checks[-2].speed is None:
+            return math.nan
+        return abs(self.step_checks[-1].speed - self.step_checks[-2].speed)
+
+    @property
+    def converged(self) -> bool:
+        """Halving ``dt`` moved the result by no more than the bracket's tolerance."""
+        return bool(self.step_change <= self.options["tolerance"])
+
+    @property
+    def uncertainty(self) -> float:
+        """Width of the final bracket plus :attr:`step_change` [m/s] (``nan`` when either
+        is unknown): the true critical speed of the model lies within
+        ``speed - uncertainty .. speed + step_change``."""
+        return (self.bracket[1] - self.bracket[0]) + self.step_change
 
     def describe(self) -> str:
         """One line: the nonlinear and the linear critical speeds."""
@@ -119,7 +178,13 @@ class NonlinearCriticalSpeed:
         if self.speed is None:
             return (f"no limit cycle at the start speed {self.options['v_start'] / KMH:.1f} km/h ({linear})")
         low = "" if math.isfinite(self.bracket[0]) else " (still cycling at the lowest speed)"
-        return (f"nonlinear critical speed {self.speed_kmh:.1f} km/h{low}, {linear}; "
+        if math.isfinite(self.uncertainty):
+            step = (f"dt {self.dt * 1e3:g} ms, uncertainty {self.uncertainty / KMH:.2f} km/h "
+                    f"(halving dt moved it {self.step_change / KMH:.2f} km/h"
+                    f"{'' if self.converged else ', NOT converged in dt'})")
+        else:
+            step = f"dt {self.dt * 1e3:g} ms, not checked by halving dt"
+        return (f"nonlinear critical speed {self.speed_kmh:.1f} km/h{low}, {step}, {linear}; "
                 f"contact: {self.contact}")
 
 
@@ -146,6 +211,82 @@ def limit_cycle(vehicle: VehicleModel, speed: float, state: np.ndarray, *, durat
             _state(vehicle, result), result.options.get("contact", "deadband"))
 
 
+@dataclass(frozen=True)
+class _Settings:
+    """The ramp's fixed options (see :func:`nonlinear_critical_speed`)."""
+
+    v_min: float
+    step: float
+    tolerance: float
+    duration: float
+    threshold: float
+    persistence: float
+    extensions: int
+    creep_law: str
+    contact: str | None
+
+
+@dataclass
+class _Search:
+    """One ramp-down and bisection at one ``dt``."""
+
+    alive: float | None = None
+    dead: float = math.nan
+    state: np.ndarray | None = None
+    points: list[BifurcationPoint] = field(default_factory=list)
+    used: str = "deadband"
+
+
+def _run(vehicle: VehicleModel, speed: float, start: np.ndarray, dt: float, settings: _Settings,
+         search: _Search) -> tuple[BifurcationPoint, np.ndarray]:
+    """One point of the ramp (continued while its motion still decays)."""
+    final = start
+    for _ in range(1 + settings.extensions):  # a motion still decaying may settle on another cycle
+        amplitude, previous, force, final, search.used = limit_cycle(
+            vehicle, speed, final, duration=settings.duration, dt=dt, creep_law=settings.creep_law,
+            contact=settings.contact)
+        alive = amplitude > settings.threshold and amplitude >= settings.persistence * previous
+        if alive or amplitude <= settings.threshold:
+            break
+    point = BifurcationPoint(speed, amplitude, previous, alive, force)
+    search.points.append(point)
+    return point, final
+
+
+def _ramp_down(vehicle: VehicleModel, v_start: float, state: np.ndarray, dt: float, settings: _Settings) -> _Search:
+    """From ``v_start`` down in ``step`` until the cycle dies, then bisect to ``tolerance``."""
+    search = _Search()
+    point, final = _run(vehicle, v_start, state, dt, settings, search)
+    if not point.alive:
+        search.dead = v_start
+        return search
+    alive_speed, alive_state = v_start, final
+    dead = math.nan
+    while True:  # ramp down until the cycle dies
+        speed = alive_speed - settings.step
+        if speed < settings.v_min:
+            break
+        point, final = _run(vehicle, speed, alive_state, dt, settings, search)
+        if not point.alive:
+            dead = speed
+            break
+        alive_speed, alive_state = speed, final
+    while math.isfinite(dead) and alive_speed - dead > settings.tolerance:  # halve the bracket
+        speed = 0.5 * (alive_speed + dead)
+        point, final = _run(vehicle, speed, alive_state, dt, settings, search)
+        if point.alive:
+            alive_speed, alive_state = speed, final
+        else:
+            dead = speed
+    search.alive, search.dead, search.state = alive_speed, dead, alive_state
+    return search
+
+
+def _check(dt: float, search: _Search) -> StepCheck:
+    return StepCheck(dt, search.alive, (search.dead, search.alive if search.alive is not None else math.nan),
+                     len(search.points))
+
+
 @limited_blas
 def nonlinear_critical_speed(
     vehicle: VehicleModel,
@@ -164,8 +305,9 @@ def nonlinear_critical_speed(
     linear: CriticalSpeed | None = None,
     v_max: float = 150.0,
     extensions: int = 4,
+    refinements: int = 3,
 ) -> NonlinearCriticalSpeed:
-    """The ramp-down (see the module docstring).
+    """The ramp-down, repeated with ``dt`` halved until converged (see the module docstring).
 
     Parameters
     ----------
@@ -179,11 +321,12 @@ def nonlinear_critical_speed(
     step : float
         Speed decrement of the ramp [m/s] (5 km/h).
     tolerance : float
-        Width of the final bracket [m/s] (0.5 km/h).
+        Width of the final bracket [m/s] (0.5 km/h), and the largest change a halving of
+        ``dt`` may make for the result to count as converged.
     duration : float
         Length of each run [s]; the amplitudes are read in its last two thirds.
     dt : float
-        Time step [s].
+        First time step [s].
     disturbance : float
         Initial lateral displacement of every wheelset [m].
     threshold, persistence : float
@@ -198,6 +341,9 @@ def nonlinear_critical_speed(
     extensions : int
         A run whose motion still decays (above ``threshold``) is continued up to this many
         times: it may settle on a smaller cycle of another branch.
+    refinements : int
+        Largest number of halvings of ``dt`` (0: no step-size check).  Each repeats the
+        search from one ``step`` above the last result, starting on its cycle.
 
     Raises
     ------
@@ -211,6 +357,8 @@ def nonlinear_critical_speed(
                         ("disturbance", disturbance), ("threshold", threshold), ("v_min", v_min)):
         if not (math.isfinite(value) and value > 0):
             raise ValueError(f"{name} must be positive, got {value!r}")
+    if refinements < 0:
+        raise ValueError(f"refinements must be 0 or more, got {refinements!r}")
     if linear is None:
         linear = critical_speed(vehicle, v_max=v_max)
     if v_start is None:
@@ -224,45 +372,25 @@ def nonlinear_critical_speed(
         state[wheelset.y] = disturbance
     options = {"v_start": v_start, "v_min": v_min, "step": step, "tolerance": tolerance, "duration": duration,
                "dt": dt, "disturbance": disturbance, "threshold": threshold, "persistence": persistence,
-               "extensions": extensions}
-    points: list[BifurcationPoint] = []
-    used = "deadband"
-
-    def run(speed: float, start: np.ndarray) -> tuple[BifurcationPoint, np.ndarray]:
-        nonlocal used
-        final = start
-        for _ in range(1 + extensions):  # a motion still decaying may settle on another cycle
-            amplitude, previous, force, final, used = limit_cycle(vehicle, speed, final, duration=duration, dt=dt,
-                                                                  creep_law=creep_law, contact=contact)
-            alive = amplitude > threshold and amplitude >= persistence * previous
-            if alive or amplitude <= threshold:
-                break
-        point = BifurcationPoint(speed, amplitude, previous, alive, force)
-        points.append(point)
-        return point, final
-
-    speed = v_start
-    point, final = run(speed, state)
-    if not point.alive:
-        return NonlinearCriticalSpeed(None, (speed, math.nan), tuple(points), linear,
-                                      vehicle.wheelsets[0].name, used, options)
-    alive_speed, alive_state = speed, final
-    dead = math.nan
-    while True:  # ramp down until the cycle dies
-        speed = alive_speed - step
-        if speed < v_min:
+               "extensions": extensions, "refinements": refinements}
+    settings = _Settings(v_min, step, tolerance, duration, threshold, persistence, extensions, creep_law, contact)
+    first = search = _ramp_down(vehicle, v_start, state, dt, settings)
+    checks = [_check(dt, search)]
+    for _ in range(refinements):
+        if search.alive is None or search.state is None:
             break
-        point, final = run(speed, alive_state)
-        if not point.alive:
-            dead = speed
+        finer = dt / 2 ** len(checks)
+        again = _ramp_down(vehicle, min(search.alive + step, v_start), search.state, finer, settings)
+        if again.alive is None and search.alive + step < v_start:  # no cycle just above: the whole ramp
+            again = _ramp_down(vehicle, v_start, state, finer, settings)
+        moved = abs(again.alive - search.alive) if again.alive is not None else math.inf
+        search = again
+        checks.append(_check(finer, search))
+        if search.alive is None or moved <= tolerance:
             break
-        alive_speed, alive_state = speed, final
-    while math.isfinite(dead) and alive_speed - dead > tolerance:  # halve the bracket
-        speed = 0.5 * (alive_speed + dead)
-        point, final = run(speed, alive_state)
-        if point.alive:
-            alive_speed, alive_state = speed, final
-        else:
-            dead = speed
-    return NonlinearCriticalSpeed(alive_speed, (dead, alive_speed), tuple(points), linear,
-                                  vehicle.wheelsets[0].name, used, options, alive_state)
+    name = vehicle.wheelsets[0].name
+    if search.alive is None:
+        return NonlinearCriticalSpeed(None, (search.dead, math.nan), tuple(first.points), linear, name,
+                                      first.used, options, None, tuple(checks))
+    return NonlinearCriticalSpeed(search.alive, (search.dead, search.alive), tuple(first.points), linear, name,
+                                  search.used, options, search.state, tuple(checks))

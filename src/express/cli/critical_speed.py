@@ -283,6 +283,10 @@ def _run_nonlinear(model: Path, overrides: dict[str, str], vmin: float, vmax: fl
 def _nonlinear_fields(result: Any) -> dict:
     return {"critical_speed": result.speed, "critical_speed_kmh": result.speed_kmh,
             "bracket": list(result.bracket), "contact": result.contact, "wheelset": result.wheelset,
+            "dt": result.dt, "uncertainty": result.uncertainty, "step_change": result.step_change,
+            "converged_in_dt": result.converged,
+            "step_checks": [{"dt": c.dt, "critical_speed": c.speed, "bracket": list(c.bracket), "runs": c.runs}
+                            for c in result.step_checks],
             "speeds": [p.speed for p in result.points], "amplitudes": [p.amplitude for p in result.points],
             "limit_cycle": [bool(p.alive) for p in result.points]}
 
