@@ -25,7 +25,7 @@ baselines in the same process, on the same numeric matrices):
    and 42 + 20 states); the blocks of each model are printed.
 3. ``VehicleModel.with_values`` (one conicity; one car-body mass, which moves the wheel
    load and the creep coefficients through the parameter graph).  Baseline: a fresh
-   ``vehicle_model(express.model.records.with_values(model, changes))`` (regeneration).
+   ``vehicle_model(express.model.parameters.with_values(model, changes))`` (regeneration).
    The arrays of both are compared exactly.
 
 Models: the forced-steering car (24 DOFs) and a 5-car train of it (120 DOFs), written by
@@ -193,7 +193,7 @@ def bench_eig(vehicle, label: str, runs: int) -> float:
 
 
 def bench_with_values(vehicle, model, label: str, runs: int) -> float:
-    from express.model.records import with_values
+    from express.model.parameters import with_values
     from express.numeric.statespace import vehicle_model
 
     worst = 0.0

@@ -221,7 +221,7 @@ class Bench:
 
     # ------------------------------------------------------------------ 3. critical speed
     def critical_speed(self, stability, vehicles, models):
-        from express.model.records import with_values
+        from express.model.parameters import with_values
         from express.numeric.statespace import vehicle_model
 
         args = self.args

@@ -1,11 +1,14 @@
 """The package's layers (``docs/architecture.md``; the readers produce the model records, so
 they sit just below them): a module imports only modules of its
-own layer or of the layers above it in the data flow, and no module grows past the size
+own layer or of the layers above it in the data flow; no two modules import each other,
+directly or around a ring (module-level and function-level imports alike); no module
+imports another module's private (``_name``) names; and no module grows past the size
 the style guide allows without a reason written in it."""
 
 from __future__ import annotations
 
 import ast
+from collections import deque
 from pathlib import Path
 
 import pytest
@@ -67,6 +70,134 @@ def test_every_import_follows_the_data_flow():
             if _layer(target) > _layer(name):
                 climbs.append(f"{path.relative_to(PACKAGE)}:{line}: {name} imports {target}")
     assert not climbs, "\n".join(climbs)
+
+
+def _import_edges(name: str, path: Path, modules: set[str]):
+    """``(line, module, imported name or None)`` of every import of the package in a module:
+    ``from package import submodule`` is an import of the submodule."""
+    package = name if path.name == "__init__.py" else name.rpartition(".")[0]
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.ImportFrom):
+            base = package.split(".")[: len(package.split(".")) - node.level + 1] if node.level else []
+            target = ".".join(base + ([node.module] if node.module else []))
+            if not target.startswith("express"):
+                continue
+            for alias in node.names:
+                submodule = f"{target}.{alias.name}"
+                yield (node.lineno, submodule, None) if submodule in modules else (node.lineno, target, alias.name)
+        elif isinstance(node, ast.Import):
+            for alias in node.names:
+                if alias.name.startswith("express"):
+                    yield node.lineno, alias.name, None
+
+
+def _private(part: str) -> bool:
+    return part.startswith("_") and not part.startswith("__")
+
+
+def _import_graph():
+    """Module -> {imported module: (file, line)} over every import, function-level ones too."""
+    modules = dict(_modules())
+    graph: dict[str, dict[str, str]] = {name: {} for name in modules}
+    for name, path in modules.items():
+        for line, target, _ in _import_edges(name, path, set(modules)):
+            if target in modules and target != name:
+                graph[name].setdefault(target, f"{path.relative_to(PACKAGE)}:{line}")
+    return graph
+
+
+def _ring(graph, start: str, members: set[str]) -> list[str]:
+    """A shortest import ring through ``start`` inside one strongly connected set."""
+    previous: dict[str, str] = {}
+    queue = deque([start])
+    while queue:
+        node = queue.popleft()
+        for target in sorted(graph[node]):
+            if target == start:
+                ring = [node]
+                while ring[-1] != start:
+                    ring.append(previous[ring[-1]])
+                return [start, *reversed(ring[:-1]), start] if node != start else [start, start]
+            if target in members and target not in previous:
+                previous[target] = node
+                queue.append(target)
+    raise AssertionError(f"no ring through {start}")
+
+
+def _strongly_connected(graph) -> list[set[str]]:
+    """Tarjan's strongly connected components of more than one module (iterative)."""
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    on_stack: set[str] = set()
+    found = []
+    for root in sorted(graph):
+        if root in index:
+            continue
+        work = [(root, iter(sorted(graph[root])))]
+        index[root] = low[root] = len(index)
+        stack.append(root)
+        on_stack.add(root)
+        while work:
+            node, targets = work[-1]
+            target = next(targets, None)
+            if target is not None:
+                if target not in index:
+                    index[target] = low[target] = len(index)
+                    stack.append(target)
+                    on_stack.add(target)
+                    work.append((target, iter(sorted(graph[target]))))
+                elif target in on_stack:
+                    low[node] = min(low[node], index[target])
+                continue
+            work.pop()
+            if work:
+                low[work[-1][0]] = min(low[work[-1][0]], low[node])
+            if low[node] == index[node]:
+                members = set()
+                while True:
+                    member = stack.pop()
+                    on_stack.discard(member)
+                    members.add(member)
+                    if member == node:
+                        break
+                if len(members) > 1:
+                    found.append(members)
+    return found
+
+
+def test_no_import_cycles():
+    graph = _import_graph()
+    rings = []
+    for members in _strongly_connected(graph):
+        ring = _ring(graph, min(members), members)
+        steps = [f"{a} ({graph[a][b]}) -> {b}" for a, b in zip(ring, ring[1:])]
+        rings.append("import ring: " + "; ".join(steps))
+    assert not rings, "\n".join(rings)
+
+
+def test_cycle_finder_finds_a_ring():
+    graph = {"a": {"b": "a.py:1"}, "b": {"c": "b.py:1"}, "c": {"a": "c.py:1"}, "d": {"a": "d.py:1"}}
+    assert _strongly_connected(graph) == [{"a", "b", "c"}]
+    assert _ring(graph, "a", {"a", "b", "c"}) == ["a", "b", "c", "a"]
+
+
+def test_no_private_names_imported_across_modules():
+    """``from module import _name`` only inside one module; a private module (``_base``) is
+    imported only by the modules of its own package."""
+    modules = dict(_modules())
+    borrowed = []
+    for name, path in modules.items():
+        for line, target, imported in _import_edges(name, path, set(modules)):
+            where = f"{path.relative_to(PACKAGE)}:{line}: {name}"
+            if imported is not None and _private(imported) and target != name:
+                borrowed.append(f"{where} imports the private {target}.{imported}")
+            parts = target.split(".")
+            for depth, part in enumerate(parts):
+                owner = ".".join(parts[:depth])
+                if _private(part) and not (name == owner or name.startswith(owner + ".")):
+                    borrowed.append(f"{where} imports the private module {target} from outside {owner}")
+    assert not borrowed, "\n".join(borrowed)
 
 
 @pytest.mark.parametrize(("limit", "what"), [(650, "module")])

@@ -18,10 +18,18 @@ import pytest
 import sympy as sp
 
 from express.assembly.generator import generate
-from express.assembly.gravity import element_length, static_preloads
+from express.assembly.gravity import element_length, static_model
+from express.assembly.gravity import static_preloads as preloads_of
 from express.base.diagnostics import ModelError
 from express.io import load_model, parse_toml_model
 from express.rail.build import generate_vehicle
+
+
+def static_preloads(model):
+    """The static preloads of ``model`` (its 3-D static equations generated first)."""
+    return preloads_of(model, generate(static_model(model)))
+
+
 
 ROOT = Path(__file__).resolve().parents[1]
 m, g, k, b, h, L, c, kl, J = sp.symbols("m g k b h L c kl J")

@@ -199,7 +199,7 @@ def test_printed_case_3_would_turn_the_lever(lever):
 def _lever_vehicle(damping: float):
     """The lever of Table 1, case 1, as a numerical model (no rail data)."""
     from express.io import load_model
-    from express.model.records import with_values
+    from express.model.parameters import with_values
     from express.numeric.statespace import vehicle_model
 
     chosen = {name.name: float(value) for name, value in values_for(*TABLE_1[1]).items()}

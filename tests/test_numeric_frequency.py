@@ -9,7 +9,7 @@ import pytest
 from express.analysis.frequency import dynamic_stiffness, frequency_response, ground_response, steady_response
 from express.base.diagnostics import AnalysisError
 from express.io import load_model, parse_toml_model
-from express.model.records import with_values
+from express.model.parameters import with_values
 from express.numeric.statespace import vehicle_model
 
 LEVER_VALUES = {"J1": 2.0, "J2": 0.5, "b": 0.4, "c": 300.0, "kLL": 5.5e6, "kLU": 5e5, "lLL": 0.06, "lLU": 0.3, "m": 20.0}

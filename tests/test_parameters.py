@@ -25,7 +25,7 @@ from express.model.parameters import (
     with_values,
 )
 from express.model.records import Derivation, Parameter
-from express.model.records import with_values as model_with_values
+from express.model.parameters import with_values as model_with_values
 from express.numeric.statespace import load_vehicle, vehicle_model
 from express.rail.contact import creep_coefficients
 
@@ -138,7 +138,7 @@ def test_changing_a_mass_reevaluates_wheel_load_and_creep_coefficients(steered):
 
 @pytest.mark.parametrize("change", [{"mc": "60 t"}, {"mc": 60000.0}, {"mc": "60000"}])
 def test_every_override_path_reevaluates_dependents(steered, steered_vehicle, change):
-    """--set (load_vehicle), VehicleModel.with_values and express.model.records.with_values agree."""
+    """--set (load_vehicle), VehicleModel.with_values and express.model.parameters.with_values agree."""
     expected = with_values(steered, {"mc": 60000.0})
     wheel_load = expected.parameters["P0"].value
     f1 = expected.parameters["f1"].value

@@ -24,7 +24,8 @@ from express.io.toml_model import parse_toml_model
 from express.rail.conicity import equivalent_conicity
 from express.rail.contact_geometry import ContactSetup, contact_geometry
 from express.rail.profile_formats import parse_profile_format, profile_format
-from express.rail.profiles import read_profile, standard_profile
+from express.rail.profile_formats import read_profile
+from express.rail.profiles import standard_profile
 
 DATA = Path(__file__).resolve().parent / "data"
 Y = np.arange(-10.0, 10.001, 0.1) * 1e-3

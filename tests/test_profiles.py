@@ -10,13 +10,13 @@ import numpy as np
 import pytest
 
 from express.base.diagnostics import ModelError
+from express.rail.profile_formats import read_profile
 from express.rail.profiles import (
     _S1002_BREAKS,
     _UIC60_BREAKS,
     Profile,
     parse_inclination,
     parse_profile,
-    read_profile,
     s1002_height,
     smooth_profile,
     standard_profile,

@@ -25,7 +25,8 @@ import numpy as np
 import sympy as sp
 from numba import njit
 
-from express.analysis.integrator import _bump_stops
+from express.analysis.integrator import bump_stops
+from express.analysis.track_inputs import track_inputs
 from express.model.parameters import expression_value
 from express.rail.contact_forces import LAWS, OUTPUTS, WORK_COLUMNS, WheelsetContact, wheelset_forces
 from express.rail.curve import station_of
@@ -170,7 +171,7 @@ def _march(phi, drive, g0, g1, x0, first, last, states, history, iy, ipsi, ivy, 
     _feedback(x, first, iy, ipsi, ivy, ivpsi, y_rail, rho, speed, tables, t_start, t_step, t_count, maps, m_start,
               m_step, m_count, load, friction, shear, wall, law, linear, work, history[first], z)
     if stops:
-        _bump_stops(x, first, stop_index, stop_coefficient, stop_offset, stop_gap, stop_k, stop_k3, wheel, z)
+        bump_stops(x, first, stop_index, stop_coefficient, stop_offset, stop_gap, stop_k, stop_k3, wheel, z)
     for k in range(first, last):
         for i in range(size):
             total = drive[k, i]
@@ -184,7 +185,7 @@ def _march(phi, drive, g0, g1, x0, first, last, states, history, iy, ipsi, ivy, 
         _feedback(trial, k + 1, iy, ipsi, ivy, ivpsi, y_rail, rho, speed, tables, t_start, t_step, t_count, maps,
                   m_start, m_step, m_count, load, friction, shear, wall, law, linear, work, scratch, z_next)
         if stops:
-            _bump_stops(trial, k + 1, stop_index, stop_coefficient, stop_offset, stop_gap, stop_k, stop_k3, wheel,
+            bump_stops(trial, k + 1, stop_index, stop_coefficient, stop_offset, stop_gap, stop_k, stop_k3, wheel,
                         z_next)
         for i in range(size):
             total = base[i]
@@ -194,7 +195,7 @@ def _march(phi, drive, g0, g1, x0, first, last, states, history, iy, ipsi, ivy, 
         _feedback(x, k + 1, iy, ipsi, ivy, ivpsi, y_rail, rho, speed, tables, t_start, t_step, t_count, maps,
                   m_start, m_step, m_count, load, friction, shear, wall, law, linear, work, history[k + 1], z)
         if stops:
-            _bump_stops(x, k + 1, stop_index, stop_coefficient, stop_offset, stop_gap, stop_k, stop_k3, wheel, z)
+            bump_stops(x, k + 1, stop_index, stop_coefficient, stop_offset, stop_gap, stop_k, stop_k3, wheel, z)
         for i in range(size):
             states[k + 1, i] = x[i]
     return x
@@ -294,8 +295,6 @@ def contact_rhs(vehicle, track, contacts: list[WheelsetContact], *, speed: float
                 law: str = "fastsim"):
     """The contact simulation's equations as ``f(t, x)`` for reference integrations
     (``scipy.integrate.solve_ivp``); bump stops are not included."""
-    from express.analysis.simulate import track_inputs
-
     v = float(vehicle.speed if speed is None else speed)
     a, b, bd = vehicle.state_matrix(v), vehicle.input_matrix(v), vehicle.input_rate_matrix(v)
     n = vehicle.n

@@ -439,7 +439,7 @@ def ground_response(
     >>> from express.numeric.statespace import vehicle_model
     >>> values = {"J1": 2.0, "J2": 0.5, "b": 0.4, "c": 300.0, "kLL": 5.5e6, "kLU": 5e5,
     ...           "lLL": 0.06, "lLU": 0.3, "m": 20.0}
-    >>> from express.model.records import with_values
+    >>> from express.model.parameters import with_values
     >>> lever = vehicle_model(with_values(load_model("examples/lever.exp"), values))
     >>> tf = ground_response(lever, [0.0, 10.0])
     >>> tf.inputs

@@ -92,7 +92,7 @@ def _feedback(x, ivy, ivpsi, k, iy, ipsi, y_rail, rho, speed, f1, f2, conicity, 
 
 
 @njit(cache=True, fastmath=False)
-def _bump_stops(x, k, index, coefficient, offset, gap, stiffness, progressive, first, z):
+def bump_stops(x, k, index, coefficient, offset, gap, stiffness, progressive, first, z):
     """Bump-stop forces ``-F`` (express.assembly.clearance) into ``z[first:]``; the deflection
     of stop ``s`` is ``sum coefficient[s, :] x[index[s, :]]`` (its few nonzero terms)."""
     for s in range(gap.size):
@@ -120,7 +120,7 @@ def _march(phi, drive, g0, g1, x0, first, last, states, ivy, ivpsi, iy, ipsi, y_
     trial = np.zeros(size)
     _feedback(x, ivy, ivpsi, first, iy, ipsi, y_rail, rho, speed, f1, f2, conicity, r0, b, clearance, k_rail, limit, flange, saturation, z)
     if stops:
-        _bump_stops(x, first, stop_index, stop_coefficient, stop_offset, stop_gap, stop_k, stop_k3, wheel, z)
+        bump_stops(x, first, stop_index, stop_coefficient, stop_offset, stop_gap, stop_k, stop_k3, wheel, z)
     for k in range(first, last):
         for i in range(size):
             total = drive[k, i]
@@ -133,7 +133,7 @@ def _march(phi, drive, g0, g1, x0, first, last, states, ivy, ivpsi, iy, ipsi, y_
             trial[i] = total + held
         _feedback(trial, ivy, ivpsi, k + 1, iy, ipsi, y_rail, rho, speed, f1, f2, conicity, r0, b, clearance, k_rail, limit, flange, saturation, z_next)
         if stops:
-            _bump_stops(trial, k + 1, stop_index, stop_coefficient, stop_offset, stop_gap, stop_k, stop_k3, wheel, z_next)
+            bump_stops(trial, k + 1, stop_index, stop_coefficient, stop_offset, stop_gap, stop_k, stop_k3, wheel, z_next)
         for i in range(size):
             total = base[i]
             for j in range(nz):
@@ -141,7 +141,7 @@ def _march(phi, drive, g0, g1, x0, first, last, states, ivy, ivpsi, iy, ipsi, y_
             x[i] = total
         _feedback(x, ivy, ivpsi, k + 1, iy, ipsi, y_rail, rho, speed, f1, f2, conicity, r0, b, clearance, k_rail, limit, flange, saturation, z)
         if stops:
-            _bump_stops(x, k + 1, stop_index, stop_coefficient, stop_offset, stop_gap, stop_k, stop_k3, wheel, z)
+            bump_stops(x, k + 1, stop_index, stop_coefficient, stop_offset, stop_gap, stop_k, stop_k3, wheel, z)
         for i in range(size):
             states[k + 1, i] = x[i]
     return x

@@ -38,11 +38,11 @@ from pathlib import Path
 import numpy as np
 
 from express.analysis.integrator import discretize, march
+from express.analysis.track_inputs import TrackInputs, rail_layout, station_index, track_inputs
 from express.assembly.clearance import clearance_force, clearances_of
 from express.base.threads import limited_blas
 from express.model.topology import classify_bodies
 from express.numeric.statespace import VehicleModel
-from express.rail.build import RailLayout
 from express.rail.nonlinear import wheelset_forces
 from express.rail.track import Track
 
@@ -154,55 +154,6 @@ def _lever_rotation(vehicle: VehicleModel, body: str) -> str:
 def bogie_of_wheelsets(vehicle: VehicleModel) -> dict[str, str]:
     """The bogie each wheelset is suspended from (:func:`express.model.topology.classify_bodies`)."""
     return dict(classify_bodies(vehicle.model).bogie_of) if vehicle.model is not None else {}
-
-
-@dataclass(frozen=True)
-class TrackInputs:
-    """The known inputs along a run: ``u`` and ``u'`` at every instant, shape (N, m)."""
-
-    u: np.ndarray
-    u_rate: np.ndarray
-    y_rail: np.ndarray  # (N, n_wheelsets)
-    rho_wheelsets: np.ndarray  # (N, n_wheelsets)
-    rho_stations: np.ndarray  # (N, n_stations)
-
-
-def track_inputs(vehicle: VehicleModel, track: Track, distance: np.ndarray, speed: float) -> TrackInputs:
-    """Inputs seen by the vehicle when its leading wheelset is at ``distance`` [m].
-
-    Each station ``k`` at ``x_k`` in the vehicle is ``x_lead - x_k`` behind the leading
-    wheelset; its curvature, cant and irregularity are read there.  Rates are
-    ``v d/ds``.  Flange inputs are left at zero (they are fed back).
-    """
-    layout = vehicle.layout
-    if layout is None:
-        raise ValueError("the model has no rail data: add a [rail] section to simulate it")
-    inputs = list(vehicle.inputs)
-    lead = max(w.station for w in vehicle.wheelsets)
-    count = distance.size
-    u = np.zeros((count, len(inputs)))
-    u_rate = np.zeros_like(u)
-    # every station at once: one track evaluation per quantity
-    behind = lead - np.asarray(vehicle.station_positions, dtype=float)
-    s = (distance[:, None] - behind[None, :]).ravel()
-    shape = (count, behind.size)
-    curvature, curvature_rate, cant, cant_rate = (array.reshape(shape) for array in track.geometry(s))
-    for k, station in enumerate(layout.stations):
-        u[:, inputs.index(station.curvature_input)] = curvature[:, k]
-        u_rate[:, inputs.index(station.curvature_input)] = speed * curvature_rate[:, k]
-        u[:, inputs.index(station.cant_input)] = cant[:, k]
-        u_rate[:, inputs.index(station.cant_input)] = speed * cant_rate[:, k]
-    at_wheelset = [_station_index(vehicle, w.name) for w in vehicle.wheelsets]
-    rho = np.ascontiguousarray(curvature[:, at_wheelset])
-    behind_w = lead - np.array([w.station for w in vehicle.wheelsets])
-    s_w = (distance[:, None] - behind_w[None, :]).ravel()
-    shape_w = (count, behind_w.size)
-    y_rail = np.asarray(track.lateral_irregularity(s_w), dtype=float).reshape(shape_w)
-    y_rail_rate = np.asarray(track.lateral_irregularity_rate(s_w), dtype=float).reshape(shape_w)
-    for j, name in enumerate(layout.irregularity):
-        u[:, inputs.index(name)] = y_rail[:, j]
-        u_rate[:, inputs.index(name)] = speed * y_rail_rate[:, j]
-    return TrackInputs(u, u_rate, y_rail, rho, curvature)
 
 
 def _terminal_progress(stream=None):
@@ -421,7 +372,7 @@ def derived_outputs(vehicle: VehicleModel, q, q_dot, inputs: TrackInputs, speed:
     )
     outputs: dict[str, np.ndarray] = {
         "rho1": inputs.rho_wheelsets[:, 0],
-        "S1": inputs.u[:, list(vehicle.inputs).index(_layout(vehicle).cant[_station_index(vehicle, ws[0].name)])],
+        "S1": inputs.u[:, list(vehicle.inputs).index(rail_layout(vehicle).cant[station_index(vehicle, ws[0].name)])],
     }
     bogies = bogie_of_wheelsets(vehicle)
     for j, wheelset in enumerate(ws, start=1):
@@ -435,7 +386,7 @@ def derived_outputs(vehicle: VehicleModel, q, q_dot, inputs: TrackInputs, speed:
         if bogie is not None:
             # each body's yaw is measured from the track at its own station: add the
             # turn of the track between the bogie and the wheelset stations
-            bogie_station = _station_index(vehicle, bogie)
+            bogie_station = station_index(vehicle, bogie)
             turn = 0.5 * (inputs.rho_wheelsets[:, j - 1] + inputs.rho_stations[:, bogie_station]) * (
                 wheelset.station - vehicle.station_positions[bogie_station]
             )
@@ -443,19 +394,6 @@ def derived_outputs(vehicle: VehicleModel, q, q_dot, inputs: TrackInputs, speed:
     for lever in lever_bodies(vehicle):
         outputs[f"theta_{lever}"] = q[:, vehicle.dof_index(_lever_rotation(vehicle, lever))]
     return outputs
-
-
-def _layout(vehicle: VehicleModel) -> RailLayout:
-    if vehicle.layout is None:
-        raise ValueError("the vehicle has no rail data (no [rail] section with wheelsets)")
-    return vehicle.layout
-
-
-def _station_index(vehicle: VehicleModel, body: str) -> int:
-    for index, station in enumerate(_layout(vehicle).stations):
-        if body in station.bodies:
-            return index
-    raise ValueError(body)
 
 
 def continuous_rhs(

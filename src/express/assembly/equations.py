@@ -22,6 +22,7 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
+from express.base.diagnostics import Problem
 from express.model.records import Derivation, Model
 
 #: Order in which matrices are exported when present.
@@ -200,3 +201,26 @@ class EquationsOfMotion:
     @property
     def K(self) -> sp.ImmutableMatrix:
         return self.matrices["K"]
+
+
+@dataclass(frozen=True)
+class GenerationResult:
+    """Equations of motion plus what the generator noticed.
+
+    Attributes
+    ----------
+    equations : EquationsOfMotion
+        The matrices.
+    warnings : tuple of Problem
+        Suspicious features (a DOF with zero mass or inertia).
+    transformation : sympy immutable matrix
+        ``T`` with ``q = T q_r`` (full DOFs x reduced DOFs); sparse for big models
+        (:func:`symbolic_matrix`).
+    full_dofs : tuple of str
+        Generalized coordinates before elimination (rows of ``T``).
+    """
+
+    equations: EquationsOfMotion
+    warnings: tuple[Problem, ...]
+    transformation: sp.MatrixBase
+    full_dofs: tuple[str, ...]

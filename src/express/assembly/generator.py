@@ -23,7 +23,8 @@ from typing import Any
 import sympy as sp
 
 from express.assembly.algebra import ExactDomain, inverted_symbols, needs_fractions
-from express.assembly.equations import STROKE, ClearanceTerm, EquationsOfMotion, derivation_steps
+from express.assembly.equations import STROKE, ClearanceTerm, EquationsOfMotion, GenerationResult, derivation_steps
+from express.assembly.gravity import gravity_stiffness, static_model
 from express.assembly.kinematics import end_motion, generalized_coordinates
 from express.base.diagnostics import ModelError, Problem
 from express.model.parameters import display_unit
@@ -63,29 +64,6 @@ class AddedTerms:
         for group in (self.stiffness, self.damping, self.forces, self.rate_forces):
             for *_, value in group:
                 yield value
-
-
-@dataclass(frozen=True)
-class GenerationResult:
-    """Equations of motion plus what the generator noticed.
-
-    Attributes
-    ----------
-    equations : EquationsOfMotion
-        The matrices.
-    warnings : tuple of Problem
-        Suspicious features (a DOF with zero mass or inertia).
-    transformation : sympy immutable matrix
-        ``T`` with ``q = T q_r`` (full DOFs x reduced DOFs); sparse for big models
-        (:func:`symbolic_matrix`).
-    full_dofs : tuple of str
-        Generalized coordinates before elimination (rows of ``T``).
-    """
-
-    equations: EquationsOfMotion
-    warnings: tuple[Problem, ...]
-    transformation: sp.MatrixBase
-    full_dofs: tuple[str, ...]
 
 
 class _NeedsFractionsError(Exception):
@@ -270,9 +248,8 @@ def generate(model: Model, *, keep_virtual: bool = False, added: AddedTerms | No
         raise ModelError(problems)
     added = added or AddedTerms()
     if model.gravity is not None:  # geometric stiffness of the static preloads
-        from express.assembly.gravity import gravity_stiffness
-
-        added = replace(added, stiffness=list(added.stiffness) + gravity_stiffness(model))
+        static_equations = generate(static_model(model))  # the 3-D static model has no gravity
+        added = replace(added, stiffness=list(added.stiffness) + gravity_stiffness(model, static_equations))
     expressions = list(_model_expressions(model, added))
     symbols = set().union(*(sp.sympify(e).free_symbols for e in expressions)) if expressions else set()
     inverses = inverted_symbols(expressions)

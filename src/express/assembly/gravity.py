@@ -34,19 +34,22 @@ from dataclasses import replace
 import numpy as np
 import sympy as sp
 
+from express.assembly.equations import GenerationResult
 from express.assembly.kinematics import point_motion
 from express.base.diagnostics import ModelError, Problem
 from express.model.records import AXES, DOF_NAMES, Model
 
-__all__ = ["element_length", "gravity_stiffness", "static_preloads"]
+__all__ = ["element_length", "gravity_stiffness", "static_model", "static_preloads"]
 
 #: Relative size of the random perturbation of the parameters used to find which
 #: coordinates move in the static equilibrium (structural zeros stay zero).
 _PERTURBATION = 0.1
 
 
-def _static_model(model: Model) -> Model:
-    """The 3-D static model: all DOFs, no series or clearance elements, wheelsets held."""
+def static_model(model: Model) -> Model:
+    """The 3-D static model: all DOFs, no series or clearance elements, wheelsets held,
+    no gravity (its equations, from :func:`express.assembly.generator.generate`, are the
+    ``static_equations`` argument of :func:`static_preloads` and :func:`gravity_stiffness`)."""
     held = {w.body for w in model.rail.wheelsets} if model.rail is not None else set()
     bodies = tuple(
         replace(b, dofs=tuple(d for d in DOF_NAMES if not (b.id in held and d in ("z", "rx")))) for b in model.bodies
@@ -59,8 +62,16 @@ def _number_function(symbols: list[sp.Symbol], expressions):
     return sp.lambdify(symbols, list(expressions), modules="math")
 
 
-def static_preloads(model: Model) -> dict[str, sp.Expr]:
+def static_preloads(model: Model, static_equations: GenerationResult) -> dict[str, sp.Expr]:
     """Static force ``N = k delta_s`` [N or N m] of every loaded element under gravity.
+
+    Parameters
+    ----------
+    model : Model
+        The model with its ``[gravity]``.
+    static_equations : GenerationResult
+        The equations of :func:`static_model` of ``model`` (``generate(static_model(model))``;
+        the generator passes them, so that this module does not call it back).
 
     Returns
     -------
@@ -73,11 +84,9 @@ def static_preloads(model: Model) -> dict[str, sp.Expr]:
         When no element carries a body's weight (naming the bodies), or when a value
         is missing.
     """
-    from express.assembly.generator import generate  # the generator calls this module: import late
-
     gravity = sp.sympify(model.gravity)
-    static = _static_model(model)
-    result = generate(static)
+    result = static_equations
+    static = static_model(model)
     eom, t = result.equations, result.transformation
     full = list(result.full_dofs)
     n = len(eom.dofs)
@@ -228,10 +237,18 @@ def _rotation_hessian(model: Model, point_id: str, axis: int) -> list[tuple[str,
     return entries
 
 
-def gravity_stiffness(model: Model) -> list[tuple[str, str, sp.Expr]]:
+def gravity_stiffness(model: Model, static_equations: GenerationResult) -> list[tuple[str, str, sp.Expr]]:
     """Geometric stiffness of the preloaded elements: ``(row DOF, column DOF, value)``
-    in the model's full coordinates (before pin elimination), to be added to K."""
-    preloads = static_preloads(model)
+    in the model's full coordinates (before pin elimination), to be added to K.
+
+    Parameters
+    ----------
+    model : Model
+        The model with its ``[gravity]``.
+    static_equations : GenerationResult
+        The equations of :func:`static_model` of ``model`` (see :func:`static_preloads`).
+    """
+    preloads = static_preloads(model, static_equations)
     terms: list[tuple[str, str, sp.Expr]] = []
     for element in model.elements:
         force = preloads.get(element.id)

@@ -34,13 +34,14 @@ from __future__ import annotations
 import math
 import re
 import sys
+from collections.abc import Mapping
 from fractions import Fraction
 
 import sympy as sp
 
 from express.base.limits import MAX_EXPONENT, MAX_NESTING, limit
 
-__all__ = ["ExpressionError", "is_valid_name", "parse_expression", "parse_number"]
+__all__ = ["ExpressionError", "expression_value", "is_valid_name", "parse_expression", "parse_number"]
 
 _TOKEN = re.compile(
     r"\s*(?:(?P<number>(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)"
@@ -273,3 +274,53 @@ def _expanded_terms(expression: sp.Expr) -> int:
             return math.comb(power + terms - 1, terms - 1)
         return 1
     return 1
+
+
+def expression_value(expression, values: Mapping[str, float]) -> float:
+    """Value of a parameter expression at ``values`` (SI floats by name).
+
+    The one numerical evaluator of parameter expressions: a walk over the parsed
+    expression with float arithmetic (no code is generated or evaluated).
+
+    Raises
+    ------
+    KeyError
+        Naming a parameter that has no value.
+    ValueError
+        If the result is not a finite number (division by zero, overflow).
+
+    Examples
+    --------
+    >>> expression_value(parse_expression("(mc + 2*mt)*g/8"), {"mc": 30000.0, "mt": 2600.0, "g": 9.81})
+    43164.0
+    """
+    try:
+        result = _float(expression, values)
+    except (ZeroDivisionError, OverflowError):
+        result = math.inf
+    if not math.isfinite(result):
+        raise ValueError(f"{sp.sstr(expression)} does not give a finite number (division by zero or overflow)")
+    return result
+
+
+def _float(expression, values: Mapping[str, float]) -> float:
+    if isinstance(expression, (int, float)):
+        return float(expression)
+    if expression.is_Symbol:
+        return float(values[expression.name])
+    if expression.is_Number:
+        return float(expression)
+    if expression.is_Add:
+        return sum((_float(term, values) for term in expression.args), 0.0)
+    if expression.is_Mul:
+        product = 1.0
+        for factor in expression.args:
+            product *= _float(factor, values)
+        return product
+    if expression.is_Pow:
+        base = _float(expression.base, values)
+        exponent = expression.exp
+        if exponent.is_Integer:
+            return float(base ** int(exponent))
+        return float(base ** _float(exponent, values))
+    raise ValueError(f"cannot evaluate {sp.sstr(expression)}")

@@ -299,7 +299,7 @@ def load_model_with(model: Path, overrides: dict[str, str]) -> Any:
         A bad file or override (every problem at once).
     """
     from express.io import load_model
-    from express.model.records import with_values
+    from express.model.parameters import with_values
 
     loaded = load_model(model)
     return with_values(loaded, overrides) if overrides else loaded

@@ -86,7 +86,8 @@ def setup_from(gauge: float, flange_back: float, inclination: float, wheel_radiu
 def load_profiles(names: list[str], units: str | None):
     """The wheel and rail :class:`~express.rail.profiles.Profile` of ``WHEEL RAIL``."""
     from express.base.diagnostics import ModelError
-    from express.rail.profiles import STANDARD_PROFILES, read_profile, standard_profile
+    from express.rail.profile_formats import read_profile
+    from express.rail.profiles import STANDARD_PROFILES, standard_profile
 
     standard = {name.upper() for name in STANDARD_PROFILES} | {"UIC60"}
     profiles: list = []

@@ -54,19 +54,13 @@ from express.base.limits import exceeded
 from express.base.units import UnitError, parse_quantity, unit_factor
 from express.io.classic import model_name_from_path, read_model_text
 from express.io.toml_contact import conicity_value
-from express.io.toml_lines import line_index as _line_index
+from express.io.toml_items import TomlReader, check_id, cut_text, read_items, show_value, value_kind
 from express.model.parameters import parameter_problems, resolve
 from express.model.records import (
-    DOF_NAMES,
-    Body,
-    ConnectionPoint,
     Derivation,
-    Element,
-    Ground,
     Model,
     OutputPoint,
     Parameter,
-    PinnedJoint,
     RailSpec,
     Wheelset,
     check_model,
@@ -83,10 +77,6 @@ _TOP_KEYS = (
     "model", "parameters", "bodies", "grounds", "points", "elements", "pins", "rail", "gravity",
     "substructures", "instances",
 )
-_BODY_KEYS = ("mass", "inertia", "dofs", "position", "label")
-_POINT_KEYS = ("body", "offset")
-_ELEMENT_KEYS = ("from", "to", "direction", "stiffness", "damping", "label", "series", "gap", "progressive")
-_PIN_KEYS = ("virtual", "non_virtual")
 WHEELSET_KEYS = (
     "f1",
     "f2",
@@ -109,108 +99,9 @@ _CREEP_KEYS = (
     "youngs_modulus",
     "poisson",
 )
-_DIRECTIONS = {"x": 0, "y": 1, "z": 2, "1": 0, "2": 1, "3": 2}
-_ROTATIONS = {"rx": 0, "ry": 1, "rz": 2}
 
 
-class _Reader:
-    def __init__(self, text: str, source: str):
-        self.source = source
-        self.problems: list[Problem] = []
-        self.lines = _line_index(text)
-
-    def line(self, *path: str) -> int | None:
-        for end in range(len(path), 0, -1):
-            found = self.lines.get(tuple(path[:end]))
-            if found is not None:
-                return found
-        return None
-
-    def problem(self, path: tuple[str, ...], item: str, message: str) -> None:
-        self.problems.append(Problem(self.source, self.line(*path), item, message))
-
-    def table(self, value: Any, path: tuple[str, ...], item: str) -> dict:
-        if isinstance(value, dict):
-            return value
-        self.problem(path, item, f"expected a table, got {_kind(value)}")
-        return {}
-
-    def unknown_keys(self, table: dict, allowed: tuple[str, ...], path: tuple[str, ...], item: str) -> None:
-        for key in table:
-            if key not in allowed:
-                self.problem(
-                    path + (key,), item, f'unknown key "{key}" (allowed: {", ".join(allowed)})'
-                )
-
-    def expression(self, value: Any, path: tuple[str, ...], item: str, what: str) -> sp.Expr:
-        if isinstance(value, bool):
-            self.problem(path, item, f"{what} must be a number or an expression, got a boolean")
-            return sp.S.Zero
-        if isinstance(value, int):
-            return sp.Integer(value)
-        if isinstance(value, float):
-            if value != value or value in (float("inf"), float("-inf")):
-                self.problem(path, item, f"{what} must be finite, got {value}")
-                return sp.S.Zero
-            return parse_expression(repr(value))
-        if isinstance(value, str):
-            try:
-                return parse_expression(value)
-            except ExpressionError as error:
-                self.problem(path, item, f'{what} "{_cut(value)}" is not a valid expression ({error})')
-                return sp.S.Zero
-        self.problem(path, item, f"{what} must be a number or an expression, got {_kind(value)}")
-        return sp.S.Zero
-
-    def vector(self, value: Any, path: tuple[str, ...], item: str, what: str) -> tuple[sp.Expr, ...]:
-        if not isinstance(value, list) or len(value) != 3:
-            self.problem(path, item, f"{what} must be a list of 3 values [x, y, z], got {_show(value)}")
-            return (sp.S.Zero,) * 3
-        return tuple(self.expression(v, path, item, f"{what}[{i}]") for i, v in enumerate(value))
-
-    def name(self, value: Any, path: tuple[str, ...], item: str, what: str) -> str:
-        if isinstance(value, str) and re.fullmatch(r"[A-Za-z][A-Za-z0-9_]*", value):
-            return value
-        self.problem(path, item, f"{what} must be an id (letters, digits, _), got {_show(value)}")
-        return "?"
-
-
-_ID = re.compile(r"[A-Za-z][A-Za-z0-9_]*\Z")
-
-
-def _check_id(reader: _Reader, identifier: str, path: tuple[str, ...], item: str) -> None:
-    if not _ID.match(identifier):
-        reader.problem(path, item, "an id must start with a letter and hold only letters, digits and _")
-
-
-def _entries(reader: _Reader, table: Any, section: str, kind: str, allowed: tuple[str, ...], base: tuple[str, ...] = ()):
-    """``(id, path, item, spec)`` of every entry of a named-items section, checked."""
-    for identifier, raw in reader.table(table, base + (section,), section).items():
-        path = base + (section, identifier)
-        item = f"{kind} {identifier}"
-        _check_id(reader, identifier, path, item)
-        spec = reader.table(raw, path, item)
-        reader.unknown_keys(spec, allowed, path, item)
-        yield identifier, path, item, spec
-
-
-def _kind(value: Any) -> str:
-    return {dict: "a table", list: "a list", str: "a string", bool: "a boolean"}.get(
-        type(value), type(value).__name__
-    )
-
-
-def _cut(text: str, limit: int = 60) -> str:
-    """A value quoted in a message, cut to ``limit`` characters."""
-    return text if len(text) <= limit else text[: limit - 3] + "..."
-
-
-def _show(value: Any) -> str:
-    text = repr(value)
-    return text if len(text) <= 60 else text[:57] + "..."
-
-
-def _parameters(reader: _Reader, table: dict) -> dict[str, Parameter]:
+def _parameters(reader: TomlReader, table: dict) -> dict[str, Parameter]:
     """Parameters: numbers (SI), quantities with units, or expressions of others.
 
     Values are not computed here: :func:`express.model.parameters.resolve` evaluates the
@@ -232,10 +123,10 @@ def _parameters(reader: _Reader, table: dict) -> dict[str, Parameter]:
             spec, raw = raw, raw.get("value")
             unit = spec.get("unit", "")
             if not isinstance(unit, str):
-                reader.problem(path, item, f"unit must be a text such as \"kN/m\", got {_show(unit)}")
+                reader.problem(path, item, f"unit must be a text such as \"kN/m\", got {show_value(unit)}")
                 continue
             if isinstance(raw, bool) or not isinstance(raw, (int, float)):
-                reader.problem(path, item, f"value must be a number, got {_show(raw)}")
+                reader.problem(path, item, f"value must be a number, got {show_value(raw)}")
                 continue
         if isinstance(raw, bool):
             reader.problem(path, item, "value must be a number, got a boolean")
@@ -254,11 +145,11 @@ def _parameters(reader: _Reader, table: dict) -> dict[str, Parameter]:
             if parameter is not None:
                 parameters[name] = parameter
         else:
-            reader.problem(path, item, f"value must be a number, got {_kind(raw)}")
+            reader.problem(path, item, f"value must be a number, got {value_kind(raw)}")
     return parameters
 
 
-def _text_parameter(reader: _Reader, name: str, raw: str, line: int | None) -> Parameter | None:
+def _text_parameter(reader: TomlReader, name: str, raw: str, line: int | None) -> Parameter | None:
     """``"95 mm"`` (a quantity) or ``"0.2*lLU"`` (an expression: a derived parameter)."""
     path, item = ("parameters", name), f"parameter {name}"
     try:
@@ -269,18 +160,18 @@ def _text_parameter(reader: _Reader, name: str, raw: str, line: int | None) -> P
         except ExpressionError as error:
             looks_like_quantity = re.match(r"\s*[-+]?[\d.]", raw) and not re.search(r"[*/^()+]", raw.strip()[1:])
             reason = unit_error if looks_like_quantity else error
-            reader.problem(path, item, f'"{_cut(raw)}" is neither a number with a unit nor an expression ({reason})')
+            reader.problem(path, item, f'"{cut_text(raw)}" is neither a number with a unit nor an expression ({reason})')
             return None
         if expression.is_number:
             return Parameter(name, float(expression), "", line)
         return Parameter(name, math.nan, "", line, expression=expression)
     if not math.isfinite(value):
-        reader.problem(path, item, f'"{_cut(raw)}" is not a finite number')
+        reader.problem(path, item, f'"{cut_text(raw)}" is not a finite number')
         return None
     return Parameter(name, value, unit, line)
 
 
-def _rail(reader: _Reader, table: dict, parameters: dict[str, Parameter]) -> tuple[RailSpec, tuple[Derivation, ...]]:
+def _rail(reader: TomlReader, table: dict, parameters: dict[str, Parameter]) -> tuple[RailSpec, tuple[Derivation, ...]]:
     reader.unknown_keys(table, _RAIL_KEYS, ("rail",), "rail")
     defaults = reader.table(table.get("wheel_rail", {}), ("rail", "wheel_rail"), "rail.wheel_rail")
     reader.unknown_keys(defaults, WHEELSET_KEYS, ("rail", "wheel_rail"), "rail.wheel_rail")
@@ -318,7 +209,7 @@ def _rail(reader: _Reader, table: dict, parameters: dict[str, Parameter]) -> tup
     output_table = reader.table(table.get("outputs", {}), ("rail", "outputs"), "rail.outputs")
     for name, raw in output_table.items():
         path = ("rail", "outputs", name)
-        _check_id(reader, name, path, f"output {name}")  # names become CSV columns and TOML keys
+        check_id(reader, name, path, f"output {name}")  # names become CSV columns and TOML keys
         spec = reader.table(raw, path, f"output {name}")
         reader.unknown_keys(spec, ("body", "offset"), path, f"output {name}")
         outputs.append(
@@ -350,13 +241,13 @@ _CREEP_INPUTS = (
 )
 
 
-def _creep(reader: _Reader, raw: Any) -> Derivation:
+def _creep(reader: TomlReader, raw: Any) -> Derivation:
     """``[rail.creep]``: f1, f2 from the contact, a derivation node of the graph."""
     path = ("rail", "creep")
     spec = reader.table(raw, path, "rail.creep")
     reader.unknown_keys(spec, _CREEP_KEYS, path, "rail.creep")
     if spec.get("from", "kalker") != "kalker":
-        reader.problem(path + ("from",), "rail.creep", f'from must be "kalker", got {_show(spec.get("from"))}')
+        reader.problem(path + ("from",), "rail.creep", f'from must be "kalker", got {show_value(spec.get("from"))}')
     inputs = []
     for key, dimension, default in _CREEP_INPUTS:
         if key not in spec and default is None:
@@ -370,7 +261,7 @@ def _creep(reader: _Reader, raw: Any) -> Derivation:
     return Derivation("kalker", "rail.creep", tuple(inputs), outputs, reader.line(*path))
 
 
-def _add_outputs(reader: _Reader, parameters: dict[str, Parameter], derivations: tuple[Derivation, ...]) -> None:
+def _add_outputs(reader: TomlReader, parameters: dict[str, Parameter], derivations: tuple[Derivation, ...]) -> None:
     """Make the outputs of each derivation parameters set by it."""
     for derivation in derivations:
         for _, name, _ in derivation.outputs:
@@ -384,94 +275,6 @@ def _add_outputs(reader: _Reader, parameters: dict[str, Parameter], derivations:
                 continue
             parameters[name] = Parameter(name, math.nan, "", derivation.line, derived_by=derivation.item)
 
-
-def _items(reader: _Reader, data: dict, base: tuple[str, ...] = ()):
-    """Bodies, grounds, points, elements and pins of a model (or of a substructure
-    at key path ``base``), as lists of records."""
-    bodies = []
-    for body_id, path, item, spec in _entries(reader, data.get("bodies", {}), "bodies", "body", _BODY_KEYS, base):
-        dofs = spec.get("dofs", [])
-        if not isinstance(dofs, list) or any(d not in DOF_NAMES for d in dofs):
-            reader.problem(path + ("dofs",), item, f"dofs must be a list drawn from {list(DOF_NAMES)}, got {_show(dofs)}")
-            dofs = []
-        elif len(set(dofs)) != len(dofs):
-            reader.problem(path + ("dofs",), item, "a DOF is listed twice")
-        inertia = reader.vector(spec.get("inertia", [0, 0, 0]), path + ("inertia",), item, "inertia")
-        bodies.append(
-            Body(
-                body_id,
-                reader.expression(spec.get("mass", 0), path + ("mass",), item, "mass"),
-                inertia,
-                tuple(d for d in DOF_NAMES if d in dofs),
-                reader.vector(spec.get("position", [0, 0, 0]), path + ("position",), item, "position"),
-                str(spec.get("label", "")),
-                reader.line(*path),
-            )
-        )
-    grounds_raw = data.get("grounds", {})
-    if isinstance(grounds_raw, list):  # grounds = ["G1", "G2"]
-        grounds_raw = {g: {} for g in grounds_raw if isinstance(g, str)}
-    grounds = []
-    for ground_id, path, _, spec in _entries(reader, grounds_raw, "grounds", "ground", ("label",), base):
-        grounds.append(Ground(ground_id, str(spec.get("label", "")), reader.line(*path)))
-    points = []
-    for point_id, path, item, spec in _entries(reader, data.get("points", {}), "points", "CP", _POINT_KEYS, base):
-        points.append(
-            ConnectionPoint(
-                point_id,
-                reader.name(spec.get("body"), path + ("body",), item, "body"),
-                reader.vector(spec.get("offset", [0, 0, 0]), path + ("offset",), item, "offset"),
-                reader.line(*path),
-            )
-        )
-    elements = []
-    for element_id, path, item, spec in _entries(reader, data.get("elements", {}), "elements", "TSD", _ELEMENT_KEYS, base):
-        elements.append(_element(reader, element_id, path, item, spec))
-    pins = []
-    for pin_id, path, item, spec in _entries(reader, data.get("pins", {}), "pins", "pin", _PIN_KEYS, base):
-        pins.append(
-            PinnedJoint(
-                pin_id,
-                reader.name(spec.get("virtual"), path + ("virtual",), item, "virtual"),
-                reader.name(spec.get("non_virtual"), path + ("non_virtual",), item, "non_virtual"),
-                reader.line(*path),
-            )
-        )
-    return bodies, grounds, points, elements, pins
-
-
-def _element(reader: _Reader, element_id: str, path: tuple[str, ...], item: str, spec: dict) -> Element:
-    """One element: translational or rotational, plain, series or clearance."""
-    direction = spec.get("direction")
-    name = str(direction) if not isinstance(direction, (bool, float)) else ""
-    rotational = name in _ROTATIONS
-    axis = _ROTATIONS.get(name, _DIRECTIONS.get(name))
-    if axis is None:
-        reader.problem(
-            path + ("direction",), item, f"direction must be x, y, z (or 1, 2, 3), rx, ry or rz, got {_show(direction)}"
-        )
-        axis = 0
-    series = spec.get("series", False)
-    if not isinstance(series, bool):
-        reader.problem(path + ("series",), item, f"series must be true or false, got {_show(series)}")
-        series = False
-    gap = None
-    if "gap" in spec:
-        gap = reader.expression(spec["gap"], path + ("gap",), item, "gap")  # >= 0: check_model
-    return Element(
-        element_id,
-        reader.expression(spec.get("stiffness", 0), path + ("stiffness",), item, "stiffness"),
-        reader.expression(spec.get("damping", 0), path + ("damping",), item, "damping"),
-        reader.name(spec.get("from"), path + ("from",), item, "from"),
-        reader.name(spec.get("to"), path + ("to",), item, "to"),
-        axis,
-        str(spec.get("label", "")),
-        reader.line(*path),
-        rotational=rotational,
-        series=series,
-        gap=gap,
-        progressive=reader.expression(spec.get("progressive", 0), path + ("progressive",), item, "progressive"),
-    )
 
 
 def parse_toml_model(text: str, source: str = "<string>") -> Model:
@@ -505,20 +308,20 @@ def parse_toml_model(text: str, source: str = "<string>") -> Model:
     size = _size_problems(data, source)
     if size:
         raise ModelError(size)
-    reader = _Reader(text, source)
+    reader = TomlReader(text, source)
     reader.unknown_keys(data, _TOP_KEYS, (), "file")
 
     info = reader.table(data.get("model", {}), ("model",), "model")
     reader.unknown_keys(info, ("name", "title"), ("model",), "model")
     name = info.get("name", model_name_from_path(source))
     if not isinstance(name, str) or not re.fullmatch(r"[A-Za-z][A-Za-z0-9_]*", name):
-        reader.problem(("model", "name"), "model", f"name must be an identifier, got {_show(name)}")
+        reader.problem(("model", "name"), "model", f"name must be an identifier, got {show_value(name)}")
         name = model_name_from_path(source)
     title = info.get("title", "")
 
     parameters = _parameters(reader, reader.table(data.get("parameters", {}), ("parameters",), "parameters"))
 
-    bodies, grounds, points, elements, pins = _items(reader, data)
+    bodies, grounds, points, elements, pins = read_items(reader, data)
     if "substructures" in data or "instances" in data:  # express.model.substructures
         from express.io.toml_substructures import read_substructures
 
@@ -577,7 +380,7 @@ def _size_problems(data: dict, source: str) -> list[Problem]:
     return problems
 
 
-def _gravity(reader: _Reader, data: dict) -> sp.Expr | None:
+def _gravity(reader: TomlReader, data: dict) -> sp.Expr | None:
     """``[gravity] acceleration = "g"``: every body's weight (None without the section)."""
     if "gravity" not in data:
         return None

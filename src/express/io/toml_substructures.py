@@ -30,6 +30,7 @@ from __future__ import annotations
 import re
 from typing import Any
 
+from express.io.toml_items import check_id, read_items
 from express.model.substructures import Instance, Items, Substructure, expand
 
 __all__ = ["read_substructures"]
@@ -55,7 +56,7 @@ def read_substructures(reader, data: dict) -> tuple[Items, list]:
 
     Parameters
     ----------
-    reader : express.io.toml_model._Reader
+    reader : express.io.toml_items.TomlReader
         Collects problems with lines.
     data : dict
         The parsed file.
@@ -68,17 +69,15 @@ def read_substructures(reader, data: dict) -> tuple[Items, list]:
         Problems of the expansion (missing parameters, connectors, ...); problems of
         the file's syntax go to ``reader``.
     """
-    from express.io.toml_model import _check_id, _items
-
     substructures: dict[str, Substructure] = {}
     table = reader.table(data.get("substructures", {}), ("substructures",), "substructures")
     for name, raw in table.items():
         path = ("substructures", name)
         item = f"substructure {name}"
-        _check_id(reader, name, path, item)
+        check_id(reader, name, path, item)
         spec = reader.table(raw, path, item)
         reader.unknown_keys(spec, _SUBSTRUCTURE_KEYS, path, item)
-        bodies, grounds, points, elements, pins = _items(reader, spec, path)
+        bodies, grounds, points, elements, pins = read_items(reader, spec, path)
         substructures[name] = Substructure(
             name,
             parameters=_names(reader, spec.get("parameters", []), (*path, "parameters"), item, "parameters"),
@@ -93,7 +92,7 @@ def read_substructures(reader, data: dict) -> tuple[Items, list]:
     for identifier, raw in table.items():
         path = ("instances", identifier)
         item = f"instance {identifier}"
-        _check_id(reader, identifier, path, item)
+        check_id(reader, identifier, path, item)
         spec = reader.table(raw, path, item)
         reader.unknown_keys(spec, _INSTANCE_KEYS, path, item)
         if "substructure" not in spec:

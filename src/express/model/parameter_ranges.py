@@ -50,6 +50,7 @@ from dataclasses import dataclass
 import sympy as sp
 
 from express.base.diagnostics import ModelError, ModelWarning, Problem
+from express.base.expressions import expression_value
 from express.base.units import KMH, format_quantity, unit_factor
 from express.model.parameter_units import UseSite, use_sites
 from express.model.records import Model
@@ -204,8 +205,6 @@ def _value(expression: sp.Expr, values: Mapping[str, float]) -> float | None:
     if expression.is_Symbol:
         value = values.get(expression.name)
         return None if value is None or math.isnan(value) else float(value)
-    from express.model.parameters import expression_value  # the one evaluator (parameters imports this module)
-
     try:
         value = expression_value(expression, values)
     except (KeyError, ValueError):

@@ -14,12 +14,12 @@ Axes and names follow ``conventions.md``: x forward, y left, z up; DOFs
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 import sympy as sp
 
 from express.base.diagnostics import Problem
+from express.base.expressions import expression_value
 from express.base.units import Dimension
 
 __all__ = [
@@ -37,7 +37,6 @@ __all__ = [
     "RailSpec",
     "Wheelset",
     "check_model",
-    "with_values",
 ]
 
 AXES = ("x", "y", "z")
@@ -337,14 +336,6 @@ class Model:
         return {name: parameter.value for name, parameter in self.parameters.items()}
 
 
-def with_values(model: Model, overrides: Mapping[str, float | str]) -> Model:
-    """A copy of ``model`` with parameter values replaced and every derived one
-    re-evaluated (``--set``); see :func:`express.model.parameters.with_values`."""
-    from express.model.parameters import with_values as graph_with_values
-
-    return graph_with_values(model, overrides)
-
-
 def _duplicates(records, kind: str, source: str, problems: list[Problem]) -> None:
     seen: dict[str, int | None] = {}
     for record in records:
@@ -484,8 +475,6 @@ def _check_rail_references(model: Model, bodies: dict[str, Body], problems: list
 
 def _numeric_value(expression, parameters: dict[str, Parameter]) -> float | None:
     """Value of a parameter expression, or None when a name has no value (yet)."""
-    from express.model.parameters import expression_value
-
     try:
         value = expression_value(expression, {name: p.value for name, p in parameters.items()})
     except (KeyError, ValueError):

@@ -45,7 +45,8 @@ from express.rail.contact_tables import (
     contact_tables,
     linear_contact_parameters,
 )
-from express.rail.profiles import STANDARD_PROFILES, Profile, read_profile, standard_profile
+from express.rail.profile_formats import read_profile
+from express.rail.profiles import STANDARD_PROFILES, Profile, standard_profile
 
 __all__ = [
     "INPUTS",

@@ -61,9 +61,10 @@ from pathlib import Path
 import numpy as np
 
 from express.base.diagnostics import ModelError, Problem, RowProblems, excerpt
-from express.rail.profiles import Profile, check_profile_points
+from express.base.limits import read_input_text
+from express.rail.profiles import Profile, check_profile_points, parse_profile
 
-__all__ = ["PROFILE_FORMATS", "parse_miniprof", "parse_profile_format", "parse_simpack", "profile_format"]
+__all__ = ["PROFILE_FORMATS", "parse_miniprof", "parse_profile_format", "parse_simpack", "profile_format", "read_profile"]
 
 #: File suffix -> (format, kind of profile it holds).
 PROFILE_FORMATS = {
@@ -80,6 +81,51 @@ _SPLINE_TEXT = {"file", "comment", "units.len", "units.ang"}
 _SECTIONS = {"header", "spline", "point"}
 _MINIPROF_COLUMNS = set("XYACNK")
 _SPLIT = re.compile(r"[\s,]+")
+
+
+def read_profile(
+    path: str | Path,
+    kind: str,
+    *,
+    units: str | None = None,
+    name: str | None = None,
+    spike_tolerance: float = 0.5e-3,
+    min_points: int = 10,
+) -> Profile:
+    """Read and validate a profile file: two columns (see the module docstring), or by
+    its suffix a ``.prr``/``.prw`` (SIMPACK) or ``.ban``/``.whl`` (MiniProf) file of
+    contact software (:mod:`express.rail.profile_formats`).
+
+    Parameters
+    ----------
+    path : str or Path
+        The file.
+    kind : {"wheel", "rail"}
+        What it describes (sets the plausibility checks and the label).
+    units : {"mm", "m"}, optional
+        Unit of both columns when the file has no header (a header wins only if it agrees).
+    spike_tolerance : float
+        A point more than this [m] away from the median of itself and its four neighbours
+        is reported as a spike.
+    min_points : int
+        Fewer points than this is an error.
+
+    Raises
+    ------
+    ModelError
+        With one :class:`Problem` per defect: unreadable file, wrong column count, a value
+        that is not a finite number, no or conflicting unit, implausible extent for the unit,
+        a lateral coordinate that is not monotonic, a spike, too few points.
+    """
+    path = Path(path)
+    text = read_input_text(path, what="profile")  # bounded (EXPRESS_MAX_FILE_MB), UTF-8 text
+    if path.suffix.lower() in (".prr", ".prw", ".ban", ".whl"):
+        return parse_profile_format(text, kind, file=str(path), units=units, name=name or path.stem,
+                                    spike_tolerance=spike_tolerance, min_points=min_points)
+    return parse_profile(
+        text, kind, file=str(path), units=units, name=name or path.stem,
+        spike_tolerance=spike_tolerance, min_points=min_points,
+    )
 
 
 def profile_format(path: str | Path) -> tuple[str, str] | None:

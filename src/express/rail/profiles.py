@@ -12,8 +12,8 @@ A profile is a curve ``(y, z)`` in its own *side frame*, in metres (``docs/conta
 * rail: origin at the crown of the upright (not inclined) rail, on its axis; ``z <= 0``.
 
 The same file serves a left and a right wheel (rail): the right one is its mirror image.
-Profile files of contact software (SIMPACK ``.prr``/``.prw``, MiniProf ``.ban``/``.whl``)
-are read by :mod:`express.rail.profile_formats`.  Two-column files are plain text: ``#``
+Files are read by :func:`express.rail.profile_formats.read_profile` (two columns, or
+SIMPACK ``.prr``/``.prw`` and MiniProf ``.ban``/``.whl`` files of contact software).  Two-column files are plain text: ``#``
 comments, an optional header ``y_mm,z_mm`` (or ``y_m,z_m``) naming the unit, then two
 numbers a line separated by a comma, semicolon or blanks.  Every problem found is reported at once, with file and line, as a
 :class:`~express.base.diagnostics.ModelError`.
@@ -30,7 +30,6 @@ from pathlib import Path
 import numpy as np
 
 from express.base.diagnostics import ModelError, Problem, RowProblems, excerpt
-from express.base.limits import read_input_text
 
 __all__ = [
     "STANDARD_PROFILES",
@@ -38,7 +37,6 @@ __all__ = [
     "check_profile_points",
     "parse_inclination",
     "parse_profile",
-    "read_profile",
     "row_numbers",
     "s1002_height",
     "smooth_profile",
@@ -117,53 +115,6 @@ def parse_inclination(text: str | float) -> float:
 # ---------------------------------------------------------------------------- reading
 
 
-def read_profile(
-    path: str | Path,
-    kind: str,
-    *,
-    units: str | None = None,
-    name: str | None = None,
-    spike_tolerance: float = 0.5e-3,
-    min_points: int = 10,
-) -> Profile:
-    """Read and validate a profile file: two columns (see the module docstring), or by
-    its suffix a ``.prr``/``.prw`` (SIMPACK) or ``.ban``/``.whl`` (MiniProf) file of
-    contact software (:mod:`express.rail.profile_formats`).
-
-    Parameters
-    ----------
-    path : str or Path
-        The file.
-    kind : {"wheel", "rail"}
-        What it describes (sets the plausibility checks and the label).
-    units : {"mm", "m"}, optional
-        Unit of both columns when the file has no header (a header wins only if it agrees).
-    spike_tolerance : float
-        A point more than this [m] away from the median of itself and its four neighbours
-        is reported as a spike.
-    min_points : int
-        Fewer points than this is an error.
-
-    Raises
-    ------
-    ModelError
-        With one :class:`Problem` per defect: unreadable file, wrong column count, a value
-        that is not a finite number, no or conflicting unit, implausible extent for the unit,
-        a lateral coordinate that is not monotonic, a spike, too few points.
-    """
-    path = Path(path)
-    text = read_input_text(path, what="profile")  # bounded (EXPRESS_MAX_FILE_MB), UTF-8 text
-    if path.suffix.lower() in (".prr", ".prw", ".ban", ".whl"):
-        from express.rail.profile_formats import parse_profile_format  # it builds on this module
-
-        return parse_profile_format(text, kind, file=str(path), units=units, name=name or path.stem,
-                                    spike_tolerance=spike_tolerance, min_points=min_points)
-    return parse_profile(
-        text, kind, file=str(path), units=units, name=name or path.stem,
-        spike_tolerance=spike_tolerance, min_points=min_points,
-    )
-
-
 def parse_profile(
     text: str,
     kind: str,
@@ -174,7 +125,7 @@ def parse_profile(
     spike_tolerance: float = 0.5e-3,
     min_points: int = 10,
 ) -> Profile:
-    """:func:`read_profile` on text already read (``file`` names it in the messages)."""
+    """:func:`express.rail.profile_formats.read_profile` on a two-column text already read (``file`` names it in the messages)."""
     if kind not in ("wheel", "rail"):
         raise ValueError(f"profile kind must be 'wheel' or 'rail', not {kind!r}")
     if units is not None and units not in _UNITS:

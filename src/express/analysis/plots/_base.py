@@ -46,7 +46,7 @@ _METADATA = {
 }
 
 # one colour per axle / bogie position, one line style per vehicle
-_BLUE, _ORANGE, _GREEN, _RED, _PURPLE, _GREY = (
+BLUE, ORANGE, GREEN, RED, PURPLE, GREY = (
     "#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#555555",
 )
 STEERED = {"linestyle": "-"}
@@ -55,7 +55,7 @@ CONVENTIONAL = {"linestyle": (0, (5, 2.5)), "linewidth": 1.3}
 _F = TypeVar("_F", bound=Callable[..., Any])
 
 
-def _styled(function: _F) -> _F:
+def styled(function: _F) -> _F:
     """Build the figure inside ``rc_context(STYLE)`` (fonts, grid and line widths are
     read when the artists are made)."""
 
@@ -69,7 +69,7 @@ def _styled(function: _F) -> _F:
     return wrapper  # type: ignore[return-value]
 
 
-def _new_figure(nrows: int = 1, ncols: int = 1, *, figsize: tuple[float, float], **kwargs):
+def new_figure(nrows: int = 1, ncols: int = 1, *, figsize: tuple[float, float], **kwargs):
     """A pyplot-free ``Figure`` and its axes (as :meth:`Figure.subplots` returns them)."""
     from matplotlib.figure import Figure
 
@@ -118,12 +118,12 @@ def save_figure(figure, path: str | Path | Sequence[str | Path]) -> list[Path]:
     return paths
 
 
-def _caption(figure, text: str | None) -> None:
+def add_caption(figure, text: str | None) -> None:
     if text:
-        figure.text(0.01, 0.005, text, fontsize=7.5, color=_GREY, ha="left", va="bottom", wrap=True)
+        figure.text(0.01, 0.005, text, fontsize=7.5, color=GREY, ha="left", va="bottom", wrap=True)
 
 
-def _runs(mask: np.ndarray) -> list[slice]:
+def runs(mask: np.ndarray) -> list[slice]:
     """Slices of the consecutive ``True`` stretches of a boolean vector."""
     edges = np.flatnonzero(np.diff(np.concatenate(([0], mask.astype(np.int8), [0]))))
     return [slice(int(start), int(stop)) for start, stop in zip(edges[::2], edges[1::2], strict=True)]

@@ -6,12 +6,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from express.analysis.plots._base import _BLUE, _GREY, _ORANGE, _RED, _new_figure, _styled
+from express.analysis.plots._base import BLUE, GREY, ORANGE, RED, new_figure, styled
 
 __all__ = ["figure_bifurcation"]
 
 
-@_styled
+@styled
 def figure_bifurcation(speeds_kmh, amplitudes_mm, alive, *, title: str, nonlinear_kmh: float | None = None,
                        linear_kmh: float | None = None, flange_clearance_mm: float | None = None):
     """Limit-cycle amplitude against speed.
@@ -35,12 +35,12 @@ def figure_bifurcation(speeds_kmh, amplitudes_mm, alive, *, title: str, nonlinea
     live = np.asarray(alive, dtype=bool)
     if speeds.ndim != 1 or speeds.shape != amplitudes.shape or speeds.shape != live.shape or not speeds.size:
         raise ValueError("speeds, amplitudes and alive must be 1-D arrays of one length >= 1")
-    figure, axis = _new_figure(figsize=(7.0, 4.4))
+    figure, axis = new_figure(figsize=(7.0, 4.4))
     order = np.argsort(speeds[live])
-    axis.plot(speeds[live][order], amplitudes[live][order], color=_RED, linewidth=1.0, alpha=0.6)
-    axis.plot(speeds[live], amplitudes[live], "o", color=_RED, markersize=4, label="limit cycle (ramp-down)")
+    axis.plot(speeds[live][order], amplitudes[live][order], color=RED, linewidth=1.0, alpha=0.6)
+    axis.plot(speeds[live], amplitudes[live], "o", color=RED, markersize=4, label="limit cycle (ramp-down)")
     if (~live).any():
-        axis.plot(speeds[~live], amplitudes[~live], "o", markerfacecolor="none", color=_GREY, markersize=4,
+        axis.plot(speeds[~live], amplitudes[~live], "o", markerfacecolor="none", color=GREY, markersize=4,
                   label="motion dies out")
     low, high = float(speeds.min()), float(speeds.max())
     span = max(high - low, 1.0)
@@ -50,13 +50,13 @@ def figure_bifurcation(speeds_kmh, amplitudes_mm, alive, *, title: str, nonlinea
         if linear_kmh < high:
             axis.plot([linear_kmh, high], [0, 0], color="black", linewidth=1.5, linestyle="--",
                       label="centred running unstable")
-        axis.axvline(linear_kmh, color=_BLUE, linestyle="--", linewidth=1.2,
+        axis.axvline(linear_kmh, color=BLUE, linestyle="--", linewidth=1.2,
                      label=f"linear critical speed {linear_kmh:.1f} km/h")
     if nonlinear_kmh is not None:
-        axis.axvline(nonlinear_kmh, color=_ORANGE, linestyle="-", linewidth=1.4,
+        axis.axvline(nonlinear_kmh, color=ORANGE, linestyle="-", linewidth=1.4,
                      label=f"nonlinear critical speed {nonlinear_kmh:.1f} km/h")
     if flange_clearance_mm is not None:
-        axis.axhline(flange_clearance_mm, color=_GREY, linestyle=":", linewidth=1.0,
+        axis.axhline(flange_clearance_mm, color=GREY, linestyle=":", linewidth=1.0,
                      label=f"flange contact ({flange_clearance_mm:.2f} mm)")
     axis.set_xlim(low, high)
     axis.set_ylim(bottom=-0.3)

@@ -12,18 +12,18 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 
 from express.analysis.plots._base import (
-    _BLUE,
-    _GREEN,
-    _GREY,
-    _ORANGE,
-    _PURPLE,
-    _RED,
+    BLUE,
     CONVENTIONAL,
+    GREEN,
+    GREY,
+    ORANGE,
+    PURPLE,
+    RED,
     STEERED,
-    _caption,
-    _new_figure,
-    _runs,
-    _styled,
+    add_caption,
+    new_figure,
+    runs,
+    styled,
 )
 
 __all__ = [
@@ -39,7 +39,7 @@ __all__ = [
 # --------------------------------------------------------------------------------------
 
 
-@_styled
+@styled
 def figure_lever_step(
     time: np.ndarray,
     cases: Sequence[Mapping],
@@ -60,9 +60,9 @@ def figure_lever_step(
         Size of the ``q1`` step [rad].
     caption : str, optional
     """
-    figure, axis = _new_figure(figsize=(7.2, 4.8))
-    colours = (_BLUE, _RED, _GREEN, _PURPLE)
-    axis.axhline(0.0, color=_GREY, linewidth=0.6, zorder=1)
+    figure, axis = new_figure(figsize=(7.2, 4.8))
+    colours = (BLUE, RED, GREEN, PURPLE)
+    axis.axhline(0.0, color=GREY, linewidth=0.6, zorder=1)
     extent = 0.0
     for k, case in enumerate(cases):
         colour = colours[k % len(colours)]
@@ -79,7 +79,7 @@ def figure_lever_step(
     axis.set_ylim(-1.15 * extent, 1.9 * extent)
     axis.legend(loc="upper right", framealpha=0.95)
     figure.tight_layout(rect=(0, 0.09 if caption else 0, 1, 1))
-    _caption(figure, caption)
+    add_caption(figure, caption)
     return figure
 
 
@@ -88,7 +88,7 @@ def figure_lever_step(
 # --------------------------------------------------------------------------------------
 
 
-@_styled
+@styled
 def figure_curving(
     steered: Mapping[str, np.ndarray],
     conventional: Mapping[str, np.ndarray] | None,
@@ -112,13 +112,13 @@ def figure_curving(
         The geometric lever angle ``b_L l_T / (R l_LU)`` [rad], dashed in panel (a).
     title, caption : str
     """
-    figure, (top, middle, bottom) = _new_figure(3, 1, figsize=(7.6, 9.6), sharex=True)
+    figure, (top, middle, bottom) = new_figure(3, 1, figsize=(7.6, 9.6), sharex=True)
     _panel_lever(top, steered, geometric_lever)
     _panel_steering(middle, steered, conventional, ideal_yaw)
     _panel_forces(bottom, steered, conventional)
     figure.suptitle(title, fontsize=11.5)
     figure.tight_layout(rect=(0, 0.045 if caption else 0, 1, 1))
-    _caption(figure, caption)
+    add_caption(figure, caption)
     return figure
 
 
@@ -127,26 +127,26 @@ def _panel_lever(top, steered: Mapping[str, np.ndarray], geometric_lever: float 
     d = steered["d1"]
     rho_top = float(np.max(np.abs(steered["rho1"]))) or 1.0
     low, high = -0.08, 1.45  # fractions of each axis' reference value
-    top.plot(d, steered["rho1"] * 1e3, color=_GREY, label=r"curvature $\rho_1$ (left axis)")
+    top.plot(d, steered["rho1"] * 1e3, color=GREY, label=r"curvature $\rho_1$ (left axis)")
     top.set_ylabel(r"curvature $\rho_1$ [10$^{-3}$ 1/m]")
     top.set_ylim(low * rho_top * 1e3, high * rho_top * 1e3)
     twin = top.twinx()
     twin.grid(False)
     handles = [top.get_lines()[0]]
     if "theta_L1" in steered:
-        (line,) = twin.plot(d, steered["theta_L1"], color=_BLUE, label=r"lever angle $\theta_{L1}$ (right axis)")
+        (line,) = twin.plot(d, steered["theta_L1"], color=BLUE, label=r"lever angle $\theta_{L1}$ (right axis)")
         handles.append(line)
         largest = float(np.max(np.abs(steered["theta_L1"])))
         # with the geometric angle as reference, the geometric lever angle b_L l_T rho / l_LU
         # would lie exactly on the curvature curve
         reference = geometric_lever if geometric_lever and largest < 1.4 * geometric_lever else (largest or 1.0)
         if geometric_lever is not None:
-            ref = twin.axhline(geometric_lever, color=_BLUE, linestyle="--", linewidth=1.0,
+            ref = twin.axhline(geometric_lever, color=BLUE, linestyle="--", linewidth=1.0,
                                label=fr"geometric $b_L l_T/(R\,l_{{LU}})$ = {geometric_lever:.3f} rad")
             handles.append(ref)
         twin.set_ylim(low * reference, high * reference)
-    twin.set_ylabel(r"lever angle $\theta_{L1}$ [rad]", color=_BLUE)
-    twin.tick_params(axis="y", colors=_BLUE)
+    twin.set_ylabel(r"lever angle $\theta_{L1}$ [rad]", color=BLUE)
+    twin.tick_params(axis="y", colors=BLUE)
     top.legend(handles=handles, loc="upper center", ncol=2, framealpha=0.9)
     top.set_title("(a) curvature at the leading wheelset and front steering-lever angle", loc="left")
 
@@ -154,7 +154,7 @@ def _panel_lever(top, steered: Mapping[str, np.ndarray], geometric_lever: float 
 def _panel_steering(middle, steered, conventional, ideal_yaw: float) -> None:
     """(b) signed steering angles of axles 1 and 2, the ideal ``+-a/R`` dashed."""
     d = steered["d1"]
-    for key, colour, name in (("psi_TW1", _BLUE, "axle 1"), ("psi_TW2", _ORANGE, "axle 2")):
+    for key, colour, name in (("psi_TW1", BLUE, "axle 1"), ("psi_TW2", ORANGE, "axle 2")):
         middle.plot(d, steered[key] * 1e3, color=colour, label=f"{name}, steered", **STEERED)
         if conventional is not None:
             middle.plot(conventional["d1"], conventional[key] * 1e3, color=colour,
@@ -173,7 +173,7 @@ def _panel_steering(middle, steered, conventional, ideal_yaw: float) -> None:
 def _panel_forces(bottom, steered, conventional) -> None:
     """(c) lateral forces Q1, Q2 [kN] against d1."""
     d = steered["d1"]
-    for key, colour, name in (("Q1", _BLUE, "axle 1"), ("Q2", _ORANGE, "axle 2")):
+    for key, colour, name in (("Q1", BLUE, "axle 1"), ("Q2", ORANGE, "axle 2")):
         bottom.plot(d, steered[key] * 1e-3, color=colour, label=f"$Q_{key[1]}$ {name}, steered", **STEERED)
         if conventional is not None:
             bottom.plot(conventional["d1"], conventional[key] * 1e-3, color=colour,
@@ -193,7 +193,7 @@ def _panel_forces(bottom, steered, conventional) -> None:
 # --------------------------------------------------------------------------------------
 
 
-@_styled
+@styled
 def figure_frequency_response(
     frequencies: np.ndarray,
     curves: Sequence[Mapping],
@@ -213,8 +213,8 @@ def figure_frequency_response(
         ``style`` (``"steered"`` solid, ``"conventional"`` dashed).
     title, ylabel, caption : str
     """
-    figure, axis = _new_figure(figsize=(7.2, 4.6))
-    palette = (_BLUE, _ORANGE, _GREEN, _RED, _PURPLE, _GREY)
+    figure, axis = new_figure(figsize=(7.2, 4.6))
+    palette = (BLUE, ORANGE, GREEN, RED, PURPLE, GREY)
     for k, curve in enumerate(curves):
         style = CONVENTIONAL if curve.get("style") == "conventional" else STEERED
         axis.plot(frequencies, curve["values"], color=curve.get("color", palette[k % len(palette)]),
@@ -228,7 +228,7 @@ def figure_frequency_response(
     axis.grid(True, which="minor", alpha=0.15)
     axis.legend(loc="upper left", framealpha=0.9)
     figure.tight_layout(rect=(0, 0.06 if caption else 0, 1, 1))
-    _caption(figure, caption)
+    add_caption(figure, caption)
     return figure
 
 
@@ -249,7 +249,7 @@ def _segments(speeds: np.ndarray, flagged: np.ndarray, tops: np.ndarray) -> list
     """Indices of the pieces of a ``V_cr`` line: runs of finite, not flagged points, cut
     between neighbours whose unstable ranges ``[V_cr, top]`` are both known and disjoint."""
     pieces = []
-    for run in _runs(np.isfinite(speeds) & ~flagged):
+    for run in runs(np.isfinite(speeds) & ~flagged):
         indices = np.arange(run.start, run.stop)
         start = 0
         for k in range(indices.size - 1):
@@ -261,7 +261,7 @@ def _segments(speeds: np.ndarray, flagged: np.ndarray, tops: np.ndarray) -> list
     return pieces
 
 
-@_styled
+@styled
 def figure_critical_speed(
     curves: Sequence[Mapping],
     *,
@@ -293,8 +293,8 @@ def figure_critical_speed(
         Drawn as a dash-dotted vertical line.
     title, caption : str
     """
-    figure, axis = _new_figure(figsize=(7.0, 4.6))
-    palette = (_BLUE, _RED, _GREEN, _PURPLE)
+    figure, axis = new_figure(figsize=(7.0, 4.6))
+    palette = (BLUE, RED, GREEN, PURPLE)
     top = 0.0
     for k, curve in enumerate(curves):
         style = CONVENTIONAL if curve.get("style") == "conventional" else STEERED
@@ -317,10 +317,10 @@ def figure_critical_speed(
         if np.isfinite(speeds).any():
             top = max(top, float(np.nanmax(speeds)))
     if running_speed_kmh is not None:
-        axis.axhline(running_speed_kmh, color=_GREY, linestyle=":", linewidth=1.2,
+        axis.axhline(running_speed_kmh, color=GREY, linestyle=":", linewidth=1.2,
                      label=f"running speed {running_speed_kmh:g} km/h")
     if nominal_conicity is not None:
-        axis.axvline(nominal_conicity, color=_GREY, linestyle="-.", linewidth=0.9,
+        axis.axvline(nominal_conicity, color=GREY, linestyle="-.", linewidth=0.9,
                      label=fr"nominal $\Gamma$ = {nominal_conicity:g}")
     axis.set_xlabel(r"tread conicity $\Gamma$ [-]")
     axis.set_ylabel(r"critical speed $V_{cr}$ [km/h]")
@@ -329,7 +329,7 @@ def figure_critical_speed(
     axis.set_title(title)
     axis.legend(loc="best", framealpha=0.9)
     figure.tight_layout(rect=(0, 0.06 if caption else 0, 1, 1))
-    _caption(figure, caption)
+    add_caption(figure, caption)
     return figure
 
 
@@ -338,7 +338,7 @@ def figure_critical_speed(
 # --------------------------------------------------------------------------------------
 
 
-@_styled
+@styled
 def figure_simulation(distance: np.ndarray, outputs: Mapping[str, np.ndarray], *, title: str):
     """A quick look at one run (``express simulate --plot``): curvature and lever
     angles, steering angles, lateral forces against ``d1``.
@@ -351,9 +351,9 @@ def figure_simulation(distance: np.ndarray, outputs: Mapping[str, np.ndarray], *
         ``rho1`` and any of ``theta_*``, ``psi_TW*``, ``Q<n>`` (SI, shape (T,)).
     title : str
     """
-    figure, (top, middle, bottom) = _new_figure(3, 1, figsize=(7.6, 8.6), sharex=True)
-    colours = (_BLUE, _ORANGE, _GREEN, _RED)
-    top.plot(distance, outputs["rho1"] * 1e3, color=_GREY, label=r"curvature $\rho_1$ [1/km]")
+    figure, (top, middle, bottom) = new_figure(3, 1, figsize=(7.6, 8.6), sharex=True)
+    colours = (BLUE, ORANGE, GREEN, RED)
+    top.plot(distance, outputs["rho1"] * 1e3, color=GREY, label=r"curvature $\rho_1$ [1/km]")
     thetas = sorted(k for k in outputs if k.startswith("theta_"))
     if thetas:
         twin = top.twinx()

@@ -12,7 +12,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from express.analysis.plots._base import _BLUE, _GREEN, _GREY, _ORANGE, _PURPLE, _RED, _new_figure, _styled
+from express.analysis.plots._base import BLUE, GREEN, GREY, ORANGE, PURPLE, RED, new_figure, styled
 
 __all__ = ["figure_damping_vs_speed", "figure_eigen_locus", "figure_root_locus_complex", "mode_branches"]
 
@@ -36,7 +36,7 @@ def _real_window(values: np.ndarray) -> tuple[float, float]:
     return -max(10.0, 3 * top), top
 
 
-@_styled
+@styled
 def figure_eigen_locus(speeds_kmh: np.ndarray, eigenvalues: np.ndarray, *, title: str,
                        critical_kmh: float | None = None):
     """Real part of every eigenvalue against speed, the largest one bold.
@@ -53,15 +53,15 @@ def figure_eigen_locus(speeds_kmh: np.ndarray, eigenvalues: np.ndarray, *, title
         Marked with a dashed vertical line.
     """
     speeds, values = _locus_arrays(speeds_kmh, eigenvalues)
-    figure, axis = _new_figure(figsize=(7.0, 4.4))
+    figure, axis = new_figure(figsize=(7.0, 4.4))
     real = values.real
     for column in range(real.shape[1]):
-        axis.plot(speeds, real[:, column], color=_GREY, linewidth=0.6, alpha=0.6)
+        axis.plot(speeds, real[:, column], color=GREY, linewidth=0.6, alpha=0.6)
     largest = real.max(axis=1)
-    axis.plot(speeds, largest, color=_RED, linewidth=2.0, label="largest real part")
+    axis.plot(speeds, largest, color=RED, linewidth=2.0, label="largest real part")
     axis.axhline(0.0, color="black", linewidth=0.8)
     if critical_kmh is not None:
-        axis.axvline(critical_kmh, color=_BLUE, linestyle="--", linewidth=1.2,
+        axis.axvline(critical_kmh, color=BLUE, linestyle="--", linewidth=1.2,
                      label=f"critical speed {critical_kmh:.1f} km/h")
     axis.set_xlabel("speed V [km/h]")
     axis.set_ylabel("real part of eigenvalue [1/s]")
@@ -73,7 +73,7 @@ def figure_eigen_locus(speeds_kmh: np.ndarray, eigenvalues: np.ndarray, *, title
     return figure
 
 
-@_styled
+@styled
 def figure_root_locus_complex(
     speeds_kmh: np.ndarray,
     eigenvalues: np.ndarray,
@@ -109,7 +109,7 @@ def figure_root_locus_complex(
     colour = np.broadcast_to(speeds[:, None], values.shape)
     shown = (values.imag >= 0) & (values.real >= left)
     frequency = values.imag / (2 * np.pi)
-    figure, axis = _new_figure(figsize=(7.0, 4.8))
+    figure, axis = new_figure(figsize=(7.0, 4.8))
     points = axis.scatter(values.real[shown], frequency[shown], c=colour[shown], s=5, cmap="viridis",
                           vmin=float(speeds.min()), vmax=float(speeds.max()), linewidths=0, rasterized=True)
     figure.colorbar(points, ax=axis, label="speed V [km/h]")
@@ -117,7 +117,7 @@ def figure_root_locus_complex(
     if critical_kmh is not None:
         row = int(np.argmin(np.abs(speeds - critical_kmh)))
         k = int(np.argmax(np.where(values[row].imag >= 0, values[row].real, -np.inf)))
-        axis.plot(values[row, k].real, frequency[row, k], marker="*", markersize=13, color=_RED, linestyle="none",
+        axis.plot(values[row, k].real, frequency[row, k], marker="*", markersize=13, color=RED, linestyle="none",
                   markeredgecolor="black", label=f"critical speed {critical_kmh:.1f} km/h")
         axis.legend(loc="upper left", framealpha=0.9)
     top = max_frequency_hz if max_frequency_hz is not None else float(np.max(frequency[shown], initial=1.0))
@@ -165,7 +165,7 @@ def mode_branches(eigenvalues: np.ndarray) -> np.ndarray:
     return tracked[:, upper]
 
 
-@_styled
+@styled
 def figure_damping_vs_speed(
     speeds_kmh: np.ndarray,
     branches: np.ndarray,
@@ -212,8 +212,8 @@ def figure_damping_vs_speed(
              and (max_frequency_hz is None or np.nanmin(np.where(oscillating[:, j], frequency[:, j], np.inf))
                   <= max_frequency_hz)]
     drawn.sort(key=lambda j: float(np.nanmin(zeta[:, j])))
-    figure, axis = _new_figure(figsize=(7.0, 4.6))
-    palette = (_RED, _BLUE, _GREEN, _ORANGE, _PURPLE)
+    figure, axis = new_figure(figsize=(7.0, 4.6))
+    palette = (RED, BLUE, GREEN, ORANGE, PURPLE)
     for rank, j in enumerate(drawn):
         if rank < highlight:
             at = int(np.nanargmin(zeta[:, j]))
@@ -221,10 +221,10 @@ def figure_damping_vs_speed(
             axis.plot(speeds, zeta[:, j], color=palette[rank % len(palette)], linewidth=1.8, label=label,
                       zorder=3 + highlight - rank)
         else:
-            axis.plot(speeds, zeta[:, j], color=_GREY, linewidth=0.6, alpha=0.6, label="_other")
+            axis.plot(speeds, zeta[:, j], color=GREY, linewidth=0.6, alpha=0.6, label="_other")
     axis.axhline(0.0, color="black", linewidth=0.8)
     if critical_kmh is not None:
-        axis.axvline(critical_kmh, color=_BLUE, linestyle="--", linewidth=1.2,
+        axis.axvline(critical_kmh, color=BLUE, linestyle="--", linewidth=1.2,
                      label=f"critical speed {critical_kmh:.1f} km/h")
     lowest = min((float(np.nanmin(zeta[:, j])) for j in drawn), default=0.0)
     axis.set_ylim(min(-0.05, 1.2 * lowest), 1.0)

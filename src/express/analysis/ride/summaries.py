@@ -18,7 +18,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from express.analysis.ride.comfort import mean_comfort, mean_comfort_spectral, sperling_index, sperling_index_time
 from express.analysis.ride.spectral import check_frequencies, check_psd, spectral_rms
-from express.analysis.ride.vehicle import AXES, RideResponse, _outputs, point_rows
+from express.analysis.ride.vehicle import AXES, RideResponse, output_points, point_rows
 from express.analysis.ride.weighting import WB, WD, weigh_time_history
 from express.base.diagnostics import InputError
 from express.numeric.statespace import VehicleModel
@@ -237,7 +237,7 @@ def simulation_accelerations(vehicle: VehicleModel, result: Any, track: Any) -> 
     else:
         q_ddot = np.gradient(result.q_dot, result.time, axis=0, edge_order=2)
     out = {}
-    for point in _outputs(vehicle):
+    for point in output_points(vehicle):
         by_axis = point_rows(vehicle, point.body, point.offset, f"output {point.name}")
         out[point.name] = {axis: q_ddot @ row for axis, row in by_axis.items()}
     return out

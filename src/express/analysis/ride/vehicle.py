@@ -118,7 +118,7 @@ def _model(vehicle: VehicleModel) -> Model:
     return vehicle.model
 
 
-def _outputs(vehicle: VehicleModel) -> tuple:
+def output_points(vehicle: VehicleModel) -> tuple:
     """The model's output points (none without rail data)."""
     rail = _model(vehicle).rail
     return rail.outputs if rail is not None else ()
@@ -346,7 +346,7 @@ def _wheel_load_rows(vehicle: VehicleModel, inputs: RailInputs, rows: _Rows) -> 
 def _output_rows(vehicle: VehicleModel, inputs: RailInputs, speed: float) -> tuple[_Rows, dict, dict]:
     rows = _Rows(vehicle.n, len(vehicle.inputs))
     directions: dict[str, tuple[str, ...]] = {}
-    for point in _outputs(vehicle):
+    for point in output_points(vehicle):
         by_axis = point_rows(vehicle, point.body, point.offset, f"output {point.name}")
         directions[point.name] = tuple(by_axis)
         for axis, row in by_axis.items():

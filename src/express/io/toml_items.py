@@ -1,0 +1,214 @@
+"""The items of a TOML model (bodies, grounds, points, elements, pins) and the reader that
+collects problems with their lines; shared by :mod:`.toml_model` and :mod:`.toml_substructures`."""
+
+from __future__ import annotations
+
+import re
+from typing import Any
+
+import sympy as sp
+
+from express.base.diagnostics import Problem
+from express.base.expressions import ExpressionError, parse_expression
+from express.io.toml_lines import line_index
+from express.model.records import DOF_NAMES, Body, ConnectionPoint, Element, Ground, PinnedJoint
+
+__all__ = ["TomlReader", "check_id", "cut_text", "entries", "read_items", "show_value", "value_kind"]
+
+BODY_KEYS = ("mass", "inertia", "dofs", "position", "label")
+POINT_KEYS = ("body", "offset")
+ELEMENT_KEYS = ("from", "to", "direction", "stiffness", "damping", "label", "series", "gap", "progressive")
+PIN_KEYS = ("virtual", "non_virtual")
+DIRECTIONS = {"x": 0, "y": 1, "z": 2, "1": 0, "2": 1, "3": 2}
+ROTATIONS = {"rx": 0, "ry": 1, "rz": 2}
+
+
+class TomlReader:
+    """A parsed TOML file's problems, collected with their lines (``source`` is the file
+    name shown; ``line(*path)`` the line of the nearest key of ``path`` that has one)."""
+
+    def __init__(self, text: str, source: str):
+        self.source = source
+        self.problems: list[Problem] = []
+        self.lines = line_index(text)
+
+    def line(self, *path: str) -> int | None:
+        for end in range(len(path), 0, -1):
+            found = self.lines.get(tuple(path[:end]))
+            if found is not None:
+                return found
+        return None
+
+    def problem(self, path: tuple[str, ...], item: str, message: str) -> None:
+        self.problems.append(Problem(self.source, self.line(*path), item, message))
+
+    def table(self, value: Any, path: tuple[str, ...], item: str) -> dict:
+        if isinstance(value, dict):
+            return value
+        self.problem(path, item, f"expected a table, got {value_kind(value)}")
+        return {}
+
+    def unknown_keys(self, table: dict, allowed: tuple[str, ...], path: tuple[str, ...], item: str) -> None:
+        for key in table:
+            if key not in allowed:
+                self.problem(
+                    path + (key,), item, f'unknown key "{key}" (allowed: {", ".join(allowed)})'
+                )
+
+    def expression(self, value: Any, path: tuple[str, ...], item: str, what: str) -> sp.Expr:
+        if isinstance(value, bool):
+            self.problem(path, item, f"{what} must be a number or an expression, got a boolean")
+            return sp.S.Zero
+        if isinstance(value, int):
+            return sp.Integer(value)
+        if isinstance(value, float):
+            if value != value or value in (float("inf"), float("-inf")):
+                self.problem(path, item, f"{what} must be finite, got {value}")
+                return sp.S.Zero
+            return parse_expression(repr(value))
+        if isinstance(value, str):
+            try:
+                return parse_expression(value)
+            except ExpressionError as error:
+                self.problem(path, item, f'{what} "{cut_text(value)}" is not a valid expression ({error})')
+                return sp.S.Zero
+        self.problem(path, item, f"{what} must be a number or an expression, got {value_kind(value)}")
+        return sp.S.Zero
+
+    def vector(self, value: Any, path: tuple[str, ...], item: str, what: str) -> tuple[sp.Expr, ...]:
+        if not isinstance(value, list) or len(value) != 3:
+            self.problem(path, item, f"{what} must be a list of 3 values [x, y, z], got {show_value(value)}")
+            return (sp.S.Zero,) * 3
+        return tuple(self.expression(v, path, item, f"{what}[{i}]") for i, v in enumerate(value))
+
+    def name(self, value: Any, path: tuple[str, ...], item: str, what: str) -> str:
+        if isinstance(value, str) and re.fullmatch(r"[A-Za-z][A-Za-z0-9_]*", value):
+            return value
+        self.problem(path, item, f"{what} must be an id (letters, digits, _), got {show_value(value)}")
+        return "?"
+
+
+ID_PATTERN = re.compile(r"[A-Za-z][A-Za-z0-9_]*\Z")
+
+
+def check_id(reader: TomlReader, identifier: str, path: tuple[str, ...], item: str) -> None:
+    if not ID_PATTERN.match(identifier):
+        reader.problem(path, item, "an id must start with a letter and hold only letters, digits and _")
+
+
+def entries(reader: TomlReader, table: Any, section: str, kind: str, allowed: tuple[str, ...], base: tuple[str, ...] = ()):
+    """``(id, path, item, spec)`` of every entry of a named-items section, checked."""
+    for identifier, raw in reader.table(table, base + (section,), section).items():
+        path = base + (section, identifier)
+        item = f"{kind} {identifier}"
+        check_id(reader, identifier, path, item)
+        spec = reader.table(raw, path, item)
+        reader.unknown_keys(spec, allowed, path, item)
+        yield identifier, path, item, spec
+
+
+def value_kind(value: Any) -> str:
+    return {dict: "a table", list: "a list", str: "a string", bool: "a boolean"}.get(
+        type(value), type(value).__name__
+    )
+
+
+def cut_text(text: str, limit: int = 60) -> str:
+    """A value quoted in a message, cut to ``limit`` characters."""
+    return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
+def show_value(value: Any) -> str:
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
+
+def read_items(reader: TomlReader, data: dict, base: tuple[str, ...] = ()):
+    """Bodies, grounds, points, elements and pins of a model (or of a substructure
+    at key path ``base``), as lists of records."""
+    bodies = []
+    for body_id, path, item, spec in entries(reader, data.get("bodies", {}), "bodies", "body", BODY_KEYS, base):
+        dofs = spec.get("dofs", [])
+        if not isinstance(dofs, list) or any(d not in DOF_NAMES for d in dofs):
+            reader.problem(path + ("dofs",), item, f"dofs must be a list drawn from {list(DOF_NAMES)}, got {show_value(dofs)}")
+            dofs = []
+        elif len(set(dofs)) != len(dofs):
+            reader.problem(path + ("dofs",), item, "a DOF is listed twice")
+        inertia = reader.vector(spec.get("inertia", [0, 0, 0]), path + ("inertia",), item, "inertia")
+        bodies.append(
+            Body(
+                body_id,
+                reader.expression(spec.get("mass", 0), path + ("mass",), item, "mass"),
+                inertia,
+                tuple(d for d in DOF_NAMES if d in dofs),
+                reader.vector(spec.get("position", [0, 0, 0]), path + ("position",), item, "position"),
+                str(spec.get("label", "")),
+                reader.line(*path),
+            )
+        )
+    grounds_raw = data.get("grounds", {})
+    if isinstance(grounds_raw, list):  # grounds = ["G1", "G2"]
+        grounds_raw = {g: {} for g in grounds_raw if isinstance(g, str)}
+    grounds = []
+    for ground_id, path, _, spec in entries(reader, grounds_raw, "grounds", "ground", ("label",), base):
+        grounds.append(Ground(ground_id, str(spec.get("label", "")), reader.line(*path)))
+    points = []
+    for point_id, path, item, spec in entries(reader, data.get("points", {}), "points", "CP", POINT_KEYS, base):
+        points.append(
+            ConnectionPoint(
+                point_id,
+                reader.name(spec.get("body"), path + ("body",), item, "body"),
+                reader.vector(spec.get("offset", [0, 0, 0]), path + ("offset",), item, "offset"),
+                reader.line(*path),
+            )
+        )
+    elements = []
+    for element_id, path, item, spec in entries(reader, data.get("elements", {}), "elements", "TSD", ELEMENT_KEYS, base):
+        elements.append(read_element(reader, element_id, path, item, spec))
+    pins = []
+    for pin_id, path, item, spec in entries(reader, data.get("pins", {}), "pins", "pin", PIN_KEYS, base):
+        pins.append(
+            PinnedJoint(
+                pin_id,
+                reader.name(spec.get("virtual"), path + ("virtual",), item, "virtual"),
+                reader.name(spec.get("non_virtual"), path + ("non_virtual",), item, "non_virtual"),
+                reader.line(*path),
+            )
+        )
+    return bodies, grounds, points, elements, pins
+
+
+def read_element(reader: TomlReader, element_id: str, path: tuple[str, ...], item: str, spec: dict) -> Element:
+    """One element: translational or rotational, plain, series or clearance."""
+    direction = spec.get("direction")
+    name = str(direction) if not isinstance(direction, (bool, float)) else ""
+    rotational = name in ROTATIONS
+    axis = ROTATIONS.get(name, DIRECTIONS.get(name))
+    if axis is None:
+        reader.problem(
+            path + ("direction",), item, f"direction must be x, y, z (or 1, 2, 3), rx, ry or rz, got {show_value(direction)}"
+        )
+        axis = 0
+    series = spec.get("series", False)
+    if not isinstance(series, bool):
+        reader.problem(path + ("series",), item, f"series must be true or false, got {show_value(series)}")
+        series = False
+    gap = None
+    if "gap" in spec:
+        gap = reader.expression(spec["gap"], path + ("gap",), item, "gap")  # >= 0: check_model
+    return Element(
+        element_id,
+        reader.expression(spec.get("stiffness", 0), path + ("stiffness",), item, "stiffness"),
+        reader.expression(spec.get("damping", 0), path + ("damping",), item, "damping"),
+        reader.name(spec.get("from"), path + ("from",), item, "from"),
+        reader.name(spec.get("to"), path + ("to",), item, "to"),
+        axis,
+        str(spec.get("label", "")),
+        reader.line(*path),
+        rotational=rotational,
+        series=series,
+        gap=gap,
+        progressive=reader.expression(spec.get("progressive", 0), path + ("progressive",), item, "progressive"),
+    )
+
