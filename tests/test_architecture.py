@@ -200,6 +200,33 @@ def test_no_private_names_imported_across_modules():
     assert not borrowed, "\n".join(borrowed)
 
 
+#: The paper's demo is a command of its own; no other command imports the paper's modules.
+PAPER_COMMANDS = {"express.cli.demo"}
+
+
+def test_commands_import_the_library_not_the_paper():
+    """A real command calls the analyses (:mod:`express.analysis`), never the demo of the paper."""
+    modules = dict(_modules())
+    found = [f"{path.relative_to(PACKAGE)}:{line}: {name} imports {target}"
+             for name, path in modules.items() if name.startswith("express.cli") and name not in PAPER_COMMANDS
+             for line, target, _ in _import_edges(name, path, set(modules)) if target.startswith("express.paper")]
+    assert not found, "\n".join(found)
+
+
+def test_every_package_says_what_it_owns():
+    """Each package's ``__init__`` opens with a docstring whose first paragraph (at most
+    two lines) says what the package owns."""
+    missing = []
+    for name, path in _modules():
+        if path.name != "__init__.py":
+            continue
+        docstring = ast.get_docstring(ast.parse(path.read_text(encoding="utf-8")))
+        summary = docstring.split("\n\n")[0].splitlines() if docstring else []
+        if not 1 <= len(summary) <= 2:
+            missing.append(f"{path.relative_to(PACKAGE)}: {len(summary)} lines of summary")
+    assert not missing, "\n".join(missing)
+
+
 @pytest.mark.parametrize(("limit", "what"), [(650, "module")])
 def test_modules_stay_small(limit, what):
     large = []

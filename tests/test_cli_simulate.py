@@ -24,7 +24,7 @@ from cli_support import (
     run_json,
     valued_lever,
 )
-from express.cli import simulate as command
+from express.analysis.divergence import find_divergence
 
 
 @pytest.fixture
@@ -184,7 +184,7 @@ _VEHICLE = SimpleNamespace(wheelsets=[SimpleNamespace(name="W1", y=0, flange_cle
 def test_find_divergence(q, outputs, index, reason):
     """The first time step with a non-finite value or a wheelset beyond ten flange
     clearances (and none for a run that stays in range)."""
-    found = command.find_divergence(_result(q, outputs), _VEHICLE)
+    found = find_divergence(_result(q, outputs), _VEHICLE)
     if index is None:
         assert found is None
     else:

@@ -1,1 +1,2 @@
-"""Analyses: state space, curving simulation, frequency response, stability."""
+"""Analyses of the numerical vehicle: modes, linear and nonlinear critical speed, frequency
+response, time simulation (with its divergence check), ride comfort, design studies and figures."""

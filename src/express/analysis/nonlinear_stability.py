@@ -187,6 +187,18 @@ class NonlinearCriticalSpeed:
         return (f"nonlinear critical speed {self.speed_kmh:.1f} km/h{low}, {step}, {linear}; "
                 f"contact: {self.contact}")
 
+    def as_dict(self) -> dict:
+        """The result as plain data (SI, speeds also in km/h): the speed, bracket, contact,
+        wheelset, time step and its check, and the bifurcation diagram's points."""
+        return {"critical_speed": self.speed, "critical_speed_kmh": self.speed_kmh,
+                "bracket": list(self.bracket), "contact": self.contact, "wheelset": self.wheelset,
+                "dt": self.dt, "uncertainty": self.uncertainty, "step_change": self.step_change,
+                "converged_in_dt": self.converged,
+                "step_checks": [{"dt": c.dt, "critical_speed": c.speed, "bracket": list(c.bracket), "runs": c.runs}
+                                for c in self.step_checks],
+                "speeds": [p.speed for p in self.points], "amplitudes": [p.amplitude for p in self.points],
+                "limit_cycle": [bool(p.alive) for p in self.points]}
+
 
 def _state(vehicle: VehicleModel, result) -> np.ndarray:
     """The last state ``[q; q_D']`` of a run."""

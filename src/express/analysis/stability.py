@@ -49,6 +49,7 @@ from express.base.units import KMH
 from express.numeric.statespace import VehicleModel
 
 __all__ = [
+    "WINDOW_JUMP",
     "CriticalSpeed",
     "EigenResult",
     "Mode",
@@ -59,7 +60,13 @@ __all__ = [
     "modes_of",
     "natural_frequencies",
     "root_locus",
+    "sweep_as_dict",
+    "unstable_windows",
 ]
+
+#: Relative change of V_cr from one conicity to the next above which both points are
+#: checked for an unstable window (:func:`unstable_windows`; a smaller step is drawn as a line either way).
+WINDOW_JUMP = 0.2
 
 @dataclass(frozen=True)
 class CriticalSpeed:
@@ -102,6 +109,12 @@ class CriticalSpeed:
                     f"({self.speed_kmh:.1f} km/h): {self.mode.describe()}")
         return (f"critical speed {self.speed:.2f} m/s ({self.speed_kmh:.1f} km/h), "
                 f"{self.mode.frequency_hz:.2f} Hz: {self.mode.describe()}")
+
+    def as_dict(self) -> dict:
+        """The result as plain data (SI, and the speed in km/h): ``critical_speed`` [m/s],
+        ``critical_speed_kmh``, ``mode`` (its description), ``frequency_hz``, ``unstable_at_min``."""
+        return {"critical_speed": self.speed, "critical_speed_kmh": self.speed_kmh, "mode": self.mode.describe(),
+                "frequency_hz": self.mode.frequency_hz, "unstable_at_min": bool(self.unstable_at_min)}
 
 
 # ---------------------------------------------------------------------------------------
@@ -400,3 +413,95 @@ def critical_speed_vs_conicity(
         known = ", ".join(sorted(vehicle.model.parameters)) if vehicle.model is not None else "none"
         raise ValueError(f"the model has no parameter {parameter!r} (parameters: {known})")
     return [critical_speed(vehicle.with_values({parameter: float(g)}), **options) for g in conicities]
+
+
+def sweep_as_dict(parameter: str, values: Iterable[float], sweep: list[CriticalSpeed | None]) -> dict:
+    """A sweep of :func:`critical_speed_vs_conicity` as plain data.
+
+    Parameters
+    ----------
+    parameter : str
+        The parameter swept.
+    values : sequence of float
+        Its values, in the sweep's order.
+    sweep : list of (CriticalSpeed or None)
+        The results (None: stable over the range, given as ``nan``).
+
+    Returns
+    -------
+    dict
+        ``parameter``, ``values``, ``critical_speeds`` [m/s] and ``critical_speeds_kmh``
+        (arrays), ``unstable_at_min`` and ``modes`` (lists).
+    """
+    speeds = np.array([c.speed if c is not None else np.nan for c in sweep])
+    return {
+        "parameter": parameter, "values": list(values), "critical_speeds": speeds,
+        "critical_speeds_kmh": speeds / KMH,
+        "unstable_at_min": [bool(c is not None and c.unstable_at_min) for c in sweep],
+        "modes": [c.mode.describe() if c is not None else None for c in sweep],
+    }
+
+
+def unstable_windows(vehicle: VehicleModel, conicities: np.ndarray, speeds_kmh: np.ndarray,
+                     unstable_at_min: np.ndarray, *, parameter: str = "Gamma", v_max: float = 200.0,
+                     tolerance_kmh: float = 0.1) -> np.ndarray:
+    """Where ``V_cr`` jumps, the top of the unstable range that starts at ``V_cr``.
+
+    A car can be unstable only in a window of speeds and stable again above it; as the
+    conicity changes the window can close, and ``V_cr`` then jumps to the next crossing.
+    Where ``V_cr`` changes by more than :data:`WINDOW_JUMP` between neighbours, both are
+    checked; the unstable ranges ``[V_cr, top]`` of two neighbours that do not overlap
+    mean a jump (``figure_critical_speed`` breaks its line there).
+
+    Parameters
+    ----------
+    vehicle : VehicleModel
+        The vehicle at its nominal values.
+    conicities : numpy.ndarray, shape (G,)
+        The values of ``parameter`` of the sweep [-].
+    speeds_kmh : numpy.ndarray, shape (G,)
+        Their critical speeds [km/h] (``nan``: stable over the range).
+    unstable_at_min : numpy.ndarray of bool, shape (G,)
+        Already unstable at the lowest speed (not checked).
+    parameter : str
+        The parameter swept.
+    v_max : float
+        Top of the speeds checked [m/s].
+    tolerance_kmh : float
+        Width of the bisection bracket of each top [km/h].
+
+    Returns
+    -------
+    numpy.ndarray, shape (G,)
+        The speed [km/h] from which the car is stable again (to the bisection tolerance;
+        ``inf``: unstable up to ``v_max``); nan where not checked.
+    """
+    tops = np.full(conicities.size, np.nan)
+    usable = np.isfinite(speeds_kmh) & ~np.asarray(unstable_at_min, bool)
+    for i in range(conicities.size - 1):
+        if usable[i] and usable[i + 1]:
+            low, high = sorted((speeds_kmh[i], speeds_kmh[i + 1]))
+            if high > (1 + WINDOW_JUMP) * low:
+                for j in (i, i + 1):
+                    if np.isnan(tops[j]):
+                        varied = vehicle.with_values({parameter: float(conicities[j])})
+                        tops[j] = _stable_again(varied, speeds_kmh[j], v_max / KMH, tolerance_kmh)
+    return tops
+
+
+def _stable_again(vehicle: VehicleModel, from_kmh: float, to_kmh: float, tolerance_kmh: float,
+                  points: int = 36) -> float:
+    """The lowest speed [km/h] in (from, to] at which ``vehicle`` is stable again, or inf."""
+    speeds = np.linspace(from_kmh * KMH, to_kmh * KMH, points + 1)[1:]
+    stable = np.flatnonzero(max_real_part(vehicle, speeds) <= 0.0)
+    if not stable.size:
+        return np.inf
+    k = int(stable[0])
+    low, high = (speeds[k - 1] if k > 0 else from_kmh * KMH), speeds[k]
+    while (high - low) / KMH > tolerance_kmh:
+        middle = 0.5 * (low + high)
+        if max_real_part(vehicle, [middle])[0] <= 0.0:
+            high = middle
+        else:
+            low = middle
+    return float(high / KMH)

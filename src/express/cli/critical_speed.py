@@ -129,7 +129,9 @@ def run(
         common.note(f"wrote {path}")
     summary = {"model": str(model), "v_min": vmin, "v_max": vmax, **_fields(result)}
     if conicities is not None and sweep is not None:
-        summary["sweep"] = _sweep_summary(parameter, conicities, sweep)
+        from express.analysis.stability import sweep_as_dict
+
+        summary["sweep"] = sweep_as_dict(parameter, conicities, sweep)
     if as_json:
         common.print_json(summary)
     else:
@@ -162,22 +164,11 @@ def _write_sweep(output: str, parameter: str, conicities: list[float], sweep: li
     write_csv(output, columns, {"critical_speed": "m/s"})
 
 
-def _sweep_summary(parameter: str, conicities: list[float], sweep: list) -> dict:
-    speeds = _speeds(sweep)
-    return {
-        "parameter": parameter, "values": conicities, "critical_speeds": speeds,
-        "critical_speeds_kmh": speeds / common.KMH,
-        "unstable_at_min": [bool(c is not None and c.unstable_at_min) for c in sweep],
-        "modes": [c.mode.describe() if c is not None else None for c in sweep],
-    }
-
-
 def _fields(result: Any) -> dict:
     if result is None:
         return {"critical_speed": None, "critical_speed_kmh": None, "mode": None, "frequency_hz": None,
                 "unstable_at_min": False}
-    return {"critical_speed": result.speed, "critical_speed_kmh": result.speed_kmh, "mode": result.mode.describe(),
-            "frequency_hz": result.mode.frequency_hz, "unstable_at_min": bool(result.unstable_at_min)}
+    return result.as_dict()
 
 
 def _figure(vehicle: Any, plot: Path, vmin: float, vmax: float, result: Any, conicities: list[float] | None,
@@ -185,12 +176,10 @@ def _figure(vehicle: Any, plot: Path, vmin: float, vmax: float, result: Any, con
     import numpy as np
 
     from express.analysis import plots
-    from express.analysis.stability import root_locus
+    from express.analysis.stability import root_locus, unstable_windows
 
     name = vehicle.equations.name
     if conicities is not None and sweep is not None:
-        from express.paper.demo_stability import unstable_windows
-
         speeds_kmh = _speeds(sweep) / common.KMH
         at_min = np.array([bool(c is not None and c.unstable_at_min) for c in sweep])
         windows = unstable_windows(vehicle, np.asarray(conicities), speeds_kmh, at_min, parameter=parameter,
@@ -269,7 +258,7 @@ def _run_nonlinear(model: Path, overrides: dict[str, str], vmin: float, vmax: fl
     for path in [p for p in (output, plot) if p is not None and str(p) != "-"]:
         common.note(f"wrote {path}")
     name = vehicle.equations.name
-    summary = {"model": str(model), **_fields(linear), "nonlinear": _nonlinear_fields(result)}
+    summary = {"model": str(model), **_fields(linear), "nonlinear": result.as_dict()}
     if as_json:
         common.print_json(summary)
     else:
@@ -278,17 +267,6 @@ def _run_nonlinear(model: Path, overrides: dict[str, str], vmin: float, vmax: fl
               file=stream)
         print(f"{name}: {result.describe()}", file=stream)
     return 0
-
-
-def _nonlinear_fields(result: Any) -> dict:
-    return {"critical_speed": result.speed, "critical_speed_kmh": result.speed_kmh,
-            "bracket": list(result.bracket), "contact": result.contact, "wheelset": result.wheelset,
-            "dt": result.dt, "uncertainty": result.uncertainty, "step_change": result.step_change,
-            "converged_in_dt": result.converged,
-            "step_checks": [{"dt": c.dt, "critical_speed": c.speed, "bracket": list(c.bracket), "runs": c.runs}
-                            for c in result.step_checks],
-            "speeds": [p.speed for p in result.points], "amplitudes": [p.amplitude for p in result.points],
-            "limit_cycle": [bool(p.alive) for p in result.points]}
 
 
 def _write_bifurcation(output: str, result: Any) -> None:

@@ -1,10 +1,11 @@
 """``express simulate``: a vehicle run along a track (:func:`express.analysis.simulate.simulate`).
 
 A run that leaves the model's range of validity is not a result: when a state becomes
-non-finite, or a wheelset moves more than :data:`DIVERGED_CLEARANCES` flange clearances
+non-finite, or a wheelset moves more than ten flange clearances
 from its rail, the command exits with status 1, names the time, the track position and
 the least-damped eigenvalue at the speed, leaves the requested outputs untouched and
-keeps the history up to that point in ``<name>.diverged<suffix>`` beside each of them.
+keeps the history up to that point in ``<name>.diverged<suffix>`` beside each of them
+(:mod:`express.analysis.divergence` finds the step).
 """
 
 from __future__ import annotations
@@ -12,21 +13,17 @@ from __future__ import annotations
 import argparse
 import math
 import sys
-from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
 from express.base.diagnostics import AnalysisError, UsageError
 from express.cli import common
 
-__all__ = ["DIVERGED_CLEARANCES", "MAX_STEPS", "add_parser", "run"]
+__all__ = ["MAX_STEPS", "add_parser", "run"]
 
 TABLE_SUFFIXES = (".csv", ".npz", ".mat")
 #: A run is refused beyond this many time steps (track length / (speed * dt)).
 MAX_STEPS = 5_000_000
-#: A wheelset this many flange clearances from its rail has left the model's range.
-DIVERGED_CLEARANCES = 10.0
-_MIN_DIVERGED_DISTANCE = 0.05  # m, for models with a tiny or zero clearance
 
 
 def table_path(text: str) -> str:
@@ -57,14 +54,6 @@ def add_parser(subparsers) -> None:
     parser.set_defaults(handler=run, numeric=True)
 
 
-@dataclass(frozen=True)
-class Divergence:
-    """Where a run left the model's range of validity."""
-
-    index: int
-    reason: str
-
-
 def run(
     model: Path, overrides: dict[str, str], *, track: Path | None = None, speed: float | None = None,
     dt: float = 0.005, linear: bool = False, outputs: list[str] | None = None, plot: Path | None = None,
@@ -92,6 +81,8 @@ def run(
             raise UsageError(f"--dt {dt:g} s: {steps:,.0f} steps for {road.length:g} m at {v / common.KMH:g} km/h; "
                              f"at most {MAX_STEPS:,} (give a larger --dt)")
         result = _simulate(vehicle, road, v, dt, linear)
+        from express.analysis.divergence import find_divergence
+
         divergence = find_divergence(result, vehicle)
         if divergence is None:
             _write(result, outputs, plot, f"{vehicle.equations.name}: {v / common.KMH:.0f} km/h, {_track_name(track)}")
@@ -125,7 +116,7 @@ def _simulate(vehicle: Any, road: Any, speed: float, dt: float, linear: bool) ->
 
     from express.analysis.simulate import simulate
 
-    with np.errstate(over="ignore", invalid="ignore"):  # a diverging run is reported by find_divergence
+    with np.errstate(over="ignore", invalid="ignore"):  # a diverging run is reported: analysis.divergence
         return simulate(vehicle, road, speed=speed, dt=dt, flange=not linear, saturation=not linear,
                         progress=common.is_terminal(sys.stderr))
 
@@ -139,46 +130,12 @@ def _write(result: Any, outputs: list[str], plot: Path | None, title: str) -> No
         save_figure(figure_simulation(result.distance, result.outputs, title=title), plot)
 
 
-def find_divergence(result: Any, vehicle: Any) -> Divergence | None:
-    """The first time step at which ``result`` left the model's range of validity.
-
-    A non-finite state or output, or a wheelset's lateral displacement beyond
-    :data:`DIVERGED_CLEARANCES` times its flange clearance (the flange would have
-    climbed the rail long before: the model no longer describes the vehicle).
-    """
-    import numpy as np
-
-    bad = ~np.all(np.isfinite(result.q), axis=1) | ~np.all(np.isfinite(result.q_dot), axis=1)
-    for values in result.outputs.values():
-        bad |= ~np.isfinite(values)
-    reasons = ["a state or output is not finite"] * len(bad)
-    for wheelset in vehicle.wheelsets:
-        limit = max(DIVERGED_CLEARANCES * wheelset.flange_clearance, _MIN_DIVERGED_DISTANCE)
-        with np.errstate(invalid="ignore"):
-            far = np.abs(result.q[:, wheelset.y]) > limit
-        for index in np.flatnonzero(far & ~bad)[:1]:
-            reasons[index] = (f"wheelset {wheelset.name} is {abs(result.q[index, wheelset.y]):.3g} m from the track "
-                              f"centre line, beyond {limit:g} m ({DIVERGED_CLEARANCES:g} flange clearances)")
-        bad |= far
-    hits = np.flatnonzero(bad)
-    return Divergence(int(hits[0]), reasons[int(hits[0])]) if hits.size else None
-
-
-def _diverged(result: Any, vehicle: Any, divergence: Divergence, outputs: list[str]) -> str:
+def _diverged(result: Any, vehicle: Any, divergence: Any, outputs: list[str]) -> str:
     """Keep the history before ``divergence`` beside each output; return the message."""
-    import numpy as np
-
-    from express.analysis.stability import eigen_analysis
+    from express.analysis.divergence import divergence_message, truncate
 
     k = divergence.index
-    message = (f"simulate: the run diverged at t = {result.time[k]:.4g} s, d1 = {result.distance[k]:.1f} m: "
-               f"{divergence.reason}")
-    try:
-        mode = eigen_analysis(vehicle, result.speed).modes[0]
-        message += (f"; least-damped eigenvalue at {result.speed / common.KMH:.1f} km/h: "
-                    f"{mode.real:.4g} {'+' if mode.imag >= 0 else '-'} {abs(mode.imag):.4g}j 1/s ({mode.describe()})")
-    except (ArithmeticError, ValueError, np.linalg.LinAlgError):
-        message += "; the eigenvalues at this speed could not be computed"
+    message = "simulate: " + divergence_message(result, vehicle, divergence)
     if k > 0 and outputs:
         kept = truncate(result, k)
         names = []
@@ -188,15 +145,6 @@ def _diverged(result: Any, vehicle: Any, divergence: Divergence, outputs: list[s
             names.append(marked)
         message += f"; the history up to t = {result.time[k - 1]:.4g} s is in {', '.join(names)}"
     return message + "; no output was replaced"
-
-
-def truncate(result: Any, count: int) -> Any:
-    """The first ``count`` time steps of a :class:`~express.analysis.simulate.SimulationResult`."""
-    return replace(
-        result, time=result.time[:count], distance=result.distance[:count], q=result.q[:count],
-        q_dot=result.q_dot[:count], outputs={name: values[:count] for name, values in result.outputs.items()},
-        options={**result.options, "diverged": True},
-    )
 
 
 def _marked(path: str) -> str:

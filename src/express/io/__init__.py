@@ -1,4 +1,5 @@
-"""Model readers and writers: classic (paper Fig. 5) and modern (TOML) files."""
+"""Reading and writing: the model readers (classic, paper Fig. 5, and TOML with substructures),
+the TOML writer, and :mod:`.output`, the one writer of every output (whole or not at all)."""
 
 from __future__ import annotations
 

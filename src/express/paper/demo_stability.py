@@ -16,6 +16,7 @@ from typing import Any
 
 import numpy as np
 
+from express.analysis.stability import WINDOW_JUMP, unstable_windows
 from express.base.units import KMH
 from express.paper.demo_common import Cars, write_figure, write_table
 from express.paper.numbers import PAPER
@@ -127,7 +128,8 @@ def measure_stability(cars: Cars, conicities: np.ndarray = CONICITIES, *, diagno
         sweeps[name] = sweep
         speeds[name] = np.array([c.speed_kmh if c is not None else np.nan for c in sweep])
         unstable[name] = np.array([c is not None and c.unstable_at_min for c in sweep])
-        windows[name] = unstable_windows(car, conicities, speeds[name], unstable[name])
+        windows[name] = unstable_windows(car, conicities, speeds[name], unstable[name], v_max=V_MAX,
+                                         tolerance_kmh=_OPTIONS["tolerance_kmh"])
         modes[name] = tuple(c.mode.describe() if c is not None else None for c in sweep)
     low = None
     steered = speeds["steered"]
@@ -141,59 +143,6 @@ def measure_stability(cars: Cars, conicities: np.ndarray = CONICITIES, *, diagno
                           cut.speed_kmh if cut is not None else None)
     return StabilitySweep(conicities, speeds, unstable, windows, modes, _OPTIONS["v_min"], _OPTIONS["v_max"],
                           _OPTIONS["tolerance_kmh"], low)
-
-
-#: Relative change of V_cr from one conicity to the next above which both points are
-#: checked for an unstable window (a smaller step is drawn as a line either way).
-WINDOW_JUMP = 0.2
-
-
-def unstable_windows(car, conicities: np.ndarray, speeds_kmh: np.ndarray, unstable_at_min: np.ndarray,
-                     *, parameter: str = "Gamma", v_max: float = V_MAX) -> np.ndarray:
-    """Where ``V_cr`` jumps, the top of the unstable range that starts at ``V_cr``.
-
-    A car can be unstable only in a window of speeds and stable again above it; as the
-    conicity changes the window can close, and ``V_cr`` then jumps to the next crossing.
-    Where ``V_cr`` changes by more than :data:`WINDOW_JUMP` between neighbours, both are
-    checked; the unstable ranges ``[V_cr, top]`` of two neighbours that do not overlap
-    mean a jump (``figure_critical_speed`` breaks its line there).
-
-    Returns
-    -------
-    numpy.ndarray, shape (G,)
-        The speed [km/h] from which the car is stable again (to the bisection tolerance;
-        ``inf``: unstable up to ``v_max``); nan where not checked.
-    """
-    tops = np.full(conicities.size, np.nan)
-    usable = np.isfinite(speeds_kmh) & ~np.asarray(unstable_at_min, bool)
-    for i in range(conicities.size - 1):
-        if usable[i] and usable[i + 1]:
-            low, high = sorted((speeds_kmh[i], speeds_kmh[i + 1]))
-            if high > (1 + WINDOW_JUMP) * low:
-                for j in (i, i + 1):
-                    if np.isnan(tops[j]):
-                        varied = car.with_values({parameter: float(conicities[j])})
-                        tops[j] = _stable_again(varied, speeds_kmh[j], v_max / KMH)
-    return tops
-
-
-def _stable_again(car, from_kmh: float, to_kmh: float, points: int = 36) -> float:
-    """The lowest speed [km/h] in (from, to] at which ``car`` is stable again, or inf."""
-    from express.analysis.stability import max_real_part
-
-    speeds = np.linspace(from_kmh * KMH, to_kmh * KMH, points + 1)[1:]
-    stable = np.flatnonzero(max_real_part(car, speeds) <= 0.0)
-    if not stable.size:
-        return np.inf
-    k = int(stable[0])
-    low, high = (speeds[k - 1] if k > 0 else from_kmh * KMH), speeds[k]
-    while (high - low) / KMH > _OPTIONS["tolerance_kmh"]:
-        middle = 0.5 * (low + high)
-        if max_real_part(car, [middle])[0] <= 0.0:
-            high = middle
-        else:
-            low = middle
-    return float(high / KMH)
 
 
 def vcr_shape(sweep: StabilitySweep, reference: float = PAPER.conicity_of_max_vcr.value) -> VcrShape:
