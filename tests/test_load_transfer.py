@@ -98,6 +98,13 @@ def test_single_mass_closed_form_and_suspension_roll():
 def test_time_histories_broadcast(car):
     _, loads = car
     a_y, a_n = track_plane_accelerations(np.array([10.0, 30.0, 50.0]), -1 / 500, -0.1, 1.067, G)
-    q = wheel_loads(loads, a_y, a_n, offsets=np.zeros((3, loads.mass.size)))
+    q = wheel_loads(loads, a_y[:, None], a_n[:, None], offsets=np.zeros((3, loads.mass.size)))
     assert q.left.shape == (3, 4)
     np.testing.assert_allclose(q.total, np.repeat(a_n[:, None], 4, axis=1) * 2 * loads.static_loads(G) / G, rtol=1e-14)
+
+
+def test_accelerations_per_body():
+    # two bodies on one wheelset, each feeling its own lateral acceleration
+    two = BodyLoads(("A", "B"), np.array([1e4, 2e3]), np.array([1.5, 0.5]), np.ones((2, 1)), np.array([0.75]))
+    q = wheel_loads(two, np.array([-1.0, -0.5]), G)
+    assert float(q.right[0] - q.left[0]) == pytest.approx((1e4 * 1.0 * 1.5 + 2e3 * 0.5 * 0.5) / 0.75, rel=1e-15)

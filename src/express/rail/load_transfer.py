@@ -154,9 +154,10 @@ def wheel_loads(loads: BodyLoads, lateral: ArrayLike, normal: ArrayLike,
     Parameters
     ----------
     loads : BodyLoads
-    lateral, normal : float or array_like, shape (...)
-        ``a_y`` and ``a_n`` of :func:`track_plane_accelerations` [m/s^2] (one per
-        instant for a time history).
+    lateral, normal : float or array_like, broadcastable to (..., n_bodies)
+        ``a_y`` and ``a_n`` of :func:`track_plane_accelerations` [m/s^2]: one value,
+        or one per body at its station (``(N, n_bodies)`` for a time history; a value
+        per instant is ``a[:, None]``).
     offsets : array_like, shape (..., n_bodies), optional
         Lateral displacement of each body's centre from the track centreline [m]
         (zero by default: the rigid-vehicle estimate).
@@ -176,13 +177,14 @@ def wheel_loads(loads: BodyLoads, lateral: ArrayLike, normal: ArrayLike,
     >>> round(float(q.right[0] - q.left[0]) / 2, 1)
     6666.7
     """
-    a_y = np.asarray(lateral, dtype=float)[..., None]
-    a_n = np.asarray(normal, dtype=float)[..., None]
+    count = loads.mass.size
+    a_y = np.broadcast_to(np.asarray(lateral, dtype=float), np.broadcast_shapes(np.shape(lateral), (count,)))
+    a_n = np.broadcast_to(np.asarray(normal, dtype=float), np.broadcast_shapes(np.shape(normal), (count,)))
     weights = loads.mass[:, None] * loads.shares  # (n_bodies, n_wheelsets)
-    total = a_n * weights.sum(axis=0)
-    moment = a_y * ((loads.height[:, None] * weights).sum(axis=0))
+    total = a_n @ weights
+    moment = (a_y * loads.height) @ weights
     if offsets is not None:
-        moment = moment + a_n * (np.asarray(offsets, dtype=float) @ weights)
+        moment = moment + (a_n * np.asarray(offsets, dtype=float)) @ weights
     difference = moment / loads.half_base
     return WheelLoads(0.5 * (total + difference), 0.5 * (total - difference))
 

@@ -1,0 +1,398 @@
+"""Steady-state curving: the equilibrium of the nonlinear vehicle in a constant curve.
+
+In a curve of constant radius and cant, at constant speed, every coordinate measured
+from the track (``docs/rail.md``) is constant, so the state ``x`` of the time march
+(:mod:`express.analysis.simulate`) solves (``docs/curving.md``, "Steady state")::
+
+    0 = A(v) x + B(v) u + S z(x)
+
+with ``u`` the curvature and cant at every station, ``z`` the nonlinear wheel/rail forces
+(the contact tables' forces less their linear part, or the dead-band flange and creep
+saturation) and the bump stops, ``S`` the columns they act through — the same equations
+the time march integrates, with the time derivative zero.  They are solved by
+pseudo-transient continuation (:func:`_pseudo_transient`: implicit Euler steps of growing
+size, Newton's method in the limit) from the linear steady state ``-A^-1 B u``, with the
+Jacobian ``A + S dz/dx``: ``A`` exact (from the symbolic M, C, K), ``dz/dx`` by
+differences in the few wheelset and bump-stop coordinates ``z`` depends on.  Everything but ``u`` is built once per vehicle and speed
+(:class:`SteadyCurvingSolver`), so a sweep costs a few milliseconds per curve.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from express.analysis.curving.measure import wheel_rail_outputs
+from express.analysis.curving.outputs import WheelRailOutputs
+from express.analysis.simulate import TrackInputs, derived_outputs
+from express.assembly.clearance import clearance_force, clearances_of
+from express.model.parameters import expression_value
+from express.numeric.statespace import VehicleModel
+from express.rail import nonlinear
+
+__all__ = [
+    "MAX_UNBALANCED_ACCELERATION",
+    "CurveError",
+    "SteadyCurve",
+    "SteadyCurving",
+    "SteadyCurvingSolver",
+    "steady_curving",
+]
+
+#: Largest unbalanced lateral acceleration in the track plane a steady curve may ask for
+#: [m/s^2], cant deficiency or excess: 2.0 m/s^2 is about 300 mm of cant deficiency on
+#: standard gauge, beyond what the line standards allow even tilting trains
+#: (``docs/curving.md``).
+MAX_UNBALANCED_ACCELERATION = 2.0
+#: Relative residual the solution must reach (of the curve's forcing ``|B u|``).
+_TOLERANCE = 1e-9
+
+
+class CurveError(ValueError):
+    """A curve the vehicle cannot run (bad geometry, too much unbalanced acceleration,
+    no steady state)."""
+
+
+@dataclass(frozen=True)
+class SteadyCurve:
+    """A constant curve.
+
+    Attributes
+    ----------
+    radius : float
+        [m], > 0.
+    cant : float
+        Rail height difference S [m], toward the centre of the curve (negative: adverse).
+    direction : {"left", "right"}
+        Seen in the direction of travel.
+    """
+
+    radius: float
+    cant: float = 0.0
+    direction: str = "right"
+
+    @property
+    def curvature(self) -> float:
+        """Signed curvature rho [1/m] (positive to the left)."""
+        return (1.0 if self.direction == "left" else -1.0) / self.radius
+
+    @property
+    def signed_cant(self) -> float:
+        """Signed cant S [m] (``docs/track.md``)."""
+        return self.cant if self.direction == "left" else -self.cant
+
+    def unbalanced_acceleration(self, speed: float, cant_base: float, gravity: float) -> float:
+        """Cant deficiency as an acceleration in the track plane toward the outside of
+        the curve [m/s^2] (negative: cant excess): ``v^2 cos(phi) / R - g sin(phi)``."""
+        sin_phi = self.cant / cant_base
+        return speed**2 * math.sqrt(1.0 - sin_phi**2) / self.radius - gravity * sin_phi
+
+    def problems(self, speed: float, cant_base: float, gravity: float) -> list[str]:
+        """Every reason the curve cannot be run at ``speed`` (empty if none)."""
+        out = []
+        if not (isinstance(self.radius, (int, float)) and math.isfinite(self.radius) and self.radius > 0):
+            out.append(f"radius must be a positive number of metres, got {self.radius!r}")
+        if not (isinstance(self.cant, (int, float)) and math.isfinite(self.cant)) or abs(self.cant) >= cant_base:
+            out.append(f"cant {self.cant!r} m must be smaller than the cant base {cant_base:g} m")
+        if self.direction not in ("left", "right"):
+            out.append(f"direction must be 'left' or 'right', got {self.direction!r}")
+        if not (math.isfinite(speed) and speed > 0):
+            out.append(f"speed must be positive, got {speed!r} m/s")
+        if not out:
+            a = self.unbalanced_acceleration(speed, cant_base, gravity)
+            if abs(a) > MAX_UNBALANCED_ACCELERATION:
+                kind = "cant deficiency" if a > 0 else "cant excess"
+                out.append(f"{speed * 3.6:.1f} km/h in R = {self.radius:g} m with {self.cant * 1e3:g} mm cant needs "
+                           f"{abs(a):.2f} m/s^2 of unbalanced acceleration ({kind}), more than the limit "
+                           f"{MAX_UNBALANCED_ACCELERATION:g} m/s^2")
+        return out
+
+
+@dataclass(frozen=True)
+class SteadyCurving:
+    """The steady state of a vehicle in a constant curve.
+
+    Attributes
+    ----------
+    curve : SteadyCurve
+    speed : float
+        [m/s].
+    unbalanced_acceleration : float
+        Cant deficiency in the track plane [m/s^2] (negative: excess).
+    dofs : tuple of str
+    q : numpy.ndarray, shape (n,)
+        Coordinates from the track [m, rad].
+    state : numpy.ndarray, shape (N,)
+        The state of the time march.
+    wheel_rail : WheelRailOutputs
+        One instant.
+    derived : dict of str to float
+        Wheelset yaw in its bogie ``psi_TW{n}`` and lever angles ``theta_<lever>`` [rad].
+    contact : str
+        The contact model used.
+    iterations : int
+        Evaluations of the equations.
+    residual : float
+        ``|A x + B u + S z| / |B u|`` at the solution.
+    """
+
+    curve: SteadyCurve
+    speed: float
+    unbalanced_acceleration: float
+    dofs: tuple[str, ...]
+    q: np.ndarray
+    state: np.ndarray
+    wheel_rail: WheelRailOutputs
+    derived: dict[str, float] = field(default_factory=dict)
+    contact: str = ""
+    iterations: int = 0
+    residual: float = 0.0
+
+    def columns(self) -> dict[str, float]:
+        """The curve, then every output: ``R``, ``cant``, ``speed``, ``a_q``, the
+        wheel/rail outputs (:meth:`WheelRailOutputs.columns`), the derived angles and
+        each coordinate."""
+        out = {"R": self.curve.radius, "cant": self.curve.cant, "speed": self.speed,
+               "a_q": self.unbalanced_acceleration}
+        out.update({name: float(values[0]) for name, values in self.wheel_rail.columns().items()})
+        out.update(self.derived)
+        out.update({dof: float(value) for dof, value in zip(self.dofs, self.q, strict=True)})
+        return out
+
+    def units(self) -> dict[str, str]:
+        """SI unit of every column of :meth:`columns`."""
+        units = {"R": "m", "cant": "m", "speed": "m/s", "a_q": "m/s^2", **self.wheel_rail.units()}
+        units.update(dict.fromkeys(self.derived, "rad"))
+        units.update({dof: "rad" if dof.rsplit(".", 1)[-1].startswith("r") else "m" for dof in self.dofs})
+        return units
+
+
+class SteadyCurvingSolver:
+    """The steady-state equations of one vehicle at one speed, built once.
+
+    Parameters
+    ----------
+    vehicle : VehicleModel
+        With rail data.
+    speed : float, optional
+        [m/s]; the model's speed by default.
+    contact : {"tables", "deadband"}, optional
+        As :func:`express.analysis.simulate.simulate` (tables when the model's contact
+        comes from profiles).
+    creep_law : {"fastsim", "polach"}
+        Creep law of the contact tables.
+    flange, saturation : bool
+        The dead-band model's flange contact and creep saturation (both off: the
+        linear steady state).
+    """
+
+    def __init__(self, vehicle: VehicleModel, speed: float | None = None, *, contact: str | None = None,
+                 creep_law: str = "fastsim", flange: bool = True, saturation: bool = True):
+        from express.analysis.simulate import _contact_tables
+
+        if vehicle.layout is None or vehicle.model is None or vehicle.model.rail is None:
+            raise ValueError("the model has no rail data: add a [rail] section to run it in a curve")
+        self.vehicle = vehicle
+        self.speed = float(vehicle.speed if speed is None else speed)
+        self.flange, self.saturation = flange, saturation
+        nonlinear_run = flange or saturation
+        self.tables = _contact_tables(vehicle, contact, creep_law) if nonlinear_run else None
+        self.contact = (f"tables ({creep_law})" if self.tables is not None
+                        else "dead-band" if nonlinear_run else "linear")
+        v = self.speed
+        self.a, self.b = vehicle.state_matrix(v), vehicle.input_matrix(v)
+        self.cant_base = expression_value(vehicle.model.rail.cant_base, vehicle.values)
+        self.gravity = expression_value(vehicle.model.rail.gravity, vehicle.values)
+        ws = vehicle.wheelsets
+        velocity = {int(i): vehicle.n + j for j, i in enumerate(vehicle.form.massive)}
+        self.iy = np.array([w.y for w in ws])
+        self.ipsi = np.array([w.psi for w in ws])
+        self.ivy = np.array([velocity[w.y] for w in ws])
+        self.ivpsi = np.array([velocity[w.psi] for w in ws])
+        self.stops = clearances_of(vehicle.equations, vehicle.values) if nonlinear_run else None
+        stop_rows = self.stops.gradient if self.stops is not None and self.stops.count else np.zeros((0, vehicle.n))
+        force = vehicle.form.force
+        columns = [force[:, w.y] for w in ws] + [force[:, w.psi] for w in ws] + [force[:, : vehicle.n] @ r for r in stop_rows]
+        self.selector = np.column_stack(columns)
+        self.stop_rows = stop_rows
+        used = {*self.iy, *self.ipsi, *self.ivy, *self.ivpsi, *np.flatnonzero(np.any(stop_rows != 0, axis=0))}
+        self.nonlinear_columns = np.array(sorted(used)) if nonlinear_run else np.zeros(0, dtype=int)
+        if self.tables is not None:
+            from express.analysis.contact_march import linear_coefficients
+
+            self.linear = linear_coefficients(vehicle, v)
+
+    def inputs(self, curve: SteadyCurve) -> TrackInputs:
+        """The track inputs of ``curve`` at every station (one instant)."""
+        vehicle = self.vehicle
+        layout = vehicle.layout
+        assert layout is not None
+        names = list(vehicle.inputs)
+        u = np.zeros((1, len(names)))
+        for station in layout.stations:
+            u[0, names.index(station.curvature_input)] = curve.curvature
+            u[0, names.index(station.cant_input)] = curve.signed_cant
+        count = len(vehicle.wheelsets)
+        return TrackInputs(u, np.zeros_like(u), np.zeros((1, count)), np.full((1, count), curve.curvature),
+                           np.full((1, len(layout.stations)), curve.curvature))
+
+    def feedback(self, x: np.ndarray, inputs: TrackInputs) -> np.ndarray:
+        """``z(x)``: the nonlinear forces fed back, as the time march computes them."""
+        n = self.vehicle.n
+        y, psi, y_dot, psi_dot = x[self.iy], x[self.ipsi], x[self.ivy], x[self.ivpsi]
+        rho = inputs.rho_wheelsets[0]
+        if self.tables is not None:
+            from express.analysis.contact_march import contact_force_history
+
+            q_dot = self.vehicle.form.velocities(x)
+            history = contact_force_history(x[None, :n], q_dot[None, :], self.iy, self.ipsi, inputs.y_rail, inputs.rho_wheelsets,
+                                            self.speed, self.tables)[0]
+            c = self.linear
+            lateral = -(c[:, 0] * y + c[:, 1] * psi + c[:, 2] * y_dot + c[:, 3] * psi_dot) + c[:, 5] * rho
+            yaw = -(c[:, 6] * y + c[:, 7] * psi + c[:, 8] * y_dot + c[:, 9] * psi_dot) + c[:, 11] * rho
+            z = [history[:, 0] - lateral, history[:, 1] - yaw]
+        else:
+            forces = nonlinear.wheelset_forces(y, psi, y_dot, psi_dot, inputs.y_rail[0], rho, self.speed,
+                                               self.vehicle.wheelsets, flange=self.flange, saturation=self.saturation)
+            z = [forces["flange"] + forces["lateral_correction"], forces["yaw_correction"]]
+        if self.stop_rows.shape[0]:
+            assert self.stops is not None
+            delta = self.stop_rows @ x[:n] + self.stops.inputs @ inputs.u[0]
+            z.append(-clearance_force(delta, self.stops.gap, self.stops.stiffness, self.stops.progressive))
+        return np.concatenate(z)
+
+    def _equations(self, inputs: TrackInputs):
+        forcing = self.b @ inputs.u[0]
+
+        def equations(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+            z = self.feedback(x, inputs)
+            jacobian = self.a.copy()
+            if self.nonlinear_columns.size:
+                step = 1e-8
+                slopes = np.empty((z.size, self.nonlinear_columns.size))
+                for k, column in enumerate(self.nonlinear_columns):
+                    moved = x.copy()
+                    moved[column] += step
+                    slopes[:, k] = (self.feedback(moved, inputs) - z) / step
+                jacobian[:, self.nonlinear_columns] += self.selector @ slopes
+            return self.a @ x + forcing + self.selector @ z, jacobian
+
+        return equations, forcing
+
+    def solve(self, curve: SteadyCurve, start: np.ndarray | None = None) -> SteadyCurving:
+        """The steady state in ``curve`` (from ``start``, else the linear steady state).
+
+        Raises
+        ------
+        CurveError
+            For a curve that cannot be run (:meth:`SteadyCurve.problems`) or without a
+            steady state (the solver does not converge, a wheel leaves its contact table).
+        """
+        problems = curve.problems(self.speed, self.cant_base, self.gravity)
+        if problems:
+            raise CurveError("; ".join(problems))
+        inputs = self.inputs(curve)
+        equations, forcing = self._equations(inputs)
+        if start is None:
+            try:
+                start = np.linalg.solve(self.a, -forcing)
+            except np.linalg.LinAlgError as error:
+                raise CurveError("the vehicle has a free coordinate (A is singular): it has no steady state") from error
+        x, evaluations, residual = _pseudo_transient(equations, start, max(float(np.linalg.norm(forcing)), 1e-300))
+        if not residual < _TOLERANCE:
+            raise CurveError(f"no steady state in R = {curve.radius:g} m with {curve.cant * 1e3:g} mm cant at "
+                             f"{self.speed * 3.6:.1f} km/h: the vehicle cannot follow this curve (relative residual "
+                             f"{residual:.1e} after {evaluations} steps; an unstable vehicle has no steady state)")
+        return self._result(curve, x, inputs, evaluations, residual)
+
+    def _result(self, curve: SteadyCurve, x: np.ndarray, inputs: TrackInputs, iterations: int,
+                residual: float) -> SteadyCurving:
+        vehicle = self.vehicle
+        q = x[: vehicle.n]
+        q_dot = vehicle.form.velocities(x[None, :], inputs.u, inputs.u_rate)
+        if self.tables is not None:
+            self._check_on_tables(x, inputs, curve)
+        wheel_rail = wheel_rail_outputs(vehicle, q[None, :], q_dot, inputs, self.speed, contact=self.tables)
+        derived = derived_outputs(vehicle, q[None, :], q_dot, inputs, self.speed, flange=self.flange,
+                                  saturation=self.saturation)
+        angles = {name: float(values[0]) for name, values in derived.items() if name.startswith(("psi_TW", "theta_"))}
+        return SteadyCurving(curve, self.speed, curve.unbalanced_acceleration(self.speed, self.cant_base, self.gravity),
+                             vehicle.dofs, q.copy(), x.copy(), wheel_rail, angles, self.contact, iterations, residual)
+
+    def _check_on_tables(self, x: np.ndarray, inputs: TrackInputs, curve: SteadyCurve) -> None:
+        from express.analysis.contact_march import contact_force_history
+        from express.rail.contact_forces import OUTPUTS
+
+        n = self.vehicle.n
+        assert self.tables is not None
+        history = contact_force_history(x[None, :n], self.vehicle.form.velocities(x)[None, :], self.iy, self.ipsi,
+                                        inputs.y_rail, inputs.rho_wheelsets, self.speed, self.tables)
+        beyond = np.abs(history[0, :, OUTPUTS.index("beyond")])
+        if np.any(beyond > 0):
+            raise CurveError(f"in R = {curve.radius:g} m a wheel runs {1e3 * float(beyond.max()):.1f} mm beyond its "
+                             "contact table (flange climb): the vehicle cannot follow this curve")
+
+
+def _pseudo_transient(equations, start: np.ndarray, scale: float, steps: int = 200) -> tuple[np.ndarray, int, float]:
+    """Pseudo-transient continuation (Kelley & Keyes 1998, "Convergence analysis of
+    pseudo-transient continuation", SIAM J. Numer. Anal. 35): implicit Euler steps of
+    ``x' = f(x)`` whose pseudo-time step grows as the residual falls (switched evolution
+    relaxation), Newton's method in the limit.  Following the vehicle's own dynamics, it
+    finds the equilibrium a time march settles to, and does not stall at the kinks of the
+    flange contact where plain Newton steps cycle.
+
+    Returns the solution, the number of steps and the relative residual ``|f| / scale``.
+    """
+    x = np.array(start, dtype=float)
+    f, jacobian = equations(x)
+    identity = np.eye(x.size)
+    step = 1e-3  # [s] of pseudo-time
+    residual = float(np.linalg.norm(f))
+    for count in range(1, steps + 1):
+        x = x + np.linalg.solve(identity / step - jacobian, f)
+        f, jacobian = equations(x)
+        new = float(np.linalg.norm(f))
+        if not np.isfinite(new):
+            return x, count, math.inf
+        step = min(step * max(residual / max(new, 1e-300), 0.5), 1e6)
+        residual = new
+        if residual / scale < _TOLERANCE * 1e-2:
+            break
+    return x, count, residual / scale
+
+
+def steady_curving(vehicle: VehicleModel, curves: SteadyCurve | Iterable[SteadyCurve], *,
+                   speeds: float | Sequence[float] | None = None, **options) -> list[SteadyCurving]:
+    """Steady states of ``vehicle`` in each curve (at each speed), each solution the start
+    of the next.
+
+    Parameters
+    ----------
+    vehicle : VehicleModel
+    curves : SteadyCurve or iterable of SteadyCurve
+    speeds : float or sequence of float, optional
+        [m/s]: one for all curves or one per curve; the model's speed by default.
+    **options
+        ``contact``, ``creep_law``, ``flange``, ``saturation`` of :class:`SteadyCurvingSolver`.
+
+    Returns
+    -------
+    list of SteadyCurving
+    """
+    curves = [curves] if isinstance(curves, SteadyCurve) else list(curves)
+    if speeds is None or isinstance(speeds, (int, float)):
+        speeds = [vehicle.speed if speeds is None else float(speeds)] * len(curves)
+    if len(speeds) != len(curves):
+        raise ValueError(f"{len(speeds)} speeds for {len(curves)} curves")
+    solvers: dict[float, SteadyCurvingSolver] = {}
+    results: list[SteadyCurving] = []
+    for curve, speed in zip(curves, speeds, strict=True):
+        solver = solvers.get(float(speed))
+        if solver is None:
+            solver = solvers[float(speed)] = SteadyCurvingSolver(vehicle, speed, **options)
+        start = results[-1].state if results and results[-1].curve.direction == curve.direction else None
+        results.append(solver.solve(curve, start))
+    return results
