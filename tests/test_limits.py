@@ -360,7 +360,7 @@ def test_a_model_without_dofs_is_bad_input_for_the_analyses(tmp_path, capsys, te
     "argv, status, expected",
     [
         (["--set", "ky2=-150000"], 1, "the vehicle is unstable at 120.0 km/h (least-damped eigenvalue 3.786 + "
-                                      "0.02735j 1/s, car body sway"),
+                                      "0.02735j 1/s, car body lateral"),
         (["--speed", "520"], 1, "the vehicle is unstable at 520.0 km/h (least-damped eigenvalue 1.585 + 25.77j 1/s, "
                                 "hunting"),
         (["--speed", "400"], 0, ""),  # below the critical speed, 420.8 km/h

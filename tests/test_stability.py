@@ -318,7 +318,7 @@ def test_eigen_analysis_modes(steered):
     assert "km/h" in result.table().splitlines()[0]
     # the car body's lateral mode near 0.57 Hz is labelled as such
     body = _kinematic_mode(result, 0.567)
-    assert body.describe().startswith("car body sway/roll") and body.dominant[0][0] in ("CB.y", "CB.rx")
+    assert body.describe().startswith("car body lower sway") and body.dominant[0][0] in ("CB.y", "CB.rx")
 
 
 def test_mode_describe():

@@ -2,19 +2,20 @@
 
 A mode is one eigenvalue of ``A(v)`` with what moves in it: the participation share of
 every DOF (rotations weighed by the body's radius of gyration, so that radians compare
-with metres) and a short label from documented heuristics on the bodies' roles
-(:mod:`express.model.topology`): hunting, wheelset, bogie frame, steering lever or car-body
-modes.  :func:`modes_of` builds them; :mod:`express.analysis.stability` finds the modes
+with metres), the series elements' share of its dissipated power, and a name from the
+distribution of its energy over the bodies and directions
+(:mod:`express.analysis.mode_names`): hunting, wheelset, bogie frame, steering lever or
+car-body modes.  :func:`modes_of` builds them; :mod:`express.analysis.stability` finds the modes
 at a speed and the critical speed.
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
 
+from express.analysis.mode_names import STROKE, generic_name, kinematic_frequency, mode_energy, mode_name
 from express.base.units import KMH
 from express.model.parameters import expression_value
 from express.model.topology import Topology, classify_bodies
@@ -64,6 +65,10 @@ class Mode:
         Short label of the mode (see :meth:`describe`), e.g. ``"hunting, front bogie"``.
     body_shares : tuple of (str, float)
         Share of every body (sum of its DOFs' shares), largest first.
+    series : tuple of (str, float)
+        Series (Maxwell) elements with their share of the mode's dissipated power [-],
+        largest first (:mod:`express.analysis.mode_names`). Their strokes have no mass:
+        they are never among :attr:`dominant` nor the subject of :attr:`kind`.
 
     Examples
     --------
@@ -81,6 +86,7 @@ class Mode:
     dominant: tuple[tuple[str, float], ...]
     kind: str = ""
     body_shares: tuple[tuple[str, float], ...] = field(default=(), repr=False)
+    series: tuple[tuple[str, float], ...] = field(default=(), repr=False)
 
     @property
     def real(self) -> float:
@@ -107,7 +113,8 @@ class Mode:
         """Short human label: :attr:`kind` and the DOFs that dominate.
 
         The DOFs listed are those of :attr:`dominant` with at least 10 % of the
-        displacement (at most three; at least the first).
+        displacement (at most three; at least the first), then the series elements
+        with at least 10 % of the dissipated power (:attr:`series`, at most two).
 
         Returns
         -------
@@ -118,6 +125,9 @@ class Mode:
         names = [name for name, share in self.dominant[:3] if share >= 0.1] or [
             name for name, _ in self.dominant[:1]
         ]
+        series = [f"{element} {share:.0%}" for element, share in self.series[:2] if share >= 0.1]
+        if series:
+            names.append("series dampers " + " ".join(series))
         kind = self.kind or "mode"
         return f"{kind} ({', '.join(names)})" if names else kind
 
@@ -221,82 +231,6 @@ def _station(model, body_id: str) -> float:
         return 0.0
 
 
-def _classify(shares: np.ndarray, dofs: Sequence[str], frequency: float, damping_ratio: float, roles: Topology) -> str:
-    """Label a mode from the share of each DOF (heuristics of :func:`eigen_analysis`)."""
-    by_role: dict[str, float] = {}
-    by_group: dict[str, float] = {}
-    body_dofs: dict[str, float] = {}
-    frame_dofs: dict[str, float] = {}
-    wheel_dofs: dict[str, float] = {}
-    for share, dof in zip(shares, dofs, strict=True):
-        body, _, motion = dof.partition(".")
-        r = roles.role.get(body, "body")
-        by_role[r] = by_role.get(r, 0.0) + share
-        if r == "body":
-            body_dofs[motion] = body_dofs.get(motion, 0.0) + share
-        else:
-            g = roles.group(body)
-            by_group[g] = by_group.get(g, 0.0) + share
-            if r == "bogie":
-                frame_dofs[motion] = frame_dofs.get(motion, 0.0) + share
-            elif r == "wheelset":
-                wheel_dofs[motion] = wheel_dofs.get(motion, 0.0) + share
-    gear = sum(by_group.values())
-    oscillatory = frequency > 0.0
-
-    def where() -> str:
-        if not by_group:
-            return ""
-        top = max(sorted(by_group), key=lambda g: by_group[g])
-        if top and by_group[top] >= 0.75 * gear:
-            return roles.bogie_label(top)
-        if len([g for g in by_group if g]) >= 2:
-            return "both bogies" if len(roles.bogies) == 2 else "all bogies"
-        return ""
-
-    def words(parts: dict[str, float], vocabulary: dict[str, str]) -> str:
-        total = sum(parts.values()) or 1.0
-        chosen = [m for m in sorted(parts, key=lambda m: -parts[m]) if parts[m] >= 0.15 * total]
-        return "/".join(vocabulary.get(m, m) for m in chosen[:2])
-
-    place = where()
-    suffix = f", {place}" if place else ""
-    if by_role.get("lever", 0.0) >= 0.5:
-        return f"steering lever{suffix}"
-    if gear >= 0.5:
-        wheels = by_role.get("wheelset", 0.0)
-        if wheels >= 0.5 * gear:
-            if not oscillatory:
-                return f"wheelset creep, non-oscillatory{suffix}"
-            if damping_ratio < 0.5 and wheel_dofs.get("y", 0.0) >= wheel_dofs.get("rz", 0.0):
-                return f"hunting{suffix}"
-            return f"wheelset {words(wheel_dofs, _FRAME_WORDS)}{suffix}"
-        motion = words(frame_dofs, _FRAME_WORDS)
-        return f"bogie frame {motion}{suffix}".replace("  ", " ")
-    motion = words(body_dofs, _MOTION_WORDS)
-    kind = f"car body {motion}" if motion else "car body"
-    return kind if oscillatory else f"{kind}, non-oscillatory"
-
-
-def _generic_label(shares: np.ndarray, dofs: Sequence[str], frequency: float) -> str:
-    """Label of a mode of a model without rail data: the bodies (or series elements)
-    holding at least 15 % of it with their main motion, e.g. ``"B1 yaw, B2 pitch"``."""
-    bodies: dict[str, dict[str, float]] = {}
-    for share, dof in zip(shares, dofs, strict=True):
-        body, _, motion = dof.partition(".")
-        bodies.setdefault(body, {})
-        bodies[body][motion] = bodies[body].get(motion, 0.0) + float(share)
-    totals = {body: sum(parts.values()) for body, parts in bodies.items()}
-    chosen = [b for b in sorted(totals, key=lambda b: -totals[b]) if totals[b] >= 0.15][:3] or list(totals)[:1]
-    words = {**_MOTION_WORDS, "stroke": "damper stroke"}
-    parts = []
-    for body in chosen:
-        motion = max(sorted(bodies[body]), key=lambda m: bodies[body][m])
-        parts.append(f"{body} {words.get(motion, motion)}")
-    label = ", ".join(parts)
-    return label if frequency > 0.0 else f"{label}, non-oscillatory"
-
-
 def _dof_lengths(vehicle: VehicleModel) -> np.ndarray:
     """``l_i`` of :attr:`Mode.dominant`: 1 for translations, the radius of gyration
     ``sqrt(I / m)`` [m] for rotations."""
@@ -330,19 +264,24 @@ def _participation(phi: np.ndarray, lengths: np.ndarray) -> np.ndarray:
 
 
 def modes_of(
-    vehicle: VehicleModel, eigenvalues: np.ndarray, eigenvectors: np.ndarray, *, limit: int | None = None
+    vehicle: VehicleModel, eigenvalues: np.ndarray, eigenvectors: np.ndarray, *, limit: int | None = None,
+    speed: float | None = None,
 ) -> tuple[Mode, ...]:
     """Build the :class:`Mode` records of eigenpairs of ``A`` (state ``[q; q']``).
 
     Parameters
     ----------
     vehicle : VehicleModel
-        Gives the DOF names and the body roles for the labels.
-    eigenvalues : numpy.ndarray, shape (2n,)
-    eigenvectors : numpy.ndarray, shape (2n, 2n)
+        Gives the DOF names, the matrices and the body roles for the names.
+    eigenvalues : numpy.ndarray, shape (N,)
+    eigenvectors : numpy.ndarray, shape (N, N)
         Columns are the eigenvectors, as from :func:`numpy.linalg.eig`.
     limit : int, optional
         Build only the ``limit`` least stable modes.
+    speed : float, optional
+        The speed [m/s] of ``A``: the creep damping and the wheelsets' kinematic
+        frequency for the names (:mod:`express.analysis.mode_names`); the model's own
+        speed by default.
 
     Returns
     -------
@@ -355,6 +294,10 @@ def modes_of(
     rail = vehicle.layout is not None and bool(vehicle.wheelsets)
     roles = _roles(vehicle)
     lengths = _dof_lengths(vehicle)
+    speed = vehicle.speed if speed is None else speed
+    damping = vehicle.damping(speed) if rail and speed == speed and speed > 0 else vehicle.damping_base
+    kinematic = max((kinematic_frequency(speed, w.conicity, w.r0, w.b) for w in vehicle.wheelsets), default=None)
+    massive = np.array([not dof.endswith(f".{STROKE}") for dof in dofs])
     keep = np.flatnonzero(eigenvalues.imag >= 0.0)
     order = keep[np.lexsort((-eigenvalues.imag[keep], -eigenvalues.real[keep]))]
     if limit is not None:
@@ -362,25 +305,34 @@ def modes_of(
     modes = []
     for k in order:
         lam = complex(eigenvalues[k])
-        shares = _participation(eigenvectors[:n, k], lengths)
-        ranked = np.argsort(-shares, kind="stable")
+        phi = eigenvectors[:n, k]
+        shares = _participation(np.where(massive, phi, 0.0), lengths)
+        ranked = [i for i in np.argsort(-shares, kind="stable") if massive[i]]
         dominant = tuple((dofs[i], float(shares[i])) for i in ranked[:DOMINANT_COUNT])
         bodies: dict[str, float] = {}
-        for share, dof in zip(shares, dofs, strict=True):
-            body = dof.partition(".")[0]
-            bodies[body] = bodies.get(body, 0.0) + float(share)
+        for i in ranked:
+            body = dofs[i].partition(".")[0]
+            bodies[body] = bodies.get(body, 0.0) + float(shares[i])
         body_shares = tuple(sorted(bodies.items(), key=lambda item: -item[1]))
         magnitude = abs(lam)
         frequency = lam.imag / (2.0 * np.pi)
         zeta = float(-lam.real / magnitude) if magnitude > 0 else 0.0
+        energy = mode_energy(phi, lam, dofs, vehicle.mass, damping, vehicle.stiffness)
+        displacement: dict[tuple[str, str], float] = {}
+        for i in ranked:
+            body, _, direction = dofs[i].partition(".")
+            displacement[(body, direction)] = displacement.get((body, direction), 0.0) + float(shares[i])
+        kind = (mode_name(energy, displacement, roles, frequency, zeta, kinematic) if rail
+                else generic_name(energy, frequency))
         modes.append(
             Mode(
                 eigenvalue=lam,
                 frequency_hz=float(frequency),
                 damping_ratio=zeta,
                 dominant=dominant,
-                kind=_classify(shares, dofs, frequency, zeta, roles) if rail else _generic_label(shares, dofs, frequency),
+                kind=kind,
                 body_shares=body_shares,
+                series=energy.series,
             )
         )
     return tuple(modes)

@@ -129,7 +129,7 @@ def _check_speed_dependent(vehicle: VehicleModel) -> None:
 
 def _least_stable_mode(vehicle: VehicleModel, speed: float) -> Mode:
     values, vectors = np.linalg.eig(vehicle.state_matrix(float(speed)))
-    return modes_of(vehicle, values, vectors, limit=1)[0]
+    return modes_of(vehicle, values, vectors, limit=1, speed=float(speed))[0]
 
 
 @limited_blas
@@ -152,21 +152,9 @@ def eigen_analysis(vehicle: VehicleModel, speed: float | None = None) -> EigenRe
 
     Notes
     -----
-    Labels (:attr:`Mode.kind`) come from simple, documented heuristics on the
-    participation shares: the bodies are classified as wheelsets (rail data), levers
-    (bodies holding a pin's virtual CP), bogie frames (the body sharing most elements
-    with a wheelset) and car body (the rest). A mode is a *steering lever* mode when
-    levers hold at least half of the displacement; else *running gear* when wheelsets,
-    frames and levers together hold at least half: *hunting* when the wheelsets hold at
-    least half of that, the mode is a lightly damped oscillation (damping ratio
-    below 0.5) and the wheelsets' lateral DOFs hold at least as much as their yaw:
-    the kinematic oscillation of the wheelsets), *wheelset lateral* or
-    *wheelset yaw* for a heavily damped one, *wheelset creep, non-oscillatory* for a
-    real eigenvalue,
-    *bogie frame ...* otherwise, located at the *front*/*rear bogie* when one bogie's
-    running gear holds at least 75 % of it, else *both bogies*; otherwise a *car body*
-    mode named after its car-body DOFs holding at least 15 % of the car-body share
-    (``y`` sway, ``rx`` roll, ``rz`` yaw, ``x`` longitudinal).
+    Names (:attr:`Mode.kind`) come from the distribution of each mode's kinetic
+    energy over the bodies and directions, hunting from the wheelsets' kinematic
+    displacement (:mod:`express.analysis.mode_names`, ``docs/analyses.md``).
 
     Examples
     --------
@@ -177,7 +165,7 @@ def eigen_analysis(vehicle: VehicleModel, speed: float | None = None) -> EigenRe
     >>> print(result.table())                                    # doctest: +ELLIPSIS
     eigenvalues at 33.333 m/s (120.0 km/h)
         Re [1/s]   Im [rad/s]    f [Hz]     zeta  mode
-         -0.2957    1023.3335   162.869   0.0003  steering lever, both bogies (L...
+         -0.2957    1023.3335   162.869   0.0003  steering lever pitch, both bogies (L...
     ...
     """
     if vehicle.layout is None or not vehicle.wheelsets:  # A does not depend on the speed
@@ -187,7 +175,7 @@ def eigen_analysis(vehicle: VehicleModel, speed: float | None = None) -> EigenRe
     if not speed > 0:
         raise ValueError(f"speed must be positive, got {speed}")
     values, vectors = np.linalg.eig(vehicle.state_matrix(float(speed)))
-    return EigenResult(float(speed), modes_of(vehicle, values, vectors))
+    return EigenResult(float(speed), modes_of(vehicle, values, vectors, speed=float(speed)))
 
 
 @limited_blas

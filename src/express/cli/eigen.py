@@ -100,6 +100,7 @@ def _table(model: Path, overrides: dict[str, str], speed: float | None, as_json:
             "modes": [
                 {"eigenvalue": [mode.real, mode.imag], "frequency_hz": mode.frequency_hz,
                  "natural_frequency_hz": mode.natural_frequency_hz, "damping_ratio": mode.damping_ratio, "dominant": [[dof, share] for dof, share in mode.dominant],
+                 "series_dissipation": [[element, share] for element, share in mode.series],
                  "label": mode.kind, "description": mode.describe()}
                 for mode in result.modes
             ],
@@ -113,6 +114,7 @@ def _table(model: Path, overrides: dict[str, str], speed: float | None, as_json:
     print("-" * len(header))
     for mode in result.modes:
         dominant = ", ".join(f"{dof} {share:.0%}" for dof, share in mode.dominant[:3])
+        series = ", ".join(f"{element} {share:.0%}" for element, share in mode.series[:2] if share >= 0.1)
         print(f"{mode.real:11.4f} {mode.imag:11.4f} {mode.frequency_hz:8.3f} {mode.damping_ratio:8.4f}  "
-              f"{dominant:<40} {mode.kind}")
+              f"{dominant:<40} {mode.kind}" + (f" [series dampers: {series}]" if series else ""))
     return 0

@@ -61,6 +61,10 @@ def _source_comment(source: str, line: int | None) -> str:
     return ""
 
 
+def _plural(count: int, one: str, many: str) -> str:
+    return f"{count} {one if count == 1 else many}"
+
+
 def _model_section(vehicle: VehicleModel) -> Section:
     model = _model_of(vehicle)
     equations = vehicle.equations
@@ -69,7 +73,7 @@ def _model_section(vehicle: VehicleModel) -> Section:
     counts = {role: sum(1 for r in topology.role.values() if r == role) for role in ("wheelset", "bogie", "lever", "body")}
     summary = (
         f"{len(model.bodies)} bodies ({counts['wheelset']} wheelsets, {counts['bogie']} bogies, "
-        f"{counts['lever']} levers, {counts['body']} other), {len(model.points)} connection points, "
+        f"{counts['lever']} levers, {_plural(counts['body'], 'car body', 'car bodies')}), {len(model.points)} connection points, "
         f"{len(model.elements)} elements, {len(model.pins)} pinned joints; {len(equations.dofs)} DOFs after "
         f"eliminating {len(equations.eliminated)} virtual DOFs; {len(equations.inputs)} inputs."
     )
