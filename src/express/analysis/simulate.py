@@ -46,7 +46,9 @@ from express.numeric.statespace import VehicleModel
 from express.rail.nonlinear import wheelset_forces
 from express.rail.track import Track
 
-__all__ = ["SimulationResult", "TrackInputs", "bogie_of_wheelsets", "lever_bodies", "simulate", "track_inputs"]
+__all__ = [
+    "SimulationResult", "TrackInputs", "bogie_of_wheelsets", "contact_tables_of", "lever_bodies", "simulate", "track_inputs",
+]
 
 
 @dataclass
@@ -259,7 +261,7 @@ def simulate(
     if x0.shape != (size,):
         raise ValueError(f"initial_state must have shape ({size},), got {x0.shape}")
     show = _terminal_progress() if progress is None else (_terminal_progress() if progress else None)
-    tables = _contact_tables(vehicle, contact, creep_law) if (flange or saturation) else None
+    tables = contact_tables_of(vehicle, contact, creep_law) if (flange or saturation) else None
     if tables is not None:  # the contact from the profiles' tables
         from express.analysis.contact_march import linear_coefficients, march_contact
 
@@ -293,7 +295,7 @@ def simulate(
     return SimulationResult(time, distance, vehicle.dofs, q, q_dot, outputs, v, options)
 
 
-def _contact_tables(vehicle: VehicleModel, contact: str | None, creep_law: str) -> dict | None:
+def contact_tables_of(vehicle: VehicleModel, contact: str | None, creep_law: str) -> dict | None:
     """The stacked contact tables when the contact comes from profiles (``None``: the
     dead-band model)."""
     if contact not in (None, "tables", "deadband"):

@@ -191,7 +191,7 @@ class SteadyCurvingSolver:
 
     def __init__(self, vehicle: VehicleModel, speed: float | None = None, *, contact: str | None = None,
                  creep_law: str = "fastsim", flange: bool = True, saturation: bool = True):
-        from express.analysis.simulate import _contact_tables
+        from express.analysis.simulate import contact_tables_of
 
         if vehicle.layout is None or vehicle.model is None or vehicle.model.rail is None:
             raise ValueError("the model has no rail data: add a [rail] section to run it in a curve")
@@ -199,7 +199,7 @@ class SteadyCurvingSolver:
         self.speed = float(vehicle.speed if speed is None else speed)
         self.flange, self.saturation = flange, saturation
         nonlinear_run = flange or saturation
-        self.tables = _contact_tables(vehicle, contact, creep_law) if nonlinear_run else None
+        self.tables = contact_tables_of(vehicle, contact, creep_law) if nonlinear_run else None
         self.contact = (f"tables ({creep_law})" if self.tables is not None
                         else "dead-band" if nonlinear_run else "linear")
         v = self.speed
