@@ -88,21 +88,34 @@ def test_agrees_with_integrating_the_wheelset_equation():
         assert equivalent_conicity(y, delta_r, amplitude) == pytest.approx(tan_gamma, rel=2e-6)
 
 
+#: Per case: amplitudes the tabulated delta r supports (the others need delta r beyond
+#: its y range) and the largest deviation from the Annex's value achieved there.  The
+#: references have 3 decimals (rounding up to 0.0005): the bound is 0.001 (E5, one wheel
+#: 918 mm: 0.008); the standard's own tolerance, +-min(0.05, 0.5 tan gamma_e), is 50-100
+#: times wider.
+EN15302_ACHIEVED = {
+    "E1": (59, 0.00053, 0.001), "E2": (59, 0.00048, 0.001), "E3": (59, 0.00071, 0.001),
+    "E4": (62, 0.00054, 0.001), "E5": (45, 0.0062, 0.008), "E6": (47, 0.00049, 0.001),
+    "E7": (42, 0.00067, 0.001), "E8": (51, 0.00050, 0.001), "E9": (58, 0.00058, 0.001),
+}
+
+
 def en15302_cases():
     folder = resources.files("express").joinpath("data").joinpath("en15302")
     table = np.loadtxt(folder.joinpath("reference_conicity.csv").read_text().splitlines(), delimiter=",", comments="#", skiprows=5)
     cases = []
     for i in range(1, 10):
         function = parse_delta_r(folder.joinpath(f"E{i}.csv").read_text(), f"E{i}.csv")
-        cases.append(pytest.param(function, table[:, 0] * 1e-3, table[:, i], id=f"E{i}"))
+        cases.append(pytest.param(function, table[:, 0] * 1e-3, table[:, i], *EN15302_ACHIEVED[f"E{i}"], id=f"E{i}"))
     return cases
 
 
-@pytest.mark.parametrize("function, amplitudes, reference", en15302_cases())
-def test_en15302_reference_cases(function, amplitudes, reference):
-    """Every amplitude the tabulated delta_r supports is within the standard's tolerance
-    +-min(0.05, 0.5 tan(gamma_e)); the others are refused, naming the amplitude."""
-    supported = []
+@pytest.mark.parametrize("function, amplitudes, reference, supported_count, achieved, bound", en15302_cases())
+def test_en15302_reference_cases(function, amplitudes, reference, supported_count, achieved, bound):
+    """Every amplitude the tabulated delta_r supports is within ``bound`` of the Annex E
+    value (``achieved`` next to it); the others are refused, naming the amplitude, and
+    only because they would need delta_r beyond its tabulated range."""
+    supported, deviations = [], []
     for a, ref in zip(amplitudes, reference, strict=True):
         try:
             value = equivalent_conicity(function, amplitudes=a)
@@ -110,10 +123,10 @@ def test_en15302_reference_cases(function, amplitudes, reference):
             assert f"amplitude {a * 1e3:g} mm" in str(error) and "beyond its range" in str(error)
             continue
         supported.append(a)
-        assert abs(value - ref) <= min(0.05, 0.5 * ref) + 5e-4, (a, value, ref)  # refs have 3 decimals
-    assert len(supported) >= 40
-    assert supported[0] == amplitudes[0]  # refusals only at the large amplitudes
-    assert np.all(np.diff(supported) < 0.11e-3)
+        deviations.append(abs(value - ref))
+    assert max(deviations) <= bound, (max(deviations), achieved)
+    assert len(supported) == supported_count
+    assert supported == list(amplitudes[:supported_count])  # refusals only at the large amplitudes
 
 
 def test_unsupported_amplitudes_listed_together():
@@ -197,17 +210,28 @@ def test_parse_amplitudes_rejects(text):
         parse_amplitudes(text)
 
 
-def test_conicity_of_s1002_on_60e1():
+@pytest.fixture(scope="module")
+def s1002_on_60e1():
     wheel, rail = standard_profile("S1002"), standard_profile("60E1")
     amplitudes = np.array([1.0, 2.0, 3.0, 4.0]) * 1e-3
     at_40, table = conicity_from_profiles(wheel, rail, amplitudes, ContactSetup())
+    at_20, _ = conicity_from_profiles(wheel, rail, 3e-3, ContactSetup(inclination=1 / 20))
+    return amplitudes, at_40, table, at_20
+
+
+def test_conicity_of_s1002_on_60e1(s1002_on_60e1):
+    amplitudes, at_40, table, _ = s1002_on_60e1
     assert table.y[0] == pytest.approx(-7e-3) and table.y[-1] == pytest.approx(7e-3)
     assert at_40 == pytest.approx(equivalent_conicity(table.y, table.delta_r, amplitudes), rel=1e-15)
-    # new S1002 on 60E1 1:40, 1435 mm gauge: about 0.15-0.2 at 3 mm (docs/contact.md)
-    assert 0.15 < at_40[2] < 0.2
-    # 1:20 inclination gives a far lower conicity for this pair
-    at_20, _ = conicity_from_profiles(wheel, rail, 3e-3, ContactSetup(inclination=1 / 20))
-    assert at_20 < 0.05
+
+
+@pytest.mark.regression
+def test_conicity_of_s1002_on_60e1_regression_guard(s1002_on_60e1):
+    """Regression guard, not validation (this code's own values, docs/contact.md); the
+    comparison of reference profiles with the standard is tests/test_en15302_profiles.py."""
+    _, at_40, _, at_20 = s1002_on_60e1
+    assert at_40 == pytest.approx([0.356, 0.221, 0.177, 0.159], abs=1e-3)  # 1:40
+    assert at_20 == pytest.approx(0.009, abs=1e-3)  # 1:20: a nearly conformal crown, far lower
 
 
 # --- express conicity -----------------------------------------------------------------

@@ -278,6 +278,10 @@ def _piece(dt, q0, q1, p0, p1, m):
     return dt / q0
 
 
+#: |delta_r| at or below this is rounding and counts as 0 [m] (1 pm).
+_ROUNDING = 1e-12
+
+
 def equivalent_conicity(
     y: np.ndarray | DeltaR,
     delta_r: np.ndarray | None = None,
@@ -290,6 +294,7 @@ def equivalent_conicity(
     y, delta_r : array_like, shape (n,)
         Lateral displacement [m] (strictly increasing) and rolling radius difference
         r_left - r_right [m], piecewise linear in between; or a :class:`DeltaR` as ``y``.
+        Values of at most 1 pm count as 0 (the rounding of a dead band).
     amplitudes : float or array_like
         Amplitudes of the wheelset's lateral oscillation [m] (half its peak-to-peak).
 
@@ -320,6 +325,9 @@ def equivalent_conicity(
         raise ValueError("y and delta_r must be finite")
     if np.any(~np.isfinite(amplitudes) | (amplitudes <= 0)):
         raise ValueError("amplitudes must be positive")
+    # a symmetric profile pair's dead band comes out of the geometry as +-1e-17 m of
+    # rounding, which would count as many centred positions: below 1 pm it is zero
+    delta_r = np.where(np.abs(delta_r) <= _ROUNDING, 0.0, delta_r)
     centre = _centre(y, delta_r)
     if centre is None:
         raise ModelError([Problem(source, None, "delta_r", "never rises through zero: no centred position")])
