@@ -37,6 +37,7 @@ from express.cli import (
     contact_geometry,
     convert,
     critical_speed,
+    curving,
     demo,
     draw,
     eigen,
@@ -52,7 +53,7 @@ from express.cli import (
 
 __all__ = ["build_parser", "main"]
 
-COMMANDS = (generate, convert, simulate, frf, eigen, critical_speed, demo, draw, export, report, study, sensitivity, ride,
+COMMANDS = (generate, convert, simulate, curving, frf, eigen, critical_speed, demo, draw, export, report, study, sensitivity, ride,
             contact_geometry, conicity)
 _META = ("handler", "numeric", "debug", "command")
 

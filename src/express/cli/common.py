@@ -47,7 +47,7 @@ __all__ = [
 
 #: Options whose value may start with a minus sign followed by a digit (``--y-range
 #: -10:10:0.5``): argparse takes such a token for an option unless it is a plain number.
-NEGATIVE_VALUE_OPTIONS = ("--y-range",)
+NEGATIVE_VALUE_OPTIONS = ("--y-range", "--cant-deficiency", "--cant")
 _NEGATIVE_START = re.compile(r"-\.?\d")
 
 
@@ -264,6 +264,26 @@ def load_track(path: Path | None) -> Any:
     if path is None:
         return paper_curve()
     return read_track(path)
+
+
+def track_and_name(text: str | Path | None) -> tuple[Any, str]:
+    """The track of ``--track`` and how to name it in outputs: a bundled name (``R250``,
+    ``R400``, ``R600``, ``R1000``, ``R3000``, ``paper``; :mod:`express.rail.track.named`)
+    or a track file; none given: the paper's curve, said so."""
+    from express.rail.track import load_track as read_track
+    from express.rail.track.named import NAMED_CURVES, named_track
+
+    if text is None:
+        road, description = named_track("paper")
+        return road, f"no --track given: {description}"
+    name = str(text)
+    if name in NAMED_CURVES or name == "paper":
+        road, description = named_track(name)
+        return road, f"bundled track {name}: {description}"
+    if "." not in Path(name).name and not Path(name).exists():
+        raise UsageError(f"--track {name}: no such file, and not a bundled track "
+                         f"({', '.join([*NAMED_CURVES, 'paper'])})")
+    return read_track(Path(name)), f"track file {name}"
 
 
 # --------------------------------------------------------------------------------------

@@ -29,6 +29,7 @@ from express.analysis.curving.measure import wheel_rail_outputs
 from express.analysis.curving.outputs import WheelRailOutputs
 from express.analysis.simulate import TrackInputs, derived_outputs
 from express.assembly.clearance import clearance_force, clearances_of
+from express.base.diagnostics import InputError
 from express.model.parameters import expression_value
 from express.numeric.statespace import VehicleModel
 from express.rail import nonlinear
@@ -39,6 +40,7 @@ __all__ = [
     "SteadyCurve",
     "SteadyCurving",
     "SteadyCurvingSolver",
+    "curves_of_track",
     "steady_curving",
 ]
 
@@ -51,9 +53,9 @@ MAX_UNBALANCED_ACCELERATION = 2.0
 _TOLERANCE = 1e-9
 
 
-class CurveError(ValueError):
+class CurveError(InputError):
     """A curve the vehicle cannot run (bad geometry, too much unbalanced acceleration,
-    no steady state)."""
+    no steady state): bad input, exit status 2 on the command line; one line per problem."""
 
 
 @dataclass(frozen=True)
@@ -89,6 +91,22 @@ class SteadyCurve:
         the curve [m/s^2] (negative: cant excess): ``v^2 cos(phi) / R - g sin(phi)``."""
         sin_phi = self.cant / cant_base
         return speed**2 * math.sqrt(1.0 - sin_phi**2) / self.radius - gravity * sin_phi
+
+    def speed_for(self, deficiency: float, cant_base: float, gravity: float) -> float:
+        """The speed [m/s] at which the cant deficiency is ``deficiency`` [m/s^2]
+        (negative: cant excess), inverting :meth:`unbalanced_acceleration`.
+
+        Raises
+        ------
+        CurveError
+            When no positive speed gives it (or the cant reaches the cant base).
+        """
+        sin_phi = self.cant / cant_base
+        square = (deficiency + gravity * sin_phi) * self.radius / math.sqrt(1.0 - sin_phi**2) if abs(sin_phi) < 1 else -1.0
+        if not square > 0:
+            raise CurveError(f"no speed gives a cant deficiency of {deficiency:g} m/s^2 in R = {self.radius:g} m "
+                             f"with {self.cant * 1e3:g} mm cant (cant base {cant_base:g} m)")
+        return math.sqrt(square)
 
     def problems(self, speed: float, cant_base: float, gravity: float) -> list[str]:
         """Every reason the curve cannot be run at ``speed`` (empty if none)."""
@@ -293,15 +311,18 @@ class SteadyCurvingSolver:
         """
         problems = curve.problems(self.speed, self.cant_base, self.gravity)
         if problems:
-            raise CurveError("; ".join(problems))
+            raise CurveError("\n".join(problems))
         inputs = self.inputs(curve)
         equations, forcing = self._equations(inputs)
-        if start is None:
-            try:
-                start = np.linalg.solve(self.a, -forcing)
-            except np.linalg.LinAlgError as error:
-                raise CurveError("the vehicle has a free coordinate (A is singular): it has no steady state") from error
-        x, evaluations, residual = _pseudo_transient(equations, start, max(float(np.linalg.norm(forcing)), 1e-300))
+        try:
+            linear = np.linalg.solve(self.a, -forcing)
+        except np.linalg.LinAlgError as error:
+            raise CurveError("the vehicle has a free coordinate (A is singular): it has no steady state") from error
+        scale = max(float(np.linalg.norm(forcing)), 1e-300)
+        x, evaluations, residual = _pseudo_transient(equations, linear if start is None else start, scale)
+        if not residual < _TOLERANCE and start is not None:  # a neighbour's state can lie in another regime
+            x, more, residual = _pseudo_transient(equations, linear, scale)
+            evaluations += more
         if not residual < _TOLERANCE:
             raise CurveError(f"no steady state in R = {curve.radius:g} m with {curve.cant * 1e3:g} mm cant at "
                              f"{self.speed * 3.6:.1f} km/h: the vehicle cannot follow this curve (relative residual "
@@ -334,6 +355,12 @@ class SteadyCurvingSolver:
         if np.any(beyond > 0):
             raise CurveError(f"in R = {curve.radius:g} m a wheel runs {1e3 * float(beyond.max()):.1f} mm beyond its "
                              "contact table (flange climb): the vehicle cannot follow this curve")
+
+
+def curves_of_track(track) -> list[SteadyCurve]:
+    """The circular curves of a :class:`~express.rail.track.Track`, in order."""
+    return [SteadyCurve(float(segment.radius), float(segment.cant), str(segment.direction))
+            for segment in track.segments if hasattr(segment, "radius")]
 
 
 def _pseudo_transient(equations, start: np.ndarray, scale: float, steps: int = 200) -> tuple[np.ndarray, int, float]:
