@@ -227,6 +227,24 @@ def test_every_package_says_what_it_owns():
     assert not missing, "\n".join(missing)
 
 
+#: Stages whose errors are the project's own (``express.base.diagnostics``), not a bare ValueError.
+OWN_ERRORS = ("express.analysis", "express.rail", "express.numeric")
+
+
+def test_the_analyses_raise_the_projects_errors():
+    """``analysis/``, ``rail/`` and ``numeric/`` raise :class:`ArgumentError` and the other
+    errors of :mod:`express.base.diagnostics`, so that the command line need not re-wrap them."""
+    bare = []
+    for name, path in _modules():
+        if not name.startswith(OWN_ERRORS):
+            continue
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.Raise) and isinstance(node.exc, ast.Call) and \
+                    isinstance(node.exc.func, ast.Name) and node.exc.func.id == "ValueError":
+                bare.append(f"{path.relative_to(PACKAGE)}:{node.lineno}: raise ValueError(...)")
+    assert not bare, "\n".join(bare)
+
+
 @pytest.mark.parametrize(("limit", "what"), [(650, "module")])
 def test_modules_stay_small(limit, what):
     large = []

@@ -27,6 +27,7 @@ from numba import njit
 
 from express.analysis.integrator import bump_stops
 from express.analysis.track_inputs import track_inputs
+from express.base.diagnostics import ArgumentError
 from express.model.parameters import expression_value
 from express.rail.contact_forces import LAWS, OUTPUTS, WORK_COLUMNS, WheelsetContact, wheelset_forces
 from express.rail.curve import station_of
@@ -75,7 +76,7 @@ def linear_coefficients(vehicle, speed: float) -> np.ndarray:
     model = vehicle.model
     rail = model.rail
     if not isinstance(rail.speed, sp.Symbol):
-        raise ValueError("the contact simulation needs the model's speed as a parameter (rail.speed = \"v\")")
+        raise ArgumentError("the contact simulation needs the model's speed as a parameter (rail.speed = \"v\")")
     values = {**vehicle.values, rail.speed.name: float(speed)}
     terms_of = _linear_terms(model)
     out = np.zeros((len(terms_of), 12))
@@ -89,7 +90,7 @@ def contact_arrays(contacts: list[WheelsetContact], law: str = "fastsim") -> dic
     """The tables and rail maps of the wheelsets stacked for the compiled march (cached
     for the same contacts)."""
     if law not in LAWS:
-        raise ValueError(f"creep law {law!r}: use one of {', '.join(LAWS)}")
+        raise ArgumentError(f"creep law {law!r}: use one of {', '.join(LAWS)}")
     key = tuple((id(c.tables), id(c.rail_map), c.wheel_load, c.friction, c.rail_stiffness) for c in contacts)
     held = tuple(item for c in contacts for item in (c.tables, c.rail_map))
     cached = _ARRAYS.get(key)

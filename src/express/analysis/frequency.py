@@ -49,6 +49,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from express.base.diagnostics import ArgumentError
 from express.base.threads import limited_blas
 from express.numeric.statespace import VehicleModel, point_lateral_row
 
@@ -217,7 +218,7 @@ def steady_response(
     layout = band_layout(vehicle.mass, damping, vehicle.stiffness)
     route = route or choose_route(vehicle.n, vehicle.form.size, w.size, layout)
     if route not in ("stacked", "banded", "schur"):
-        raise ValueError(f"route must be 'stacked', 'banded' or 'schur', got {route!r}")
+        raise ArgumentError(f"route must be 'stacked', 'banded' or 'schur', got {route!r}")
     try:
         if route == "schur":
             from express.analysis.ride.spectral import resolvent_solve
@@ -304,7 +305,7 @@ def frequency_response(
 
     Raises
     ------
-    ValueError
+    ArgumentError
         For a model without wheelsets or a non-positive speed.
     AnalysisError
         For a frequency at which the dynamic stiffness is singular, or a vehicle that
@@ -322,13 +323,13 @@ def frequency_response(
     (2,)
     """
     if vehicle.layout is None or not vehicle.wheelsets:
-        raise ValueError("the model has no rail data (wheelsets): nothing excites it")
+        raise ArgumentError("the model has no rail data (wheelsets): nothing excites it")
     v = float(vehicle.speed if speed is None else speed)
     if not v > 0:
-        raise ValueError(f"speed must be positive, got {v}")
+        raise ArgumentError(f"speed must be positive, got {v}")
     f = np.atleast_1d(np.asarray(frequencies, dtype=float))
     if f.ndim != 1 or not np.all(np.isfinite(f)) or np.any(f < 0):
-        raise ValueError("frequencies must be a 1-D sequence of finite values >= 0 [Hz]")
+        raise ArgumentError("frequencies must be a 1-D sequence of finite values >= 0 [Hz]")
     require_stable(vehicle, v)
     w = 2.0 * np.pi * f
     inputs = list(vehicle.inputs)
@@ -428,7 +429,7 @@ def ground_response(
 
     Raises
     ------
-    ValueError
+    ArgumentError
         For unknown inputs, a model without any input, bad frequencies or speed.
     AnalysisError
         At a frequency where the dynamic stiffness is singular.
@@ -449,18 +450,18 @@ def ground_response(
     """
     names = ground_inputs(vehicle) if inputs is None else tuple(inputs)
     if not names:
-        raise ValueError("the model has no ground inputs (no element attached to a ground): nothing excites it")
+        raise ArgumentError("the model has no ground inputs (no element attached to a ground): nothing excites it")
     unknown = [name for name in names if name not in vehicle.inputs]
     if unknown:
-        raise ValueError(f"unknown input{'s' if len(unknown) > 1 else ''} {', '.join(unknown)}; "
+        raise ArgumentError(f"unknown input{'s' if len(unknown) > 1 else ''} {', '.join(unknown)}; "
                          f"inputs: {', '.join(vehicle.inputs) or 'none'}")
     rail = vehicle.layout is not None and bool(vehicle.wheelsets)
     v = float(vehicle.speed if speed is None else speed) if rail else 1.0
     if not v > 0:
-        raise ValueError(f"speed must be positive, got {v}")
+        raise ArgumentError(f"speed must be positive, got {v}")
     f = np.atleast_1d(np.asarray(frequencies, dtype=float))
     if f.ndim != 1 or not np.all(np.isfinite(f)) or np.any(f < 0):
-        raise ValueError("frequencies must be a 1-D sequence of finite values >= 0 [Hz]")
+        raise ArgumentError("frequencies must be a 1-D sequence of finite values >= 0 [Hz]")
     columns = [vehicle.inputs.index(name) for name in names]
     unit = np.broadcast_to(np.eye(len(columns), dtype=complex), (f.size, len(columns), len(columns)))
     h = steady_response(vehicle, f, v, columns, unit)

@@ -40,6 +40,7 @@ import numpy as np
 
 from express.analysis.simulate import simulate
 from express.analysis.stability import CriticalSpeed, critical_speed
+from express.base.diagnostics import ArgumentError
 from express.base.threads import limited_blas
 from express.base.units import KMH
 from express.numeric.statespace import VehicleModel
@@ -359,26 +360,26 @@ def nonlinear_critical_speed(
 
     Raises
     ------
-    ValueError
+    ArgumentError
         For a model without rail data, bad options, or no linear critical speed below
         ``v_max`` when ``v_start`` is not given.
     """
     if vehicle.layout is None or not vehicle.wheelsets:
-        raise ValueError("the model has no rail data (wheelsets): no hunting to follow")
+        raise ArgumentError("the model has no rail data (wheelsets): no hunting to follow")
     for name, value in (("step", step), ("tolerance", tolerance), ("duration", duration), ("dt", dt),
                         ("disturbance", disturbance), ("threshold", threshold), ("v_min", v_min)):
         if not (math.isfinite(value) and value > 0):
-            raise ValueError(f"{name} must be positive, got {value!r}")
+            raise ArgumentError(f"{name} must be positive, got {value!r}")
     if refinements < 0:
-        raise ValueError(f"refinements must be 0 or more, got {refinements!r}")
+        raise ArgumentError(f"refinements must be 0 or more, got {refinements!r}")
     if linear is None:
         linear = critical_speed(vehicle, v_max=v_max)
     if v_start is None:
         if linear is None or linear.unstable_at_min:
-            raise ValueError(f"no linear critical speed below {v_max / KMH:.0f} km/h to start above: give v_start")
+            raise ArgumentError(f"no linear critical speed below {v_max / KMH:.0f} km/h to start above: give v_start")
         v_start = 1.2 * linear.speed
     if not v_start > v_min:
-        raise ValueError(f"v_start ({v_start / KMH:.1f} km/h) must be above v_min ({v_min / KMH:.1f} km/h)")
+        raise ArgumentError(f"v_start ({v_start / KMH:.1f} km/h) must be above v_min ({v_min / KMH:.1f} km/h)")
     state = np.zeros(vehicle.form.size)
     for wheelset in vehicle.wheelsets:
         state[wheelset.y] = disturbance

@@ -40,6 +40,7 @@ import numpy as np
 from express.analysis.integrator import discretize, march
 from express.analysis.track_inputs import TrackInputs, rail_layout, station_index, track_inputs
 from express.assembly.clearance import clearance_force, clearances_of
+from express.base.diagnostics import ArgumentError
 from express.base.threads import limited_blas
 from express.model.topology import classify_bodies
 from express.numeric.statespace import VehicleModel
@@ -121,7 +122,7 @@ class SimulationResult:
 
         suffix = "" if str(path) == "-" else Path(path).suffix.lower()
         if suffix not in ("", ".csv", ".npz", ".mat") or (suffix == "" and str(path) != "-"):
-            raise ValueError(f"{path}: unknown result format {suffix!r} (use .csv, .npz or .mat)")
+            raise ArgumentError(f"{path}: unknown result format {suffix!r} (use .csv, .npz or .mat)")
         if suffix in ("", ".csv"):
             write_text(path, self.to_csv())
         elif suffix == ".npz":
@@ -150,7 +151,7 @@ def _lever_rotation(vehicle: VehicleModel, body: str) -> str:
     for rotation in ("ry", "rz", "rx"):
         if f"{body}.{rotation}" in vehicle.dofs:
             return f"{body}.{rotation}"
-    raise ValueError(body)
+    raise ArgumentError(body)
 
 
 def bogie_of_wheelsets(vehicle: VehicleModel) -> dict[str, str]:
@@ -232,10 +233,10 @@ def simulate(
     """
     v = float(vehicle.speed if speed is None else speed)
     if not v > 0:
-        raise ValueError(f"speed must be positive, got {v}")
+        raise ArgumentError(f"speed must be positive, got {v}")
     end = track.length if end is None else end
     if end <= start:
-        raise ValueError(f"end ({end} m) must lie beyond start ({start} m)")
+        raise ArgumentError(f"end ({end} m) must lie beyond start ({start} m)")
     steps = int(np.ceil((end - start) / (v * dt)))
     time = np.arange(steps + 1) * dt
     distance = start + v * time
@@ -259,7 +260,7 @@ def simulate(
     size = vehicle.form.size
     x0 = np.zeros(size) if initial_state is None else np.asarray(initial_state, dtype=float)
     if x0.shape != (size,):
-        raise ValueError(f"initial_state must have shape ({size},), got {x0.shape}")
+        raise ArgumentError(f"initial_state must have shape ({size},), got {x0.shape}")
     show = _terminal_progress() if progress is None else (_terminal_progress() if progress else None)
     tables = contact_tables_of(vehicle, contact, creep_law) if (flange or saturation) else None
     if tables is not None:  # the contact from the profiles' tables
@@ -299,7 +300,7 @@ def contact_tables_of(vehicle: VehicleModel, contact: str | None, creep_law: str
     """The stacked contact tables when the contact comes from profiles (``None``: the
     dead-band model)."""
     if contact not in (None, "tables", "deadband"):
-        raise ValueError(f'contact must be "tables" or "deadband", not {contact!r}')
+        raise ArgumentError(f'contact must be "tables" or "deadband", not {contact!r}')
     if contact == "deadband" or vehicle.model is None:
         return None
     from express.analysis.contact_march import contact_arrays
@@ -309,7 +310,7 @@ def contact_tables_of(vehicle: VehicleModel, contact: str | None, creep_law: str
     if any(c is None for c in contacts):
         if contact == "tables":
             missing = [w.name for w, c in zip(vehicle.wheelsets, contacts, strict=True) if c is None]
-            raise ValueError(f"contact tables need profiles for every wheelset (none for {', '.join(missing)})")
+            raise ArgumentError(f"contact tables need profiles for every wheelset (none for {', '.join(missing)})")
         return None
     return contact_arrays([c for c in contacts if c is not None], creep_law)
 

@@ -44,6 +44,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from express.analysis.modes import EigenResult, Mode, modes_of
+from express.base.diagnostics import ArgumentError
 from express.base.threads import limited_blas
 from express.base.units import KMH
 from express.numeric.statespace import VehicleModel
@@ -124,7 +125,7 @@ class CriticalSpeed:
 
 def _check_speed_dependent(vehicle: VehicleModel) -> None:
     if vehicle.layout is None or not vehicle.wheelsets:
-        raise ValueError("the model has no rail data (wheelsets): its eigenvalues do not depend on the speed")
+        raise ArgumentError("the model has no rail data (wheelsets): its eigenvalues do not depend on the speed")
 
 
 def _least_stable_mode(vehicle: VehicleModel, speed: float) -> Mode:
@@ -173,7 +174,7 @@ def eigen_analysis(vehicle: VehicleModel, speed: float | None = None) -> EigenRe
         return EigenResult(float("nan"), modes_of(vehicle, values, vectors))
     speed = vehicle.speed if speed is None else speed
     if not speed > 0:
-        raise ValueError(f"speed must be positive, got {speed}")
+        raise ArgumentError(f"speed must be positive, got {speed}")
     values, vectors = np.linalg.eig(vehicle.state_matrix(float(speed)))
     return EigenResult(float(speed), modes_of(vehicle, values, vectors, speed=float(speed)))
 
@@ -187,30 +188,30 @@ def natural_frequencies(vehicle: VehicleModel) -> np.ndarray:
 
     Raises
     ------
-    ValueError
+    ArgumentError
         For a model with rail data or with first-order coordinates (series elements:
         no mass, so no undamped oscillation of their own), or a negative eigenvalue
         (an unstable static equilibrium, e.g. too much gravity stiffness).
     """
     if vehicle.layout is not None and vehicle.wheelsets:
-        raise ValueError("natural frequencies of a rail vehicle: its K holds creep terms; use eigen_analysis")
+        raise ArgumentError("natural frequencies of a rail vehicle: its K holds creep terms; use eigen_analysis")
     if vehicle.form.first_order.size:
-        raise ValueError("the model has first-order coordinates (series elements): use eigen_analysis")
+        raise ArgumentError("the model has first-order coordinates (series elements): use eigen_analysis")
     import scipy.linalg
 
     squares = scipy.linalg.eigh(0.5 * (vehicle.stiffness + vehicle.stiffness.T), vehicle.mass, eigvals_only=True)
     tolerance = 1e-9 * max(1.0, float(np.abs(squares).max()) if squares.size else 1.0)
     if np.any(squares < -tolerance):
-        raise ValueError("K is not positive semi-definite: the static equilibrium is unstable")
+        raise ArgumentError("K is not positive semi-definite: the static equilibrium is unstable")
     return np.sqrt(np.clip(squares, 0.0, None)) / (2.0 * np.pi)
 
 
 def _speeds(speeds: Iterable[float] | float) -> np.ndarray:
     array = np.atleast_1d(np.asarray(speeds, dtype=float))
     if array.ndim != 1:
-        raise ValueError("speeds must be a 1-D sequence of speeds [m/s]")
+        raise ArgumentError("speeds must be a 1-D sequence of speeds [m/s]")
     if array.size and not np.all(array > 0):
-        raise ValueError("every speed must be positive [m/s]")
+        raise ArgumentError("every speed must be positive [m/s]")
     return array
 
 
@@ -327,11 +328,11 @@ def critical_speed(
     True
     """
     if not (0 < v_min < v_max):
-        raise ValueError(f"need 0 < v_min < v_max, got v_min={v_min}, v_max={v_max}")
+        raise ArgumentError(f"need 0 < v_min < v_max, got v_min={v_min}, v_max={v_max}")
     if not tolerance_kmh > 0:
-        raise ValueError(f"tolerance_kmh must be positive, got {tolerance_kmh}")
+        raise ArgumentError(f"tolerance_kmh must be positive, got {tolerance_kmh}")
     if points < 2:
-        raise ValueError(f"points must be at least 2, got {points}")
+        raise ArgumentError(f"points must be at least 2, got {points}")
     _check_speed_dependent(vehicle)
     pieces = vehicle.eigen_blocks
     grid = np.geomspace(v_min, v_max, points)
@@ -386,7 +387,7 @@ def critical_speed_vs_conicity(
 
     Raises
     ------
-    ValueError
+    ArgumentError
         When the model has no parameter ``parameter``.
 
     Examples
@@ -399,7 +400,7 @@ def critical_speed_vs_conicity(
     """
     if vehicle.model is None or parameter not in vehicle.model.parameters:
         known = ", ".join(sorted(vehicle.model.parameters)) if vehicle.model is not None else "none"
-        raise ValueError(f"the model has no parameter {parameter!r} (parameters: {known})")
+        raise ArgumentError(f"the model has no parameter {parameter!r} (parameters: {known})")
     return [critical_speed(vehicle.with_values({parameter: float(g)}), **options) for g in conicities]
 
 

@@ -7,6 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from express.base.diagnostics import ArgumentError
 from express.numeric.statespace import VehicleModel
 from express.rail.build import RailLayout
 from express.rail.track import Track
@@ -34,7 +35,7 @@ def track_inputs(vehicle: VehicleModel, track: Track, distance: np.ndarray, spee
     """
     layout = vehicle.layout
     if layout is None:
-        raise ValueError("the model has no rail data: add a [rail] section to simulate it")
+        raise ArgumentError("the model has no rail data: add a [rail] section to simulate it")
     inputs = list(vehicle.inputs)
     lead = max(w.station for w in vehicle.wheelsets)
     count = distance.size
@@ -66,7 +67,7 @@ def track_inputs(vehicle: VehicleModel, track: Track, distance: np.ndarray, spee
 def rail_layout(vehicle: VehicleModel) -> RailLayout:
     """The vehicle's rail layout (stations, wheelsets, inputs); refused without rail data."""
     if vehicle.layout is None:
-        raise ValueError("the vehicle has no rail data (no [rail] section with wheelsets)")
+        raise ArgumentError("the vehicle has no rail data (no [rail] section with wheelsets)")
     return vehicle.layout
 
 
@@ -75,4 +76,4 @@ def station_index(vehicle: VehicleModel, body: str) -> int:
     for index, station in enumerate(rail_layout(vehicle).stations):
         if body in station.bodies:
             return index
-    raise ValueError(body)
+    raise ArgumentError(body)

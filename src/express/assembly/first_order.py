@@ -33,15 +33,21 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["FirstOrderError", "StateForm", "state_form"]
+from express.base.diagnostics import InputError
+
+__all__ = ["FirstOrderError", "IndefiniteMassError", "StateForm", "state_form"]
 
 
-class FirstOrderError(ValueError):
+class FirstOrderError(InputError):
     """The equations have no state-space form: ``bad`` names the coordinates at fault."""
 
     def __init__(self, message: str, bad: tuple[int, ...] = ()):
         super().__init__(message)
         self.bad = bad
+
+
+class IndefiniteMassError(FirstOrderError):
+    """The mass matrix of the coordinates with mass is not positive definite."""
 
 
 @dataclass(frozen=True)
@@ -144,7 +150,7 @@ def state_form(
     except np.linalg.LinAlgError:
         diagonal = np.diag(mass)
         bad = tuple(int(i) for i in range(n) if not diagonal[i] > 0)
-        raise FirstOrderError("M is not positive definite", bad) from None
+        raise IndefiniteMassError("M is not positive definite", bad) from None
     minv = np.linalg.inv(m_dd)
     n_d, n_f, m = massive.size, first.size, forcing_base.shape[1]
     size = n + n_d

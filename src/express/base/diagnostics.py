@@ -9,10 +9,11 @@ result raises :class:`AnalysisError`.  The command line maps them to exit status
 exception           status  meaning
 ==================  ======  ===========================================================
 (none)              0       success
-``AnalysisError``   1       no valid result (diverged run, no critical speed in range)
+``AnalysisError``   1       no valid result (diverged run, ``NoCriticalSpeedError``)
 ``InputError``      2       bad input: ``ModelError`` (one line per problem),
                             ``UsageError`` (command line), ``OutputError`` (a
-                            destination that cannot be written)
+                            destination that cannot be written), ``ArgumentError``
+                            (a library function given a value outside its domain)
 anything else       70      an internal error (a bug): one line, traceback on ``--debug``
 ==================  ======  ===========================================================
 
@@ -30,10 +31,12 @@ __all__ = [
     "EXIT_INTERNAL",
     "EXIT_OK",
     "AnalysisError",
+    "ArgumentError",
     "ExpressError",
     "InputError",
     "ModelError",
     "ModelWarning",
+    "NoCriticalSpeedError",
     "OutputError",
     "Problem",
     "RowProblems",
@@ -156,12 +159,26 @@ class OutputError(InputError):
     permission, an input file); nothing was replaced."""
 
 
+class ArgumentError(InputError):
+    """A library function called with a value outside its domain: a speed that is not
+    positive, ``v_min >= v_max``, an unknown DOF, parameter or option, a profile the
+    wheels cannot reach.  Raised by the analyses and the rail modules (``analysis/``,
+    ``rail/``, ``numeric/``); the command line prints the message and exits with status 2.
+    A :class:`ValueError` too, as every :class:`InputError`."""
+
+
 class AnalysisError(ExpressError, RuntimeError):
     """An analysis ran on valid input but could not give a valid result (a diverged
     simulation, a singular response, no critical speed where one was required).
 
     The command line prints ``error: <message>`` and exits with status 1.
     """
+
+
+class NoCriticalSpeedError(AnalysisError):
+    """A result that needs a crossing of the stability boundary found none in the range
+    scanned (already unstable at the lowest speed, stable up to the highest, or a
+    crossing that is not a simple oscillatory mode)."""
 
 
 class ModelWarning(UserWarning):

@@ -9,7 +9,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from express.base.diagnostics import InputError, UsageError
+from express.base.diagnostics import UsageError
 from express.cli import common
 from express.cli.contact_geometry import add_profile_arguments, load_profiles, setup_from, span
 
@@ -70,12 +70,7 @@ def run(
         else:
             wheel, rail = load_profiles(profiles, units)
             setup = setup_from(gauge, flange_back, inclination, wheel_radius)
-            try:
-                tan_gamma, _ = conicity_from_profiles(wheel, rail, amplitude, setup)
-            except InputError:
-                raise
-            except ValueError as error:  # the wheels do not reach the rails
-                raise UsageError(f"conicity: {error}") from None
+            tan_gamma, _ = conicity_from_profiles(wheel, rail, amplitude, setup)  # ArgumentError: no contact
             label = f"{wheel.name} on {rail.name}, rails 1:{'inf' if inclination == 0 else f'{1 / inclination:g}'}, " \
                     f"gauge {gauge * 1e3:g} mm"
         columns = {"amplitude": amplitude, "tan_gamma_e": tan_gamma}

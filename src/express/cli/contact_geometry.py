@@ -10,7 +10,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from express.base.diagnostics import UsageError
+from express.base.diagnostics import InputError, UsageError
 from express.cli import common
 
 __all__ = ["add_parser", "add_profile_arguments", "figure_contact_geometry", "load_profiles", "run", "setup_from"]
@@ -54,7 +54,7 @@ def _inclination(text: str) -> float:
 
     try:
         return parse_inclination(text)
-    except ValueError as error:
+    except InputError as error:  # argparse reports ArgumentTypeError with its message
         raise argparse.ArgumentTypeError(str(error)) from None
 
 
@@ -77,10 +77,7 @@ def add_profile_arguments(parser: argparse.ArgumentParser, required: bool = True
 def setup_from(gauge: float, flange_back: float, inclination: float, wheel_radius: float):
     from express.rail.contact_geometry import ContactSetup
 
-    try:
-        return ContactSetup(gauge=gauge, flange_back=flange_back, inclination=inclination, wheel_radius=wheel_radius)
-    except ValueError as error:
-        raise UsageError(str(error)) from None
+    return ContactSetup(gauge=gauge, flange_back=flange_back, inclination=inclination, wheel_radius=wheel_radius)
 
 
 def load_profiles(names: list[str], units: str | None):
@@ -147,10 +144,7 @@ def run(
         if plot is not None:
             transaction.declare(plot, binary=True)
         wheel, rail = load_profiles(profiles, units)
-        try:
-            table = contact_geometry(wheel, rail, y, setup)
-        except ValueError as error:
-            raise UsageError(f"contact-geometry: {error}") from None
+        table = contact_geometry(wheel, rail, y, setup)
         if output is not None:
             columns, column_units = table_columns(table)
             write_csv(output, columns, column_units)

@@ -246,11 +246,8 @@ def _run_nonlinear(model: Path, overrides: dict[str, str], vmin: float, vmax: fl
         if vstart is None and (linear is None or linear.unstable_at_min):
             raise AnalysisError(f"no linear critical speed between --vmin and --vmax ({vmax / common.KMH:g} km/h) to "
                                 "start the ramp-down above: give --vstart")
-        try:
-            result = nonlinear_critical_speed(vehicle, v_start=vstart, v_min=vmin, tolerance=tolerance,
-                                              creep_law=creep_law, linear=linear)
-        except ValueError as error:
-            raise AnalysisError(str(error)) from None
+        result = nonlinear_critical_speed(vehicle, v_start=vstart, v_min=vmin, tolerance=tolerance,
+                                          creep_law=creep_law, linear=linear)
         if output is not None:
             _write_bifurcation(output, result)
         if plot is not None:

@@ -33,10 +33,7 @@ def run(outdir: Path, *, examples: Path | None = None) -> int:
     check_destination(outdir / "summary.md")  # the directory can be made and written
     if examples is not None and not (examples / "forced-steering.toml").is_file():
         raise UsageError(f"--examples {examples}: no forced-steering.toml there")
-    try:
-        examples = find_examples(examples)
-    except ValueError as error:  # not found automatically: the user must say where
-        raise UsageError(str(error)) from None
+    examples = find_examples(examples)  # ArgumentError when not found: the user must say where
     with output_transaction(inputs=sorted(p for p in examples.iterdir() if p.is_file())):
         summary = run_demo(outdir, examples=examples, log=common.note)
     cwd = Path.cwd()

@@ -138,10 +138,7 @@ def _ground_series(vehicle: Any, dofs: list[str], frequencies: Any, amplitude: f
     for dof in dofs:
         if dof not in vehicle.dofs:
             raise UsageError(f"--dof {dof}: unknown DOF; DOFs: {', '.join(vehicle.dofs)}")
-    try:
-        response = ground_response(vehicle, frequencies)
-    except ValueError as error:
-        raise UsageError(f"frf: {error}") from None
+    response = ground_response(vehicle, frequencies)
     series: dict[str, tuple[Any, str]] = {}
     for dof in dofs or vehicle.dofs:
         for name in response.inputs:

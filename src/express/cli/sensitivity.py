@@ -7,7 +7,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from express.base.diagnostics import AnalysisError, UsageError
+from express.base.diagnostics import UsageError
 from express.cli import common
 
 __all__ = ["add_parser", "run"]
@@ -90,10 +90,7 @@ def _critical(vehicle, names: list[str], vmin: float, vmax: float, plot: Path | 
     from express.analysis.study.critical import CriticalOptions
     from express.analysis.study.sensitivity import critical_speed_sensitivity
 
-    try:
-        result = critical_speed_sensitivity(vehicle, names, CriticalOptions(v_min=vmin, v_max=vmax, tolerance=0.0))
-    except ValueError as error:
-        raise AnalysisError(f"sensitivity: {error}") from None
+    result = critical_speed_sensitivity(vehicle, names, CriticalOptions(v_min=vmin, v_max=vmax, tolerance=0.0))
     if plot is not None:
         from express.analysis.plots import save_figure
         from express.analysis.study.figures import figure_tornado

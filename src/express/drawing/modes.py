@@ -18,6 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
+from express.base.diagnostics import ArgumentError
 from express.base.units import KMH
 from express.drawing.geometry import ModelGeometry, displaced_geometry, point_displacement
 from express.drawing.views import figure_model
@@ -60,7 +61,7 @@ def mode_shape(vehicle: VehicleModel, speed: float, number: int) -> ModeShape:
     keep = np.flatnonzero(values.imag >= 0.0)
     order = keep[np.lexsort((-values.imag[keep], -values.real[keep]))]
     if not 1 <= number <= order.size:
-        raise ValueError(f"mode {number}: the model has modes 1 to {order.size} at this speed")
+        raise ArgumentError(f"mode {number}: the model has modes 1 to {order.size} at this speed")
     index = order[number - 1]
     phi = vectors[: vehicle.n, index]
     largest = phi[np.argmax(np.abs(phi))]
@@ -111,7 +112,7 @@ def animate_mode_shape(geometry: ModelGeometry, mode: ModeShape, suffix: str, la
     from express.drawing.views import draw_view
 
     if suffix not in (".gif", ".html"):
-        raise ValueError(f"animation format {suffix!r}: use .gif or .html")
+        raise ArgumentError(f"animation format {suffix!r}: use .gif or .html")
     scale = _scale(geometry, mode)
     figure = figure_model(geometry, title=_title(geometry, mode, label))
     axes = figure.axes

@@ -49,6 +49,7 @@ import numpy as np
 import sympy as sp
 
 from express.assembly.equations import EquationsOfMotion
+from express.base.diagnostics import ArgumentError
 
 __all__ = ["CompiledMatrices", "EigenBlocks", "SpeedSplit", "compile_matrices", "diagonal_blocks", "strong_components"]
 
@@ -91,7 +92,7 @@ class _Entries:
         try:
             values = self.function(*arguments)
         except (ZeroDivisionError, OverflowError) as error:
-            raise ValueError(f"a value is not finite at these parameter values ({error})") from None
+            raise ArgumentError(f"a value is not finite at these parameter values ({error})") from None
         return np.array(values, dtype=float).reshape(self.size)
 
 
@@ -148,12 +149,12 @@ class CompiledMatrices:
 
         Raises
         ------
-        ValueError
+        ArgumentError
             Naming the parameters that have no value.
         """
         missing = [name for name in self.parameters if name not in values]
         if missing:
-            raise ValueError(f"no value for parameter{'s' if len(missing) > 1 else ''} {', '.join(missing)}")
+            raise ArgumentError(f"no value for parameter{'s' if len(missing) > 1 else ''} {', '.join(missing)}")
         return np.array([float(values[name]) for name in self.parameters], dtype=float)
 
     def _assemble(self, constant: np.ndarray, speed_dependent: np.ndarray) -> dict[str, np.ndarray]:
@@ -170,7 +171,7 @@ class CompiledMatrices:
 
         Raises
         ------
-        ValueError
+        ArgumentError
             When an entry is not finite there (a division by zero).
         """
         arguments = [float(x) for x in parameters]
@@ -183,7 +184,7 @@ class CompiledMatrices:
 
         Raises
         ------
-        ValueError
+        ArgumentError
             When an entry is not finite there (a division by zero).
         """
         from scipy.sparse import csr_array
@@ -191,7 +192,7 @@ class CompiledMatrices:
         arguments = [float(x) for x in parameters]
         constant, speed_dependent = self._constant(arguments), self._speed_dependent(arguments)
         if not (np.all(np.isfinite(constant)) and np.all(np.isfinite(speed_dependent))):
-            raise ValueError("the matrices are not finite at these parameter values (division by zero or overflow)")
+            raise ArgumentError("the matrices are not finite at these parameter values (division by zero or overflow)")
         result = {}
         for key, (places0, places1, sources0, sources1) in self._scatter.items():
             rows, columns = self.shapes[key]
@@ -207,7 +208,7 @@ class CompiledMatrices:
 
         Raises
         ------
-        ValueError
+        ArgumentError
             When the speed enters the matrices otherwise (checked at a third speed), or
             an entry is not finite.
         """
@@ -227,7 +228,7 @@ class CompiledMatrices:
         one, two, three = at
         for values in (constant, *at):
             if not np.all(np.isfinite(values)):
-                raise ValueError("the matrices are not finite at these parameter values (division by zero or overflow)")
+                raise ArgumentError("the matrices are not finite at these parameter values (division by zero or overflow)")
         base_values: dict[str, np.ndarray] = {}
         extra: dict[str, np.ndarray] = {}
         scale = 1.0
@@ -251,7 +252,7 @@ class CompiledMatrices:
                 size = max(_largest(constant[sources0]), _largest(s1))
                 wrong |= _largest(s1 - s2) > (0.0 if key == "M" else 1e-9 * max(1.0, size))
         if wrong:
-            raise ValueError(f"the speed {self.speed!r} enters the matrices other than as C0 + C1/v and P0 + P2 v^2")
+            raise ArgumentError(f"the speed {self.speed!r} enters the matrices other than as C0 + C1/v and P0 + P2 v^2")
         matrices = {}
         for key, (places0, places1, sources0, _) in self._scatter.items():
             flat = np.zeros(self.shapes[key][0] * self.shapes[key][1])
@@ -276,7 +277,7 @@ class CompiledMatrices:
     def _check_finite(matrices: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
         for key, array in matrices.items():
             if not np.all(np.isfinite(array)):
-                raise ValueError(f"matrix {key} is not finite at these parameter values (division by zero or overflow)")
+                raise ArgumentError(f"matrix {key} is not finite at these parameter values (division by zero or overflow)")
         return matrices
 
 
@@ -323,12 +324,12 @@ class CompiledExpressions:
         ------
         KeyError
             Naming the first parameter without a value.
-        ValueError
+        ArgumentError
             When a value is not finite (division by zero, overflow).
         """
         result = self._entries([float(values[name]) for name in self.names])
         if not np.all(np.isfinite(result)):
-            raise ValueError("an expression is not finite at these parameter values")
+            raise ArgumentError("an expression is not finite at these parameter values")
         return result
 
 

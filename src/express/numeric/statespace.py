@@ -26,8 +26,8 @@ import numpy as np
 import sympy as sp
 
 from express.assembly.equations import STROKE, EquationsOfMotion
-from express.assembly.first_order import FirstOrderError, StateForm, state_form
-from express.base.diagnostics import ModelError, Problem
+from express.assembly.first_order import FirstOrderError, IndefiniteMassError, StateForm, state_form
+from express.base.diagnostics import ArgumentError, ModelError, Problem
 from express.base.threads import limited_blas
 from express.base.units import KMH
 from express.model.parameters import expression_value, override_values, undefined_name_problems, with_values
@@ -144,7 +144,7 @@ class VehicleModel:
         try:
             return self.equations.dofs.index(name)
         except ValueError:
-            raise ValueError(f"unknown DOF {name!r}; DOFs: {', '.join(self.equations.dofs)}") from None
+            raise ArgumentError(f"unknown DOF {name!r}; DOFs: {', '.join(self.equations.dofs)}") from None
 
     def damping(self, v: float) -> np.ndarray:
         """The vehicle's damping matrix ``C(v)`` at speed ``v`` [m/s], shape (n, n)."""
@@ -195,7 +195,7 @@ class VehicleModel:
         0.2
         """
         if self.model is None:
-            raise ValueError("this VehicleModel has no model to re-evaluate")
+            raise ArgumentError("this VehicleModel has no model to re-evaluate")
         model = with_values(self.model, changes)
         return _evaluate_vehicle(
             model, self.equations, self._evaluator, self._speed_name, self.layout is not None, self.layout,
@@ -246,7 +246,7 @@ def _state_form(vehicle: VehicleModel) -> StateForm:
             vehicle.forcing_base, vehicle.forcing_speed2, vehicle.forcing_rate_matrix,
         )
     except FirstOrderError as error:
-        if str(error) == "M is not positive definite":
+        if isinstance(error, IndefiniteMassError):
             _invert_mass(vehicle.mass, vehicle.equations, vehicle.model)
         source = vehicle.model.source if vehicle.model is not None else vehicle.equations.name
         dofs = ", ".join(vehicle.equations.dofs[i] for i in error.bad)
@@ -280,7 +280,7 @@ def evaluate_matrices(equations: EquationsOfMotion, values: Mapping[str, float])
 
     Raises
     ------
-    ValueError
+    ArgumentError
         Naming the parameters that have no value, or for entries that are not finite.
     """
     compiled = compile_matrices(equations)

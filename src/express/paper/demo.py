@@ -32,6 +32,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from express.base.diagnostics import ArgumentError
 from express.paper.demo_common import Cars
 from express.paper.demo_curving import Curving, measure_curving, write_curving
 from express.paper.demo_frequency import FloorResponse, measure_floor_response, write_floor_response
@@ -75,7 +76,7 @@ def find_examples(examples: Path | None = None) -> Path:
         if candidate is not None and (candidate / "forced-steering.toml").is_file():
             return candidate
     where = ", ".join(str(c) for c in candidates if c is not None)
-    raise ValueError(f"cannot find the bundled models (forced-steering.toml) in {where}; give --examples DIR")
+    raise ArgumentError(f"cannot find the bundled models (forced-steering.toml) in {where}; give --examples DIR")
 
 
 def load_cars(examples: Path, overrides: Mapping[str, float] | None = None) -> Cars:

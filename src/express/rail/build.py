@@ -18,6 +18,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from express.assembly.generator import AddedTerms, GenerationResult, generate
+from express.base.diagnostics import ArgumentError
 from express.model.parameters import register_derivation
 from express.model.records import Derivation, Model
 from express.rail.curve import Station, cant_deficiency_forces, curvature_point_inputs, station_of, stations
@@ -61,7 +62,7 @@ class RailLayout:
 def rail_layout(model: Model) -> RailLayout:
     """The rail inputs of ``model`` (which must have rail data)."""
     if model.rail is None:
-        raise ValueError(f"{model.source}: the model has no [rail] data")
+        raise ArgumentError(f"{model.source}: the model has no [rail] data")
     wheelsets = model.rail.wheelsets
     all_stations = stations(model)
     return RailLayout(

@@ -29,7 +29,7 @@ from pathlib import Path
 import numpy as np
 from numba import njit
 
-from express.base.diagnostics import ModelError, Problem, RowProblems, excerpt
+from express.base.diagnostics import ArgumentError, ModelError, Problem, RowProblems, excerpt
 from express.base.limits import read_input_text
 from express.rail.contact_geometry import ContactSetup, ContactTable, contact_geometry
 from express.rail.profiles import Profile, row_numbers
@@ -151,20 +151,20 @@ def parse_amplitudes(text: str) -> np.ndarray:
     body, _, unit = text.strip().partition(" ")
     unit = unit.strip() or "mm"
     if unit not in _UNITS:
-        raise ValueError(f'amplitudes "{text}": the unit must be mm or m')
+        raise ArgumentError(f'amplitudes "{text}": the unit must be mm or m')
     try:
         parts = [float(part) for part in body.split(":")]
     except ValueError:
-        raise ValueError(f'amplitudes "{text}": expected START:STOP:STEP [mm|m], e.g. 1:7.5:0.1 mm') from None
+        raise ArgumentError(f'amplitudes "{text}": expected START:STOP:STEP [mm|m], e.g. 1:7.5:0.1 mm') from None
     if len(parts) == 1:
         values = np.array(parts)
     elif len(parts) == 3 and parts[2] > 0 and parts[1] >= parts[0]:
         count = math.floor((parts[1] - parts[0]) / parts[2] + 0.1) + 1
         values = parts[0] + parts[2] * np.arange(count)
     else:
-        raise ValueError(f'amplitudes "{text}": expected START:STOP:STEP with STEP > 0 and STOP >= START')
+        raise ArgumentError(f'amplitudes "{text}": expected START:STOP:STEP with STEP > 0 and STOP >= START')
     if not np.all(np.isfinite(values)) or np.any(values <= 0):
-        raise ValueError(f'amplitudes "{text}": amplitudes must be positive')
+        raise ArgumentError(f'amplitudes "{text}": amplitudes must be positive')
     return values * _UNITS[unit]
 
 
@@ -320,11 +320,11 @@ def equivalent_conicity(
     scalar = np.ndim(amplitudes) == 0
     amplitudes = np.atleast_1d(np.asarray(amplitudes, dtype=float))
     if y.shape != delta_r.shape or y.ndim != 1 or len(y) < 2 or np.any(np.diff(y) <= 0):
-        raise ValueError("y and delta_r must be 1-D, of one length >= 2, y strictly increasing")
+        raise ArgumentError("y and delta_r must be 1-D, of one length >= 2, y strictly increasing")
     if not (np.all(np.isfinite(y)) and np.all(np.isfinite(delta_r))):
-        raise ValueError("y and delta_r must be finite")
+        raise ArgumentError("y and delta_r must be finite")
     if np.any(~np.isfinite(amplitudes) | (amplitudes <= 0)):
-        raise ValueError("amplitudes must be positive")
+        raise ArgumentError("amplitudes must be positive")
     # a symmetric profile pair's dead band comes out of the geometry as +-1e-17 m of
     # rounding, which would count as many centred positions: below 1 pm it is zero
     delta_r = np.where(np.abs(delta_r) <= _ROUNDING, 0.0, delta_r)

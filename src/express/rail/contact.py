@@ -43,6 +43,8 @@ from dataclasses import astuple, dataclass
 from scipy.optimize import brentq
 from scipy.special import ellipe, ellipkm1
 
+from express.base.diagnostics import ArgumentError
+
 __all__ = [
     "CreepCoefficients",
     "HertzContact",
@@ -216,7 +218,7 @@ def kalker_coefficients(a: float, b: float, poisson: float) -> tuple[float, floa
 
     Raises
     ------
-    ValueError
+    ArgumentError
         If ``a`` or ``b`` is not a positive finite number, or if ``poisson`` is
         outside ``[0, 0.5]``.
 
@@ -287,7 +289,7 @@ def kalker_coefficients(a: float, b: float, poisson: float) -> tuple[float, floa
     short_side = "a" if a <= b else "b"
     g = a / b if short_side == "a" else b / a
     if not g >= 1e-12:  # the asymptotes' powers and logarithms of g would underflow
-        raise ValueError(f"semi-axes a = {a!r} m, b = {b!r} m: a degenerate contact ellipse (ratio below 1e-12)")
+        raise ArgumentError(f"semi-axes a = {a!r} m, b = {b!r} m: a degenerate contact ellipse (ratio below 1e-12)")
 
     if g < _G_NODES[0]:
         if short_side == "a":
@@ -378,7 +380,7 @@ def _axis_ratio_from_curvatures(curvature_ratio: float) -> float:
         return 1.0
     lowest = _curvature_ratio(_SMALLEST_AXIS_RATIO)
     if curvature_ratio <= lowest:
-        raise ValueError(
+        raise ArgumentError(
             f"curvature ratio min(A,B)/max(A,B) = {curvature_ratio:.3g} is too small: "
             f"the contact ellipse would be more slender than b/a = {_SMALLEST_AXIS_RATIO:g}"
         )
@@ -431,7 +433,7 @@ def hertz_contact(
 
     Raises
     ------
-    ValueError
+    ArgumentError
         If the load, a radius or Young's modulus is not positive, if nu is
         outside ``[0, 0.5]``, or if a relative curvature vanishes (line
         contact, which has no Hertz ellipse).
@@ -480,12 +482,12 @@ def hertz_contact(
     curv_a = 0.5 * (1.0 / wheel_radius + 1.0 / rail_longitudinal_radius)
     curv_b = 0.5 * (1.0 / wheel_transverse_radius + 1.0 / rail_head_radius)
     if curv_a == 0.0:
-        raise ValueError(
+        raise ArgumentError(
             "relative curvature A in the rolling direction is zero (wheel_radius and "
             "rail_longitudinal_radius both infinite): line contact, not a Hertz ellipse"
         )
     if curv_b == 0.0:
-        raise ValueError(
+        raise ArgumentError(
             "relative curvature B in the lateral direction is zero (wheel_transverse_radius "
             "and rail_head_radius both infinite): line contact, not a Hertz ellipse"
         )
@@ -498,7 +500,7 @@ def hertz_contact(
     c = (3.0 * load * rho * big_e / denominator) ** (1.0 / 3.0) if denominator > 0.0 else math.inf
     minor, major = c * math.sqrt(g), c / math.sqrt(g)
     if not (minor > 0.0 and major < math.inf):  # values at the ends of the double range
-        raise ValueError(
+        raise ArgumentError(
             f"the contact data (load {load!r} N, E {youngs_modulus!r} Pa) give no finite contact ellipse"
         )
 
@@ -572,7 +574,7 @@ def creep_coefficients(
 
     Raises
     ------
-    ValueError
+    ArgumentError
         As :func:`hertz_contact`.
 
     Notes
@@ -615,7 +617,7 @@ def creep_coefficients(
         f33=shear_modulus * ab * ab * c33,
     )
     if any(math.isinf(value) for value in astuple(coefficients)):  # NaN: no C33 for a long axis
-        raise ValueError(
+        raise ArgumentError(
             f"the contact data (load {load!r} N, radii {wheel_radius!r} and {rail_head_radius!r} m, "
             f"E {youngs_modulus!r} Pa) give creep coefficients beyond the range of a double"
         )
@@ -630,19 +632,19 @@ def creep_coefficients(
 def _require_positive(name: str, value: float) -> None:
     """Raise unless ``value > 0`` (``math.inf`` allowed, NaN rejected)."""
     if not value > 0.0:
-        raise ValueError(f"{name} must be positive, got {value!r}")
+        raise ArgumentError(f"{name} must be positive, got {value!r}")
 
 
 def _require_positive_finite(name: str, value: float) -> None:
     """Raise unless ``0 < value < inf``."""
     if not 0.0 < value < math.inf:
-        raise ValueError(f"{name} must be a positive finite number, got {value!r}")
+        raise ArgumentError(f"{name} must be a positive finite number, got {value!r}")
 
 
 def _require_poisson(poisson: float) -> None:
     """Raise unless ``0 <= poisson <= 0.5`` (the range Kalker tabulated)."""
     if not 0.0 <= poisson <= 0.5:
-        raise ValueError(
+        raise ArgumentError(
             f"poisson must lie in [0, 0.5] (Kalker's table covers nu = 0, 0.25, 0.5), "
             f"got {poisson!r}"
         )

@@ -41,6 +41,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
+from express.base.diagnostics import ArgumentError
 from express.rail.contact_tables import (
     ANGLE,
     ARM,
@@ -104,7 +105,7 @@ def wheelset_contact(tables: ContactTables, wheel_load: float, friction: float,
                      rail_stiffness: float = math.inf) -> WheelsetContact:
     """A :class:`WheelsetContact` with its rail map (:func:`rail_deflection_map`)."""
     if not wheel_load > 0 or not friction > 0:
-        raise ValueError("wheel load and friction must be positive")
+        raise ArgumentError("wheel load and friction must be positive")
     key = (id(tables), float(wheel_load), float(rail_stiffness))
     cached = _MAPS.get(key)
     if cached is None or cached[0] is not tables:

@@ -23,6 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
+from express.base.diagnostics import ArgumentError
 from express.rail.profiles import Profile
 
 __all__ = ["ContactJump", "ContactSetup", "ContactTable", "contact_geometry", "prepare_surfaces"]
@@ -64,11 +65,11 @@ class ContactSetup:
         for name in ("gauge", "flange_back", "wheel_radius", "tapeline_offset", "gauge_depth"):
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0):
-                raise ValueError(f"{name} must be a positive length, not {value!r}")
+                raise ArgumentError(f"{name} must be a positive length, not {value!r}")
         if not (math.isfinite(self.inclination) and 0.0 <= self.inclination <= 0.2):
-            raise ValueError(f"inclination must be a tangent in 0..0.2, not {self.inclination!r}")
+            raise ArgumentError(f"inclination must be a tangent in 0..0.2, not {self.inclination!r}")
         if self.flange_back >= self.gauge:
-            raise ValueError("flange_back must be smaller than the gauge")
+            raise ArgumentError("flange_back must be smaller than the gauge")
 
     @property
     def tapeline_half_distance(self) -> float:
@@ -165,7 +166,7 @@ class ContactTable:
         """
         y = np.asarray(y, dtype=float)
         if np.any((y < self.y[0]) | (y > self.y[-1])):
-            raise ValueError(f"y outside the table ({self.y[0]:g} .. {self.y[-1]:g} m)")
+            raise ArgumentError(f"y outside the table ({self.y[0]:g} .. {self.y[-1]:g} m)")
         out: dict[str, np.ndarray] = {}
         for name in _TABLE_FIELDS:
             values = getattr(self, name)
@@ -195,7 +196,7 @@ def _steep_cut(slope: np.ndarray, origin_index: int) -> tuple[int, int]:
     """The widest index range around ``origin_index`` where |slope| stays below the limit."""
     ok = np.abs(slope) <= math.tan(_MAX_SLOPE_ANGLE)
     if not ok[origin_index]:
-        raise ValueError("the profile is steeper than 85 degrees at its origin")
+        raise ArgumentError("the profile is steeper than 85 degrees at its origin")
     lo = origin_index
     while lo > 0 and ok[lo - 1]:
         lo -= 1
@@ -249,7 +250,7 @@ def _gauge_point(u: np.ndarray, z: np.ndarray, depth: float) -> float:
     """Innermost u where the rail surface reaches ``depth`` below its top."""
     inside = np.flatnonzero(z >= -depth)
     if not len(inside) or inside[0] == 0:
-        raise ValueError(f"the rail profile does not reach {depth * 1e3:g} mm below its top on the gauge side")
+        raise ArgumentError(f"the rail profile does not reach {depth * 1e3:g} mm below its top on the gauge side")
     i = inside[0]
     return float(np.interp(-depth, [z[i - 1], z[i]], [u[i - 1], u[i]]))
 
@@ -269,7 +270,7 @@ def prepare_surfaces(
     The right profiles default to the left ones (a symmetric wheelset and track).
     """
     if wheel.kind != "wheel" or rail.kind != "rail":
-        raise ValueError("contact geometry needs a wheel profile and a rail profile")
+        raise ArgumentError("contact geometry needs a wheel profile and a rail profile")
     wl = wheel_surface(wheel, wheel_step)
     rl = rail_surface(rail, setup, rail_step)
     wr = wl if wheel_right is None else wheel_surface(wheel_right, wheel_step)
@@ -318,7 +319,7 @@ def contact_geometry(
     setup = setup or ContactSetup()
     y = np.asarray(y, dtype=float)
     if y.ndim != 1 or len(y) < 1 or not np.all(np.isfinite(y)) or np.any(np.diff(y) <= 0):
-        raise ValueError("y must be a 1-D array of finite, strictly increasing displacements")
+        raise ArgumentError("y must be a 1-D array of finite, strictly increasing displacements")
     surfaces = prepare_surfaces(wheel, rail, setup, wheel_right=wheel_right, rail_right=rail_right,
                                 wheel_step=wheel_step, rail_step=rail_step)
     return solve_contact(surfaces, y, setup, two_point_tolerance, jump_threshold)
@@ -336,7 +337,7 @@ def solve_contact(surfaces, y: np.ndarray, setup: ContactSetup, two_point_tolera
         wr.start, wr.step, wr.z, wr.dz, wr.ddz, rr.start, rr.step, rr.z, rr.dz, rr.ddz, out,
     )
     if status >= 0:
-        raise ValueError(
+        raise ArgumentError(
             f"no contact on both wheels at y = {y[status] * 1e3:g} mm: the wheels do not reach the rails "
             "(check gauge, flange-back distance and the profiles' lateral origins)"
         )

@@ -33,6 +33,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from express.base.diagnostics import ArgumentError
 from express.rail.contact import hertz_contact, kalker_coefficients
 from express.rail.contact_geometry import ContactSetup, contact_geometry
 from express.rail.profiles import Profile
@@ -112,7 +113,7 @@ class ContactTables:
         """Every field at ``y`` (linear interpolation, inside the grid), shape (2,) each."""
         grid = self.y
         if not grid[0] <= y <= grid[-1]:
-            raise ValueError(f"y = {y * 1e3:g} mm outside the table ({grid[0] * 1e3:g} .. {grid[-1] * 1e3:g} mm)")
+            raise ArgumentError(f"y = {y * 1e3:g} mm outside the table ({grid[0] * 1e3:g} .. {grid[-1] * 1e3:g} mm)")
         return {name: np.array([np.interp(y, grid, self.data[f, side]) for side in (0, 1)])
                 for f, name in enumerate(FIELDS)}
 
@@ -134,7 +135,7 @@ def _tables(wheel: Profile, rail: Profile, setup: ContactSetup, youngs_modulus: 
     geometry = contact_geometry(wheel, rail, y, setup)
     bad = ~np.all(np.isfinite(geometry.radius) & np.isfinite(geometry.wheel_curvature_lateral), axis=0)
     if bad.any():
-        raise ValueError(f"{wheel.name}/{rail.name}: no contact inside the profiles at y = {y[np.argmax(bad)] * 1e3:g} mm "
+        raise ArgumentError(f"{wheel.name}/{rail.name}: no contact inside the profiles at y = {y[np.argmax(bad)] * 1e3:g} mm "
                          f"(the contact runs off the end of a profile within +-{reach * 1e3:g} mm)")
     n = len(y)
     data = np.zeros((len(FIELDS), 2, n))
@@ -184,7 +185,7 @@ def contact_tables(
 
     Raises
     ------
-    ValueError
+    ArgumentError
         When the wheels do not reach the rails over the range (reduce ``reach``).
     """
     setup = setup or ContactSetup()
@@ -302,7 +303,7 @@ def linear_contact_parameters(tables: ContactTables, amplitude: float) -> Linear
     the centred position."""
     grid = tables.y
     if not 0 < amplitude <= min(-grid[0], grid[-1]):
-        raise ValueError(f"amplitude {amplitude * 1e3:g} mm outside the table (+-{grid[-1] * 1e3:g} mm)")
+        raise ArgumentError(f"amplitude {amplitude * 1e3:g} mm outside the table (+-{grid[-1] * 1e3:g} mm)")
     data = tables.data
     centre = [float(np.interp(0.0, grid, data[f, side])) for f, side in ((ANGLE, 0), (ANGLE, 1))]
     l0 = 0.5 * sum(float(np.interp(0.0, grid, data[ARM, side])) for side in (0, 1))

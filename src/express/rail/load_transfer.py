@@ -36,6 +36,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from express.base.diagnostics import ArgumentError
 from express.model.parameters import expression_value
 from express.model.records import Model
 from express.model.topology import classify_bodies
@@ -79,7 +80,7 @@ def track_plane_accelerations(speed: ArrayLike, curvature: ArrayLike, cant: Arra
 
     Raises
     ------
-    ValueError
+    ArgumentError
         For a cant not smaller than the cant base.
 
     Examples
@@ -90,7 +91,7 @@ def track_plane_accelerations(speed: ArrayLike, curvature: ArrayLike, cant: Arra
     """
     sin_phi = np.asarray(cant, dtype=float) / float(cant_base)
     if np.any(np.abs(sin_phi) >= 1.0):
-        raise ValueError(f"the cant must be smaller than the cant base {cant_base} m")
+        raise ArgumentError(f"the cant must be smaller than the cant base {cant_base} m")
     cos_phi = np.sqrt(1.0 - sin_phi**2)
     centripetal = np.asarray(speed, dtype=float) ** 2 * np.asarray(curvature, dtype=float)
     lateral = gravity * sin_phi - centripetal * cos_phi
@@ -212,7 +213,7 @@ def load_shares(model: Model, values: Mapping[str, float]) -> FloatArray:
     lever rule on their stations, and each bogie's part among its wheelsets as before.
     """
     if model.rail is None:
-        raise ValueError(f"{model.source}: the model has no [rail] data")
+        raise ArgumentError(f"{model.source}: the model has no [rail] data")
     wheelsets = [w.body for w in model.rail.wheelsets]
     station = {body.id: expression_value(body.position[0], values) for body in model.bodies}
     topology = classify_bodies(model)
@@ -258,5 +259,5 @@ def body_loads(model: Model, values: Mapping[str, float], half_base: ArrayLike) 
     height = np.array([expression_value(body.position[2], values) for body in model.bodies])
     base = np.asarray(half_base, dtype=float)
     if not np.all(base > 0) or not all(math.isfinite(b) for b in base):
-        raise ValueError(f"half the contact base b0 must be positive, got {base}")
+        raise ArgumentError(f"half the contact base b0 must be positive, got {base}")
     return BodyLoads(tuple(body.id for body in model.bodies), mass, height, load_shares(model, values), base)

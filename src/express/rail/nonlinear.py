@@ -21,6 +21,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from express.base.diagnostics import ArgumentError
+
 __all__ = ["flange_penetration", "linear_creepages", "saturation_factor", "wheelset_forces"]
 
 
@@ -55,7 +57,7 @@ def saturation_factor(force, limit):
 
     Raises
     ------
-    ValueError
+    ArgumentError
         For a limit that is not positive (a friction coefficient or wheel load of
         zero: no creep force can be transmitted; the model's ranges refuse both).
 
@@ -67,7 +69,7 @@ def saturation_factor(force, limit):
     force = np.asarray(force, dtype=float)
     limit = np.asarray(limit, dtype=float)
     if not np.all(limit > 0.0):
-        raise ValueError("the creep force limit mu N must be positive (friction and wheel load above zero)")
+        raise ArgumentError("the creep force limit mu N must be positive (friction and wheel load above zero)")
     x = force / limit
     saturated = np.where(x <= 3.0, x - x**2 / 3.0 + x**3 / 27.0, 1.0)
     with np.errstate(divide="ignore", invalid="ignore"):

@@ -27,7 +27,7 @@ from pathlib import Path
 import numpy as np
 import sympy as sp
 
-from express.base.diagnostics import ModelError
+from express.base.diagnostics import ArgumentError, ModelError
 from express.io.toml_contact import PROFILE_INPUTS, PROFILE_OUTPUTS
 from express.model.parameters import expression_value
 from express.model.records import Derivation, Model
@@ -87,7 +87,7 @@ def _profile(text: str, kind: str, base: str, units: str) -> Profile:
         return read_profile(path, kind, units=units or None)
     except ModelError as error:
         where = "; ".join(f"{p.file}" + (f":{p.line}" if p.line else "") + f": {p.message}" for p in error.problems)
-        raise ValueError(f"{kind} profile {text!r}: {where}") from None
+        raise ArgumentError(f"{kind} profile {text!r}: {where}") from None
 
 
 def profile_tables(wheel: str, rail: str, *, base: str = "", units: str = "", gauge: float = 1.435,
@@ -98,7 +98,7 @@ def profile_tables(wheel: str, rail: str, *, base: str = "", units: str = "", ga
     try:
         setup = ContactSetup(gauge=gauge, flange_back=flange_back, inclination=inclination, wheel_radius=wheel_radius)
     except ValueError as error:
-        raise ValueError(f"contact setup: {error}") from None
+        raise ArgumentError(f"contact setup: {error}") from None
     return contact_tables(_profile(wheel, "wheel", base, units), _profile(rail, "rail", base, units), setup,
                           youngs_modulus=youngs_modulus, poisson=poisson)
 
@@ -117,16 +117,16 @@ def profile_derivation(*, wheel: str, rail: str, base: str = "", units: str = ""
 
     Raises
     ------
-    ValueError
+    ArgumentError
         Naming what is wrong (a profile file's problems with their lines, a placement
         where the wheels miss the rails, an amplitude beyond the tables).
     """
     if not 0.0 <= inclination <= 0.2:
-        raise ValueError(f"inclination {inclination:g}: the tangent must lie in 0..0.2 (1:inf .. 1:5)")
+        raise ArgumentError(f"inclination {inclination:g}: the tangent must lie in 0..0.2 (1:inf .. 1:5)")
     if not amplitude > 0:
-        raise ValueError(f"amplitude must be positive, got {amplitude:g} m")
+        raise ArgumentError(f"amplitude must be positive, got {amplitude:g} m")
     if not wheel_load > 0:
-        raise ValueError(f"wheel_load must be positive, got {wheel_load:g} N")
+        raise ArgumentError(f"wheel_load must be positive, got {wheel_load:g} N")
     tables = profile_tables(wheel, rail, base=base, units=units, gauge=gauge, flange_back=flange_back,
                             inclination=inclination, wheel_radius=wheel_radius, youngs_modulus=youngs_modulus,
                             poisson=poisson)
@@ -135,7 +135,7 @@ def profile_derivation(*, wheel: str, rail: str, base: str = "", units: str = ""
         delta_r = tables.data[0, 0] - tables.data[0, 1]
         conicity = float(equivalent_conicity(tables.y, delta_r, amplitude))
     except ModelError as error:
-        raise ValueError("; ".join(p.message for p in error.problems)) from None
+        raise ArgumentError("; ".join(p.message for p in error.problems)) from None
     centre = int(np.argmin(np.abs(tables.y)))
     normal = wheel_load / math.cos(linear.delta0)
     scale = normal ** (1.0 / 3.0)

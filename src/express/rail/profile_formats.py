@@ -60,7 +60,7 @@ from pathlib import Path
 
 import numpy as np
 
-from express.base.diagnostics import ModelError, Problem, RowProblems, excerpt
+from express.base.diagnostics import ArgumentError, ModelError, Problem, RowProblems, excerpt
 from express.base.limits import read_input_text
 from express.rail.profiles import Profile, check_profile_points, parse_profile
 
@@ -148,7 +148,7 @@ def parse_profile_format(text: str, kind: str, *, file: str, units: str | None =
     """
     found = profile_format(file)
     if found is None:
-        raise ValueError(f"{file}: not a .prr, .prw, .ban or .whl file")
+        raise ArgumentError(f"{file}: not a .prr, .prw, .ban or .whl file")
     form, holds = found
     problems: list[Problem] = []
     if holds != kind:

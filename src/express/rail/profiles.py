@@ -29,7 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
-from express.base.diagnostics import ModelError, Problem, RowProblems, excerpt
+from express.base.diagnostics import ArgumentError, ModelError, Problem, RowProblems, excerpt
 
 __all__ = [
     "STANDARD_PROFILES",
@@ -76,11 +76,11 @@ class Profile:
 
     def __post_init__(self) -> None:
         if self.kind not in ("wheel", "rail"):
-            raise ValueError(f"profile kind must be 'wheel' or 'rail', not {self.kind!r}")
+            raise ArgumentError(f"profile kind must be 'wheel' or 'rail', not {self.kind!r}")
         if self.y.shape != self.z.shape or self.y.ndim != 1:
-            raise ValueError("profile y and z must be 1-D arrays of one length")
+            raise ArgumentError("profile y and z must be 1-D arrays of one length")
         if len(self.y) < 4 or not np.all(np.diff(self.y) > 0):
-            raise ValueError("profile y must be strictly increasing with at least 4 points")
+            raise ArgumentError("profile y must be strictly increasing with at least 4 points")
 
     def mirrored(self) -> Profile:
         """The same profile with ``y`` reversed (a profile measured the other way round)."""
@@ -106,9 +106,9 @@ def parse_inclination(text: str | float) -> float:
             else:
                 value = 1.0 / float(tail)
         except (ValueError, ZeroDivisionError):
-            raise ValueError(f'rail inclination "{text}": expected 1:n (e.g. 1:40, 1:20, 1:inf) or a tangent') from None
+            raise ArgumentError(f'rail inclination "{text}": expected 1:n (e.g. 1:40, 1:20, 1:inf) or a tangent') from None
     if not math.isfinite(value) or not 0.0 <= value <= 0.2:
-        raise ValueError(f'rail inclination "{text}": the tangent must lie in 0..0.2 (1:inf .. 1:5)')
+        raise ArgumentError(f'rail inclination "{text}": the tangent must lie in 0..0.2 (1:inf .. 1:5)')
     return value
 
 
@@ -127,9 +127,9 @@ def parse_profile(
 ) -> Profile:
     """:func:`express.rail.profile_formats.read_profile` on a two-column text already read (``file`` names it in the messages)."""
     if kind not in ("wheel", "rail"):
-        raise ValueError(f"profile kind must be 'wheel' or 'rail', not {kind!r}")
+        raise ArgumentError(f"profile kind must be 'wheel' or 'rail', not {kind!r}")
     if units is not None and units not in _UNITS:
-        raise ValueError(f"profile units must be 'mm' or 'm', not {units!r}")
+        raise ArgumentError(f"profile units must be 'mm' or 'm', not {units!r}")
     problems: list[Problem] = []
     header_unit, rows = _parse_rows(text, file, problems)
     if not rows:
@@ -299,7 +299,7 @@ def smooth_profile(profile: Profile, window: float = 2e-3, spacing: float = 0.1e
     z = np.interp(y, profile.y, profile.z)
     points = max(5, round(window / spacing) | 1)
     if points > len(y):
-        raise ValueError(f"smoothing window {window * 1e3:g} mm is longer than the profile")
+        raise ArgumentError(f"smoothing window {window * 1e3:g} mm is longer than the profile")
     return Profile(profile.name, profile.kind, y, savgol_filter(z, points, 3, mode="interp"), profile.source)
 
 
@@ -329,7 +329,7 @@ def s1002_height(s: np.ndarray) -> np.ndarray:
     """
     s = np.asarray(s, dtype=float)
     if np.any((s < -70.0) | (s > 60.0)):
-        raise ValueError("S1002 is defined for s in [-70, 60] mm")
+        raise ArgumentError("S1002 is defined for s in [-70, 60] mm")
     b = _S1002_BREAKS
     conditions = [s >= b[1], s >= b[2], s >= b[3], s >= b[4], s >= b[5], s >= b[6], s >= b[7], s >= b[8]]
 
@@ -379,7 +379,7 @@ def uic60_height(y: np.ndarray) -> np.ndarray:
     y_max = y_flank + (z_flank - depth_limit) * _UIC60_FLANK
     a = np.abs(y)
     if np.any(a > y_max + 1e-9):
-        raise ValueError(f"60E1 head is tabulated for |y| <= {y_max:.3f} mm")
+        raise ArgumentError(f"60E1 head is tabulated for |y| <= {y_max:.3f} mm")
     z = np.empty_like(a)
     bounds = (0.0, *_UIC60_BREAKS)
     for (cy, cz, radius), lo, hi in zip(arcs, bounds[:-1], bounds[1:], strict=True):
@@ -457,5 +457,5 @@ def standard_profile(name: str) -> Profile:
 def _standard_key(name: str) -> str:
     key = _ALIASES.get(name.strip().upper().replace(" ", ""))
     if key is None:
-        raise ValueError(f"unknown standard profile {name!r} (known: S1002, 60E1 alias UIC60)")
+        raise ArgumentError(f"unknown standard profile {name!r} (known: S1002, 60E1 alias UIC60)")
     return key

@@ -37,6 +37,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from express.base.diagnostics import ArgumentError
+
 __all__ = ["FLANGE_CONTACT_ANGLE", "SIDES", "WheelRailOutputs", "column_unit"]
 
 FloatArray = NDArray[np.float64]
@@ -53,7 +55,7 @@ SIDES = ("L", "R")
 def _per_wheel(values: ArrayLike, name: str) -> FloatArray:
     array = np.asarray(values, dtype=float)
     if array.ndim != 3 or array.shape[2] != 2:
-        raise ValueError(f"{name} must have shape (instants, wheelsets, 2), got {array.shape}")
+        raise ArgumentError(f"{name} must have shape (instants, wheelsets, 2), got {array.shape}")
     return array
 
 
@@ -95,11 +97,11 @@ class WheelRailOutputs:
         shape = _per_wheel(self.vertical_load, "vertical_load").shape
         for name in ("lateral_force", "longitudinal_force", "contact_position", "contact_angle"):
             if _per_wheel(getattr(self, name), name).shape != shape:
-                raise ValueError(f"{name} must have the shape of vertical_load {shape}")
+                raise ArgumentError(f"{name} must have the shape of vertical_load {shape}")
         if np.shape(self.angle_of_attack) != shape[:2]:
-            raise ValueError(f"angle_of_attack must have shape {shape[:2]}, got {np.shape(self.angle_of_attack)}")
+            raise ArgumentError(f"angle_of_attack must have shape {shape[:2]}, got {np.shape(self.angle_of_attack)}")
         if np.shape(self.static_load) != shape[1:2] or not np.all(np.asarray(self.static_load) > 0):
-            raise ValueError(f"static_load must be {shape[1]} positive loads, got {self.static_load!r}")
+            raise ArgumentError(f"static_load must be {shape[1]} positive loads, got {self.static_load!r}")
 
     @property
     def wheelsets(self) -> int:

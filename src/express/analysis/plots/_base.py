@@ -17,6 +17,8 @@ from typing import Any, TypeVar
 
 import numpy as np
 
+from express.base.diagnostics import ArgumentError
+
 __all__ = ["CONVENTIONAL", "FIGURE_SUFFIXES", "STEERED", "STYLE", "save_figure"]
 
 #: Figure formats written by :func:`save_figure`.
@@ -93,7 +95,7 @@ def save_figure(figure, path: str | Path | Sequence[str | Path]) -> list[Path]:
 
     Raises
     ------
-    ValueError
+    express.base.diagnostics.ArgumentError
         For another suffix (checked before anything is written).
     express.base.diagnostics.OutputError
         When a destination cannot be written.
@@ -105,7 +107,7 @@ def save_figure(figure, path: str | Path | Sequence[str | Path]) -> list[Path]:
     paths = [Path(path)] if isinstance(path, (str, Path)) else [Path(p) for p in path]
     for target in paths:
         if target.suffix.lower() not in FIGURE_SUFFIXES:
-            raise ValueError(f"{target}: unknown figure format {target.suffix or '(none)'!r}; use .png, .svg or .pdf")
+            raise ArgumentError(f"{target}: unknown figure format {target.suffix or '(none)'!r}; use .png, .svg or .pdf")
     for target in paths:
         suffix = target.suffix.lower()
         buffer = io.BytesIO()

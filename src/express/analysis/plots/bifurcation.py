@@ -7,6 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 from express.analysis.plots._base import BLUE, GREY, ORANGE, RED, new_figure, styled
+from express.base.diagnostics import ArgumentError
 
 __all__ = ["figure_bifurcation"]
 
@@ -34,7 +35,7 @@ def figure_bifurcation(speeds_kmh, amplitudes_mm, alive, *, title: str, nonlinea
     amplitudes = np.asarray(amplitudes_mm, dtype=float)
     live = np.asarray(alive, dtype=bool)
     if speeds.ndim != 1 or speeds.shape != amplitudes.shape or speeds.shape != live.shape or not speeds.size:
-        raise ValueError("speeds, amplitudes and alive must be 1-D arrays of one length >= 1")
+        raise ArgumentError("speeds, amplitudes and alive must be 1-D arrays of one length >= 1")
     figure, axis = new_figure(figsize=(7.0, 4.4))
     order = np.argsort(speeds[live])
     axis.plot(speeds[live][order], amplitudes[live][order], color=RED, linewidth=1.0, alpha=0.6)

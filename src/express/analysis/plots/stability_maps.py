@@ -13,6 +13,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from express.analysis.plots._base import BLUE, GREEN, GREY, ORANGE, PURPLE, RED, new_figure, styled
+from express.base.diagnostics import ArgumentError
 
 __all__ = ["figure_damping_vs_speed", "figure_eigen_locus", "figure_root_locus_complex", "mode_branches"]
 
@@ -25,7 +26,7 @@ def _locus_arrays(speeds_kmh, eigenvalues) -> tuple[np.ndarray, np.ndarray]:
     speeds = np.asarray(speeds_kmh, dtype=float)
     values = np.asarray(eigenvalues, dtype=complex)
     if speeds.ndim != 1 or values.ndim != 2 or values.shape[0] != speeds.size or speeds.size < 2:
-        raise ValueError(f"expected speeds of shape (S,) with S >= 2 and eigenvalues of shape (S, N); got "
+        raise ArgumentError(f"expected speeds of shape (S,) with S >= 2 and eigenvalues of shape (S, N); got "
                          f"{speeds.shape} and {values.shape}")
     return speeds, values
 
@@ -154,7 +155,7 @@ def mode_branches(eigenvalues: np.ndarray) -> np.ndarray:
 
     values = np.asarray(eigenvalues, dtype=complex)
     if values.ndim != 2:
-        raise ValueError(f"expected eigenvalues of shape (S, N), got {values.shape}")
+        raise ArgumentError(f"expected eigenvalues of shape (S, N), got {values.shape}")
     tracked = values.copy()
     for i in range(1, values.shape[0]):
         guess = 2 * tracked[i - 1] - tracked[i - 2] if i >= 2 else tracked[i - 1]
@@ -203,7 +204,7 @@ def figure_damping_vs_speed(
     """
     speeds, values = _locus_arrays(speeds_kmh, branches)
     if labels is not None and len(labels) != values.shape[1]:
-        raise ValueError(f"{len(labels)} labels for {values.shape[1]} modes")
+        raise ArgumentError(f"{len(labels)} labels for {values.shape[1]} modes")
     magnitude = np.abs(values)
     oscillating = np.abs(values.imag) > 1e-9 * np.maximum(magnitude, 1.0)
     zeta = np.where(oscillating, -values.real / np.where(magnitude > 0, magnitude, 1.0), np.nan)

@@ -13,6 +13,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from express.analysis.ride.weighting import WB, WD, sperling_weighting
+from express.base.diagnostics import ArgumentError
 
 __all__ = ["figure_ride_spectra"]
 
@@ -52,7 +53,7 @@ def figure_ride_spectra(
     f = np.asarray(frequencies, dtype=float)
     axes_used = [axis for axis in ("y", "z", "x") if any(axis in by_axis for by_axis in spectra.values())]
     if not axes_used:
-        raise ValueError("figure_ride_spectra: no spectrum to draw")
+        raise ArgumentError("figure_ride_spectra: no spectrum to draw")
     with matplotlib.rc_context(STYLE):
         figure = Figure(figsize=(4.4 * len(axes_used) + 0.8, 4.4))
         panels = np.atleast_1d(figure.subplots(1, len(axes_used), sharey=False))

@@ -45,6 +45,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.linalg
 
+from express.base.diagnostics import ArgumentError
 from express.numeric.statespace import VehicleModel
 
 __all__ = ["CriticalOptions", "CriticalResult", "CriticalSpeedSearch", "HopfPoint", "StateBlocks", "fast_critical_speed", "hopf_point"]
@@ -86,13 +87,13 @@ class CriticalOptions:
 
     def __post_init__(self) -> None:
         if not (0 < self.v_min < self.v_max and math.isfinite(self.v_max)):
-            raise ValueError(f"need 0 < v_min < v_max, got v_min={self.v_min}, v_max={self.v_max}")
+            raise ArgumentError(f"need 0 < v_min < v_max, got v_min={self.v_min}, v_max={self.v_max}")
         if not (self.tolerance >= 0 and math.isfinite(self.tolerance)):
-            raise ValueError(f"tolerance must be >= 0, got {self.tolerance}")
+            raise ArgumentError(f"tolerance must be >= 0, got {self.tolerance}")
         if self.points < 2:
-            raise ValueError(f"points must be at least 2, got {self.points}")
+            raise ArgumentError(f"points must be at least 2, got {self.points}")
         if self.check not in ("grid", "local"):
-            raise ValueError(f'check must be "grid" or "local", got {self.check!r}')
+            raise ArgumentError(f'check must be "grid" or "local", got {self.check!r}')
 
     @property
     def grid(self) -> np.ndarray:
@@ -171,7 +172,7 @@ class StateBlocks:
 
     def __init__(self, vehicle: VehicleModel):
         if vehicle.layout is None or not vehicle.wheelsets:
-            raise ValueError("the model has no rail data (wheelsets): its eigenvalues do not depend on the speed")
+            raise ArgumentError("the model has no rail data (wheelsets): its eigenvalues do not depend on the speed")
         form = getattr(vehicle, "form", None)
         if form is not None:
             self.a0, self.a1 = form.a0, form.a1

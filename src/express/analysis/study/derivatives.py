@@ -35,6 +35,7 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 import sympy as sp
 
+from express.base.diagnostics import ArgumentError
 from express.model.parameters import derivation_function, evaluation_order
 from express.model.records import Derivation
 from express.numeric.compiled import CompiledExpressions
@@ -58,7 +59,7 @@ def _evaluate(compiled: CompiledExpressions, values: Mapping[str, float], what: 
     try:
         return compiled(values)
     except ValueError:
-        raise ValueError(f"{what} is not finite at these parameter values") from None
+        raise ArgumentError(f"{what} is not finite at these parameter values") from None
 
 
 class MatrixDerivatives:
@@ -105,7 +106,7 @@ class MatrixDerivatives:
 
         Raises
         ------
-        ValueError
+        ArgumentError
             When a derivative is not finite there.
         """
         if self.size == 0:
@@ -193,7 +194,7 @@ class GraphRates:
 
         Raises
         ------
-        ValueError
+        ArgumentError
             When a partial derivative is not finite there, or a derivation function
             refuses its perturbed arguments.
         """

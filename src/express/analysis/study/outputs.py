@@ -38,6 +38,7 @@ from typing import Any
 import numpy as np
 
 from express.analysis.study.critical import CriticalOptions, CriticalSpeedSearch, StateBlocks
+from express.base.diagnostics import ArgumentError
 
 __all__ = ["OUTPUTS", "OutputSettings", "PointOutputs"]
 
@@ -196,7 +197,7 @@ class PointOutputs:
     def _speed(self, vehicle) -> float:
         speed = self.settings.speed if self.settings.speed is not None else float(vehicle.speed)
         if not (math.isfinite(speed) and speed > 0):
-            raise ValueError("the model has no speed: give options.speed")
+            raise ArgumentError("the model has no speed: give options.speed")
         return speed
 
     def _critical(self, vehicle, notes: list[str]) -> dict[str, float]:
@@ -246,7 +247,7 @@ class PointOutputs:
         points = [p.name for p in model.rail.outputs] if model is not None and model.rail is not None else []
         name = s.frf_output or (points[0] if points else None)
         if name is None or name not in points:
-            raise ValueError(f"no output point {name!r} for the FRF; the model has: {', '.join(points) or 'none'}")
+            raise ArgumentError(f"no output point {name!r} for the FRF; the model has: {', '.join(points) or 'none'}")
         frequencies = np.geomspace(s.frf_fmin, s.frf_fmax, s.frf_points)
         response = frequency_response(vehicle, frequencies, amplitude=s.frf_amplitude, speed=self._speed(vehicle))
         amplitude = np.abs(np.asarray(response.acceleration_of(name)))

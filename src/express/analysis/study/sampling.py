@@ -25,6 +25,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from express.analysis.study.spec import ParameterRange, StudySpec
+from express.base.diagnostics import ArgumentError
 
 __all__ = ["grid_points", "saltelli_points", "sample_points", "study_points", "to_ranges"]
 
@@ -57,7 +58,7 @@ def sample_points(ranges: Sequence[ParameterRange], kind: str, samples: int, see
             warnings.simplefilter("ignore", UserWarning)
             unit = qmc.Sobol(d=d, scramble=True, seed=seed).random(samples)
     else:
-        raise ValueError(f"unknown sampling kind {kind!r}")
+        raise ArgumentError(f"unknown sampling kind {kind!r}")
     return to_ranges(unit, ranges)
 
 
@@ -85,4 +86,4 @@ def study_points(spec: StudySpec) -> np.ndarray:
         return sample_points(spec.parameters, spec.kind, spec.samples, spec.seed)
     if spec.kind == "sobol-indices":
         return saltelli_points(spec.parameters, spec.samples, spec.seed)
-    raise ValueError(f"a {spec.kind} study has no fixed points")
+    raise ArgumentError(f"a {spec.kind} study has no fixed points")

@@ -39,6 +39,7 @@ import sympy as sp
 
 from express.analysis.study.critical import CriticalOptions, StateBlocks, fast_critical_speed
 from express.analysis.study.derivatives import graph_rates, matrix_derivatives
+from express.base.diagnostics import ArgumentError, NoCriticalSpeedError
 from express.numeric.statespace import VehicleModel
 
 __all__ = [
@@ -211,7 +212,7 @@ def critical_speed_sensitivity(
 
     Raises
     ------
-    ValueError
+    NoCriticalSpeedError
         When the vehicle has no crossing in the range (stable throughout, already
         unstable at ``v_min``, or a crossing Newton's method could not locate).
     """
@@ -219,16 +220,16 @@ def critical_speed_sensitivity(
     names = parameters if parameters is not None else sensitivity_parameters(vehicle)
     unknown = [name for name in names if vehicle.model is not None and name not in vehicle.model.parameters]
     if unknown:
-        raise ValueError(f"unknown parameter{'s' if len(unknown) > 1 else ''}: {', '.join(unknown)}")
+        raise ArgumentError(f"unknown parameter{'s' if len(unknown) > 1 else ''}: {', '.join(unknown)}")
     blocks = StateBlocks(vehicle)
     result = fast_critical_speed(blocks, options)
     crossing = result.crossing
     if crossing is None:
         if result.unstable_at_min:
-            raise ValueError(f"already unstable at the lowest speed {options.v_min:g} m/s: no crossing to differentiate")
+            raise NoCriticalSpeedError(f"already unstable at the lowest speed {options.v_min:g} m/s: no crossing to differentiate")
         if result.speed is None:
-            raise ValueError(f"stable up to {options.v_max:g} m/s: no critical speed to differentiate")
-        raise ValueError("the crossing could not be located exactly (not a simple oscillatory mode)")
+            raise NoCriticalSpeedError(f"stable up to {options.v_max:g} m/s: no critical speed to differentiate")
+        raise NoCriticalSpeedError("the crossing could not be located exactly (not a simple oscillatory mode)")
     rates, rate_v = _pencil_derivatives(vehicle, crossing.speed, crossing.eigenvalue, crossing.vector, names)
     records = []
     for k, name in enumerate(names):

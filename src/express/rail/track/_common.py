@@ -15,6 +15,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from express.base.diagnostics import ArgumentError
+
 __all__ = [
     "FieldProblem",
     "FloatArray",
@@ -60,4 +62,4 @@ def as_output(values: ArrayLike, scalar: bool) -> FloatArray | float:
 def raise_if(problems: Sequence[FieldProblem], what: str) -> None:
     """Raise ``ValueError("<what>: msg; msg")`` if there are problems."""
     if problems:
-        raise ValueError(f"{what}: " + "; ".join(message for _, message in problems))
+        raise ArgumentError(f"{what}: " + "; ".join(message for _, message in problems))

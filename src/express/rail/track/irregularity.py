@@ -28,6 +28,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+from express.base.diagnostics import ArgumentError
 from express.rail.track._common import FieldProblem, FloatArray, as_input, as_output, is_finite_number, raise_if
 from express.rail.track.spectra import SPECTRA, TrackSpectrum, get_spectrum
 
@@ -365,7 +366,7 @@ class SpectrumIrregularity(Irregularity):
 
     Raises
     ------
-    ValueError
+    ArgumentError
         Naming every bad field, before any harmonic is drawn.
     """
 
@@ -441,16 +442,16 @@ class SpectrumIrregularity(Irregularity):
 
         Raises
         ------
-        ValueError
+        ArgumentError
             For a bad range or step, or too many points.
         """
         if not (is_finite_number(start) and is_finite_number(stop) and stop > start):
-            raise ValueError(f"tabulate: need finite start < stop, got {start!r} and {stop!r}")
+            raise ArgumentError(f"tabulate: need finite start < stop, got {start!r} and {stop!r}")
         if not (is_finite_number(step) and step > 0):
-            raise ValueError(f"tabulate: 'step' must be > 0 m, got {step!r}")
+            raise ArgumentError(f"tabulate: 'step' must be > 0 m, got {step!r}")
         count = (stop - start) / step + 1
         if count > MAX_SAMPLES:
-            raise ValueError(f"tabulate: {count:.3g} points from {start:g} m to {stop:g} m every {step:g} m, "
+            raise ArgumentError(f"tabulate: {count:.3g} points from {start:g} m to {stop:g} m every {step:g} m, "
                              f"more than the limit {MAX_SAMPLES}: use a larger step")
         n = max(2, math.ceil((stop - start) / step) + 1)
         d = np.linspace(start, start + (n - 1) * step, n)

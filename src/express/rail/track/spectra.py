@@ -34,6 +34,7 @@ from typing import ClassVar
 import numpy as np
 from numpy.typing import ArrayLike
 
+from express.base.diagnostics import ArgumentError
 from express.rail.track._common import FloatArray
 
 __all__ = [
@@ -231,15 +232,15 @@ def register_spectrum(key: str, spectrum: TrackSpectrum) -> None:
 
     Raises
     ------
-    ValueError
+    ArgumentError
         If the component is unknown or the name is already taken by another spectrum.
     """
     if spectrum.component not in SPECTRA_BY_COMPONENT:
-        raise ValueError(f"unknown component {spectrum.component!r} (known: {', '.join(COMPONENTS)})")
+        raise ArgumentError(f"unknown component {spectrum.component!r} (known: {', '.join(COMPONENTS)})")
     table = SPECTRA_BY_COMPONENT[spectrum.component]
     key = _key(key)
     if table.get(key, spectrum) is not spectrum:
-        raise ValueError(f"{spectrum.component} spectrum {key!r} is already registered")
+        raise ArgumentError(f"{spectrum.component} spectrum {key!r} is already registered")
     table[key] = spectrum
 
 
@@ -356,7 +357,7 @@ class FRACrossLevelSpectrum(TrackSpectrum):
 
     def __post_init__(self) -> None:
         if not (self.omega_s > 0 and self.omega_c > 0 and self.omega_s != self.omega_c):
-            raise ValueError(f"{self.name}: need omega_s, omega_c > 0 and distinct")
+            raise ArgumentError(f"{self.name}: need omega_s, omega_c > 0 and distinct")
 
     def psd(self, omega: ArrayLike) -> FloatArray:
         """One-sided PSD [m^2/(rad/m)] at wavenumbers ``omega`` [rad/m] >= 0."""
@@ -469,7 +470,7 @@ class TabulatedSpectrum(TrackSpectrum):
 
     Raises
     ------
-    ValueError
+    ArgumentError
         Naming every problem of the table.
     """
 
@@ -481,7 +482,7 @@ class TabulatedSpectrum(TrackSpectrum):
     def __post_init__(self) -> None:
         problems = table_problems(self.wavenumbers, self.values, self.component)
         if problems:
-            raise ValueError(f"{self.name}: " + "; ".join(problems))
+            raise ArgumentError(f"{self.name}: " + "; ".join(problems))
         object.__setattr__(self, "wavenumbers", tuple(float(x) for x in self.wavenumbers))
         object.__setattr__(self, "values", tuple(float(x) for x in self.values))
 
@@ -497,7 +498,7 @@ class TabulatedSpectrum(TrackSpectrum):
         if unit == "1/m":
             f, g = 2 * np.pi * f, g / (2 * np.pi)
         elif unit != "rad/m":
-            raise ValueError(f"{name}: unit must be 'rad/m' or '1/m', got {unit!r}")
+            raise ArgumentError(f"{name}: unit must be 'rad/m' or '1/m', got {unit!r}")
         return cls(name, tuple(f), tuple(g), component)
 
     def psd(self, omega: ArrayLike) -> FloatArray:
