@@ -25,6 +25,7 @@ import math
 import numpy as np
 
 from express.analysis.curving.outputs import WheelRailOutputs
+from express.base.diagnostics import ArgumentError
 from express.numeric.statespace import VehicleModel
 from express.rail.load_transfer import BodyLoads, body_loads, track_plane_accelerations, wheel_loads
 from express.rail.nonlinear import linear_creepages, wheelset_forces
@@ -39,14 +40,14 @@ DEFAULT_FLANGE_ANGLE = math.radians(70.0)
 def vehicle_body_loads(vehicle: VehicleModel) -> BodyLoads:
     """:func:`express.rail.load_transfer.body_loads` of ``vehicle``'s model."""
     if vehicle.model is None:
-        raise ValueError("the vehicle has no model to take its masses from")
+        raise ArgumentError("the vehicle has no model to take its masses from")
     return body_loads(vehicle.model, vehicle.values, [w.b for w in vehicle.wheelsets])
 
 
 def _body_stations(vehicle: VehicleModel) -> list[int]:
     layout = vehicle.layout
     if layout is None or vehicle.model is None:
-        raise ValueError("the vehicle has no rail data (no [rail] section with wheelsets)")
+        raise ArgumentError("the vehicle has no rail data (no [rail] section with wheelsets)")
     index = {body: k for k, station in enumerate(layout.stations) for body in station.bodies}
     return [index[body.id] for body in vehicle.model.bodies]
 

@@ -29,7 +29,7 @@ from express.analysis.curving.measure import wheel_rail_outputs
 from express.analysis.curving.outputs import WheelRailOutputs
 from express.analysis.simulate import TrackInputs, derived_outputs
 from express.assembly.clearance import clearance_force, clearances_of
-from express.base.diagnostics import InputError
+from express.base.diagnostics import ArgumentError, InputError
 from express.model.parameters import expression_value
 from express.numeric.statespace import VehicleModel
 from express.rail import nonlinear
@@ -212,7 +212,7 @@ class SteadyCurvingSolver:
         from express.analysis.simulate import contact_tables_of
 
         if vehicle.layout is None or vehicle.model is None or vehicle.model.rail is None:
-            raise ValueError("the model has no rail data: add a [rail] section to run it in a curve")
+            raise ArgumentError("the model has no rail data: add a [rail] section to run it in a curve")
         self.vehicle = vehicle
         self.speed = float(vehicle.speed if speed is None else speed)
         self.flange, self.saturation = flange, saturation
@@ -413,7 +413,7 @@ def steady_curving(vehicle: VehicleModel, curves: SteadyCurve | Iterable[SteadyC
     if speeds is None or isinstance(speeds, (int, float)):
         speeds = [vehicle.speed if speeds is None else float(speeds)] * len(curves)
     if len(speeds) != len(curves):
-        raise ValueError(f"{len(speeds)} speeds for {len(curves)} curves")
+        raise ArgumentError(f"{len(speeds)} speeds for {len(curves)} curves")
     solvers: dict[float, SteadyCurvingSolver] = {}
     results: list[SteadyCurving] = []
     for curve, speed in zip(curves, speeds, strict=True):
