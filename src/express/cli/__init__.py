@@ -31,6 +31,7 @@ from typing import Any, NoReturn
 
 from express import __version__
 from express.base.diagnostics import EXIT_ANALYSIS, EXIT_INPUT, EXIT_INTERNAL, EXIT_OK, AnalysisError, InputError
+from express.base.interrupts import handling_signals, remove_temporaries
 from express.cli import (
     common,
     conicity,
@@ -149,14 +150,21 @@ def _run(parser: argparse.ArgumentParser, argv: Sequence[str] | None) -> int:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the ``express`` command with ``argv`` (default: ``sys.argv[1:]``); return the
-    exit status (0, 1, 2 or 70; see the module docstring)."""
+    exit status (0, 1, 2 or 70; see the module docstring; ``128 + signal`` when stopped
+    by Ctrl-C, SIGTERM or SIGHUP, :mod:`express.base.interrupts`)."""
     arguments = list(sys.argv[1:] if argv is None else argv)
-    debug = "--debug" in arguments
     if not arguments:
         parser = build_parser()
         parser.print_usage(sys.stderr)
         print("error: express: give a COMMAND (see express --help)", file=sys.stderr)
         return EXIT_INPUT
+    # Run from the command line (argv None), the process ends right after: the handlers
+    # stay, so that a signal while it exits cannot print a traceback.
+    with handling_signals(keep=argv is None):
+        return _status(arguments, "--debug" in arguments)
+
+
+def _status(arguments: list[str], debug: bool) -> int:
     try:
         return _run(build_parser(), arguments)
     except InputError as error:
@@ -168,8 +176,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except BrokenPipeError:  # e.g. `express generate ... | head`
         _quiet_stdout()
         return EXIT_OK
-    except KeyboardInterrupt:
+    except KeyboardInterrupt as error:  # the first Ctrl-C, SIGTERM or SIGHUP
+        remove_temporaries()
         print("error: interrupted", file=sys.stderr)
-        return 130
+        return getattr(error, "status", 130)
     except Exception as error:
         return _internal_error(error, debug)

@@ -3,7 +3,8 @@
 Guarantees (``docs/cli.md``, "Outputs"):
 
 - **Whole or not at all.** A regular file is written to a unique temporary file in the
-  target directory (:func:`tempfile.mkstemp`), flushed to disk (``fsync``) and renamed
+  target directory (:func:`express.base.interrupts.temporary_file`: created and registered
+  for removal in one step, so that an interrupt leaves none behind), flushed to disk (``fsync``) and renamed
   over the target (:func:`os.replace`, atomic on POSIX).  Readers see the old file or the
   new one, never a part; concurrent writers of one path end with one complete file (the
   last rename wins).
@@ -37,7 +38,6 @@ import math
 import os
 import stat
 import sys
-import tempfile
 import zipfile
 from collections.abc import Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
@@ -45,6 +45,7 @@ from pathlib import Path
 from typing import Any
 
 from express.base.diagnostics import OutputError
+from express.base.interrupts import release, temporary_file
 
 __all__ = [
     "STDOUT",
@@ -263,7 +264,7 @@ class Transaction:
         key = self._key(destination)
         previous = self._staged.pop(key, None)
         if previous is not None and previous.temporary is not None:
-            previous.temporary.unlink(missing_ok=True)
+            _remove(previous.temporary)
         if destination.kind != "file":
             self._staged[key] = _Staged(destination, data=bytes(data))
             return
@@ -274,10 +275,9 @@ class Transaction:
         target = destination.path
         try:
             self._make_parents(target.parent)
-            handle, name = tempfile.mkstemp(dir=target.parent, prefix=f".{target.name}.", suffix=".tmp")
+            handle, temporary = temporary_file(target.parent, prefix=f".{target.name}.", suffix=".tmp")
         except OSError as error:
             raise OutputError(f"{destination.given}: cannot write ({error.strerror or error})") from None
-        temporary = Path(name)
         try:
             with os.fdopen(handle, "wb") as stream:
                 stream.write(data)
@@ -289,10 +289,10 @@ class Transaction:
                 mode = 0o666 & ~_umask()
             os.chmod(temporary, mode)
         except OSError as error:
-            temporary.unlink(missing_ok=True)
+            _remove(temporary)
             raise OutputError(f"{destination.given}: cannot write ({error.strerror or error})") from None
         except BaseException:
-            temporary.unlink(missing_ok=True)
+            _remove(temporary)
             raise
         return temporary
 
@@ -309,7 +309,7 @@ class Transaction:
         """Remove every temporary file (and the directories made for them)."""
         for staged in self._staged.values():
             if staged.temporary is not None:
-                staged.temporary.unlink(missing_ok=True)
+                _remove(staged.temporary)
         self._staged.clear()
         for directory in reversed(self._created_dirs):
             with contextlib.suppress(OSError):
@@ -339,6 +339,7 @@ class Transaction:
                 self.discard()
                 done = f"; already replaced: {', '.join(renamed)}" if renamed else "; nothing was replaced"
                 raise OutputError(f"{staged.destination.given}: cannot write ({error.strerror or error}){done}") from None
+            release(staged.temporary)
             staged.temporary = None
             renamed.append(staged.destination.given)
         for directory in {self._staged[key].destination.path.parent for key in order  # type: ignore[union-attr]
@@ -348,6 +349,11 @@ class Transaction:
         self._staged.clear()
         self._created_dirs.clear()
         return written
+
+
+def _remove(temporary: Path) -> None:
+    temporary.unlink(missing_ok=True)
+    release(temporary)
 
 
 def _write_stream(destination: Destination, data: bytes) -> None:

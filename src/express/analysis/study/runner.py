@@ -24,6 +24,7 @@ come back as they are computed (:meth:`Engine.run`) and are written to the check
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import math
 import os
@@ -39,11 +40,14 @@ import numpy as np
 from express.analysis.study.outputs import OUTPUTS, OutputSettings, PointOutputs
 from express.analysis.study.spec import StudySpec
 from express.base.diagnostics import ExpressError, UsageError
+from express.base.interrupts import release, temporary_file
 
 __all__ = ["BLOCK", "Engine", "StudyTask", "blocked", "chunk_size", "evaluate_points", "make_task"]
 
 #: Chunks in flight per worker.
 IN_FLIGHT = 4
+#: Seconds a worker process gets to end after SIGTERM (then SIGKILL), and a Dask client to close.
+STOP_SECONDS = 2.0
 #: Times a point may kill its worker process before it is recorded as failed.
 MAX_ATTEMPTS = 3
 #: With ``check = "local"`` the points go out in aligned blocks of this many indices;
@@ -117,10 +121,16 @@ def _materialise(path_hint: str | None, name: str, text: bytes, key: str) -> Pat
     folder.mkdir(parents=True, exist_ok=True)
     target = folder / name
     if not (target.exists() and target.read_bytes() == text):
-        handle, temporary = tempfile.mkstemp(dir=folder)
-        with os.fdopen(handle, "wb") as stream:
-            stream.write(text)
-        os.replace(temporary, target)
+        handle, temporary = temporary_file(folder, prefix=f".{name}.", suffix=".tmp")
+        try:
+            with os.fdopen(handle, "wb") as stream:
+                stream.write(text)
+            os.replace(temporary, target)
+        except BaseException:
+            temporary.unlink(missing_ok=True)
+            raise
+        finally:
+            release(temporary)
     return target
 
 
@@ -233,6 +243,22 @@ def _chunks(indices: Sequence[int], vectors: np.ndarray, size: int, aligned: boo
         start = end
 
 
+def _stop_pool(pool: Any) -> None:
+    """Stop a process pool now: queued chunks cancelled, workers terminated and joined
+    (killed if they do not end within :data:`STOP_SECONDS`)."""
+    processes = list((getattr(pool, "_processes", None) or {}).values())
+    for process in processes:
+        with contextlib.suppress(OSError, ValueError, AttributeError):
+            process.terminate()
+    pool.shutdown(wait=False, cancel_futures=True)
+    for process in processes:
+        with contextlib.suppress(OSError, ValueError, AttributeError, AssertionError):
+            process.join(STOP_SECONDS)
+            if process.is_alive():
+                process.kill()
+                process.join(STOP_SECONDS)
+
+
 def _failed(indices: Sequence[int], vectors: Sequence[Sequence[float]], outputs: int, message: str) -> list[dict]:
     return [{"point": int(i), "values": [float(x) for x in v], "outputs": [None] * outputs, "error": message}
             for i, v in zip(indices, vectors, strict=True)]
@@ -260,6 +286,7 @@ class Engine:
         self._pool: Any = None
         self._client: Any = None
         self._task_future: Any = None
+        self._futures: set[Any] = set()
 
     def __enter__(self) -> Engine:
         _worker(self.task)  # build the vehicle here: a bad model stops the study before any work
@@ -267,13 +294,25 @@ class Engine:
             self._connect()
         return self
 
-    def __exit__(self, *exc) -> None:
-        if self._pool is not None:
-            self._pool.shutdown(wait=True, cancel_futures=True)
-            self._pool = None
-        if self._client is not None:
-            self._client.close()
-            self._client = None
+    def __exit__(self, kind, error, trace) -> None:
+        """Normally: wait for the workers. After an error or an interrupt: cancel what is
+        queued, stop the worker processes at once (SIGTERM, then SIGKILL after
+        :data:`STOP_SECONDS`) and join them; cancel the Dask tasks. The points lost in flight
+        were not in the checkpoint yet: ``--resume`` computes them again."""
+        pool, self._pool = self._pool, None
+        client, self._client = self._client, None
+        if pool is not None:
+            if kind is None:
+                pool.shutdown(wait=True, cancel_futures=True)
+            else:
+                _stop_pool(pool)
+        if client is not None:
+            if kind is not None and self._futures:
+                with contextlib.suppress(Exception):
+                    client.cancel(list(self._futures), force=True)
+            with contextlib.suppress(Exception):
+                client.close(timeout=STOP_SECONDS if kind is not None else "20s")
+        self._futures.clear()
 
     @property
     def parallel(self) -> int:
@@ -381,6 +420,7 @@ class Engine:
                 return None
             future = client.submit(evaluate_points, self._task_future, chunk[0], chunk[1], pure=False)
             parts[future.key] = chunk
+            self._futures.add(future)
             return future
 
         first = [f for f in (submit() for _ in range(window)) if f is not None]
@@ -391,6 +431,7 @@ class Engine:
                 records = future.result()
             except Exception as error:  # KilledWorker after repeated deaths, or a lost connection
                 records = _failed(part, part_vectors, len(self.task.outputs), f"Dask task failed: {_message(error)}")
+            self._futures.discard(future)
             yield records
             future.release()
             following = submit()

@@ -1,0 +1,268 @@
+"""Interrupts: what Ctrl-C, SIGTERM and SIGHUP do to a command, and the temporary files
+that must not outlive it.
+
+A command runs inside :func:`handling_signals` (the command line does it for every
+command):
+
+- the **first** SIGINT, SIGTERM or SIGHUP raises :class:`Interrupted` (a
+  :class:`KeyboardInterrupt`) in the main thread: the command stops as it does on any
+  error, its workers are stopped (``express.analysis.study.runner``), its temporary files
+  removed, nothing half-written replaces an output, and the exit status is
+  ``128 + signal`` (130 for Ctrl-C);
+- a **second** one ends the process at once, wherever it is (even inside a long
+  numerical call that the first one could not interrupt): a watcher thread woken by the
+  signal (:func:`signal.set_wakeup_fd`) kills every child process, removes every
+  registered temporary file and calls :func:`os._exit`. A study's checkpoint stays
+  valid (a line cut short is dropped on ``--resume``).
+
+Child processes forked while the handlers are installed (a study's workers) ignore
+SIGINT and SIGHUP (the terminal sends Ctrl-C to the whole process group; the parent
+decides and stops them) and die on SIGTERM.
+
+Temporary files are created and registered in one step (:func:`temporary_file`): the
+name is registered before the file exists, so that no interrupt can fall between the
+two, and :func:`release` forgets it once it is renamed or removed.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import secrets
+import signal
+import threading
+from collections.abc import Iterator
+from pathlib import Path
+
+__all__ = [
+    "SIGNALS",
+    "Interrupted",
+    "active",
+    "handling_signals",
+    "release",
+    "remove_temporaries",
+    "stop_children",
+    "temporary_file",
+]
+
+#: The signals that stop a command: Ctrl-C, ``kill``, the terminal closing.
+SIGNALS = tuple(s for s in (getattr(signal, n, None) for n in ("SIGINT", "SIGTERM", "SIGHUP")) if s is not None)
+
+_TEMPORARIES: set[str] = set()
+_LOCK = threading.Lock()
+_STATE: dict[str, int] = {"installed": 0, "received": 0, "first": 0}
+_STOPPING = threading.Lock()
+
+
+class Interrupted(KeyboardInterrupt):
+    """The command was stopped by a signal; :attr:`status` is ``128 + signal``."""
+
+    def __init__(self, signum: int):
+        super().__init__(signal.Signals(signum).name)
+        self.signum = signum
+
+    @property
+    def status(self) -> int:
+        return 128 + self.signum
+
+
+# --------------------------------------------------------------------------- temporary files
+
+
+def temporary_file(directory: str | os.PathLike, prefix: str, suffix: str) -> tuple[int, Path]:
+    """Create a new file ``directory/prefix<random>suffix`` (mode 0600, like
+    :func:`tempfile.mkstemp`) registered for removal in the same step.
+
+    Returns
+    -------
+    (int, Path)
+        An open file descriptor and the path.
+    """
+    flags = os.O_RDWR | os.O_CREAT | os.O_EXCL | getattr(os, "O_CLOEXEC", 0)
+    while True:
+        name = os.path.join(os.fspath(directory), f"{prefix}{secrets.token_hex(8)}{suffix}")
+        with _LOCK:
+            _TEMPORARIES.add(name)  # registered before it exists: no window
+        try:
+            return os.open(name, flags, 0o600), Path(name)
+        except FileExistsError:
+            release(name)
+        except BaseException:
+            release(name)
+            raise
+
+
+def release(path: str | os.PathLike) -> None:
+    """Forget a temporary file (renamed over its target, or removed)."""
+    with _LOCK:
+        _TEMPORARIES.discard(os.fspath(path))
+
+
+def remove_temporaries() -> None:
+    """Remove every registered temporary file (a stopped command's leftovers)."""
+    with _LOCK:
+        names = list(_TEMPORARIES)
+        _TEMPORARIES.clear()
+    for name in names:
+        with contextlib.suppress(OSError):
+            os.unlink(name)
+
+
+# --------------------------------------------------------------------------- child processes
+
+
+def _child_pids() -> set[int]:
+    """This process's children: multiprocessing's own, and any other listed by /proc."""
+    pids: set[int] = set()
+    with contextlib.suppress(Exception):
+        import multiprocessing.process as mp_process
+
+        pids.update(p.pid for p in list(mp_process._children) if p.pid)  # type: ignore[attr-defined]
+    me = os.getpid()
+    with contextlib.suppress(OSError):
+        for entry in os.listdir("/proc"):
+            if entry.isdigit():
+                with contextlib.suppress(OSError, ValueError, IndexError):
+                    with open(f"/proc/{entry}/stat", "rb") as stat:
+                        fields = stat.read().rsplit(b")", 1)[1].split()
+                    if int(fields[1]) == me:
+                        pids.add(int(entry))
+    return pids
+
+
+def stop_children() -> None:
+    """Kill every child process of this one and reap it (SIGKILL: workers hold nothing
+    that needs cleaning up; their unfinished points are recomputed on ``--resume``)."""
+    pids = _child_pids()
+    for pid in pids:
+        with contextlib.suppress(OSError):
+            os.kill(pid, signal.SIGKILL)
+    for pid in pids:
+        with contextlib.suppress(OSError):
+            os.waitpid(pid, 0)
+
+
+# --------------------------------------------------------------------------- signals
+
+
+def active() -> bool:
+    """Whether a command is running under :func:`handling_signals`."""
+    return _STATE["installed"] > 0
+
+
+def _stop_now(signum: int) -> None:
+    """The second signal: kill the children, remove the temporary files, exit at once."""
+    if not _STOPPING.acquire(blocking=False):
+        return
+    with contextlib.suppress(OSError):
+        os.write(2, f"error: interrupted again ({signal.Signals(signum).name}): stopped at once\n".encode())
+    stop_children()
+    remove_temporaries()
+    os._exit(128 + signum)
+
+
+def _count(signum: int) -> bool:
+    """Count a signal; True when it is the second (or later) one."""
+    with _LOCK:
+        _STATE["received"] += 1
+        if _STATE["received"] == 1:
+            _STATE["first"] = signum
+        return _STATE["received"] >= 2
+
+
+def _handler(signum: int, frame) -> None:
+    """Python-level handler (main thread): the first signal raises :class:`Interrupted`."""
+    if _STATE["received"] >= 2:
+        _stop_now(signum)
+    if _STATE["received"] <= 1 and not _STATE.get("raised"):
+        _STATE["raised"] = 1
+        raise Interrupted(signum)
+
+
+def _watch(read_end: int) -> None:
+    """Watcher thread: counts the signals as the C-level handler reports them, so that a
+    second one acts even while the main thread is inside a long call."""
+    wanted = {int(s) for s in SIGNALS}
+    try:
+        while True:
+            data = os.read(read_end, 64)
+            if not data:  # the command ended: the write end was closed
+                return
+            for byte in data:
+                if byte in wanted and _count(byte):
+                    _stop_now(byte)
+    except OSError:
+        return
+    finally:
+        with contextlib.suppress(OSError):
+            os.close(read_end)
+
+
+def _after_fork_in_child() -> None:
+    if not _STATE["installed"]:
+        return
+    _STATE["installed"] = 0
+    with contextlib.suppress(ValueError, OSError):
+        signal.set_wakeup_fd(-1)
+    for end in ("read_end", "write_end"):  # the parent's watcher must see its pipe close
+        with contextlib.suppress(OSError):
+            os.close(_STATE[end])
+    with contextlib.suppress(ValueError, OSError):
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+        if hasattr(signal, "SIGHUP"):
+            signal.signal(signal.SIGHUP, signal.SIG_IGN)
+        signal.signal(signal.SIGTERM, signal.SIG_DFL)
+
+
+if hasattr(os, "register_at_fork"):
+    os.register_at_fork(after_in_child=_after_fork_in_child)
+
+
+def _late_handler(signum: int, frame) -> None:
+    """After the command (``keep``): a signal while the process exits raises nothing;
+    the watcher still ends the process at the second one."""
+    if _STATE["received"] >= 2:
+        _stop_now(signum)
+
+
+@contextlib.contextmanager
+def handling_signals(keep: bool = False) -> Iterator[None]:
+    """Install the handlers of the module docstring for the duration of a command
+    (only in the main thread; elsewhere it does nothing).
+
+    Parameters
+    ----------
+    keep : bool
+        The process ends after the command (the command line): leave the watcher
+        running and a handler that raises nothing. Otherwise (a command run in-process,
+        as the tests do) the previous handlers and wakeup descriptor are restored.
+    """
+    if threading.current_thread() is not threading.main_thread() or active():
+        yield
+        return
+    read_end, write_end = os.pipe()
+    os.set_blocking(write_end, False)
+    previous = {s: signal.getsignal(s) for s in SIGNALS}
+    try:
+        old_fd = signal.set_wakeup_fd(write_end, warn_on_full_buffer=False)
+    except ValueError:  # pragma: no cover - not the main thread of the main interpreter
+        os.close(read_end)
+        os.close(write_end)
+        yield
+        return
+    _STATE.update(installed=1, received=0, first=0, raised=0, read_end=read_end, write_end=write_end)
+    for s in SIGNALS:
+        signal.signal(s, _handler)
+    threading.Thread(target=_watch, args=(read_end,), name="express-signals", daemon=True).start()
+    try:
+        yield
+    finally:
+        if keep:
+            for s in SIGNALS:
+                signal.signal(s, _late_handler)
+        else:
+            for s, handler in previous.items():
+                signal.signal(s, handler if handler is not None else signal.SIG_DFL)
+            signal.set_wakeup_fd(old_fd)
+            _STATE["installed"] = 0
+            os.close(write_end)  # the watcher reads end-of-file, closes its end and returns
