@@ -8,6 +8,7 @@ group, as a terminal does; they are few and marked slow (each costs a few second
 
 from __future__ import annotations
 
+import contextlib
 import os
 import signal
 import subprocess
@@ -120,10 +121,8 @@ def _interrupt_twice(process: subprocess.Popen, signum: int, gap: float) -> tupl
     assert process.poll() is None, "the command ended before it was interrupted"
     os.killpg(process.pid, signum)
     time.sleep(gap)
-    try:
+    with contextlib.suppress(ProcessLookupError):  # it may have ended after the first one
         os.killpg(process.pid, signum)
-    except ProcessLookupError:  # it ended after the first one already
-        pass
     sent = time.monotonic()
     try:
         _out, err = process.communicate(timeout=60)

@@ -32,6 +32,7 @@ import secrets
 import signal
 import threading
 from collections.abc import Iterator
+from dataclasses import dataclass, field
 from pathlib import Path
 
 __all__ = [
@@ -50,7 +51,6 @@ SIGNALS = tuple(s for s in (getattr(signal, n, None) for n in ("SIGINT", "SIGTER
 
 _TEMPORARIES: set[str] = set()
 _LOCK = threading.Lock()
-_STATE: dict[str, int] = {"installed": 0, "received": 0, "first": 0}
 _STOPPING = threading.Lock()
 
 
@@ -145,9 +145,29 @@ def stop_children() -> None:
 # --------------------------------------------------------------------------- signals
 
 
+@dataclass
+class _Session:
+    """One installation of the handlers: its signal count and wakeup pipe."""
+
+    read_end: int
+    write_end: int
+    received: int = 0
+    raised: bool = False
+    lock: threading.Lock = field(default_factory=threading.Lock)
+
+    def count(self) -> bool:
+        """Count a signal; True when it is the second (or a later) one."""
+        with self.lock:
+            self.received += 1
+            return self.received >= 2
+
+
+_CURRENT: list[_Session] = []  # the installed session, if any
+
+
 def active() -> bool:
     """Whether a command is running under :func:`handling_signals`."""
-    return _STATE["installed"] > 0
+    return bool(_CURRENT)
 
 
 def _stop_now(signum: int) -> None:
@@ -161,52 +181,55 @@ def _stop_now(signum: int) -> None:
     os._exit(128 + signum)
 
 
-def _count(signum: int) -> bool:
-    """Count a signal; True when it is the second (or later) one."""
-    with _LOCK:
-        _STATE["received"] += 1
-        if _STATE["received"] == 1:
-            _STATE["first"] = signum
-        return _STATE["received"] >= 2
-
-
 def _handler(signum: int, frame) -> None:
     """Python-level handler (main thread): the first signal raises :class:`Interrupted`."""
-    if _STATE["received"] >= 2:
+    session = _CURRENT[0] if _CURRENT else None
+    if session is None:
+        return
+    if session.received >= 2:
         _stop_now(signum)
-    if _STATE["received"] <= 1 and not _STATE.get("raised"):
-        _STATE["raised"] = 1
+    if not session.raised:
+        session.raised = True
         raise Interrupted(signum)
 
 
-def _watch(read_end: int) -> None:
+def _late_handler(signum: int, frame) -> None:
+    """After the command (``keep``): a signal while the process exits raises nothing;
+    the watcher still ends the process at the second one."""
+    if _CURRENT and _CURRENT[0].received >= 2:
+        _stop_now(signum)
+
+
+def _watch(session: _Session) -> None:
     """Watcher thread: counts the signals as the C-level handler reports them, so that a
     second one acts even while the main thread is inside a long call."""
     wanted = {int(s) for s in SIGNALS}
     try:
         while True:
-            data = os.read(read_end, 64)
+            data = os.read(session.read_end, 64)
             if not data:  # the command ended: the write end was closed
                 return
             for byte in data:
-                if byte in wanted and _count(byte):
+                if byte in wanted and _CURRENT and _CURRENT[0] is session and session.count():
                     _stop_now(byte)
     except OSError:
         return
     finally:
         with contextlib.suppress(OSError):
-            os.close(read_end)
+            os.close(session.read_end)
 
 
 def _after_fork_in_child() -> None:
-    if not _STATE["installed"]:
+    """A forked child (a study's worker): no handlers of ours, no wakeup pipe; SIGINT and
+    SIGHUP ignored (the parent decides), SIGTERM ends it."""
+    if not _CURRENT:
         return
-    _STATE["installed"] = 0
+    session = _CURRENT.pop()
     with contextlib.suppress(ValueError, OSError):
         signal.set_wakeup_fd(-1)
-    for end in ("read_end", "write_end"):  # the parent's watcher must see its pipe close
+    for end in (session.read_end, session.write_end):  # the parent's watcher must see its pipe close
         with contextlib.suppress(OSError):
-            os.close(_STATE[end])
+            os.close(end)
     with contextlib.suppress(ValueError, OSError):
         signal.signal(signal.SIGINT, signal.SIG_IGN)
         if hasattr(signal, "SIGHUP"):
@@ -216,13 +239,6 @@ def _after_fork_in_child() -> None:
 
 if hasattr(os, "register_at_fork"):
     os.register_at_fork(after_in_child=_after_fork_in_child)
-
-
-def _late_handler(signum: int, frame) -> None:
-    """After the command (``keep``): a signal while the process exits raises nothing;
-    the watcher still ends the process at the second one."""
-    if _STATE["received"] >= 2:
-        _stop_now(signum)
 
 
 @contextlib.contextmanager
@@ -250,10 +266,11 @@ def handling_signals(keep: bool = False) -> Iterator[None]:
         os.close(write_end)
         yield
         return
-    _STATE.update(installed=1, received=0, first=0, raised=0, read_end=read_end, write_end=write_end)
+    session = _Session(read_end, write_end)
+    _CURRENT.append(session)
     for s in SIGNALS:
         signal.signal(s, _handler)
-    threading.Thread(target=_watch, args=(read_end,), name="express-signals", daemon=True).start()
+    threading.Thread(target=_watch, args=(session,), name="express-signals", daemon=True).start()
     try:
         yield
     finally:
@@ -264,5 +281,5 @@ def handling_signals(keep: bool = False) -> Iterator[None]:
             for s, handler in previous.items():
                 signal.signal(s, handler if handler is not None else signal.SIG_DFL)
             signal.set_wakeup_fd(old_fd)
-            _STATE["installed"] = 0
+            _CURRENT.clear()
             os.close(write_end)  # the watcher reads end-of-file, closes its end and returns
