@@ -18,7 +18,9 @@ given ones (the model's parameter graph in evaluation order): closed forms
 
 from __future__ import annotations
 
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
+from typing import Any, Generic, TypeVar
 
 import sympy as sp
 
@@ -30,6 +32,54 @@ MATRIX_ORDER = ("M", "C", "K", "P", "Pd")
 
 #: Suffix of the internal coordinate of a series element: ``<element>.stroke``.
 STROKE = "stroke"
+
+_T = TypeVar("_T")
+
+
+@dataclass(frozen=True)
+class Matrices(Mapping[str, _T], Generic[_T]):
+    """The matrices of ``M q'' + C q' + K q = P u + Pd u'``, symbolic or numerical.
+
+    A record with a field per matrix, read by name (``matrices.K``) or, as a mapping in
+    the order of :data:`MATRIX_ORDER`, by key (``matrices["K"]``, ``matrices.items()``).
+
+    Attributes
+    ----------
+    M, C, K : matrix, shape (n, n)
+        Mass [kg, kg m^2], damping [N s/m ...] and stiffness [N/m ...] matrices.
+    P, Pd : matrix, shape (n, m), or None
+        Input and input-rate matrices; None when the model has no inputs.
+    further : tuple of (str, matrix)
+        Further named matrices after these (kept in their order).
+    """
+
+    M: _T
+    C: _T
+    K: _T
+    P: _T | None = None
+    Pd: _T | None = None
+    further: tuple[tuple[str, _T], ...] = ()
+
+    @classmethod
+    def of(cls, matrices: Mapping[str, _T]) -> Matrices[_T]:
+        """The record of a mapping by name (``"M"``, ``"C"``, ``"K"`` required)."""
+        if isinstance(matrices, Matrices):
+            return matrices
+        further = tuple((key, value) for key, value in matrices.items() if key not in MATRIX_ORDER)
+        return cls(matrices["M"], matrices["C"], matrices["K"], matrices.get("P"), matrices.get("Pd"), further)
+
+    def __getitem__(self, key: str) -> _T:
+        value = getattr(self, key, None) if key in MATRIX_ORDER else dict(self.further).get(key)
+        if value is None:
+            raise KeyError(key)
+        return value
+
+    def __iter__(self) -> Iterator[str]:
+        yield from (key for key in MATRIX_ORDER if getattr(self, key) is not None)
+        yield from (key for key, _ in self.further)
+
+    def __len__(self) -> int:
+        return sum(1 for _ in self)
 
 
 @dataclass(frozen=True)
@@ -159,9 +209,10 @@ class EquationsOfMotion:
         Virtual DOFs removed by the pinned joints (empty with ``keep_virtual``).
     inputs : tuple of str
         Names of the inputs ``u``, length m (may be empty).
-    matrices : dict of str to sympy immutable matrix
+    matrices : Matrices of sympy immutable matrices
         ``M``, ``C``, ``K`` (n x n) and, when inputs exist, ``P`` and ``Pd`` (n x m),
-        in the order of :data:`MATRIX_ORDER`; further keys may follow.  The generator
+        in the order of :data:`MATRIX_ORDER`; further keys may follow (a mapping given
+        here becomes a :class:`Matrices`).  The generator
         gives ``sympy.ImmutableSparseMatrix`` when the matrix is mostly zeros (a train's:
         only the non-zeros are stored; ``todok()`` walks them), ``ImmutableMatrix``
         otherwise (:func:`express.assembly.generator.symbolic_matrix`).
@@ -183,24 +234,27 @@ class EquationsOfMotion:
     dofs: tuple[str, ...]
     eliminated: tuple[str, ...]
     inputs: tuple[str, ...]
-    matrices: dict[str, sp.ImmutableMatrix]
+    matrices: Matrices[Any]
     parameters: tuple[str, ...]
     values: dict[str, float] = field(default_factory=dict)
     units: dict[str, str] = field(default_factory=dict)
     clearances: tuple[ClearanceTerm, ...] = ()
     derivation: tuple[DerivationStep, ...] = ()
 
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "matrices", Matrices.of(self.matrices))
+
     @property
     def M(self) -> sp.ImmutableMatrix:
-        return self.matrices["M"]
+        return self.matrices.M
 
     @property
     def C(self) -> sp.ImmutableMatrix:
-        return self.matrices["C"]
+        return self.matrices.C
 
     @property
     def K(self) -> sp.ImmutableMatrix:
-        return self.matrices["K"]
+        return self.matrices.K
 
 
 @dataclass(frozen=True)

@@ -23,7 +23,14 @@ from typing import Any
 import sympy as sp
 
 from express.assembly.algebra import ExactDomain, inverted_symbols, needs_fractions
-from express.assembly.equations import STROKE, ClearanceTerm, EquationsOfMotion, GenerationResult, derivation_steps
+from express.assembly.equations import (
+    STROKE,
+    ClearanceTerm,
+    EquationsOfMotion,
+    GenerationResult,
+    Matrices,
+    derivation_steps,
+)
 from express.assembly.gravity import gravity_stiffness, static_model
 from express.assembly.kinematics import end_motion, generalized_coordinates
 from express.base.diagnostics import ModelError, Problem
@@ -470,7 +477,7 @@ def _generate(model: Model, keep_virtual: bool, added: AddedTerms, domain: Exact
         dofs=tuple(reduced),
         eliminated=tuple(virtual),
         inputs=tuple(inputs),
-        matrices=matrices,
+        matrices=Matrices.of(matrices),
         parameters=parameters,
         values={name: p.value for name, p in sorted(model.parameters.items()) if name not in virtual_only},
         units={  # as written, or the SI unit of a derived parameter's dimension

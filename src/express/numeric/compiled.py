@@ -48,7 +48,7 @@ from typing import Any
 import numpy as np
 import sympy as sp
 
-from express.assembly.equations import EquationsOfMotion
+from express.assembly.equations import EquationsOfMotion, Matrices
 from express.base.diagnostics import ArgumentError
 
 __all__ = ["CompiledMatrices", "EigenBlocks", "SpeedSplit", "compile_matrices", "diagonal_blocks", "strong_components"]
@@ -63,7 +63,7 @@ class SpeedSplit:
 
     Attributes
     ----------
-    matrices : dict of str to numpy.ndarray
+    matrices : Matrices of numpy.ndarray
         Every matrix, with ``C`` the speed-independent part ``C0`` and ``P`` the part
         ``P0`` (the others do not depend on the speed).
     damping_creep : numpy.ndarray, shape (n, n)
@@ -72,9 +72,12 @@ class SpeedSplit:
         ``P2`` in ``P(v) = P0 + P2 v**2``.
     """
 
-    matrices: dict[str, np.ndarray]
+    matrices: Matrices[np.ndarray]
     damping_creep: np.ndarray
     forcing_speed2: np.ndarray
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "matrices", Matrices.of(self.matrices))
 
 
 class _Entries:
@@ -166,7 +169,7 @@ class CompiledMatrices:
             result[key] = flat.reshape(self.shapes[key])
         return result
 
-    def __call__(self, parameters: Sequence[float] | np.ndarray) -> dict[str, np.ndarray]:
+    def __call__(self, parameters: Sequence[float] | np.ndarray) -> Matrices[np.ndarray]:
         """Every matrix at the parameter vector ``parameters`` (the speed included).
 
         Raises
@@ -175,7 +178,7 @@ class CompiledMatrices:
             When an entry is not finite there (a division by zero).
         """
         arguments = [float(x) for x in parameters]
-        return self._check_finite(self._assemble(self._constant(arguments), self._speed_dependent(arguments)))
+        return Matrices.of(self._check_finite(self._assemble(self._constant(arguments), self._speed_dependent(arguments))))
 
     def sparse(self, parameters: Sequence[float] | np.ndarray) -> dict[str, Any]:
         """Every matrix at ``parameters`` as a ``scipy.sparse.csr_array``: memory and time
@@ -216,7 +219,7 @@ class CompiledMatrices:
         constant = self._constant(arguments)
         if self.speed is None or self._speed_dependent.size == 0:
             matrices = self._check_finite(self._assemble(constant, np.zeros(self._speed_dependent.size)))
-            return SpeedSplit(matrices, self._zeros("C"), self._zeros("P"))
+            return SpeedSplit(Matrices.of(matrices), self._zeros("C"), self._zeros("P"))
         at = []
         for speed in SPLIT_SPEEDS:
             arguments[self._speed_position] = speed
@@ -259,7 +262,7 @@ class CompiledMatrices:
             flat[places0] = constant[sources0]
             flat[places1] = base_values[key]
             matrices[key] = flat.reshape(self.shapes[key])
-        return SpeedSplit(matrices, self._speed_part("C", extra), self._speed_part("P", extra))
+        return SpeedSplit(Matrices.of(matrices), self._speed_part("C", extra), self._speed_part("P", extra))
 
     def _speed_part(self, key: str, extra: dict[str, np.ndarray]) -> np.ndarray:
         result = self._zeros(key)

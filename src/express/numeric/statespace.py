@@ -25,7 +25,7 @@ from typing import Any
 import numpy as np
 import sympy as sp
 
-from express.assembly.equations import STROKE, EquationsOfMotion
+from express.assembly.equations import STROKE, EquationsOfMotion, Matrices
 from express.assembly.first_order import FirstOrderError, IndefiniteMassError, StateForm, state_form
 from express.base.diagnostics import ArgumentError, ModelError, Problem
 from express.base.threads import limited_blas
@@ -274,7 +274,7 @@ def _invert_mass(mass: np.ndarray, equations: EquationsOfMotion, model: Model | 
     return np.linalg.inv(mass)
 
 
-def evaluate_matrices(equations: EquationsOfMotion, values: Mapping[str, float]) -> dict[str, np.ndarray]:
+def evaluate_matrices(equations: EquationsOfMotion, values: Mapping[str, float]) -> Matrices[np.ndarray]:
     """Every matrix of ``equations`` as float arrays at ``values`` (compiled once for
     this call; keep a :func:`express.numeric.compiled.compile_matrices` to evaluate often).
 
@@ -287,7 +287,7 @@ def evaluate_matrices(equations: EquationsOfMotion, values: Mapping[str, float])
     return compiled(compiled.vector(values))
 
 
-def _speed_split(compiled: CompiledMatrices, values: Mapping[str, float]) -> tuple[dict[str, np.ndarray], np.ndarray, np.ndarray]:
+def _speed_split(compiled: CompiledMatrices, values: Mapping[str, float]) -> tuple[Matrices[np.ndarray], np.ndarray, np.ndarray]:
     """``(matrices with C0 and P0, C1, P2)`` at ``values`` (the speed's value unused)."""
     vector = compiled.vector({**values, compiled.speed: 0.0} if compiled.speed else values)
     split = compiled.speed_split(vector)
@@ -349,13 +349,13 @@ def _evaluate_vehicle(
         equations=equations,
         values=values,
         speed=speed,
-        mass=base["M"],
-        stiffness=base["K"],
-        damping_base=base["C"],
+        mass=base.M,
+        stiffness=base.K,
+        damping_base=base.C,
         damping_creep=c1,
-        forcing_base=base.get("P", np.zeros((n, m))),
+        forcing_base=base.P if base.P is not None else np.zeros((n, m)),
         forcing_speed2=p2,
-        forcing_rate_matrix=base.get("Pd", np.zeros((n, m))),
+        forcing_rate_matrix=base.Pd if base.Pd is not None else np.zeros((n, m)),
         layout=layout,
         wheelsets=wheelsets,
         station_positions=stations,

@@ -86,10 +86,10 @@ def lever_step_response(equations, case: LeverCase | Mapping[str, float], time_s
     values = {name: values[name] for name in equations.parameters}
     matrices = evaluate_matrices(equations, values)
     i1, i2 = equations.dofs.index("B1.rz"), equations.dofs.index("B2.ry")
-    mass = matrices["M"][i2, i2]
-    damping_total = matrices["C"][i2, i2] + damping
-    stiffness = matrices["K"][i2, i2]
-    static = -matrices["K"][i2, i1] * step / stiffness
+    mass = matrices.M[i2, i2]
+    damping_total = matrices.C[i2, i2] + damping
+    stiffness = matrices.K[i2, i2]
+    static = -matrices.K[i2, i1] * step / stiffness
     a = np.array([[0.0, 1.0], [-stiffness / mass, -damping_total / mass]])
     phi = expm(a * float(time_s[1] - time_s[0]))
     # the deviation from the static value starts at -static (q2 = 0, at rest) at t = 0
