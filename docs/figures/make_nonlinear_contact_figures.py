@@ -5,9 +5,9 @@ root)::
     PYTHONPATH=src python3 docs/figures/make_nonlinear_contact_figures.py
 
 * manchester_contact_benchmark.png: the Manchester contact benchmark's case A-2.2
-  (S1002 on UIC60 1:40, 10 kN a wheel, 2.4 mrad of yaw per mm), lateral and normal forces
-  of both wheels against CONTACT's results (tests/test_manchester_contact.py holds them),
-  with FASTSIM and Polach;
+  (S1002 on UIC60 1:40, 10 kN a wheel, 2.4 mrad of yaw per mm), lateral, normal and
+  longitudinal forces against CONTACT's results (tests/test_manchester_contact.py holds
+  them, docs/validation.md lists them), with FASTSIM and Polach;
 * nonlinear_critical_speed_manchester_s1002.png: what
   ``express critical-speed examples/manchester-s1002.toml --nonlinear --plot`` draws.
 """
@@ -42,22 +42,22 @@ def benchmark_figure() -> Figure:
     curves = {}
     for law in ("fastsim", "polach"):
         rows = [quasi_static_forces(contact, v * 1e-3, YAW_PER_MM * v, speed=2.0, law=law) for v in y]
-        curves[law] = np.array([(-r["Y_left"], r["N_left"], abs(r["Y_right"])) for r in rows]) / 1e3
+        curves[law] = np.array([(-r["Y_left"], r["N_left"], abs(r["Y_right"]), -r["Fx_left"]) for r in rows]) / 1e3
+    ref_y = REFERENCE["y_mm"]
+    references = (REFERENCE["right_FY_N"] / 1e3, np.abs(REFERENCE["left_FY_N"]) / 1e3, REFERENCE["right_FX_N"] / 1e3)
     with matplotlib.rc_context(STYLE):
-        figure = Figure(figsize=(9.0, 4.2))
-        axes = figure.subplots(1, 2)
-        panels = ((0, 1, "flanging wheel: lateral force on the rail [kN]"), (2, 3, "other wheel: |lateral force| [kN]"))
-        for axis, (column, ref_column, label) in zip(axes, panels, strict=True):
-            reference = REFERENCE[:, ref_column] / 1e3
-            if column == 2:
-                reference = np.abs(REFERENCE[:, 4]) / 1e3
+        figure = Figure(figsize=(12.0, 4.2))
+        axes = figure.subplots(1, 3)
+        panels = ((0, "flanging wheel: lateral force on the rail [kN]"), (2, "other wheel: |lateral force| [kN]"),
+                  (3, "flanging wheel: longitudinal force on the rail [kN]"))
+        for axis, (column, label), reference in zip(axes, panels, references, strict=True):
             axis.plot(y, curves["fastsim"][:, column], color="C0", label="EXPRESS, FASTSIM")
             axis.plot(y, curves["polach"][:, column], color="C1", linestyle="--", label="EXPRESS, Polach")
-            axis.plot(REFERENCE[:, 0], reference, "o", color="black", markersize=4, label="CONTACT (Vollebregt)")
+            axis.plot(ref_y, reference, "o", color="black", markersize=4, label="CONTACT (Vollebregt)")
             axis.set_xlabel("lateral displacement y [mm] (yaw 2.4 mrad per mm)")
             axis.set_ylabel(label)
         axes[0].plot(y, curves["fastsim"][:, 1], color="C2", linewidth=1.0, label="EXPRESS normal force [kN]")
-        axes[0].plot(REFERENCE[:, 0], REFERENCE[:, 2] / 1e3, "s", color="C2", markersize=3,
+        axes[0].plot(ref_y, REFERENCE["right_FN_N"] / 1e3, "s", color="C2", markersize=3,
                      label="CONTACT normal force [kN]")
         axes[0].legend(fontsize="small", loc="upper left")
         figure.suptitle("Manchester contact benchmark A-2.2: S1002 on UIC60 1:40, 10 kN a wheel, mu 0.3")
