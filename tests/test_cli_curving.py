@@ -61,3 +61,36 @@ def test_bad_curves_exit_2_and_write_nothing(capsys, tmp_path, argv, mentions):
     table = tmp_path / "c.csv"
     assert_input_error(capsys, "curving", CONVENTIONAL, *argv, "-o", table, mentions=mentions)
     assert not table.exists()
+
+
+def test_simulate_assess_on_a_bundled_track(capsys, tmp_path):
+    table = tmp_path / "run.csv"
+    status, out, err = run(capsys, "simulate", CONVENTIONAL, "--track", "R600", "--assess", "--dt", "0.01", "-o", table,
+                           "--json")
+    assert status == 0, err
+    import json
+
+    data = json.loads(out)
+    assert "bundled track R600" in data["track_used"] and "track's speed 115 km/h" in data["track_used"]
+    assert data["speed"] == pytest.approx(115 / 3.6)
+    names = {c["name"] for c in data["assessment"]["criteria"]}
+    assert {"YQ1L", "YQ1L_nadal", "SY4", "dQQ0"} <= names
+    assert all(c["limit"] is not None for c in data["assessment"]["criteria"])
+    header = table.read_text().splitlines()[0].split(",")
+    assert {"YQ1L", "SY1_N", "Q1L_N", "aoa1_rad", "gamma1R_rad", "flanging1L"} <= set(header)
+
+
+def test_simulate_says_which_track_and_speed(capsys, tmp_path):
+    status, out, _ = run(capsys, "simulate", CONVENTIONAL, "--dt", "0.02")
+    assert status == 0 and "no --track given" in out and "track's speed 120 km/h" in out
+    status, out, _ = run(capsys, "simulate", CONVENTIONAL, "--track", "R1000", "--speed", "100", "--dt", "0.02")
+    assert status == 0 and "overridden" in out
+
+
+def test_simulate_derailment_exits_1_and_keeps_history(capsys, tmp_path):
+    table = tmp_path / "run.csv"
+    # mu = 1: Nadal's limit at 70 degrees falls to 0.47, below the leading wheel's flanging Y/Q
+    status, out, err = run(capsys, "simulate", CONVENTIONAL, "--track", "R250", "--speed", "90", "--assess",
+                           "--dt", "0.01", "--set", "mu=1.0", "-o", table)
+    assert status == 1, err
+    assert "derails" in err and table.exists()

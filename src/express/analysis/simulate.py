@@ -48,7 +48,8 @@ from express.rail.nonlinear import wheelset_forces
 from express.rail.track import Track
 
 __all__ = [
-    "SimulationResult", "TrackInputs", "bogie_of_wheelsets", "contact_tables_of", "lever_bodies", "simulate", "track_inputs",
+    "SimulationResult", "TrackInputs", "bogie_of_wheelsets", "contact_tables_of", "lever_bodies", "output_unit", "simulate",
+    "track_inputs",
 ]
 
 
@@ -105,7 +106,7 @@ class SimulationResult:
         for dof in self.dofs:
             units[f"{dof}_dot"] = f"{units[dof]}/s"
         for name in self.outputs:
-            units[name] = next((unit for prefix, unit in _OUTPUT_UNITS if name.startswith(prefix)), "")
+            units[name] = output_unit(name)
         return units
 
     def to_csv(self) -> str:
@@ -133,9 +134,15 @@ class SimulationResult:
 
 #: Units of the derived outputs by name prefix (longest prefixes first).
 _OUTPUT_UNITS = (
-    ("QP", ""), ("Qtot", "N"), ("Q", "N"), ("flange", "N"), ("NL", "N"), ("NR", "N"), ("psi_TW", "rad"), ("theta_", "rad"),
-    ("dy", "m"), ("rho", "1/m"), ("S", "m"), ("stop_", "N"),
+    ("QP", ""), ("Qtot", "N"), ("Q", "N"), ("flanging", ""), ("flange", "N"), ("NL", "N"), ("NR", "N"),
+    ("psi_TW", "rad"), ("theta_", "rad"), ("dy", "m"), ("dQQ0", ""), ("rho", "1/m"), ("SY", "N"), ("S", "m"),
+    ("stop_", "N"), ("YQ", ""), ("Y", "N"), ("Fx", "N"), ("gamma", "rad"), ("aoa", "rad"), ("u", "m"),
 )
+
+
+def output_unit(name: str) -> str:
+    """SI unit of a derived output by its name (``""`` for ratios, flags and unknown names)."""
+    return next((unit for prefix, unit in _OUTPUT_UNITS if name.startswith(prefix)), "")
 
 
 def _safe_keys(columns: dict[str, np.ndarray]) -> dict[str, np.ndarray]:

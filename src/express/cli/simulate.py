@@ -41,8 +41,10 @@ def add_parser(subparsers) -> None:
         "170 m, transition, straight) at the model's speed. Exit status 1 when the run diverges.",
     )
     common.add_model_arguments(parser)
-    parser.add_argument("--track", type=Path, metavar="FILE", help="track file (.toml, docs/track.md); default: the paper's curve")
-    parser.add_argument("--speed", type=common.SPEED, metavar="SPEED", help=common.SPEED.help("running speed", "the model's speed"))
+    parser.add_argument("--track", metavar="NAME|FILE", help="track file (.toml, docs/track.md) or a bundled curve "
+                        "(R250, R400, R600, R1000, R3000, paper; docs/curving.md); default: the paper's curve, said so")
+    parser.add_argument("--speed", type=common.SPEED, metavar="SPEED",
+                        help=common.SPEED.help("running speed", "the track's speed, else the model's"))
     parser.add_argument("--dt", type=common.DT, default=0.005, metavar="DT",
                         help=common.DT.help("time step", f"0.005 s; at most {MAX_STEPS:,} steps"))
     parser.add_argument("--linear", action="store_true", help="no flange contact and no creep saturation")
@@ -50,14 +52,18 @@ def add_parser(subparsers) -> None:
                         help="time histories: .csv (units in the header), .npz or .mat by suffix, - for CSV on "
                         "standard output (repeatable)")
     parser.add_argument("--plot", type=common.figure_path, metavar="FILE", help="figure of the run (.png, .svg or .pdf)")
+    parser.add_argument("--assess", action="store_true",
+                        help="EN 14363 running safety: (Y/Q)2m against 0.8 and Nadal, (ΣY)2m against Prud'homme, "
+                        "ΔQ/Q0, each with its limit and pass/fail (docs/curving.md); the per-wheel outputs join the "
+                        "histories; exit status 1 when the vehicle derails (the histories are still written)")
     common.add_json_option(parser)
     parser.set_defaults(handler=run, numeric=True)
 
 
 def run(
-    model: Path, overrides: dict[str, str], *, track: Path | None = None, speed: float | None = None,
+    model: Path, overrides: dict[str, str], *, track: str | None = None, speed: float | None = None,
     dt: float = 0.005, linear: bool = False, outputs: list[str] | None = None, plot: Path | None = None,
-    as_json: bool = False,
+    assess: bool = False, as_json: bool = False,
 ) -> int:
     """Simulate and write the outputs all together; returns the exit status."""
     from express.io.output import output_transaction
@@ -65,17 +71,18 @@ def run(
     outputs = list(outputs or [])
     if "-" in outputs and as_json:
         raise UsageError("-o - and --json both write to standard output; choose one")
-    inputs = [model] + ([track] if track is not None else [])
+    inputs = [model] + ([Path(track)] if track is not None and Path(track).is_file() else [])
     failure = None
+    assessment = None
     with output_transaction(inputs) as transaction:
         for path in outputs:
             transaction.declare(path, binary=Path(path).suffix.lower() in (".npz", ".mat"))
         if plot is not None:
             transaction.declare(plot, binary=True)
-        road = common.load_track(track)
+        road, where = common.track_and_name(track)
         transaction.add_inputs(_files_read_by(road))
         vehicle = common.load_rail_vehicle(model, overrides, "simulate")
-        v = common.running_speed(vehicle, speed)
+        v, where = _speed_and_source(vehicle, speed, road, where)
         steps = road.length / (v * dt)
         if steps > MAX_STEPS:
             raise UsageError(f"--dt {dt:g} s: {steps:,.0f} steps for {road.length:g} m at {v / common.KMH:g} km/h; "
@@ -85,6 +92,8 @@ def run(
 
         divergence = find_divergence(result, vehicle)
         if divergence is None:
+            if assess and not linear:
+                assessment = _assess(vehicle, road, result)
             _write(result, outputs, plot, f"{vehicle.equations.name}: {v / common.KMH:.0f} km/h, {_track_name(track)}")
         else:
             failure = _diverged(result, vehicle, divergence, [p for p in outputs if p != "-"])
@@ -93,16 +102,57 @@ def run(
     for path in [p for p in outputs if p != "-"] + ([str(plot)] if plot is not None else []):
         common.note(f"wrote {path}")
     summary = {
-        "model": str(model), "track": str(track) if track is not None else "paper_curve", "speed": v,
+        "model": str(model), "track": str(track) if track is not None else "paper", "track_used": where, "speed": v,
         "speed_kmh": v / common.KMH, "track_length": road.length, "dt": dt, "linear": bool(linear),
         "steps": int(result.time.size), "max_abs": result.max_abs(),
         "outputs_written": [p for p in outputs if p != "-"] + ([str(plot)] if plot is not None else []),
     }
+    if assessment is not None:
+        summary["assessment"] = assessment.as_dict()
+    stream = sys.stderr if "-" in outputs else sys.stdout
     if as_json:
         common.print_json(summary)
     else:
-        _print_summary(vehicle.equations.name, summary, track, sys.stderr if "-" in outputs else sys.stdout)
+        _print_summary(vehicle.equations.name, summary, track, stream)
+        if assessment is not None:
+            _print_assessment(assessment, stream)
+    if assessment is not None and assessment.derailment is not None:
+        raise AnalysisError(f"simulate: the vehicle derails: {assessment.derailment}; the histories were written")
     return 0
+
+
+def _speed_and_source(vehicle: Any, speed: float | None, road: Any, where: str) -> tuple[float, str]:
+    """The running speed: ``--speed``, else the track's, else the model's; and the track
+    sentence saying which was used (a track's speed is never silently ignored)."""
+    if speed is not None:
+        note = f"; --speed {speed / common.KMH:g} km/h"
+        if road.speed is not None and abs(road.speed - speed) > 1e-9:
+            note += f" (the track's own speed {road.speed / common.KMH:g} km/h is overridden)"
+        return speed, where + note
+    if road.speed is not None:
+        return road.speed, where + f"; at the track's speed {road.speed / common.KMH:g} km/h"
+    v = common.running_speed(vehicle, None)
+    return v, where + f"; at the model's speed {v / common.KMH:g} km/h"
+
+
+def _assess(vehicle: Any, road: Any, result: Any) -> Any:
+    """EN 14363 running safety of the run; its per-wheel outputs join the histories."""
+    from express.analysis.curving.assessment import assess_run
+
+    wheel_rail, assessment = assess_run(vehicle, road, result)
+    result.outputs.update({name: values for name, values in wheel_rail.columns().items() if name not in result.outputs})
+    return assessment
+
+
+def _print_assessment(assessment: Any, stream: Any) -> None:
+    print("running safety (EN 14363 quantities, docs/curving.md):", file=stream)
+    for c in assessment.criteria:
+        verdict = "n/a (no limit)" if c.passed is None else ("pass" if c.passed else "FAIL")
+        scale, unit = (1e-3, " kN") if c.unit == "N" else (1.0, "")
+        limit = "-" if c.limit is None else f"{c.limit * scale:.3f}{unit}"
+        print(f"  {c.name:<12} {c.value * scale:9.3f}{unit}  limit {limit:<12} {verdict}", file=stream)
+    if assessment.derailment is not None:
+        print(f"  DERAILMENT: {assessment.derailment}", file=stream)
 
 
 def _files_read_by(road: Any) -> list[str]:
@@ -152,12 +202,13 @@ def _marked(path: str) -> str:
     return str(target.with_name(f"{target.stem}.diverged{target.suffix}"))
 
 
-def _track_name(path: Path | None) -> str:
-    return path.name if path is not None else "paper's curve (R = 400 m, 95 mm cant)"
+def _track_name(track: str | None) -> str:
+    return Path(track).name if track is not None else "paper's curve (R = 400 m, 95 mm cant)"
 
 
-def _print_summary(name: str, summary: dict, track: Path | None, stream: Any) -> None:
+def _print_summary(name: str, summary: dict, track: str | None, stream: Any) -> None:
     v = summary["speed"]
+    print(f"track: {summary['track_used']}", file=stream)
     print(f"{name}: {_track_name(track)}, {summary['track_length']:.1f} m at {v / common.KMH:.1f} km/h "
           f"({v:.2f} m/s), dt = {summary['dt']:g} s"
           f"{', linear' if summary['linear'] else ', flange contact and creep saturation'}", file=stream)
@@ -167,12 +218,15 @@ def _print_summary(name: str, summary: dict, track: Path | None, stream: Any) ->
 
 
 def _with_unit(name: str, value: float) -> str:
-    if name.startswith(("Q", "flange")) and not name.startswith("QP"):
+    from express.analysis.simulate import output_unit
+
+    unit = output_unit(name)
+    if unit == "N":
         return f"{value / 1e3:10.3f} kN"
-    if name.startswith(("psi", "theta")):
+    if unit == "rad":
         return f"{value * 1e3:10.3f} mrad"
-    if name.startswith(("dy", "S")):
+    if unit == "m":
         return f"{value * 1e3:10.3f} mm"
-    if name.startswith("rho"):
+    if unit == "1/m":
         return f"{value:10.5f} 1/m"
     return f"{value:10.4f}" if math.isfinite(value) else f"{value:>10}"

@@ -27,7 +27,8 @@ import numpy as np
 
 from express.analysis.curving.measure import wheel_rail_outputs
 from express.analysis.curving.outputs import WheelRailOutputs
-from express.analysis.simulate import TrackInputs, derived_outputs
+from express.analysis.simulate import derived_outputs
+from express.analysis.track_inputs import TrackInputs
 from express.assembly.clearance import clearance_force, clearances_of
 from express.base.diagnostics import ArgumentError, InputError
 from express.model.parameters import expression_value
