@@ -90,7 +90,7 @@ def test_simulate_says_which_track_and_speed(capsys, tmp_path):
 def test_simulate_derailment_exits_1_and_keeps_history(capsys, tmp_path):
     table = tmp_path / "run.csv"
     # mu = 1: Nadal's limit at 70 degrees falls to 0.47, below the leading wheel's flanging Y/Q
-    status, out, err = run(capsys, "simulate", CONVENTIONAL, "--track", "R250", "--speed", "90", "--assess",
+    status, _, err = run(capsys, "simulate", CONVENTIONAL, "--track", "R250", "--speed", "90", "--assess",
                            "--dt", "0.01", "--set", "mu=1.0", "-o", table)
     assert status == 1, err
     assert "derails" in err and table.exists()
