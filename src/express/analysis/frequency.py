@@ -341,7 +341,7 @@ def frequency_response(
     model = vehicle.model
     if model is not None and model.rail is not None:
         for point in model.rail.outputs:
-            row = point_lateral_row(model, vehicle.equations, point.body, point.offset)
+            row = point_lateral_row(model, vehicle.dofs, point.body, point.offset)
             outputs[point.name] = X @ row
     return FrequencyResponse(
         frequencies=f,

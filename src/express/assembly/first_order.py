@@ -13,7 +13,16 @@ give, with ``Z = C_FF^-1``::
 
     X~_D = X_D - C_DF Z X_F  (X = P, Pd, K, f),   C~_DD = C_DD - C_DF Z C_FD
 
-which is ``x' = A x + B u + Bd u' + G f``.  Without first-order coordinates this is the
+which is ``x' = A x + B u + Bd u' + G f``.
+
+Limits of a series element (:func:`series_limits`, applied before the state form): with
+zero damping ``c = 0`` the stroke follows the spring, ``s = delta``, no force passes
+and the stroke is condensed out statically (``K~ = K - K_.s K_ss^-1 K_s.``, the same
+for ``P``, ``P2``, ``Pd``), which removes exactly the element's stiffness; with zero
+stiffness ``k = 0`` no force passes and the stroke, decoupled, is dropped; with
+infinite damping the stroke is locked, ``s = 0``, and the element is its spring alone
+(the stroke's row and column are dropped).  Each equals the model without the element
+(or with the plain spring).  Without first-order coordinates this is the
 usual ``A = [[0, I], [-M^-1 K, -M^-1 C]]`` with state ``[q; q']``, computed in the
 same floating-point operations as before.
 
@@ -35,7 +44,7 @@ import numpy as np
 
 from express.base.diagnostics import InputError
 
-__all__ = ["FirstOrderError", "IndefiniteMassError", "StateForm", "state_form"]
+__all__ = ["FirstOrderError", "IndefiniteMassError", "SeriesLimits", "StateForm", "series_limits", "state_form"]
 
 
 class FirstOrderError(InputError):
@@ -110,6 +119,81 @@ class StateForm:
         if u_rate is not None and self.first_order.size:
             result = result + u_rate @ self.velocity_rate.T
         return result
+
+
+@dataclass(frozen=True)
+class SeriesLimits:
+    """The matrices with the strokes of series elements at a limit removed.
+
+    Attributes
+    ----------
+    kept : numpy.ndarray of int
+        Indices of the coordinates kept (in order).
+    removed : tuple of str
+        Names of the strokes removed.
+    matrices : tuple of numpy.ndarray
+        ``M, C0, C1, K, P0, P2, Pd`` on the kept coordinates.
+    """
+
+    kept: np.ndarray
+    removed: tuple[str, ...]
+    matrices: tuple[np.ndarray, ...]
+
+
+def series_limits(dofs, mass, damping_base, damping_creep, stiffness, forcing_base, forcing_speed2,
+                  forcing_rate, stroke: str = "stroke") -> SeriesLimits:
+    """Remove the strokes of series elements whose damping is 0 or infinite or whose
+    stiffness is 0 (module docstring).
+
+    Parameters
+    ----------
+    dofs : sequence of str
+        Coordinate names, ``<element>.stroke`` for a stroke; length n.
+    mass, damping_base, damping_creep, stiffness : numpy.ndarray, shape (n, n)
+    forcing_base, forcing_speed2, forcing_rate : numpy.ndarray, shape (n, m)
+    stroke : str
+        The suffix of a stroke's name.
+
+    Returns
+    -------
+    SeriesLimits
+        With ``removed`` empty (and the matrices as given) when no element is at a limit.
+
+    Examples
+    --------
+    A mass on a spring ``k0`` and a series element ``(k, c = 0)``: the stroke is
+    condensed out and only ``k0`` is left.
+
+    >>> limits = series_limits(["B.x", "e.stroke"], np.diag([2.0, 0.0]), np.zeros((2, 2)),
+    ...                        np.zeros((2, 2)), np.array([[5.0, -3.0], [-3.0, 3.0]]),
+    ...                        np.zeros((2, 1)), np.zeros((2, 1)), np.zeros((2, 1)))
+    >>> limits.removed, limits.matrices[3]
+    (('e.stroke',), array([[2.]]))
+    """
+    matrices = (mass, damping_base, damping_creep, stiffness, forcing_base, forcing_speed2, forcing_rate)
+    strokes = [i for i, name in enumerate(dofs) if name.endswith(f".{stroke}") and not mass[i, i]]
+    locked = [i for i in strokes if np.isinf(damping_base[i, i])]
+    free = [i for i in strokes if i not in locked and (damping_base[i, i] == 0 or stiffness[i, i] == 0)]
+    if not locked and not free:
+        return SeriesLimits(np.arange(len(dofs)), (), matrices)
+    k = stiffness.copy()
+    forcing = [forcing_base.copy(), forcing_speed2.copy(), forcing_rate.copy()]
+    condensed = np.array([i for i in free if stiffness[i, i] != 0], dtype=int)
+    if condensed.size:  # c = 0: the stroke follows the spring (s = delta), statically
+        rest = np.setdiff1d(np.arange(len(dofs)), condensed)
+        k_ss = stiffness[np.ix_(condensed, condensed)]
+        coupling = np.linalg.solve(k_ss, stiffness[np.ix_(condensed, rest)]).T  # K_.s K_ss^-1
+        k[np.ix_(rest, rest)] = stiffness[np.ix_(rest, rest)] - coupling @ stiffness[np.ix_(condensed, rest)]
+        for target in forcing:
+            target[rest] = target[rest] - coupling @ target[condensed]
+    removed = sorted(set(locked) | set(free))
+    kept = np.setdiff1d(np.arange(len(dofs)), removed)
+    damping = damping_base.copy()
+    damping[removed, :] = 0.0
+    damping[:, removed] = 0.0  # an infinite damper's entries leave with its stroke
+    square = (mass, damping, damping_creep, k)
+    reduced = tuple(x[np.ix_(kept, kept)] for x in square) + tuple(f[kept] for f in forcing)
+    return SeriesLimits(kept, tuple(dofs[i] for i in removed), reduced)
 
 
 def _first_order_indices(mass: np.ndarray) -> np.ndarray:

@@ -296,10 +296,13 @@ def range_problems(model: Model, overridden: Mapping[str, object] | None = None)
     checks = _checks(model)
     values = model.values()
     problems, notes, reported = [], [], set()
+    locked = {f"TSD {element.id}" for element in model.elements if getattr(element, "series", False)}
     for check in checks.checks:
         value = _value(check.expression, values)
         if value is None:
             continue
+        if value == float("inf") and check.site.what == "damping" and check.site.item in locked:
+            continue  # a series element's locked damper: the element is its spring
         key = check.expression.name if check.expression.is_Symbol else (check.site.item, check.site.what)
         if not check.valid.contains(value):
             if key not in reported:

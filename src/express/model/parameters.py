@@ -52,6 +52,9 @@ from express.base.units import (
     parse_quantity,
     si_unit,
 )
+from express.base.units import (
+    dimension as units_dimension,
+)
 from express.model.parameter_ranges import check_ranges
 from express.model.parameter_units import infer_dimensions, use_sites
 from express.model.records import Derivation, Model, Parameter
@@ -406,7 +409,9 @@ def override_values(model: Model, overrides: Mapping[str, float | str]) -> dict[
         parameter = model.parameters.get(name)
         dimension = parameter.dimension if parameter is not None else None
         try:
-            if isinstance(value, str):
+            if _infinite_damping(value, dimension):
+                number = math.inf  # a locked damper (express.assembly.first_order.series_limits)
+            elif isinstance(value, str):
                 number = quantity_value(value, dimension)
             elif isinstance(value, bool):
                 raise UnitError(f"expected a number, got {value}")
@@ -422,6 +427,15 @@ def override_values(model: Model, overrides: Mapping[str, float | str]) -> dict[
     if problems:
         raise ModelError(problems)
     return values
+
+
+def _infinite_damping(value, dimension) -> bool:
+    """``inf`` given for a damping: a series element's locked damper (other elements
+    with it are refused where their matrices are evaluated, as not finite)."""
+    infinite = (isinstance(value, str) and value.strip().lower() in ("inf", "infinity")) or (
+        isinstance(value, float) and value == math.inf)
+    return infinite and dimension is not None and dimension in (units_dimension("damping"),
+                                                                units_dimension("rotational_damping"))
 
 
 def _unknown(name: str, known: set[str]) -> str:

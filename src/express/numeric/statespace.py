@@ -26,7 +26,7 @@ import numpy as np
 import sympy as sp
 
 from express.assembly.equations import STROKE, EquationsOfMotion, Matrices
-from express.assembly.first_order import FirstOrderError, IndefiniteMassError, StateForm, state_form
+from express.assembly.first_order import FirstOrderError, IndefiniteMassError, StateForm, series_limits, state_form
 from express.base.diagnostics import ArgumentError, ModelError, Problem
 from express.base.threads import limited_blas
 from express.base.units import KMH
@@ -119,6 +119,9 @@ class VehicleModel:
     _evaluator: Any = field(default=None, repr=False, compare=False)
     _speed_name: str | None = field(default=None, repr=False, compare=False)
     _rail_numbers: Any = field(default=None, repr=False, compare=False)
+    #: strokes of series elements at a limit, removed from the coordinates
+    #: (:func:`express.assembly.first_order.series_limits`)
+    inactive: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         # x = [q; q_D'] (express.assembly.first_order): [q; q'] unless series elements add
@@ -128,7 +131,10 @@ class VehicleModel:
 
     @property
     def dofs(self) -> tuple[str, ...]:
-        return self.equations.dofs
+        """The coordinates: the equations' DOFs without the :attr:`inactive` strokes."""
+        if not self.inactive:
+            return self.equations.dofs
+        return tuple(dof for dof in self.equations.dofs if dof not in self.inactive)
 
     @property
     def inputs(self) -> tuple[str, ...]:
@@ -137,14 +143,14 @@ class VehicleModel:
     @property
     def n(self) -> int:
         """Number of DOFs."""
-        return len(self.equations.dofs)
+        return len(self.dofs)
 
     def dof_index(self, name: str) -> int:
         """Index of a DOF by name (``ValueError`` naming the DOFs if unknown)."""
         try:
-            return self.equations.dofs.index(name)
+            return self.dofs.index(name)
         except ValueError:
-            raise ArgumentError(f"unknown DOF {name!r}; DOFs: {', '.join(self.equations.dofs)}") from None
+            raise ArgumentError(f"unknown DOF {name!r}; DOFs: {', '.join(self.dofs)}") from None
 
     def damping(self, v: float) -> np.ndarray:
         """The vehicle's damping matrix ``C(v)`` at speed ``v`` [m/s], shape (n, n)."""
@@ -224,13 +230,13 @@ class VehicleModel:
 
 
 def _state_form(vehicle: VehicleModel) -> StateForm:
-    if not vehicle.equations.dofs:  # an empty file, or bodies without DOFs
+    if not vehicle.dofs:  # an empty file, or bodies without DOFs
         source = vehicle.model.source if vehicle.model is not None else vehicle.equations.name
         raise ModelError([Problem(source, None, "model", "no DOFs: no body has a DOF, there is nothing to analyse")])
     # only a series element's damper stroke may be massless (a first-order coordinate);
     # a body DOF without mass (mc = 0) would silently become one (issue 17)
     diagonal = np.diag(vehicle.mass)
-    massless = [dof for dof, m in zip(vehicle.equations.dofs, diagonal, strict=True)
+    massless = [dof for dof, m in zip(vehicle.dofs, diagonal, strict=True)
                 if not m > 0 and not dof.endswith(f".{STROKE}")]
     if massless:
         source = vehicle.model.source if vehicle.model is not None else vehicle.equations.name
@@ -249,7 +255,7 @@ def _state_form(vehicle: VehicleModel) -> StateForm:
         if isinstance(error, IndefiniteMassError):
             _invert_mass(vehicle.mass, vehicle.equations, vehicle.model)
         source = vehicle.model.source if vehicle.model is not None else vehicle.equations.name
-        dofs = ", ".join(vehicle.equations.dofs[i] for i in error.bad)
+        dofs = ", ".join(vehicle.dofs[i] for i in error.bad)
         raise SingularMassError(
             [Problem(source, None, "mass matrix", f"M cannot be inverted: {error} ({dofs}); give it a mass or a damper")]
         ) from None
@@ -330,10 +336,13 @@ def _evaluate_vehicle(
     missing = [name for name in equations.parameters if name not in values]
     if missing:
         raise ModelError(undefined_name_problems(model, missing) or _missing(model, missing))
+    finite, locked = _locked_dampers(model, equations, values)
     try:
-        base, c1, p2 = _speed_split(evaluator, values)
+        base, c1, p2 = _speed_split(evaluator, finite)
     except ValueError as error:
         raise ModelError([Problem(model.source, None, "parameters", str(error))]) from None
+    for i in locked:
+        base["C"][i, i] = np.inf
     n, m = len(equations.dofs), len(equations.inputs)
     wheelsets: tuple[WheelsetData, ...] = ()
     stations = np.zeros(0)
@@ -345,17 +354,23 @@ def _evaluate_vehicle(
         speed, wheelsets, stations = rail_numbers(model, values)
     else:
         layout = None
+    limits = series_limits(
+        equations.dofs, base["M"], base["C"], c1, base["K"], base.get("P", np.zeros((n, m))), p2,
+        base.get("Pd", np.zeros((n, m))), STROKE,
+    )
+    mass, damping, creep, stiffness, forcing, forcing2, forcing_rate = limits.matrices
     vehicle = VehicleModel(
         equations=equations,
         values=values,
         speed=speed,
-        mass=base.M,
-        stiffness=base.K,
-        damping_base=base.C,
-        damping_creep=c1,
-        forcing_base=base.P if base.P is not None else np.zeros((n, m)),
-        forcing_speed2=p2,
-        forcing_rate_matrix=base.Pd if base.Pd is not None else np.zeros((n, m)),
+        mass=mass,
+        stiffness=stiffness,
+        damping_base=damping,
+        damping_creep=creep,
+        forcing_base=forcing,
+        forcing_speed2=forcing2,
+        forcing_rate_matrix=forcing_rate,
+        inactive=limits.removed,
         layout=layout,
         wheelsets=wheelsets,
         station_positions=stations,
@@ -365,6 +380,22 @@ def _evaluate_vehicle(
     vehicle._speed_name = speed_name
     vehicle._rail_numbers = rail_numbers
     return vehicle
+
+
+def _locked_dampers(model: Model, equations: EquationsOfMotion, values: dict[str, float]) -> tuple[dict[str, float], list[int]]:
+    """Values with every infinite damping replaced by 1 for the evaluation, and the
+    strokes of the series elements whose damping has such a parameter (locked by it) (their ``C`` entry is
+    set back to inf for :func:`express.assembly.first_order.series_limits`)."""
+    infinite = [name for name, value in values.items() if value == np.inf]
+    if not infinite:
+        return values, []
+    locked = []
+    for element in model.elements:
+        name = f"{element.id}.{STROKE}"
+        symbols: set[sp.Symbol] = getattr(element.damping, "free_symbols", set())
+        if getattr(element, "series", False) and name in equations.dofs and {s.name for s in symbols} & set(infinite):
+            locked.append(equations.dofs.index(name))
+    return {**values, **dict.fromkeys(infinite, 1.0)}, locked
 
 
 class _RailNumbers:
@@ -424,20 +455,23 @@ def _numeric(model: Model, values: Mapping[str, float]):
     return evaluate
 
 
-def point_lateral_row(model: Model, equations: EquationsOfMotion, body_id: str, offset) -> np.ndarray:
+def point_lateral_row(model: Model, dofs: EquationsOfMotion | tuple[str, ...], body_id: str, offset) -> np.ndarray:
     """Row vector giving the lateral displacement of a point on a body from ``q``.
 
-    ``u_y = y + rz lx - rx lz`` in the body's track frame (shape (n,)).
+    ``u_y = y + rz lx - rx lz`` in the body's track frame (shape (n,)); ``dofs`` are the
+    coordinates (a vehicle's :attr:`VehicleModel.dofs`, or equations for theirs).
     """
+    if isinstance(dofs, EquationsOfMotion):
+        dofs = dofs.dofs
     numeric = _numeric(model, model.values())
     body = model.body(body_id)
     lx = numeric(offset[0], f"body {body_id}", "offset")
     lz = numeric(offset[2], f"body {body_id}", "offset")
-    row = np.zeros(len(equations.dofs))
+    row = np.zeros(len(dofs))
     for dof, coefficient in (("y", 1.0), ("rz", lx), ("rx", -lz)):
         name = f"{body.id}.{dof}"
-        if dof in body.dofs and name in equations.dofs:
-            row[equations.dofs.index(name)] += coefficient
+        if dof in body.dofs and name in dofs:
+            row[dofs.index(name)] += coefficient
     return row
 
 

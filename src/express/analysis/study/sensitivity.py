@@ -147,6 +147,9 @@ def _pencil_derivatives(vehicle: VehicleModel, speed: float, eigenvalues, state_
     """``d lambda_k / dp`` for every name, shape (len(names), E), and ``d lambda_k / dv``,
     shape (E,), of the eigenpairs ``(eigenvalues[k], state_vectors[:, k])`` of ``A(speed)``
     (module docstring)."""
+    if vehicle.inactive:  # the exact derivatives are of the full equations
+        raise ValueError(f"no sensitivities at a series element's limit (zero or infinite damping, zero "
+                         f"stiffness: {', '.join(vehicle.inactive)} removed); move the parameter off the limit")
     n = vehicle.n
     lam = np.atleast_1d(np.asarray(eigenvalues, dtype=complex))
     right = np.asarray(state_vectors, dtype=complex).reshape(-1, lam.size)[:n]
