@@ -148,7 +148,7 @@ def _pencil_derivatives(vehicle: VehicleModel, speed: float, eigenvalues, state_
     shape (E,), of the eigenpairs ``(eigenvalues[k], state_vectors[:, k])`` of ``A(speed)``
     (module docstring)."""
     if vehicle.inactive:  # the exact derivatives are of the full equations
-        raise ValueError(f"no sensitivities at a series element's limit (zero or infinite damping, zero "
+        raise ArgumentError(f"no sensitivities at a series element's limit (zero or infinite damping, zero "
                          f"stiffness: {', '.join(vehicle.inactive)} removed); move the parameter off the limit")
     n = vehicle.n
     lam = np.atleast_1d(np.asarray(eigenvalues, dtype=complex))
