@@ -19,24 +19,53 @@ linearisation at the node's amplitude (``tests/test_contact_tables.py``).
 
 from __future__ import annotations
 
-from typing import Any
+from typing import NamedTuple
 
 import numpy as np
 import sympy as sp
-from numba import njit
+from numba import njit, types
+from numba.extending import overload
 
-from express.analysis.integrator import bump_stops
+from express.analysis.integrator import (
+    WheelsetCoordinates,
+    bump_stop_arrays,
+    run_march,
+    wheel_rail_feedback,
+    wheelset_coordinates,
+)
 from express.analysis.track_inputs import track_inputs
 from express.base.diagnostics import ArgumentError
 from express.model.parameters import expression_value
-from express.rail.contact_forces import LAWS, OUTPUTS, WORK_COLUMNS, WheelsetContact, wheelset_forces
+from express.rail.contact_forces import (
+    LAWS,
+    OUTPUTS,
+    WORK_FIELDS,
+    ContactSet,
+    WheelsetContact,
+    contact_set,
+    wheelset_forces,
+)
 from express.rail.curve import station_of
 from express.rail.profile_contact import contact_terms, profile_nodes
 from express.rail.wheelrail import irregularity_input, wheelset_terms
 
 __all__ = [
-    "contact_arrays", "contact_force_history", "contact_outputs", "contact_rhs", "linear_coefficients", "march_contact",
+    "LINEAR_TERMS", "ContactFeedback", "contact_arrays", "contact_force_history", "contact_outputs", "contact_rhs",
+    "linear_coefficients", "linear_wheel_rail", "march_contact",
 ]
+
+#: The model's linear wheel/rail terms of a wheelset, in the order of the columns of
+#: :func:`linear_coefficients`: (row, column, matrix) with ``y`` the lateral and ``psi``
+#: the yaw coordinate, ``yR`` the rail irregularity and ``rho`` the curvature input.
+LINEAR_TERMS = (
+    ("y", "y", "K"), ("y", "psi", "K"), ("y", "y", "C"), ("y", "psi", "C"), ("y", "yR", "P"), ("y", "rho", "P"),
+    ("psi", "y", "K"), ("psi", "psi", "K"), ("psi", "y", "C"), ("psi", "psi", "C"), ("psi", "yR", "P"),
+    ("psi", "rho", "P"),
+)
+#: Columns of the lateral row (then of the yaw row) of :data:`LINEAR_TERMS`: K_y, K_psi, C_y, C_psi, P_yR, P_rho.
+_LATERAL_ROW = tuple(i for i, term in enumerate(LINEAR_TERMS) if term[0] == "y")
+_YAW_ROW = tuple(i for i, term in enumerate(LINEAR_TERMS) if term[0] == "psi")
+
 
 def _linear_terms(model) -> list[list[tuple[int, object]]]:
     """``(slot, expression)`` of every wheelset's linear wheel/rail terms (cached by model)."""
@@ -52,11 +81,9 @@ def _linear_terms(model) -> list[list[tuple[int, object]]]:
         curvature = by_body[wheelset.body].curvature_input
         stiffness, damping, forces = wheelset_terms(wheelset, rail.speed, curvature,
                                                     contact_terms(node) if node is not None else None)
-        y, psi = f"{wheelset.body}.y", f"{wheelset.body}.rz"
-        slot = {(y, y, "K"): 0, (y, psi, "K"): 1, (y, y, "C"): 2, (y, psi, "C"): 3,
-                (y, irregularity_input(wheelset), "P"): 4, (y, curvature, "P"): 5,
-                (psi, y, "K"): 6, (psi, psi, "K"): 7, (psi, y, "C"): 8, (psi, psi, "C"): 9,
-                (psi, irregularity_input(wheelset), "P"): 10, (psi, curvature, "P"): 11}
+        name = {"y": f"{wheelset.body}.y", "psi": f"{wheelset.body}.rz", "yR": irregularity_input(wheelset),
+                "rho": curvature}
+        slot = {(name[row], name[column], kind): i for i, (row, column, kind) in enumerate(LINEAR_TERMS)}
         terms_of.append([(slot[(row, column, kind)], value)
                          for kind, terms in (("K", stiffness), ("C", damping), ("P", forces))
                          for row, column, value in terms if (row, column, kind) in slot])
@@ -71,196 +98,132 @@ _TERMS: dict[int, tuple] = {}
 
 def linear_coefficients(vehicle, speed: float) -> np.ndarray:
     """The model's linear wheel/rail terms of every wheelset at ``speed`` [m/s], shape
-    (n_wheelsets, 12): ``K_y., K_psi.`` entries on (y, psi), ``C`` on (y', psi'), ``P`` on
-    (yR, rho), lateral row then yaw row (see the module docstring)."""
+    (n_wheelsets, len(LINEAR_TERMS)): :data:`LINEAR_TERMS` (``K`` on (y, psi), ``C`` on
+    (y', psi'), ``P`` on (yR, rho), lateral row then yaw row; the module docstring)."""
     model = vehicle.model
     rail = model.rail
     if not isinstance(rail.speed, sp.Symbol):
         raise ArgumentError("the contact simulation needs the model's speed as a parameter (rail.speed = \"v\")")
     values = {**vehicle.values, rail.speed.name: float(speed)}
     terms_of = _linear_terms(model)
-    out = np.zeros((len(terms_of), 12))
+    out = np.zeros((len(terms_of), len(LINEAR_TERMS)))
     for j, terms in enumerate(terms_of):
         for index, value in terms:
             out[j, index] += expression_value(value, values)
     return out
 
 
-def contact_arrays(contacts: list[WheelsetContact], law: str = "fastsim") -> dict:
-    """The tables and rail maps of the wheelsets stacked for the compiled march (cached
-    for the same contacts)."""
+def contact_arrays(contacts: list[WheelsetContact], law: str = "fastsim") -> ContactSet:
+    """The tables and rail maps of the wheelsets stacked for the compiled march
+    (:func:`express.rail.contact_forces.contact_set`, cached for the same contacts)."""
     if law not in LAWS:
         raise ArgumentError(f"creep law {law!r}: use one of {', '.join(LAWS)}")
     key = tuple((id(c.tables), id(c.rail_map), c.wheel_load, c.friction, c.rail_stiffness) for c in contacts)
     held = tuple(item for c in contacts for item in (c.tables, c.rail_map))
     cached = _ARRAYS.get(key)
     if cached is not None and all(a is b for a, b in zip(cached[0], held, strict=True)):
-        return {**cached[1], "law": LAWS[law]}
-    arrays = _stack(contacts)
+        return cached[1]._replace(law=LAWS[law])
+    arrays = contact_set(contacts, law)
     if len(_ARRAYS) >= 16:
         _ARRAYS.pop(next(iter(_ARRAYS)))
     _ARRAYS[key] = (held, arrays)
-    return {**arrays, "law": LAWS[law]}
+    return arrays
 
 
 _ARRAYS: dict[tuple, tuple] = {}
 
 
-def _stack(contacts: list[WheelsetContact]) -> dict:
-    count = len(contacts)
-    t_len = max(c.tables.data.shape[2] for c in contacts)
-    m_len = max(c.rail_map.contact.shape[1] for c in contacts)
-    fields = contacts[0].tables.data.shape[0]
-    tables = np.zeros((count, 2, t_len, fields))
-    maps = np.zeros((count, 2, m_len))
-    arrays: dict[str, Any] = {key: np.zeros(count) for key in ("t_start", "t_step", "m_start", "m_step", "load", "friction",
-                                                 "shear", "wall")}
-    arrays.update(t_count=np.zeros(count, dtype=np.int64), m_count=np.zeros(count, dtype=np.int64))
-    for j, contact in enumerate(contacts):
-        data, rail_map = contact.tables.data, contact.rail_map.contact
-        tables[j, :, : data.shape[2]] = contact.tables.kernel
-        maps[j, :, : rail_map.shape[1]] = rail_map
-        arrays["t_start"][j], arrays["t_step"][j] = contact.tables.start, contact.tables.step
-        arrays["m_start"][j], arrays["m_step"][j] = contact.rail_map.start, contact.rail_map.step
-        arrays["t_count"][j], arrays["m_count"][j] = data.shape[2], rail_map.shape[1]
-        arrays["load"][j], arrays["friction"][j] = contact.wheel_load, contact.friction
-        arrays["shear"][j], arrays["wall"][j] = contact.tables.shear_modulus, contact.wall
-    arrays.update(tables=tables, maps=maps)
-    return arrays
+class ContactFeedback(NamedTuple):
+    """The contact from profile tables of every wheelset, for
+    :func:`express.analysis.integrator.heun_march`: the contact forces less the model's
+    linear wheel/rail terms (the module docstring).
+
+    Attributes
+    ----------
+    wheelsets : WheelsetCoordinates
+    contacts : ContactSet
+    linear : numpy.ndarray, shape (n_wheelsets, len(LINEAR_TERMS))
+        :func:`linear_coefficients`.
+    """
+
+    wheelsets: WheelsetCoordinates
+    contacts: ContactSet
+    linear: np.ndarray
 
 
 @njit(cache=True)
-def _feedback(x, k, iy, ipsi, ivy, ivpsi, y_rail, rho, speed, tables, t_start, t_step, t_count, maps, m_start,
-              m_step, m_count, load, friction, shear, wall, law, linear, work, record, z):
-    count = iy.size
+def linear_wheel_rail(c, y, psi, y_dot, psi_dot, y_rail, rho):
+    """The model's linear lateral force [N] and yaw moment [N m] on a wheelset with the
+    coefficients ``c`` (a row of :func:`linear_coefficients`)."""
+    state = (y, psi, y_dot, psi_dot, y_rail, rho)
+    sign = (-1.0, -1.0, -1.0, -1.0, 1.0, 1.0)
+    lateral = 0.0
+    yaw = 0.0
+    for i in range(6):
+        lateral += sign[i] * c[_LATERAL_ROW[i]] * state[i]
+        yaw += sign[i] * c[_YAW_ROW[i]] * state[i]
+    return lateral, yaw
+
+
+@njit(cache=True)
+def contact_feedback(x, k, feedback, z, record):
+    """Contact forces (:func:`express.rail.contact_forces.wheelset_forces`) less the
+    linear terms of every wheelset into ``z``; the forces into ``record`` (n_wheelsets,
+    len(OUTPUTS))."""
+    w = feedback.wheelsets
+    count = w.iy.size
+    work = np.empty((2, len(WORK_FIELDS)))
     for j in range(count):
         out = record[j]
-        y = x[iy[j]]
-        psi = x[ipsi[j]]
-        y_dot = x[ivy[j]]
-        psi_dot = x[ivpsi[j]]
-        y_r = y_rail[k, j]
-        curvature = rho[k, j]
-        wheelset_forces(tables[j], t_start[j], t_step[j], t_count[j], maps[j], m_start[j], m_step[j], m_count[j],
-                        load[j], friction[j], shear[j], wall[j], law, y - y_r, psi, y_dot, psi_dot, curvature,
-                        speed, work, out)
-        c = linear[j]
-        lateral = -(c[0] * y + c[1] * psi + c[2] * y_dot + c[3] * psi_dot) + c[4] * y_r + c[5] * curvature
-        yaw = -(c[6] * y + c[7] * psi + c[8] * y_dot + c[9] * psi_dot) + c[10] * y_r + c[11] * curvature
-        z[j] = out[0] - lateral
-        z[count + j] = out[1] - yaw
+        y, psi, y_dot, psi_dot = x[w.iy[j]], x[w.ipsi[j]], x[w.ivy[j]], x[w.ivpsi[j]]
+        y_rail, rho = w.y_rail[k, j], w.rho[k, j]
+        wheelset_forces(feedback.contacts, j, y - y_rail, psi, y_dot, psi_dot, rho, w.speed, work, out)
+        lateral, yaw = linear_wheel_rail(feedback.linear[j], y, psi, y_dot, psi_dot, y_rail, rho)
+        z[j] = out[_OUT_Y] - lateral
+        z[count + j] = out[_OUT_M] - yaw
 
 
-@njit(cache=True)
-def _march(phi, drive, g0, g1, x0, first, last, states, history, iy, ipsi, ivy, ivpsi, y_rail, rho, speed, tables,
-           t_start, t_step, t_count, maps, m_start, m_step, m_count, load, friction, shear, wall, law, linear,
-           stop_index, stop_coefficient, stop_offset, stop_gap, stop_k, stop_k3):
-    """Heun's scheme on the feedback over the exact discretisation, as
-    :func:`express.analysis.integrator.march`, with the contact feedback; the contact
-    forces of every state go to ``history`` (steps + 1, n_wheelsets, len(OUTPUTS))."""
-    size = x0.size
-    nz = g0.shape[1]
-    stops = stop_gap.size > 0
-    wheel = 2 * iy.size
-    x = x0.copy()
-    z = np.zeros(nz)
-    z_next = np.zeros(nz)
-    base = np.zeros(size)
-    trial = np.zeros(size)
-    work = np.zeros((2, WORK_COLUMNS))
-    scratch = np.zeros((iy.size, history.shape[2]))
-    _feedback(x, first, iy, ipsi, ivy, ivpsi, y_rail, rho, speed, tables, t_start, t_step, t_count, maps, m_start,
-              m_step, m_count, load, friction, shear, wall, law, linear, work, history[first], z)
-    if stops:
-        bump_stops(x, first, stop_index, stop_coefficient, stop_offset, stop_gap, stop_k, stop_k3, wheel, z)
-    for k in range(first, last):
-        for i in range(size):
-            total = drive[k, i]
-            for j in range(size):
-                total += phi[i, j] * x[j]
-            base[i] = total
-            held = 0.0
-            for j in range(nz):
-                held += g0[i, j] * z[j]
-            trial[i] = total + held
-        _feedback(trial, k + 1, iy, ipsi, ivy, ivpsi, y_rail, rho, speed, tables, t_start, t_step, t_count, maps,
-                  m_start, m_step, m_count, load, friction, shear, wall, law, linear, work, scratch, z_next)
-        if stops:
-            bump_stops(trial, k + 1, stop_index, stop_coefficient, stop_offset, stop_gap, stop_k, stop_k3, wheel,
-                        z_next)
-        for i in range(size):
-            total = base[i]
-            for j in range(nz):
-                total += g0[i, j] * z[j] + g1[i, j] * (z_next[j] - z[j])
-            x[i] = total
-        _feedback(x, k + 1, iy, ipsi, ivy, ivpsi, y_rail, rho, speed, tables, t_start, t_step, t_count, maps,
-                  m_start, m_step, m_count, load, friction, shear, wall, law, linear, work, history[k + 1], z)
-        if stops:
-            bump_stops(x, k + 1, stop_index, stop_coefficient, stop_offset, stop_gap, stop_k, stop_k3, wheel, z)
-        for i in range(size):
-            states[k + 1, i] = x[i]
-    return x
+_OUT_Y, _OUT_M = OUTPUTS.index("Y"), OUTPUTS.index("M")
 
 
-def _stop_arrays(wheel_rail: dict, size: int, steps: int) -> tuple:
-    rows = np.asarray(wheel_rail.get("stop_rows", np.zeros((0, size))), dtype=float)
-    width = max([1] + [int(np.count_nonzero(row)) for row in rows])
-    index = np.zeros((rows.shape[0], width), dtype=np.int64)
-    coefficient = np.zeros((rows.shape[0], width))
-    for s, row in enumerate(rows):  # the few nonzero terms of each deflection
-        nonzero = np.flatnonzero(row)
-        index[s, : nonzero.size], coefficient[s, : nonzero.size] = nonzero, row[nonzero]
-    return (index, coefficient,
-            np.ascontiguousarray(wheel_rail.get("stop_offset", np.zeros((steps + 1, 0))), dtype=float),
-            *(np.ascontiguousarray(wheel_rail.get(key, np.zeros(0)), dtype=float)
-              for key in ("stop_gap", "stop_k", "stop_k3")))
+@overload(wheel_rail_feedback)
+def _contact_law(x, k, feedback, z, record):
+    if isinstance(feedback, types.BaseNamedTuple) and feedback.instance_class is ContactFeedback:
+        return lambda x, k, feedback, z, record: contact_feedback(x, k, feedback, z, record)
+    return None
 
 
-def march_contact(phi, drive, g0, g1, x0, wheel_rail: dict, contact: dict, linear: np.ndarray, *, progress=None):
+def march_contact(phi, drive, g0, g1, x0, wheel_rail: dict, contact: ContactSet, linear: np.ndarray, *,
+                  progress=None):
     """March with the contact feedback (arguments as :func:`express.analysis.integrator.
     march`; ``contact`` from :func:`contact_arrays`, ``linear`` from
     :func:`linear_coefficients`); returns the states, shape (steps + 1, N), and the
     contact forces of each state (:func:`contact_force_history`)."""
     steps = drive.shape[0]
-    states = np.empty((steps + 1, x0.size))
-    states[0] = x0
-    w, c = wheel_rail, contact
-    history = np.zeros((steps + 1, len(w["iy"]), len(OUTPUTS)))
-    stops = _stop_arrays(w, x0.size, steps)
-    chunk = steps if progress is None else max(1, steps // 50)
-    x = np.ascontiguousarray(x0, dtype=float)
-    for first in range(0, steps, chunk):
-        last = min(steps, first + chunk)
-        x = _march(phi, drive, g0, g1, x, first, last, states, history, w["iy"], w["ipsi"], w["ivy"], w["ivpsi"],
-                   w["y_rail"], w["rho"], float(w["speed"]), c["tables"], c["t_start"], c["t_step"], c["t_count"],
-                   c["maps"], c["m_start"], c["m_step"], c["m_count"], c["load"], c["friction"], c["shear"],
-                   c["wall"], int(c["law"]), np.ascontiguousarray(linear), *stops)
-        if progress is not None:
-            progress(last / steps)
+    feedback = ContactFeedback(wheelset_coordinates(wheel_rail, x0.size), contact, np.ascontiguousarray(linear))
+    history = np.zeros((steps + 1, len(wheel_rail["iy"]), len(OUTPUTS)))
+    states = run_march(phi, drive, g0, g1, x0, feedback, bump_stop_arrays(wheel_rail, x0.size, steps), history,
+                       progress)
     return states, history
 
 
 @njit(cache=True)
-def _history(y, psi, y_dot, psi_dot, y_rail, rho, speed, tables, t_start, t_step, t_count, maps, m_start, m_step,
-             m_count, load, friction, shear, wall, law, result):
-    work = np.zeros((2, WORK_COLUMNS))
+def _history(y, psi, y_dot, psi_dot, y_rail, rho, speed, contacts, result):
+    work = np.zeros((2, len(WORK_FIELDS)))
     for k in range(y.shape[0]):
         for j in range(y.shape[1]):
-            wheelset_forces(tables[j], t_start[j], t_step[j], t_count[j], maps[j], m_start[j], m_step[j],
-                            m_count[j], load[j], friction[j], shear[j], wall[j], law, y[k, j] - y_rail[k, j],
-                            psi[k, j], y_dot[k, j], psi_dot[k, j], rho[k, j], speed, work, result[k, j])
+            wheelset_forces(contacts, j, y[k, j] - y_rail[k, j], psi[k, j], y_dot[k, j], psi_dot[k, j], rho[k, j],
+                            speed, work, result[k, j])
 
 
-def contact_force_history(q, q_dot, iy, ipsi, y_rail, rho, speed, contact: dict) -> np.ndarray:
+def contact_force_history(q, q_dot, iy, ipsi, y_rail, rho, speed, contact: ContactSet) -> np.ndarray:
     """:data:`~express.rail.contact_forces.OUTPUTS` of every wheelset at every step,
     shape (steps, n_wheelsets, len(OUTPUTS))."""
-    c = contact
     y, psi = np.ascontiguousarray(q[:, iy]), np.ascontiguousarray(q[:, ipsi])
     y_dot, psi_dot = np.ascontiguousarray(q_dot[:, iy]), np.ascontiguousarray(q_dot[:, ipsi])
     result = np.zeros((q.shape[0], len(iy), len(OUTPUTS)))
-    _history(y, psi, y_dot, psi_dot, np.ascontiguousarray(y_rail), np.ascontiguousarray(rho), float(speed),
-             c["tables"], c["t_start"], c["t_step"], c["t_count"], c["maps"], c["m_start"], c["m_step"], c["m_count"],
-             c["load"], c["friction"], c["shear"], c["wall"], int(c["law"]), result)
+    _history(y, psi, y_dot, psi_dot, np.ascontiguousarray(y_rail), np.ascontiguousarray(rho), float(speed), contact,
+             result)
     return result
 
 
@@ -312,12 +275,9 @@ def contact_rhs(vehicle, track, contacts: list[WheelsetContact], *, speed: float
         q_dot = vehicle.form.velocities(x, inputs.u[0], inputs.u_rate[0])
         history = contact_force_history(x[None, :n], q_dot[None, :], iy, ipsi, inputs.y_rail, inputs.rho_wheelsets,
                                         v, arrays)[0]
-        y_r, rho = inputs.y_rail[0], inputs.rho_wheelsets[0]
-        c = linear
-        q = x[:n]
-        lateral = -(c[:, 0] * q[iy] + c[:, 1] * q[ipsi] + c[:, 2] * q_dot[iy] + c[:, 3] * q_dot[ipsi]) + c[:, 4] * y_r + c[:, 5] * rho
-        yaw = -(c[:, 6] * q[iy] + c[:, 7] * q[ipsi] + c[:, 8] * q_dot[iy] + c[:, 9] * q_dot[ipsi]) + c[:, 10] * y_r + c[:, 11] * rho
-        z = np.concatenate([history[:, 0] - lateral, history[:, 1] - yaw])
+        terms = np.array([linear_wheel_rail(linear[j], x[iy[j]], x[ipsi[j]], q_dot[iy[j]], q_dot[ipsi[j]],
+                                            inputs.y_rail[0, j], inputs.rho_wheelsets[0, j]) for j in range(len(iy))])
+        z = np.concatenate([history[:, _OUT_Y] - terms[:, 0], history[:, _OUT_M] - terms[:, 1]])
         return a @ x + b @ inputs.u[0] + bd @ inputs.u_rate[0] + selector @ z
 
     return rhs

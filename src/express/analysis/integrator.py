@@ -10,16 +10,28 @@ forces ``z`` (flange contact, creep saturation) are fed back with a first-order 
 whose end value comes from a predictor step (Heun's scheme on the feedback only).
 
 The inner loop is compiled with Numba; it is the reason the project depends on it
-(a 460 m curving run takes milliseconds).
+(a 460 m curving run takes milliseconds).  There is one march, :func:`heun_march`; what
+varies is the wheel/rail feedback, a NamedTuple whose type picks the compiled law
+(:func:`wheel_rail_feedback`): the dead-band flange spring with creep saturation
+(:class:`DeadbandFeedback`, here) or the contact from profile tables
+(:class:`express.analysis.contact_march.ContactFeedback`).
 """
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
-from numba import njit
+from numba import njit, types
+from numba.extending import overload
 from scipy.linalg import expm
 
-__all__ = ["discretize", "march"]
+from express.rail.nonlinear import longitudinal_creepage, penetration, saturation_ratio
+
+__all__ = [
+    "BumpStops", "DeadbandFeedback", "WheelsetCoordinates", "bump_stop_arrays", "bump_stops", "discretize",
+    "heun_march", "march", "run_march", "wheel_rail_feedback", "wheelset_coordinates",
+]
 
 
 def discretize(a: np.ndarray, dt: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -61,66 +73,165 @@ def discretize(a: np.ndarray, dt: float) -> tuple[np.ndarray, np.ndarray, np.nda
     return phi, gamma0, gamma1
 
 
-@njit(cache=True, fastmath=False)
-def _feedback(x, ivy, ivpsi, k, iy, ipsi, y_rail, rho, speed, f1, f2, conicity, r0, b, clearance, k_rail, limit, flange, saturation, z):
-    count = iy.size
+class WheelsetCoordinates(NamedTuple):
+    """Where the wheelsets are in the state and the track under them, for the compiled
+    feedback laws.
+
+    Attributes
+    ----------
+    iy, ipsi : numpy.ndarray of int, shape (n_wheelsets,)
+        The wheelsets' lateral and yaw coordinates in the state.
+    ivy, ivpsi : numpy.ndarray of int, shape (n_wheelsets,)
+        Their velocities in the state.
+    y_rail, rho : numpy.ndarray, shape (steps + 1, n_wheelsets)
+        Lateral rail irregularity [m] and track curvature [1/m] at each wheelset.
+    speed : float
+        [m/s].
+    """
+
+    iy: np.ndarray
+    ipsi: np.ndarray
+    ivy: np.ndarray
+    ivpsi: np.ndarray
+    y_rail: np.ndarray
+    rho: np.ndarray
+    speed: float
+
+
+class DeadbandFeedback(NamedTuple):
+    """The dead-band flange spring and the Shen-Hedrick-Elkins saturation
+    (:mod:`express.rail.nonlinear`) of every wheelset, for :func:`heun_march`.
+
+    Attributes
+    ----------
+    wheelsets : WheelsetCoordinates
+    f1, f2, conicity, r0, b, clearance, k_rail, limit : numpy.ndarray, shape (n_wheelsets,)
+        Creep coefficients [N], conicity [-], wheel radius [m], half contact distance [m],
+        flange clearance [m], rail stiffness [N/m], ``mu Q`` [N].
+    flange, saturation : bool
+        Include flange contact / creep saturation.
+    """
+
+    wheelsets: WheelsetCoordinates
+    f1: np.ndarray
+    f2: np.ndarray
+    conicity: np.ndarray
+    r0: np.ndarray
+    b: np.ndarray
+    clearance: np.ndarray
+    k_rail: np.ndarray
+    limit: np.ndarray
+    flange: bool
+    saturation: bool
+
+
+class BumpStops(NamedTuple):
+    """Bump stops (:mod:`express.assembly.clearance`) for the compiled march: the
+    deflection of stop ``s`` is ``offset[k, s] + sum coefficient[s, :] x[places[s, :]]``
+    (its few nonzero terms, at ``places[s, :]`` of the state); ``gap`` [m], ``stiffness`` [N/m], ``progressive`` [N/m^3]
+    (rotational: rad, N m/rad, N m/rad^3)."""
+
+    places: np.ndarray
+    coefficient: np.ndarray
+    offset: np.ndarray
+    gap: np.ndarray
+    stiffness: np.ndarray
+    progressive: np.ndarray
+
+
+def bump_stop_arrays(wheel_rail: dict, size: int, steps: int) -> BumpStops:
+    """:class:`BumpStops` from the ``stop_*`` entries of ``wheel_rail`` (:func:`march`;
+    none when absent)."""
+    rows = np.asarray(wheel_rail.get("stop_rows", np.zeros((0, size))), dtype=float)
+    width = max([1] + [int(np.count_nonzero(row)) for row in rows])
+    index = np.zeros((rows.shape[0], width), dtype=np.int64)
+    coefficient = np.zeros((rows.shape[0], width))
+    for s, row in enumerate(rows):  # the few nonzero terms of each deflection
+        nonzero = np.flatnonzero(row)
+        index[s, : nonzero.size], coefficient[s, : nonzero.size] = nonzero, row[nonzero]
+    return BumpStops(index, coefficient,
+                     np.ascontiguousarray(wheel_rail.get("stop_offset", np.zeros((steps + 1, 0))), dtype=float),
+                     *(np.ascontiguousarray(wheel_rail.get(key, np.zeros(0)), dtype=float)
+                       for key in ("stop_gap", "stop_k", "stop_k3")))
+
+
+def wheel_rail_feedback(x, k, feedback, z, record):
+    """The wheel/rail feedback forces of state ``x`` at step ``k`` into ``z[:2 n]``
+    (lateral of every wheelset, then yaw) and what the law records into ``record``.
+
+    Compiled only: each feedback NamedTuple type registers its law with
+    ``numba.extending.overload`` (:func:`_deadband_law` here,
+    :mod:`express.analysis.contact_march` for the contact tables)."""
+    raise NotImplementedError("wheel_rail_feedback runs inside compiled code only")
+
+
+@njit(cache=True)
+def deadband_feedback(x, k, feedback, z):
+    """Flange force plus saturated-minus-linear creep forces (:func:`express.rail.
+    nonlinear.wheelset_forces`) of every wheelset into ``z``."""
+    w = feedback.wheelsets
+    count = w.iy.size
     for j in range(count):
-        y = x[iy[j]]
-        psi = x[ipsi[j]]
-        y_dot = x[ivy[j]]
-        psi_dot = x[ivpsi[j]]
-        relative = y - y_rail[k, j]
-        xi_x = conicity[j] * relative / r0[j] + b[j] * psi_dot / speed + b[j] * rho[k, j]
-        xi_y = y_dot / speed - psi
+        relative = x[w.iy[j]] - w.y_rail[k, j]
+        xi_x = longitudinal_creepage(relative, x[w.ivpsi[j]], w.rho[k, j], w.speed, feedback.conicity[j],
+                                     feedback.r0[j], feedback.b[j])
+        xi_y = x[w.ivy[j]] / w.speed - x[w.ipsi[j]]
         factor = 1.0
-        if saturation:
-            force = np.sqrt((f1[j] * xi_x) ** 2 + (f2[j] * xi_y) ** 2)
-            ratio = force / limit[j]
-            if ratio > 0.0:
-                if ratio <= 3.0:
-                    factor = (ratio - ratio * ratio / 3.0 + ratio * ratio * ratio / 27.0) / ratio
-                else:
-                    factor = 1.0 / ratio
-        dy = 0.0
-        if flange:
-            if relative > clearance[j]:
-                dy = relative - clearance[j]
-            elif relative < -clearance[j]:
-                dy = relative + clearance[j]
-        z[j] = -k_rail[j] * dy + (factor - 1.0) * (-2.0 * f2[j] * xi_y)
-        z[count + j] = (factor - 1.0) * (-2.0 * b[j] * f1[j] * xi_x)
+        if feedback.saturation:
+            factor = saturation_ratio(np.sqrt((feedback.f1[j] * xi_x) ** 2 + (feedback.f2[j] * xi_y) ** 2),
+                                      feedback.limit[j])
+        dy = penetration(relative, feedback.clearance[j]) if feedback.flange else 0.0
+        z[j] = -feedback.k_rail[j] * dy + (factor - 1.0) * (-2.0 * feedback.f2[j] * xi_y)
+        z[count + j] = (factor - 1.0) * (-2.0 * feedback.b[j] * feedback.f1[j] * xi_x)
 
 
-@njit(cache=True, fastmath=False)
-def bump_stops(x, k, index, coefficient, offset, gap, stiffness, progressive, first, z):
-    """Bump-stop forces ``-F`` (express.assembly.clearance) into ``z[first:]``; the deflection
-    of stop ``s`` is ``sum coefficient[s, :] x[index[s, :]]`` (its few nonzero terms)."""
-    for s in range(gap.size):
-        delta = offset[k, s]
-        for i in range(index.shape[1]):
-            delta += coefficient[s, i] * x[index[s, i]]
+@overload(wheel_rail_feedback)
+def _deadband_law(x, k, feedback, z, record):
+    if isinstance(feedback, types.BaseNamedTuple) and feedback.instance_class is DeadbandFeedback:
+        return lambda x, k, feedback, z, record: deadband_feedback(x, k, feedback, z)
+    return None
+
+
+@njit(cache=True)
+def bump_stops(x, k, stops, first, z):
+    """Bump-stop forces ``-F`` (express.assembly.clearance) of :class:`BumpStops` into
+    ``z[first:]``."""
+    for s in range(stops.gap.size):
+        delta = stops.offset[k, s]
+        for i in range(stops.places.shape[1]):
+            delta += stops.coefficient[s, i] * x[stops.places[s, i]]
         e = 0.0
-        if delta > gap[s]:
-            e = delta - gap[s]
-        elif delta < -gap[s]:
-            e = delta + gap[s]
-        z[first + s] = -(stiffness[s] * e + progressive[s] * e * e * e)
+        if delta > stops.gap[s]:
+            e = delta - stops.gap[s]
+        elif delta < -stops.gap[s]:
+            e = delta + stops.gap[s]
+        z[first + s] = -(stops.stiffness[s] * e + stops.progressive[s] * e * e * e)
+
+
+@njit(cache=True)
+def _all_feedback(x, k, feedback, stops, z, record):
+    """Wheel/rail feedback, then the bump stops after it, into ``z``."""
+    wheel_rail_feedback(x, k, feedback, z, record)
+    if stops.gap.size > 0:
+        bump_stops(x, k, stops, z.size - stops.gap.size, z)
 
 
 @njit(cache=True, fastmath=True)
-def _march(phi, drive, g0, g1, x0, first, last, states, ivy, ivpsi, iy, ipsi, y_rail, rho, speed, f1, f2, conicity, r0, b, clearance, k_rail, limit, flange, saturation, stop_index, stop_coefficient, stop_offset, stop_gap, stop_k, stop_k3):
+def heun_march(phi, drive, g0, g1, x0, first, last, states, feedback, stops, history):
+    """Steps ``first .. last`` of ``x[k+1] = phi x[k] + drive[k] + g0 z[k] + g1 (z[k+1] - z[k])``
+    with the end value ``z[k+1]`` of the feedback from a predictor (Heun's scheme on the
+    feedback only); ``states[k + 1]`` gets each new state, ``history[k + 1]`` what the
+    feedback law records of it (shape (steps + 1, ...) ; empty trailing axes for a law
+    that records nothing).  Returns the last state."""
     size = x0.size
     nz = g0.shape[1]
-    stops = stop_gap.size > 0
-    wheel = 2 * iy.size
     x = x0.copy()
     z = np.zeros(nz)
     z_next = np.zeros(nz)
     base = np.zeros(size)
     trial = np.zeros(size)
-    _feedback(x, ivy, ivpsi, first, iy, ipsi, y_rail, rho, speed, f1, f2, conicity, r0, b, clearance, k_rail, limit, flange, saturation, z)
-    if stops:
-        bump_stops(x, first, stop_index, stop_coefficient, stop_offset, stop_gap, stop_k, stop_k3, wheel, z)
+    scratch = np.zeros_like(history[first])
+    _all_feedback(x, first, feedback, stops, z, history[first])
     for k in range(first, last):
         for i in range(size):
             total = drive[k, i]
@@ -131,24 +242,47 @@ def _march(phi, drive, g0, g1, x0, first, last, states, ivy, ivpsi, iy, ipsi, y_
             for j in range(nz):
                 held += g0[i, j] * z[j]
             trial[i] = total + held
-        _feedback(trial, ivy, ivpsi, k + 1, iy, ipsi, y_rail, rho, speed, f1, f2, conicity, r0, b, clearance, k_rail, limit, flange, saturation, z_next)
-        if stops:
-            bump_stops(trial, k + 1, stop_index, stop_coefficient, stop_offset, stop_gap, stop_k, stop_k3, wheel, z_next)
+        _all_feedback(trial, k + 1, feedback, stops, z_next, scratch)
         for i in range(size):
             total = base[i]
             for j in range(nz):
                 total += g0[i, j] * z[j] + g1[i, j] * (z_next[j] - z[j])
             x[i] = total
-        _feedback(x, ivy, ivpsi, k + 1, iy, ipsi, y_rail, rho, speed, f1, f2, conicity, r0, b, clearance, k_rail, limit, flange, saturation, z)
-        if stops:
-            bump_stops(x, k + 1, stop_index, stop_coefficient, stop_offset, stop_gap, stop_k, stop_k3, wheel, z)
+        _all_feedback(x, k + 1, feedback, stops, z, history[k + 1])
         for i in range(size):
             states[k + 1, i] = x[i]
     return x
 
 
+def run_march(phi, drive, g0, g1, x0, feedback, stops: BumpStops, history: np.ndarray, progress=None) -> np.ndarray:
+    """:func:`heun_march` over every step (in 50 chunks when ``progress`` is given, called
+    with the fraction done after each); returns the states, shape (steps + 1, N)."""
+    steps = drive.shape[0]
+    states = np.empty((steps + 1, x0.size))
+    states[0] = x0
+    chunk = steps if progress is None else max(1, steps // 50)
+    x = np.ascontiguousarray(x0, dtype=float)
+    for first in range(0, steps, chunk):
+        last = min(steps, first + chunk)
+        x = heun_march(phi, drive, g0, g1, x, first, last, states, feedback, stops, history)
+        if progress is not None:
+            progress(last / steps)
+    return states
+
+
+def wheelset_coordinates(wheel_rail: dict, size: int) -> WheelsetCoordinates:
+    """:class:`WheelsetCoordinates` from ``wheel_rail`` (:func:`march`)."""
+    w = wheel_rail
+    half = size // 2
+    return WheelsetCoordinates(
+        np.ascontiguousarray(w["iy"], dtype=np.int64), np.ascontiguousarray(w["ipsi"], dtype=np.int64),
+        np.ascontiguousarray(w.get("ivy", half + w["iy"]), dtype=np.int64),
+        np.ascontiguousarray(w.get("ivpsi", half + w["ipsi"]), dtype=np.int64),
+        np.ascontiguousarray(w["y_rail"], dtype=float), np.ascontiguousarray(w["rho"], dtype=float), float(w["speed"]))
+
+
 def march(phi, drive, g0, g1, x0, wheel_rail, *, flange=True, saturation=True, progress=None):
-    """March the discretized system over all steps.
+    """March the discretized system over all steps with the dead-band wheel/rail law.
 
     Parameters
     ----------
@@ -175,34 +309,11 @@ def march(phi, drive, g0, g1, x0, wheel_rail, *, flange=True, saturation=True, p
     numpy.ndarray, shape (steps + 1, N)
         States at every step.
     """
-    steps = drive.shape[0]
-    states = np.empty((steps + 1, x0.size))
-    states[0] = x0
     w = wheel_rail
-    half = x0.size // 2
-    ivy = np.ascontiguousarray(w.get("ivy", half + w["iy"]), dtype=np.int64)
-    ivpsi = np.ascontiguousarray(w.get("ivpsi", half + w["ipsi"]), dtype=np.int64)
-    rows = np.asarray(w.get("stop_rows", np.zeros((0, x0.size))), dtype=float)
-    width = max([1] + [int(np.count_nonzero(row)) for row in rows])
-    index = np.zeros((rows.shape[0], width), dtype=np.int64)
-    coefficient = np.zeros((rows.shape[0], width))
-    for s, row in enumerate(rows):  # the few nonzero terms of each deflection
-        nonzero = np.flatnonzero(row)
-        index[s, : nonzero.size], coefficient[s, : nonzero.size] = nonzero, row[nonzero]
-    stops = (
-        index, coefficient,
-        np.ascontiguousarray(w.get("stop_offset", np.zeros((steps + 1, 0))), dtype=float),
-        *(np.ascontiguousarray(w.get(key, np.zeros(0)), dtype=float) for key in ("stop_gap", "stop_k", "stop_k3")),
-    )
-    chunk = steps if progress is None else max(1, steps // 50)
-    x = np.ascontiguousarray(x0, dtype=float)
-    for first in range(0, steps, chunk):
-        last = min(steps, first + chunk)
-        x = _march(
-            phi, drive, g0, g1, x, first, last, states, ivy, ivpsi, w["iy"], w["ipsi"], w["y_rail"], w["rho"],
-            float(w["speed"]), w["f1"], w["f2"], w["conicity"], w["r0"], w["b"], w["clearance"],
-            w["k_rail"], w["limit"], bool(flange), bool(saturation), *stops,
-        )
-        if progress is not None:
-            progress(last / steps)
-    return states
+    feedback = DeadbandFeedback(wheelset_coordinates(w, x0.size),
+                                *(np.ascontiguousarray(w[key], dtype=float) for key in
+                                  ("f1", "f2", "conicity", "r0", "b", "clearance", "k_rail", "limit")),
+                                bool(flange), bool(saturation))
+    steps = drive.shape[0]
+    return run_march(phi, drive, g0, g1, x0, feedback, bump_stop_arrays(w, x0.size, steps),
+                     np.zeros((steps + 1, 0, 0)), progress)

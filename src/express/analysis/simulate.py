@@ -44,6 +44,7 @@ from express.base.diagnostics import ArgumentError
 from express.base.threads import limited_blas
 from express.model.topology import classify_bodies
 from express.numeric.statespace import VehicleModel
+from express.rail.contact_forces import ContactSet
 from express.rail.nonlinear import wheelset_forces
 from express.rail.track import Track
 
@@ -303,7 +304,7 @@ def simulate(
     return SimulationResult(time, distance, vehicle.dofs, q, q_dot, outputs, v, options)
 
 
-def contact_tables_of(vehicle: VehicleModel, contact: str | None, creep_law: str) -> dict | None:
+def contact_tables_of(vehicle: VehicleModel, contact: str | None, creep_law: str) -> ContactSet | None:
     """The stacked contact tables when the contact comes from profiles (``None``: the
     dead-band model)."""
     if contact not in (None, "tables", "deadband"):

@@ -229,6 +229,7 @@ class CompiledMatrices:
     def _split(self, constant: np.ndarray, at: list[np.ndarray]) -> SpeedSplit:
         """Separate the speed on the entry vectors (no dense work beyond one assembly)."""
         one, two, three = at
+        v1, v2, v3 = SPLIT_SPEEDS
         for values in (constant, *at):
             if not np.all(np.isfinite(values)):
                 raise ArgumentError("the matrices are not finite at these parameter values (division by zero or overflow)")
@@ -242,14 +243,14 @@ class CompiledMatrices:
         wrong = False
         for key, (_, _, sources0, sources1) in self._scatter.items():
             s1, s2, s3 = one[sources1], two[sources1], three[sources1]
-            if key == "C":
-                creep = 2.0 * (s1 - s2)
-                base_values[key], extra[key] = s1 - creep, creep
-                wrong |= _largest(base_values[key] + creep / 3.0 - s3) > 1e-9 * scale
-            elif key == "P":
-                speed2 = (s2 - s1) / 3.0
-                base_values[key], extra[key] = s1 - speed2, speed2
-                wrong |= _largest(base_values[key] + speed2 * 9.0 - s3) > 1e-9 * scale
+            if key == "C":  # C(v) = C0 + C1 / v at v1, v2; checked at v3
+                creep = (s1 - s2) / (1.0 / v1 - 1.0 / v2)
+                base_values[key], extra[key] = s1 - creep / v1, creep
+                wrong |= _largest(base_values[key] + creep / v3 - s3) > 1e-9 * scale
+            elif key == "P":  # P(v) = P0 + P2 v^2
+                speed2 = (s2 - s1) / (v2**2 - v1**2)
+                base_values[key], extra[key] = s1 - speed2 * v1**2, speed2
+                wrong |= _largest(base_values[key] + speed2 * v3**2 - s3) > 1e-9 * scale
             else:
                 base_values[key] = s1
                 size = max(_largest(constant[sources0]), _largest(s1))

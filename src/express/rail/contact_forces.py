@@ -37,6 +37,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
@@ -49,6 +50,7 @@ from express.rail.contact_tables import (
     C22,
     C23,
     COS_ANGLE,
+    FIELDS,
     RADIUS,
     ROLL_SLOPE,
     SECANT_CBRT,
@@ -63,13 +65,33 @@ from express.rail.contact_tables import (
 )
 from express.rail.creep_law import fastsim, polach
 
-__all__ = ["LAWS", "OUTPUTS", "WORK_COLUMNS", "WheelsetContact", "quasi_static_forces", "wheelset_contact", "wheelset_forces"]
+__all__ = [
+    "FASTSIM", "LAWS", "OUTPUTS", "POLACH", "WORK_FIELDS", "ContactSet", "WheelsetContact", "contact_set",
+    "quasi_static_forces", "wheelset_contact", "wheelset_forces",
+]
 
 #: Entries of the output vector of :func:`wheelset_forces`.
 OUTPUTS = ("Y", "M", "N_left", "N_right", "Y_left", "Y_right", "Fx_left", "Fx_right", "u_left", "u_right",
            "angle_left", "angle_right", "beyond")
+#: Creep laws of :func:`wheelset_forces`, by named constant and by name.
+POLACH, FASTSIM = 0, 1
+LAWS = {"polach": POLACH, "fastsim": FASTSIM}
 #: Wall stiffness beyond the tables when the rails are rigid [N/m].
 _RIGID_WALL = 1e8
+
+
+def _sides(name: str) -> tuple[int, int]:
+    """Places of ``name_left``, ``name_right`` in :data:`OUTPUTS`."""
+    return OUTPUTS.index(f"{name}_left"), OUTPUTS.index(f"{name}_right")
+
+
+_OUT_Y, _OUT_M, _OUT_BEYOND = (OUTPUTS.index(name) for name in ("Y", "M", "beyond"))
+_OUT_NORMAL, _OUT_LATERAL, _OUT_FX, _OUT_U, _OUT_ANGLE = (_sides(name) for name in ("N", "Y", "Fx", "u", "angle"))
+
+#: Columns of the work array of :func:`wheelset_forces`: the table's fields, then the
+#: quantities of each contact the kernel computes.
+WORK_FIELDS = FIELDS + ("normal", "fx", "lateral", "f11", "u", "scale")
+_NORMAL, _FX, _LATERAL, _F11, _U, _SCALE = (WORK_FIELDS.index(name) for name in WORK_FIELDS[len(FIELDS):])
 
 
 @dataclass(frozen=True, eq=False)
@@ -119,6 +141,72 @@ def wheelset_contact(tables: ContactTables, wheel_load: float, friction: float,
 _MAPS: dict[tuple, tuple] = {}
 
 
+class ContactSet(NamedTuple):
+    """The contacts of ``n`` wheelsets stacked for the compiled kernels (numba compiles
+    a NamedTuple of arrays); wheelset ``j`` is row ``j`` of every array.
+
+    Attributes
+    ----------
+    tables : numpy.ndarray, shape (n, 2, rows, len(FIELDS))
+        Contact tables in the kernel layout (:attr:`~express.rail.contact_tables.
+        ContactTables.kernel`), padded to the longest.
+    table_start, table_step : numpy.ndarray, shape (n,)
+        The tables' grids [m].
+    table_count : numpy.ndarray of int, shape (n,)
+        Nodes of each table.
+    rail_maps : numpy.ndarray, shape (n, 2, nodes)
+        Contact positions ``u`` over the wheelset displacement (:class:`~express.rail.
+        contact_tables.RailMap`) [m], padded.
+    map_start, map_step : numpy.ndarray, shape (n,)
+        The maps' grids [m].
+    map_count : numpy.ndarray of int, shape (n,)
+    wheel_load, friction, shear_modulus, wall : numpy.ndarray, shape (n,)
+        Static wheel load [N], mu [-], G [Pa], stiffness beyond the tables [N/m].
+    law : int
+        :data:`POLACH` or :data:`FASTSIM`.
+    """
+
+    tables: np.ndarray
+    table_start: np.ndarray
+    table_step: np.ndarray
+    table_count: np.ndarray
+    rail_maps: np.ndarray
+    map_start: np.ndarray
+    map_step: np.ndarray
+    map_count: np.ndarray
+    wheel_load: np.ndarray
+    friction: np.ndarray
+    shear_modulus: np.ndarray
+    wall: np.ndarray
+    law: int
+
+
+def contact_set(contacts: list[WheelsetContact], law: str = "fastsim") -> ContactSet:
+    """The contacts of the wheelsets stacked for the compiled kernels."""
+    if law not in LAWS:
+        raise ArgumentError(f"creep law {law!r}: use one of {', '.join(LAWS)}")
+    count = len(contacts)
+    t_len = max(c.tables.data.shape[2] for c in contacts)
+    m_len = max(c.rail_map.contact.shape[1] for c in contacts)
+    tables = np.zeros((count, 2, t_len, len(FIELDS)))
+    maps = np.zeros((count, 2, m_len))
+    for j, contact in enumerate(contacts):
+        tables[j, :, : contact.tables.data.shape[2]] = contact.tables.kernel
+        maps[j, :, : contact.rail_map.contact.shape[1]] = contact.rail_map.contact
+
+    def each(value) -> np.ndarray:
+        return np.array([value(c) for c in contacts], dtype=float)
+
+    return ContactSet(
+        tables, each(lambda c: c.tables.start), each(lambda c: c.tables.step),
+        np.array([c.tables.data.shape[2] for c in contacts], dtype=np.int64),
+        maps, each(lambda c: c.rail_map.start), each(lambda c: c.rail_map.step),
+        np.array([c.rail_map.contact.shape[1] for c in contacts], dtype=np.int64),
+        each(lambda c: c.wheel_load), each(lambda c: c.friction), each(lambda c: c.tables.shear_modulus),
+        each(lambda c: c.wall), LAWS[law],
+    )
+
+
 @njit(cache=True)
 def _interpolate(data, start, step, count, u, side, values):
     """Fields of ``side`` at ``u`` into ``values[:fields]`` (the first ``count`` nodes of
@@ -145,30 +233,27 @@ def _map(contact, start, step, count, y, side):
     return (1.0 - t) * contact[side, k] + t * contact[side, k + 1], y - clamped
 
 
-#: Columns of the work array of :func:`wheelset_forces` after the table's fields.
-_NORMAL, _FX, _LATERAL, _F11, _U, _SCALE = range(16, 22)
-_COS, _SIN, _SIN_AXLE, _TAN_AXLE = COS_ANGLE, SIN_ANGLE, SIN_AXLE, TAN_AXLE
-WORK_COLUMNS = 22
-
-
 @njit(cache=True)
-def wheelset_forces(data, t_start, t_step, t_count, contact, m_start, m_step, m_count, wheel_load, friction,
-                    shear_modulus, wall, law, y, psi, y_dot, psi_dot, rho, speed, work, out):
-    """Forces of the rails on one wheelset (see the module docstring) into ``out``
-    (:data:`OUTPUTS`): lateral force ``Y`` [N] and yaw moment ``M`` [N m] on the
-    wheelset, each wheel's normal force, lateral force, longitudinal force, contact
+def wheelset_forces(contacts, j, y, psi, y_dot, psi_dot, rho, speed, work, out):
+    """Forces of the rails on wheelset ``j`` of ``contacts`` (see the module docstring)
+    into ``out`` (:data:`OUTPUTS`): lateral force ``Y`` [N] and yaw moment ``M`` [N m] on
+    the wheelset, each wheel's normal force, lateral force, longitudinal force, contact
     position ``u``, contact angle, and the overshoot beyond the tables [m].
 
-    ``data`` is a table in the kernel layout (2, >= t_count, fields)
-    (:attr:`~express.rail.contact_tables.ContactTables.kernel`), ``contact`` (2, >= m_count)
-    a rail map; ``work`` is scratch space of shape (2, :data:`WORK_COLUMNS`); ``law`` 0
-    Polach, 1 FASTSIM.
+    ``contacts`` is a :class:`ContactSet`; ``y`` [m] the wheelset's displacement from the
+    track, ``psi`` [rad] its yaw, ``y_dot`` [m/s], ``psi_dot`` [rad/s] their rates, ``rho``
+    [1/m] the track curvature, ``speed`` [m/s]; ``work`` is scratch space of shape
+    (2, len(:data:`WORK_FIELDS`)).
     """
     # size-reason: one numba kernel per wheelset and step, both wheels in one pass (no calls in the hot loop)
+    table, t_start, t_step, t_count = (contacts.tables[j], contacts.table_start[j], contacts.table_step[j],
+                                       contacts.table_count[j])
+    wheel_load, friction, shear_modulus = contacts.wheel_load[j], contacts.friction[j], contacts.shear_modulus[j]
     extra = 0.0
     for side in range(2):
-        position, over = _map(contact, m_start, m_step, m_count, y, side)
-        clamped = _interpolate(data, t_start, t_step, t_count, position, side, work[side])
+        position, over = _map(contacts.rail_maps[j], contacts.map_start[j], contacts.map_step[j],
+                              contacts.map_count[j], y, side)
+        clamped = _interpolate(table, t_start, t_step, t_count, position, side, work[side])
         work[side, _U] = clamped
         over += position - clamped
         if abs(over) > abs(extra):
@@ -183,7 +268,7 @@ def wheelset_forces(data, t_start, t_step, t_count, contact, m_start, m_step, m_
     bottom = 0.0
     for side in range(2):
         sigma = 1.0 - 2.0 * side
-        normal = wheel_load / work[side, _COS]
+        normal = wheel_load / work[side, COS_ANGLE]
         work[side, _NORMAL] = normal
         scale = load_cbrt * work[side, SECANT_CBRT]
         work[side, _SCALE] = scale
@@ -199,15 +284,15 @@ def wheelset_forces(data, t_start, t_step, t_count, contact, m_start, m_step, m_
         for side in range(2):
             sigma = 1.0 - 2.0 * side
             r = work[side, RADIUS]
-            cosine = work[side, _COS]
+            cosine = work[side, COS_ANGLE]
             normal = work[side, _NORMAL]
             scale = work[side, _SCALE]
             semi_a = work[side, SEMI_A] * scale
             semi_b = work[side, SEMI_B] * scale
             xi = 1.0 - rate * r - sigma * work[side, ARM] * q
             eta = (lateral_slip + r * roll_rate / speed) / cosine
-            phi = -sigma * rate * work[side, _SIN_AXLE] + q * cosine
-            if law == 1 and attempt == 1:
+            phi = -sigma * rate * work[side, SIN_AXLE] + q * cosine
+            if contacts.law == FASTSIM and attempt == 1:
                 fx, fy = fastsim(normal, friction, semi_a, semi_b, shear_modulus,
                                  work[side, C11], work[side, C22], work[side, C23], xi, eta, phi)
             else:
@@ -225,7 +310,7 @@ def wheelset_forces(data, t_start, t_step, t_count, contact, m_start, m_step, m_
             sigma = 1.0 - 2.0 * side
             old = work[side, _NORMAL]
             kappa = work[side, _LATERAL] / old
-            new = wheel_load / max(work[side, _COS] + sigma * kappa * work[side, _SIN], 0.05)
+            new = wheel_load / max(work[side, COS_ANGLE] + sigma * kappa * work[side, SIN_ANGLE], 0.05)
             work[side, _NORMAL] = new
             if attempt == 1:
                 work[side, _FX] *= new / old
@@ -240,32 +325,25 @@ def wheelset_forces(data, t_start, t_step, t_count, contact, m_start, m_step, m_
         sigma = 1.0 - 2.0 * side
         arm = work[side, ARM]
         normal = work[side, _NORMAL]
-        force_y = -sigma * normal * work[side, _SIN] + work[side, _LATERAL] * work[side, _COS]
-        lead = sigma * psi * (work[side, RADIUS] * work[side, _TAN_AXLE] - arm)
+        force_y = -sigma * normal * work[side, SIN_ANGLE] + work[side, _LATERAL] * work[side, COS_ANGLE]
+        lead = sigma * psi * (work[side, RADIUS] * work[side, TAN_AXLE] - arm)
         total_y += force_y
         total_m += -sigma * arm * work[side, _FX] + lead * force_y
-        out[4 + side] = force_y
-        out[2 + side] = normal
-        out[6 + side] = work[side, _FX]
-        out[8 + side] = work[side, _U]
-        out[10 + side] = work[side, ANGLE]
-    out[0] = total_y - wall * extra
-    out[1] = total_m
-    out[12] = extra
-
-
-#: Creep laws of :func:`wheelset_forces` by name.
-LAWS = {"polach": 0, "fastsim": 1}
+        out[_OUT_LATERAL[side]] = force_y
+        out[_OUT_NORMAL[side]] = normal
+        out[_OUT_FX[side]] = work[side, _FX]
+        out[_OUT_U[side]] = work[side, _U]
+        out[_OUT_ANGLE[side]] = work[side, ANGLE]
+    out[_OUT_Y] = total_y - contacts.wall[j] * extra
+    out[_OUT_M] = total_m
+    out[_OUT_BEYOND] = extra
 
 
 def quasi_static_forces(contact: WheelsetContact, y: float, psi: float = 0.0, y_dot: float = 0.0,
                         psi_dot: float = 0.0, rho: float = 0.0, speed: float = 1.0, law: str = "polach") -> dict[str, float]:
     """:func:`wheelset_forces` of one state, by name (:data:`OUTPUTS`); SI units; ``law``
     ``"polach"`` or ``"fastsim"``."""
-    tables, rail_map = contact.tables, contact.rail_map
     out = np.zeros(len(OUTPUTS))
-    wheelset_forces(tables.kernel, tables.start, tables.step, tables.data.shape[2], rail_map.contact, rail_map.start,
-                    rail_map.step, rail_map.contact.shape[1], contact.wheel_load, contact.friction,
-                    tables.shear_modulus, contact.wall, LAWS[law], float(y), float(psi), float(y_dot),
-                    float(psi_dot), float(rho), float(speed), np.zeros((2, WORK_COLUMNS)), out)
+    wheelset_forces(contact_set([contact], law), 0, float(y), float(psi), float(y_dot), float(psi_dot), float(rho),
+                    float(speed), np.zeros((2, len(WORK_FIELDS))), out)
     return dict(zip(OUTPUTS, out.tolist(), strict=True))

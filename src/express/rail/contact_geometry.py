@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
@@ -77,6 +78,29 @@ class ContactSetup:
         return 0.5 * self.flange_back + self.tapeline_offset
 
 
+class SurfaceTable(NamedTuple):
+    """A surface's uniform table for the compiled kernels: height ``z`` [m], slope ``dz``
+    [-] and second derivative ``ddz`` [1/m] at ``start + step * k`` [m]."""
+
+    start: float
+    step: float
+    z: np.ndarray
+    dz: np.ndarray
+    ddz: np.ndarray
+
+
+#: Results of :func:`_solve_all` for the wheelset at each ``y``, then for each contact
+#: (row 0 left, row 1 right) at each ``y``.
+WHEELSET_RESULTS = ("roll", "height")
+CONTACT_RESULTS = ("wheel_position", "track_position", "rail_height", "radius", "contact_angle", "wheel_curvature",
+                   "rail_curvature", "secondary_gap", "secondary_position")
+_ROLL, _HEIGHT = range(len(WHEELSET_RESULTS))
+(_WHEEL_POSITION, _TRACK_POSITION, _RAIL_HEIGHT, _RADIUS, _CONTACT_ANGLE, _WHEEL_CURVATURE, _RAIL_CURVATURE,
+ _SECONDARY_GAP, _SECONDARY_POSITION) = range(len(CONTACT_RESULTS))
+#: ``sigma`` of the left and right side.
+_SIDES = (1.0, -1.0)
+
+
 @dataclass(frozen=True, eq=False)
 class Surface:
     """A profile tabulated on a uniform lateral grid for the contact search.
@@ -94,6 +118,12 @@ class Surface:
     offset: float = 0.0
     top: float = 0.0
     alpha: float = 0.0
+
+    @property
+    def table(self) -> SurfaceTable:
+        """The arrays for the compiled kernels."""
+        return SurfaceTable(float(self.start), float(self.step), *(np.ascontiguousarray(a, dtype=float)
+                                                                   for a in (self.z, self.dz, self.ddz)))
 
 
 @dataclass(frozen=True)
@@ -330,23 +360,24 @@ def solve_contact(surfaces, y: np.ndarray, setup: ContactSetup, two_point_tolera
     """:func:`contact_geometry` on surfaces from :func:`prepare_surfaces` (reuse them
     when the same profiles are solved many times)."""
     wl, rl, wr, rr = surfaces
-    out = np.zeros((20, len(y)))
-    status = _solve_all(
-        y, setup.wheel_radius, setup.tapeline_half_distance,
-        wl.start, wl.step, wl.z, wl.dz, wl.ddz, rl.start, rl.step, rl.z, rl.dz, rl.ddz,
-        wr.start, wr.step, wr.z, wr.dz, wr.ddz, rr.start, rr.step, rr.z, rr.dz, rr.ddz, out,
-    )
+    wheelset = np.zeros((len(WHEELSET_RESULTS), len(y)))
+    contacts = np.zeros((len(CONTACT_RESULTS), 2, len(y)))
+    status = _solve_all(y, setup.wheel_radius, setup.tapeline_half_distance, (wl.table, wr.table),
+                        (rl.table, rr.table), wheelset, contacts)
     if status >= 0:
         raise ArgumentError(
             f"no contact on both wheels at y = {y[status] * 1e3:g} mm: the wheels do not reach the rails "
             "(check gauge, flange-back distance and the profiles' lateral origins)"
         )
-    return _table(y, out, setup, (rl, rr), two_point_tolerance, jump_threshold)
+    return _table(y, wheelset, contacts, setup, (rl, rr), two_point_tolerance, jump_threshold)
 
 
-def _table(y, out, setup, rails, two_point_tolerance, jump_threshold) -> ContactTable:
-    roll, height = out[0], out[1]
-    position, track, rail_height, radius, angle, kw, kr, gap2, position2 = out[2:].reshape(9, 2, len(y))
+def _table(y, wheelset, contacts, setup, rails, two_point_tolerance, jump_threshold) -> ContactTable:
+    roll, height = wheelset[_ROLL], wheelset[_HEIGHT]
+    position, track, rail_height, radius, angle = (contacts[field] for field in (
+        _WHEEL_POSITION, _TRACK_POSITION, _RAIL_HEIGHT, _RADIUS, _CONTACT_ANGLE))
+    kw, kr, gap2, position2 = (contacts[field] for field in (
+        _WHEEL_CURVATURE, _RAIL_CURVATURE, _SECONDARY_GAP, _SECONDARY_POSITION))
     # the rail contact in the upright rail's side frame: undo placement and inclination
     rail_position = np.empty_like(track)
     for row, rail in enumerate(rails):
@@ -389,22 +420,22 @@ def _hermite(start, step, z, dz, x):
 
 
 @njit(cache=True)
-def _scan(sigma, y, c, sn, r0, half, ws, wh, wz, rs, rh, rz, rdz, gaps, around, width):
+def _scan(sigma, y, c, sn, r0, half, wheel, rail, gaps, around, width):
     """Vertical gap at the wheel points (inf off the rail), all of them when ``around`` < 0,
     else the ``width`` either side of index ``around``; index of the smallest."""
     best = math.inf
     best_index = -1
-    first, last = 0, len(wz)
+    first, last = 0, len(wheel.z)
     if around >= 0:
-        first, last = max(0, around - width), min(len(wz), around + width + 1)
+        first, last = max(0, around - width), min(len(wheel.z), around + width + 1)
     for i in range(first, last):
-        yw = sigma * (half + ws + wh * i)
-        zw = -r0 + wz[i]
-        rail, _ = _hermite(rs, rh, rz, rdz, sigma * (y + c * yw - sn * zw))
-        if math.isnan(rail):
+        yw = sigma * (half + wheel.start + wheel.step * i)
+        zw = -r0 + wheel.z[i]
+        height, _ = _hermite(rail.start, rail.step, rail.z, rail.dz, sigma * (y + c * yw - sn * zw))
+        if math.isnan(height):
             gaps[i] = math.inf
             continue
-        gap = sn * yw + c * zw - rail
+        gap = sn * yw + c * zw - height
         gaps[i] = gap
         if gap < best:
             best = gap
@@ -422,12 +453,13 @@ def _linear(start, step, values, x):
 
 
 @njit(cache=True)
-def _refine(sigma, y, c, sn, r0, half, ws, wh, wz, wdz, wddz, rs, rh, rz, rdz, rddz, gaps, i):
+def _refine(sigma, y, c, sn, r0, half, wheel, rail, gaps, i):
     """Gap minimum near wheel point i: a parabola through the neighbours, then Newton
     steps on d gap / ds = 0 with the tables' curvatures (near-conformal contacts have a
     flat gap, where the parabola alone is off by a micrometre).
 
     Returns (wheel position, gap, d gap / d phi, u, rail z)."""
+    ws, wh, wz = wheel.start, wheel.step, wheel.z
     t = 0.0
     if 0 < i < len(wz) - 1 and math.isfinite(gaps[i - 1]) and math.isfinite(gaps[i + 1]):
         curvature = gaps[i - 1] - 2.0 * gaps[i] + gaps[i + 1]
@@ -435,35 +467,35 @@ def _refine(sigma, y, c, sn, r0, half, ws, wh, wz, wdz, wddz, rs, rh, rz, rdz, r
             t = min(0.5, max(-0.5, 0.5 * (gaps[i - 1] - gaps[i + 1]) / curvature))
     s = ws + wh * (i + t)
     for _ in range(2):
-        zw, dzw = _hermite(ws, wh, wz, wdz, s)
+        zw, dzw = _hermite(ws, wh, wz, wheel.dz, s)
         u = sigma * (y + c * sigma * (half + s) - sn * (-r0 + zw))
-        rail, rail_slope = _hermite(rs, rh, rz, rdz, u)
-        if math.isnan(zw) or math.isnan(rail):
+        height, rail_slope = _hermite(rail.start, rail.step, rail.z, rail.dz, u)
+        if math.isnan(zw) or math.isnan(height):
             break
-        ddzw = _linear(ws, wh, wddz, s)
+        ddzw = _linear(ws, wh, wheel.ddz, s)
         du = c - sigma * sn * dzw
         first = (sn * sigma + c * dzw) - rail_slope * du
-        second = c * ddzw - _linear(rs, rh, rddz, u) * du * du + rail_slope * sigma * sn * ddzw
+        second = c * ddzw - _linear(rail.start, rail.step, rail.ddz, u) * du * du + rail_slope * sigma * sn * ddzw
         if not second > 0.0:
             break
         step = first / second
         if abs(s - step - (ws + wh * i)) > wh:
             break
         s -= step
-    zw_profile, _ = _hermite(ws, wh, wz, wdz, s)
+    zw_profile, _ = _hermite(ws, wh, wz, wheel.dz, s)
     if math.isnan(zw_profile):
         zw_profile = wz[i]
         s = ws + wh * i
     yw = sigma * (half + s)
     zw = -r0 + zw_profile
     u = sigma * (y + c * yw - sn * zw)
-    rail, rail_slope = _hermite(rs, rh, rz, rdz, u)
-    if math.isnan(rail):
+    height, rail_slope = _hermite(rail.start, rail.step, rail.z, rail.dz, u)
+    if math.isnan(height):
         u = sigma * (y + c * sigma * (half + ws + wh * i) - sn * (-r0 + wz[i]))
-        rail, rail_slope = _hermite(rs, rh, rz, rdz, u)
-    gap = sn * yw + c * zw - rail
+        height, rail_slope = _hermite(rail.start, rail.step, rail.z, rail.dz, u)
+    gap = sn * yw + c * zw - height
     d_gap = (c * yw - sn * zw) - rail_slope * sigma * (-sn * yw - c * zw)
-    return s, gap, d_gap, u, rail
+    return s, gap, d_gap, u, height
 
 
 @njit(cache=True)
@@ -488,30 +520,53 @@ def _secondary(gaps, i, primary):
 
 
 @njit(cache=True)
-def _solve_all(ys, r0, half, lws, lwh, lwz, lwdz, lwddz, lrs, lrh, lrz, lrdz, lrddz,
-               rws, rwh, rwz, rwdz, rwddz, rrs, rrh, rrz, rrdz, rrddz, out):
-    """Roll and contact of every y; returns -1, or the index of a y without contact."""
-    gl = np.empty(len(lwz))
-    gr = np.empty(len(rwz))
+def _contact_results(sigma, phi, r0, s, u, height, i, gaps, wheel, rail, out, k):
+    """The contact's entries of :data:`CONTACT_RESULTS` at ``y[k]`` into ``out`` (one side's rows)."""
+    zw, slope = _hermite(wheel.start, wheel.step, wheel.z, wheel.dz, s)
+    ddz_w = _linear(wheel.start, wheel.step, wheel.ddz, s)
+    ddz_r = _linear(rail.start, rail.step, rail.ddz, u)
+    _, rail_slope = _hermite(rail.start, rail.step, rail.z, rail.dz, u)
+    gap2, j2 = _secondary(gaps, i, gaps[i])
+    out[_WHEEL_POSITION, k] = s
+    out[_TRACK_POSITION, k] = u
+    out[_RAIL_HEIGHT, k] = height
+    out[_RADIUS, k] = r0 - zw
+    out[_CONTACT_ANGLE, k] = math.atan(slope) + sigma * phi
+    out[_WHEEL_CURVATURE, k] = ddz_w / (1.0 + slope * slope) ** 1.5
+    out[_RAIL_CURVATURE, k] = -ddz_r / (1.0 + rail_slope * rail_slope) ** 1.5
+    out[_SECONDARY_GAP, k] = gap2
+    out[_SECONDARY_POSITION, k] = wheel.start + wheel.step * j2 if j2 >= 0 else math.nan
+
+
+@njit(cache=True)
+def _solve_all(ys, r0, half, wheels, rails, wheelset, contacts):
+    """Roll and contact of every y (:data:`WHEELSET_RESULTS` into ``wheelset``,
+    :data:`CONTACT_RESULTS` into ``contacts``) for the (left, right) :class:`SurfaceTable`
+    of ``wheels`` and ``rails``; returns -1, or the index of a y without contact."""
+    gaps = np.empty((2, max(len(wheels[0].z), len(wheels[1].z))))
+    index = np.full(2, -1)
+    position, gap, slope, u, height = np.empty(2), np.empty(2), np.empty(2), np.empty(2), np.empty(2)
     phi = 0.0
     width = 40  # points either side searched while iterating; a full scan confirms
-    il = ir = -1
     for k in range(len(ys)):
         y = ys[k]
         lo, hi = -0.3, 0.3
         full = True
         for _ in range(100):
             c, sn = math.cos(phi), math.sin(phi)
-            il = _scan(1.0, y, c, sn, r0, half, lws, lwh, lwz, lrs, lrh, lrz, lrdz, gl, -1 if full else il, width)
-            ir = _scan(-1.0, y, c, sn, r0, half, rws, rwh, rwz, rrs, rrh, rrz, rrdz, gr, -1 if full else ir, width)
-            if il < 0 or ir < 0:
+            for row in range(2):
+                index[row] = _scan(_SIDES[row], y, c, sn, r0, half, wheels[row], rails[row],
+                                   gaps[row, : len(wheels[row].z)], -1 if full else index[row], width)
+            if index[0] < 0 or index[1] < 0:
                 if full:
                     return k
                 full = True
                 continue
-            sl, gap_l, dl, ul, zl = _refine(1.0, y, c, sn, r0, half, lws, lwh, lwz, lwdz, lwddz, lrs, lrh, lrz, lrdz, lrddz, gl, il)
-            sr, gap_r, dr, ur, zr = _refine(-1.0, y, c, sn, r0, half, rws, rwh, rwz, rwdz, rwddz, rrs, rrh, rrz, rrdz, rrddz, gr, ir)
-            f = gap_l - gap_r
+            for row in range(2):
+                position[row], gap[row], slope[row], u[row], height[row] = _refine(
+                    _SIDES[row], y, c, sn, r0, half, wheels[row], rails[row], gaps[row, : len(wheels[row].z)],
+                    index[row])
+            f = gap[0] - gap[1]
             if f > 0.0:
                 hi = phi
             else:
@@ -521,36 +576,15 @@ def _solve_all(ys, r0, half, lws, lwh, lwz, lwdz, lwddz, lrs, lrh, lrz, lrdz, lr
                     break
                 full = True  # confirm the minima with a full scan at this roll
                 continue
-            derivative = dl - dr
+            derivative = slope[0] - slope[1]
             new = phi - f / derivative if derivative > 0.0 else 0.5 * (lo + hi)
             if not lo < new < hi:
                 new = 0.5 * (lo + hi)
             phi = new
             full = False
-        out[0, k] = phi
-        out[1, k] = -0.5 * (gap_l + gap_r) - r0
-        for row, (sigma, s, u, zrail, i, gaps, ws, wh, wz, wdz, wddz, rs, rh, rz, rdz, rddz) in enumerate((
-            (1.0, sl, ul, zl, il, gl, lws, lwh, lwz, lwdz, lwddz, lrs, lrh, lrz, lrdz, lrddz),
-            (-1.0, sr, ur, zr, ir, gr, rws, rwh, rwz, rwdz, rwddz, rrs, rrh, rrz, rrdz, rrddz),
-        )):
-            zw, slope = _hermite(ws, wh, wz, wdz, s)
-            f = (s - ws) / wh
-            j = min(max(math.floor(f), 0), len(wz) - 2)
-            t = f - j
-            ddz_w = (1.0 - t) * wddz[j] + t * wddz[j + 1]
-            g = (u - rs) / rh
-            m = min(max(math.floor(g), 0), len(rz) - 2)
-            t = g - m
-            ddz_r = (1.0 - t) * rddz[m] + t * rddz[m + 1]
-            _, rail_slope = _hermite(rs, rh, rz, rdz, u)
-            gap2, j2 = _secondary(gaps, i, gaps[i])
-            out[2 + row, k] = s
-            out[4 + row, k] = u
-            out[6 + row, k] = zrail
-            out[8 + row, k] = r0 - zw
-            out[10 + row, k] = math.atan(slope) + sigma * phi
-            out[12 + row, k] = ddz_w / (1.0 + slope * slope) ** 1.5
-            out[14 + row, k] = -ddz_r / (1.0 + rail_slope * rail_slope) ** 1.5
-            out[16 + row, k] = gap2
-            out[18 + row, k] = ws + wh * j2 if j2 >= 0 else math.nan
+        wheelset[_ROLL, k] = phi
+        wheelset[_HEIGHT, k] = -0.5 * (gap[0] + gap[1]) - r0
+        for row in range(2):
+            _contact_results(_SIDES[row], phi, r0, position[row], u[row], height[row], index[row],
+                             gaps[row, : len(wheels[row].z)], wheels[row], rails[row], contacts[:, row], k)
     return -1

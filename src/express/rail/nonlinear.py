@@ -14,16 +14,57 @@ and the linear forces are scaled by ``F' / F``.  The difference between the
 saturated and the linear creep forces is fed back as generalized forces on the
 wheelset's lateral and yaw DOFs.
 
-All functions are vectorized over wheelsets (and time).
+All functions are vectorized over wheelsets (and time).  The laws themselves are the
+compiled ufuncs :func:`penetration`, :func:`longitudinal_creepage` and
+:func:`saturation_ratio`, which the time march (:mod:`express.analysis.integrator`) calls
+on scalars: one formula each.
 """
 
 from __future__ import annotations
 
 import numpy as np
+from numba import vectorize
 
 from express.base.diagnostics import ArgumentError
 
-__all__ = ["flange_penetration", "linear_creepages", "saturation_factor", "wheelset_forces"]
+__all__ = [
+    "flange_penetration", "linear_creepages", "longitudinal_creepage", "penetration", "saturation_factor",
+    "saturation_ratio", "wheelset_forces",
+]
+
+
+@vectorize(["float64(float64, float64)"], cache=True)
+def penetration(relative, clearance):
+    """Flange penetration ``dy`` [m] (eq. 11) of a lateral displacement ``relative`` from
+    the rail [m] beyond the clearance ``delta`` [m]: zero inside it (a ufunc)."""
+    if relative > clearance:
+        return relative - clearance
+    if relative < -clearance:
+        return relative + clearance
+    return 0.0
+
+
+@vectorize(["float64(float64, float64)"], cache=True)
+def saturation_ratio(force, limit):
+    """Shen-Hedrick-Elkins ratio ``F' / F`` of a linear creep force ``F`` >= 0 [N] under
+    the limit ``mu N`` [N] (a ufunc; :func:`saturation_factor` checks its arguments)::
+
+        x = F / (mu N),   F' / F = 1 - x / 3 + x**2 / 27 for 0 < x <= 3,   1 / x beyond,   1 at x = 0
+    """
+    ratio = force / limit
+    if not ratio > 0.0:
+        return 1.0
+    if ratio <= 3.0:
+        return (ratio - ratio * ratio / 3.0 + ratio * ratio * ratio / 27.0) / ratio
+    return 1.0 / ratio
+
+
+@vectorize(["float64(float64, float64, float64, float64, float64, float64, float64)"], cache=True)
+def longitudinal_creepage(relative, psi_dot, curvature, speed, conicity, r0, b):
+    """``xi_x = Gamma (y - yR) / r0 + b psi' / v + b rho`` of the left wheel (the right
+    wheel's is opposite) [-] (a ufunc): ``relative = y - yR`` [m], ``psi_dot`` [rad/s],
+    ``curvature`` [1/m], ``speed`` [m/s], ``r0`` and ``b`` [m]."""
+    return conicity * relative / r0 + b * psi_dot / speed + b * curvature
 
 
 def flange_penetration(y, y_rail, clearance):
@@ -36,8 +77,7 @@ def flange_penetration(y, y_rail, clearance):
     clearance : array_like
         Flange clearance ``delta`` [m].
     """
-    relative = np.asarray(y, dtype=float) - y_rail
-    return np.where(relative > clearance, relative - clearance, np.where(relative < -clearance, relative + clearance, 0.0))
+    return penetration(np.asarray(y, dtype=float) - y_rail, clearance)
 
 
 def saturation_factor(force, limit):
@@ -70,10 +110,7 @@ def saturation_factor(force, limit):
     limit = np.asarray(limit, dtype=float)
     if not np.all(limit > 0.0):
         raise ArgumentError("the creep force limit mu N must be positive (friction and wheel load above zero)")
-    x = force / limit
-    saturated = np.where(x <= 3.0, x - x**2 / 3.0 + x**3 / 27.0, 1.0)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        return np.where(x > 0.0, saturated / np.where(x > 0.0, x, 1.0), 1.0)
+    return saturation_ratio(force, limit)
 
 
 def linear_creepages(y, psi, y_dot, psi_dot, y_rail, curvature, speed, conicity, r0, b):
@@ -85,7 +122,7 @@ def linear_creepages(y, psi, y_dot, psi_dot, y_rail, curvature, speed, conicity,
         ``xi_x = Gamma (y - yR) / r0 + b psi' / v + b rho`` (left wheel's sign; the
         right wheel has the opposite) and ``xi_y = y' / v - psi``.
     """
-    longitudinal = conicity * (np.asarray(y) - y_rail) / r0 + b * np.asarray(psi_dot) / speed + b * curvature
+    longitudinal = longitudinal_creepage(np.asarray(y) - y_rail, psi_dot, curvature, speed, conicity, r0, b)
     lateral = np.asarray(y_dot) / speed - psi
     return longitudinal, lateral
 
