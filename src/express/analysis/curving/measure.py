@@ -27,6 +27,7 @@ import numpy as np
 from express.analysis.curving.outputs import WheelRailOutputs
 from express.base.diagnostics import ArgumentError
 from express.numeric.statespace import VehicleModel
+from express.rail.contact_forces import ContactSet
 from express.rail.load_transfer import BodyLoads, body_loads, track_plane_accelerations, wheel_loads
 from express.rail.nonlinear import linear_creepages, wheelset_forces
 
@@ -107,7 +108,7 @@ def _deadband_forces(vehicle: VehicleModel, q, q_dot, inputs, speed: float, flan
     return lateral, longitudinal, position, angle
 
 
-def _table_forces(vehicle: VehicleModel, q, q_dot, inputs, speed: float, contact: dict):
+def _table_forces(vehicle: VehicleModel, q, q_dot, inputs, speed: float, contact: ContactSet):
     from express.analysis.contact_march import contact_force_history
     from express.rail.contact_forces import OUTPUTS
 
@@ -123,7 +124,7 @@ def _table_forces(vehicle: VehicleModel, q, q_dot, inputs, speed: float, contact
 
 
 def wheel_rail_outputs(vehicle: VehicleModel, q: np.ndarray, q_dot: np.ndarray, inputs, speed: float, *,
-                       contact: dict | None = None, flange_angle: float = DEFAULT_FLANGE_ANGLE) -> WheelRailOutputs:
+                       contact: ContactSet | None = None, flange_angle: float = DEFAULT_FLANGE_ANGLE) -> WheelRailOutputs:
     """The wheel/rail outputs of states ``q``, ``q_dot`` (shape (N, n)) on ``inputs``.
 
     Parameters
@@ -136,7 +137,7 @@ def wheel_rail_outputs(vehicle: VehicleModel, q: np.ndarray, q_dot: np.ndarray, 
         (:func:`express.analysis.simulate.track_inputs`).
     speed : float
         [m/s].
-    contact : dict, optional
+    contact : ContactSet, optional
         The stacked contact tables (:func:`express.analysis.contact_march.contact_arrays`);
         without them the dead-band model's forces are used.
     flange_angle : float
