@@ -32,6 +32,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from express.analysis.curving.outputs import SIDES, WheelRailOutputs
+from express.rail.contact_forces import ContactSet
 
 __all__ = [
     "SAMPLING",
@@ -204,14 +205,14 @@ def _derailment(outputs: WheelRailOutputs, distance: np.ndarray, y_over_q: np.nd
     return None
 
 
-def flange_angle_of(contact: dict | None, default: float) -> float:
+def flange_angle_of(contact: ContactSet | None, default: float) -> float:
     """The flange angle [rad] for Nadal's limit: the largest contact angle of the contact
     tables (stacked, :func:`express.analysis.contact_march.contact_arrays`), else ``default``."""
     if contact is None:
         return default
     from express.rail.contact_tables import ANGLE
 
-    return float(np.max(contact["tables"][..., ANGLE]))
+    return float(np.max(contact.tables[..., ANGLE]))
 
 
 def smallest_radius(track) -> float:
