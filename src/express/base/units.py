@@ -11,8 +11,10 @@ Inside EXPRESS every value is SI (kg, m, s, N, rad); the unit the user wrote is 
 for display (:func:`format_quantity`).  A quantity's *dimension* is the exponents of
 mass, length and time (:class:`Dimension`); the usual ones have names
 (:data:`DIMENSIONS`: ``"stiffness"`` is N/m, ``"rotational_stiffness"`` N*m/rad, ...).
-Angles are dimensionless, as in SI, except that an angle unit is refused for a pure
-ratio (``"dimensionless"``, e.g. a conicity).
+Angles are dimensionless, as in SI, but a unit keeps the power of the angle in it:
+an angle unit is refused for a pure ratio (``"dimensionless"``: a conicity, a slope),
+and a frequency given in ``rad/s`` or ``rpm`` is converted to Hz with its 2 pi
+(:func:`parse_quantity`).
 
 Examples
 --------
@@ -44,6 +46,7 @@ __all__ = [
     "dimension",
     "dimension_of",
     "format_quantity",
+    "is_angular_frequency",
     "parse_quantity",
     "si_unit",
     "to_si",
@@ -180,14 +183,17 @@ _ALIASES = {"kmh": "kph", "%": "percent", "°": "degree", "-": "dimensionless"}
 
 @dataclass(frozen=True)
 class _Unit:
+    """A parsed unit: SI factor, dimension, and the power of the angle in it (1 for
+    ``deg``, ``rad/s`` and ``rpm``, -1 for ``N*m/rad``, 0 for ``Hz``)."""
+
     factor: float
     dim: Dimension
-    angle: bool = False
+    angle: Fraction = Fraction(0)
 
     def times(self, other: _Unit, sign: int) -> _Unit:
         factor = self.factor * other.factor if sign > 0 else self.factor / other.factor
         dim = self.dim * other.dim if sign > 0 else self.dim / other.dim
-        return _Unit(factor, dim, self.angle or other.angle)
+        return _Unit(factor, dim, self.angle + sign * other.angle)
 
 
 @functools.lru_cache(maxsize=1)
@@ -207,14 +213,14 @@ _SI_SYMBOLS = {
     "N": _Unit(1.0, _dim(mass=1, length=1, time=-2)),
     "Pa": _Unit(1.0, _dim(mass=1, length=-1, time=-2)),
     "Hz": _Unit(1.0, _dim(time=-1)),
-    "rad": _Unit(1.0, _dim(), angle=True),
+    "rad": _Unit(1.0, _dim(), angle=Fraction(1)),
 }
 _SI_PREFIXES = {"G": 1e9, "M": 1e6, "k": 1e3, "": 1.0, "c": 1e-2, "m": 1e-3}
 _ACCEPTED = {
     "t": _Unit(1e3, _dim(mass=1)),
     "min": _Unit(60.0, _dim(time=1)),
     "h": _Unit(3600.0, _dim(time=1)),
-    "deg": _Unit(math.pi / 180.0, _dim(), angle=True),
+    "deg": _Unit(math.pi / 180.0, _dim(), angle=Fraction(1)),
 }
 
 
@@ -246,7 +252,7 @@ def _symbol(name: str, text: str) -> _Unit:
     if unknown:
         raise UnitError(f'unit "{name}" in "{text}" is not mechanical ({", ".join(unknown)})')
     dim = Dimension(*(Fraction(dimensionality.get(key, 0)).limit_denominator(12) for key in ("[mass]", "[length]", "[time]")))
-    angle = "radian" in str(root)
+    angle = Fraction(dict(getattr(root, "_units", {})).get("radian", 0)).limit_denominator(12)
     if not math.isfinite(factor) or factor <= 0:
         raise UnitError(f'unit "{name}" in "{text}" cannot be converted')
     return _Unit(factor, dim, angle)
@@ -334,7 +340,7 @@ class _UnitParser:
             factor = math.inf
         if not math.isfinite(factor) or factor == 0:
             raise UnitError(f'unit "{self.text}" is out of range')
-        return _Unit(factor, unit.dim**exponent, unit.angle)
+        return _Unit(factor, unit.dim**exponent, unit.angle * exponent)
 
     def atom(self, depth: int) -> _Unit:
         kind, text, _ = self.take()
@@ -383,6 +389,13 @@ def unit_factor(unit: str) -> float:
     return _parse_unit(unit).factor
 
 
+def is_angular_frequency(unit: str) -> bool:
+    """Whether ``unit`` is an angular frequency (``rad/s``, ``deg/s``, ``rpm``): a value in
+    it is converted to Hz with a 2 pi (:func:`parse_quantity`), not by its factor alone."""
+    parsed = _parse_unit(unit)
+    return parsed.dim == DIMENSIONS["frequency"] and parsed.angle == 1
+
+
 def unit_dimension(unit: str) -> Dimension:
     """The :class:`Dimension` of ``unit`` (``"kN/mm"`` -> that of N/m)."""
     return _parse_unit(unit).dim
@@ -413,6 +426,8 @@ def check_dimension(unit: str, expected: str | Dimension) -> None:
     wanted = dimension(expected) if isinstance(expected, str) else expected
     if parsed.dim != wanted or (expected == "dimensionless" and parsed.angle):
         raise UnitError(f"unit {unit.strip()} is {_article(dimension_of(unit))}, expected {_article(expected)}")
+    if wanted == DIMENSIONS["frequency"] and parsed.angle not in (0, 1):
+        raise UnitError(f"unit {unit.strip()} is not a frequency (Hz, 1/s, rad/s or rpm)")
 
 
 def _article(dim: str | Dimension) -> str:
@@ -444,7 +459,19 @@ def parse_quantity(text: str, dimension: str | Dimension | None = None) -> tuple
     ------
     UnitError
         For text that is not a number with a unit, an unknown unit, a non-finite
-        value, or a unit of another dimension than ``dimension``.
+        value, or a unit of another dimension than ``dimension``; an angle for a pure
+        number (a conicity, a ratio or a slope is not an angle).
+
+    Notes
+    -----
+    Angles are tracked: a frequency given as an angular frequency (``rad/s``, ``deg/s``,
+    ``rpm``) is converted to Hz with its 2 pi (``"20 rad/s"`` is 3.183 Hz, ``"600 rpm"``
+    10 Hz); a unit with another power of the angle is not a frequency.
+
+    Examples
+    --------
+    >>> round(parse_quantity("600 rpm", "frequency")[0], 12)
+    10.0
     """
     if not isinstance(text, str) or len(text) > 200:
         raise UnitError("a quantity must be a short text such as \"95 mm\"")
@@ -458,7 +485,15 @@ def parse_quantity(text: str, dimension: str | Dimension | None = None) -> tuple
     if not math.isfinite(value):
         raise UnitError(f'"{text}" is out of range')
     if dimension is not None and unit:  # a bare number is SI and takes any dimension
+        parsed = _parse_unit(unit)
+        if dimension == "dimensionless" and parsed.angle and parsed.dim.is_dimensionless:
+            raise UnitError(
+                f'"{text}" is an angle, expected a pure number (a ratio or a slope); for the slope '
+                f"of that angle give its tangent: tan({text.strip()}) = {math.tan(value):.6g}"
+            )
         check_dimension(unit, dimension)
+        if (dimension == "frequency" or dimension == DIMENSIONS["frequency"]) and parsed.angle == 1:
+            value /= 2.0 * math.pi  # an angular frequency (rad/s, rpm) in Hz
     return value, unit
 
 

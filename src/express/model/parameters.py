@@ -49,6 +49,7 @@ from express.base.units import (
     UnitError,
     check_dimension,
     format_quantity,
+    is_angular_frequency,
     parse_quantity,
     si_unit,
 )
@@ -349,10 +350,30 @@ def undefined_name_problems(model: Model, names: Iterable[str] | None = None) ->
     return problems
 
 
-def quantity_value(text: str, dimension: Dimension | None = None) -> float:
+class _Uses:
+    """What the uses of a model's values imply for a ``--set``: the dimension of each
+    name (inferred once, for a classic model whose values carry no unit) and the names
+    used directly as a pure number (a conicity, a friction: not an angle)."""
+
+    def __init__(self, model: Model):
+        self.model = model
+        self._dims: dict[str, Dimension] | None = None
+        self.pure = {site.expression.name for site in use_sites(model)
+                     if site.dimension == "dimensionless" and isinstance(site.expression, sp.Symbol)}
+
+    def dimension(self, name: str) -> Dimension | None:
+        if self._dims is None:  # names without a value (a classic model's) take part too
+            placeholders = {n: Parameter(n, math.nan) for n in _settable(self.model) if n not in self.model.parameters}
+            model = replace(self.model, parameters={**self.model.parameters, **placeholders})
+            self._dims = infer_dimensions(model)[0]
+        return self._dims.get(name)
+
+
+def quantity_value(text: str, dimension: Dimension | None = None, pure: bool = False) -> float:
     """An SI value from command-line text: ``"100 km/h"``, ``"4 MN/m"``, ``"0.05"``, ``"1/3"``.
 
-    A number with a unit is checked against ``dimension``; a bare number is SI,
+    A number with a unit is checked against ``dimension`` (with ``pure``, a value used
+    as a pure number, an angle unit is refused with a hint); a bare number is SI,
     except a speed, which is km/h (rail usage: ``--set v=100`` is 100 km/h).
 
     Raises
@@ -361,7 +382,7 @@ def quantity_value(text: str, dimension: Dimension | None = None) -> float:
         For text that is not a number (with a unit), or a unit of another dimension.
     """
     try:
-        value, unit = parse_quantity(text)
+        value, unit = parse_quantity(text, "dimensionless" if pure else dimension)
     except UnitError as error:
         try:
             expression = parse_expression(text)
@@ -400,6 +421,7 @@ def override_values(model: Model, overrides: Mapping[str, float | str]) -> dict[
     """
     problems, values = [], {}
     settable: set[str] | None = None
+    uses: _Uses | None = None
     for name, value in overrides.items():
         if name not in model.parameters:
             settable = settable if settable is not None else _settable(model)
@@ -412,7 +434,9 @@ def override_values(model: Model, overrides: Mapping[str, float | str]) -> dict[
             if _infinite_damping(value, dimension):
                 number = math.inf  # a locked damper (express.assembly.first_order.series_limits)
             elif isinstance(value, str):
-                number = quantity_value(value, dimension)
+                uses = uses if uses is not None else _Uses(model)
+                number = quantity_value(value, dimension if dimension is not None else uses.dimension(name),
+                                        pure=name in uses.pure)
             elif isinstance(value, bool):
                 raise UnitError(f"expected a number, got {value}")
             else:
@@ -445,6 +469,19 @@ def _unknown(name: str, known: set[str]) -> str:
     return f"no such parameter in the model{hint}"
 
 
+def _written_unit(value: float | str) -> str:
+    """The unit of a ``--set`` text, kept for display and ``convert`` when the file gave the
+    parameter none (``"5 t"`` -> ``"t"``); none for a bare number, an expression or an
+    angular frequency (shown in Hz)."""
+    if not isinstance(value, str):
+        return ""
+    try:
+        unit = parse_quantity(value)[1].strip()
+        return "" if unit in ("-", "1") or is_angular_frequency(unit) else unit
+    except UnitError:
+        return ""
+
+
 def with_values(model: Model, overrides: Mapping[str, float | str]) -> Model:
     """A copy of ``model`` with parameter values replaced and every dependent re-evaluated.
 
@@ -469,10 +506,11 @@ def with_values(model: Model, overrides: Mapping[str, float | str]) -> Model:
     parameters = dict(model.parameters)
     for name, value in values.items():
         previous = parameters.get(name)
+        unit = (previous.unit if previous is not None else "") or _written_unit(overrides[name])
         if previous is None:
-            parameters[name] = Parameter(name, value)
+            parameters[name] = Parameter(name, value, unit=unit)
         else:
-            parameters[name] = replace(previous, value=value, expression=None, derived_by=None)
+            parameters[name] = replace(previous, value=value, unit=unit, expression=None, derived_by=None)
     changed = replace(model, parameters=parameters)
     changed = replace(changed, parameters=_evaluate(changed))
     check_ranges(changed, {name: overrides[name] for name in values})
