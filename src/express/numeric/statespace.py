@@ -36,6 +36,7 @@ from express.numeric.compiled import CompiledExpressions, CompiledMatrices, Eige
 from express.rail.build import RailLayout, generate_vehicle, rail_layout
 
 __all__ = [
+    "Evaluation",
     "SingularMassError",
     "VehicleModel",
     "WheelsetData",
@@ -72,7 +73,26 @@ class WheelsetData:
     wheel_load: float
 
 
-@dataclass
+@dataclass(frozen=True)
+class Evaluation:
+    """How a :class:`VehicleModel` was evaluated, kept for :meth:`VehicleModel.with_values`.
+
+    Attributes
+    ----------
+    evaluator : CompiledMatrices
+        The matrices compiled once for the model.
+    speed_name : str or None
+        The speed parameter kept apart (``rail.speed``), when the model has one.
+    rail_numbers : _RailNumbers or None
+        The wheelsets' numbers at given values, when the model has rail data.
+    """
+
+    evaluator: CompiledMatrices
+    speed_name: str | None = None
+    rail_numbers: Any = None
+
+
+@dataclass(frozen=True)
 class VehicleModel:
     """A model's numerical equations of motion, with the speed kept apart.
 
@@ -99,6 +119,16 @@ class VehicleModel:
     wheelsets : tuple of WheelsetData
     station_positions : numpy.ndarray
         x position of every station of ``layout`` [m], shape (len(layout.stations),).
+    model : Model or None
+        The model it was evaluated from (needed by :meth:`with_values`).
+    inactive : tuple of str
+        Strokes of series elements at a limit, removed from the coordinates.
+    evaluation : Evaluation or None
+        How it was evaluated (set by :func:`vehicle_model` and :func:`load_vehicle`).
+    form : StateForm
+        The state-space form ``x = [q; q_D']`` (derived from the matrices).
+    mass_inverse : numpy.ndarray
+        ``M^-1`` of the coordinates with mass (derived).
     """
 
     equations: EquationsOfMotion
@@ -115,19 +145,19 @@ class VehicleModel:
     wheelsets: tuple[WheelsetData, ...] = ()
     station_positions: np.ndarray = field(default_factory=lambda: np.zeros(0))
     model: Model | None = None
-    # how it was evaluated, for with_values (set by _evaluate_vehicle)
-    _evaluator: Any = field(default=None, repr=False, compare=False)
-    _speed_name: str | None = field(default=None, repr=False, compare=False)
-    _rail_numbers: Any = field(default=None, repr=False, compare=False)
     #: strokes of series elements at a limit, removed from the coordinates
     #: (:func:`express.assembly.first_order.series_limits`)
     inactive: tuple[str, ...] = ()
+    evaluation: Evaluation | None = field(default=None, repr=False, compare=False)
+    form: StateForm = field(init=False, repr=False, compare=False)
+    mass_inverse: np.ndarray = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         # x = [q; q_D'] (express.assembly.first_order): [q; q'] unless series elements add
         # first-order coordinates (damper strokes)
-        self.form = _state_form(self)
-        self.mass_inverse = self.form.mass_inverse
+        form = _state_form(self)
+        object.__setattr__(self, "form", form)
+        object.__setattr__(self, "mass_inverse", form.mass_inverse)
 
     @property
     def dofs(self) -> tuple[str, ...]:
@@ -200,12 +230,12 @@ class VehicleModel:
         >>> vehicle.with_values({"Gamma": 0.2}).wheelsets[0].conicity
         0.2
         """
-        if self.model is None:
+        if self.model is None or self.evaluation is None:
             raise ArgumentError("this VehicleModel has no model to re-evaluate")
         model = with_values(self.model, changes)
         return _evaluate_vehicle(
-            model, self.equations, self._evaluator, self._speed_name, self.layout is not None, self.layout,
-            self._rail_numbers,
+            model, self.equations, self.evaluation.evaluator, self.evaluation.speed_name, self.layout is not None,
+            self.layout, self.evaluation.rail_numbers,
         )
 
     def __repr__(self) -> str:
@@ -339,7 +369,7 @@ def _evaluate_vehicle(
     finite, locked = _locked_dampers(model, equations, values)
     try:
         base, c1, p2 = _speed_split(evaluator, finite)
-    except ValueError as error:
+    except ArgumentError as error:
         raise ModelError([Problem(model.source, None, "parameters", str(error))]) from None
     for i in locked:
         base["C"][i, i] = np.inf
@@ -359,7 +389,7 @@ def _evaluate_vehicle(
         base.get("Pd", np.zeros((n, m))), STROKE,
     )
     mass, damping, creep, stiffness, forcing, forcing2, forcing_rate = limits.matrices
-    vehicle = VehicleModel(
+    return VehicleModel(
         equations=equations,
         values=values,
         speed=speed,
@@ -375,11 +405,8 @@ def _evaluate_vehicle(
         wheelsets=wheelsets,
         station_positions=stations,
         model=model,
+        evaluation=Evaluation(evaluator, speed_name, rail_numbers),
     )
-    vehicle._evaluator = evaluator
-    vehicle._speed_name = speed_name
-    vehicle._rail_numbers = rail_numbers
-    return vehicle
 
 
 def _locked_dampers(model: Model, equations: EquationsOfMotion, values: dict[str, float]) -> tuple[dict[str, float], list[int]]:
