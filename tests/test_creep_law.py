@@ -74,7 +74,7 @@ def test_full_slip_reaches_mu_n_and_never_more(law, direction):
     sizes = np.geomspace(1e-5, 0.2, 40)
     totals = [math.hypot(*LAWS[law](NORMAL, MU, a, b, G, *c, s * direction[0], s * direction[1], 0.0)) for s in sizes]
     assert max(totals) <= MU * NORMAL * (1 + 1e-12)
-    assert totals[-1] == pytest.approx(MU * NORMAL, rel=0.01)
+    assert totals[-1] == pytest.approx(MU * NORMAL, rel=3e-6)  # at creepage 0.2: Polach 1.1e-6 below, FASTSIM exact
     assert np.all(np.diff(totals) >= -1e-9 * MU * NORMAL)  # rises monotonically to the limit
 
 

@@ -38,7 +38,8 @@ def test_spectrum_constants():
 @pytest.mark.parametrize("f, tabulated", [(0.02, 2.3194e-4), (0.1, 6.1608e-6), (0.2, 7.3333e-7)])
 def test_erri_high_against_gensys_table(f, tabulated):
     # GENSYS TRC_IPSD manual, "ORE B176 high level" PSD_LAT in m^2/(1/m) = 2 pi S(Omega)
-    assert 2 * np.pi * ERRI_HIGH.psd(2 * np.pi * f) == pytest.approx(tabulated, rel=2e-3)
+    # the table has 5 digits (rounding up to 2e-5 relative); achieved <= 7.5e-6
+    assert 2 * np.pi * ERRI_HIGH.psd(2 * np.pi * f) == pytest.approx(tabulated, rel=2.5e-5)
 
 
 @pytest.mark.parametrize("name", sorted(SPECTRA))
