@@ -82,7 +82,7 @@ def test_simulate_assess_on_a_bundled_track(capsys, tmp_path):
 
 def test_simulate_says_which_track_and_speed(capsys, tmp_path):
     status, out, _ = run(capsys, "simulate", CONVENTIONAL, "--dt", "0.02")
-    assert status == 0 and "no --track given" in out and "track's speed 120 km/h" in out
+    assert status == 0 and "no --track given" in out and "model's speed 120 km/h" in out
     status, out, _ = run(capsys, "simulate", CONVENTIONAL, "--track", "R1000", "--speed", "100", "--dt", "0.02")
     assert status == 0 and "overridden" in out
 
@@ -94,3 +94,12 @@ def test_simulate_derailment_exits_1_and_keeps_history(capsys, tmp_path):
                            "--dt", "0.01", "--set", "mu=1.0", "-o", table)
     assert status == 1, err
     assert "derails" in err and table.exists()
+
+
+def test_report_takes_a_track_and_assesses(capsys, tmp_path):
+    target = tmp_path / "report.html"
+    status, _, err = run(capsys, "report", CONVENTIONAL, "--track", "R1000", "-o", target)
+    assert status == 0, err
+    page = target.read_text()
+    assert "bundled track R1000" in page and "at 150 km/h" in page
+    assert "YQ1L_nadal" in page and "Prud" in page

@@ -17,7 +17,7 @@ import math
 import re
 import sys
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -273,9 +273,11 @@ def track_and_name(text: str | Path | None) -> tuple[Any, str]:
     from express.rail.track import load_track as read_track
     from express.rail.track.named import NAMED_CURVES, named_track
 
-    if text is None:
-        road, description = named_track("paper")
-        return road, f"no --track given: {description}"
+    if text is None:  # the paper's layout, at the model's speed (the track carries none)
+        road, _ = named_track("paper")
+        return (replace(road, speed=None),
+                "no --track given: the paper's Fig. 9 curve (R = 400 m left curve, 95 mm cant, 95 m sine transitions, "
+                "170 m circular)")
     name = str(text)
     if name in NAMED_CURVES or name == "paper":
         road, description = named_track(name)

@@ -18,19 +18,25 @@ def add_parser(subparsers) -> None:
     )
     common.add_model_arguments(parser)
     parser.add_argument("--speed", type=common.SPEED, metavar="SPEED", help=common.SPEED.help("speed of the modes table", "the model's speed"))
+    parser.add_argument("--track", metavar="NAME|FILE", help="track of the curving section: a bundled curve (R250, R400, "
+                        "R600, R1000, R3000, paper) or a track file, run at its speed (else the model's); default: "
+                        "the paper's curve, said so in the report")
     parser.add_argument("-o", "--output", required=True, metavar="FILE.html", help="output HTML file")
     parser.set_defaults(handler=run, numeric=True)
 
 
-def run(model: Path, overrides: dict[str, str], *, output: str, speed: float | None = None) -> int:
+def run(model: Path, overrides: dict[str, str], *, output: str, speed: float | None = None,
+        track: str | None = None) -> int:
     """Write the report; returns the exit status."""
     from express.io.output import output_transaction, write_text
     from express.numeric.statespace import load_vehicle
     from express.report.build import report_html
 
-    with output_transaction(inputs=[model]) as outputs:
+    inputs = [model] + ([Path(track)] if track is not None and Path(track).is_file() else [])
+    with output_transaction(inputs=inputs) as outputs:
         outputs.declare(output)
+        road, where = common.track_and_name(track)
         vehicle = load_vehicle(model, overrides)
-        write_text(output, report_html(vehicle, speed=speed))
+        write_text(output, report_html(vehicle, speed=speed, track=road if track is not None else None, track_name=where))
     common.note(f"wrote {output}")
     return 0

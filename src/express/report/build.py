@@ -9,6 +9,7 @@ modes.
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -145,17 +146,34 @@ def _stability_section(vehicle: VehicleModel) -> Section:
     return Section("Stability", (f"Hunting: {text}.", Figure(svg_of(figure), "Real parts of the eigenvalues against speed.")))
 
 
-def _curving_section(vehicle: VehicleModel) -> Section:
+def _curving_section(vehicle: VehicleModel, track=None, track_name: str = "") -> Section:
+    """A run along ``track`` (default: the paper's curve) at the track's speed (else the
+    model's), with its EN 14363 running-safety assessment."""
+    from express.analysis.curving.assessment import assess_run
     from express.analysis.simulate import simulate
-    from express.rail.track import paper_curve
+    from express.rail.track.named import named_track
 
-    track = paper_curve()
-    run = simulate(vehicle, track, progress=False)
-    rows = [(name, value) for name, value in run.max_abs().items()]
+    if track is None:  # the paper's layout at the model's speed
+        track, _ = named_track("paper")
+        track = replace(track, speed=None)
+        track_name = "no track given: the paper's Fig. 9 curve (R = 400 m, 95 mm cant, 95 m sine transitions)"
+    speed = track.speed if track.speed is not None else vehicle.speed
+    said = "the track's speed" if track.speed is not None else "the model's speed"
+    run = simulate(vehicle, track, speed=speed, progress=False)
+    wheel_rail, assessment = assess_run(vehicle, track, run)
+    run.outputs.update({k: v for k, v in wheel_rail.columns().items() if k not in run.outputs})
+    units = run.units()
+    rows = [(name, f"{value:.6g}", units.get(name, "")) for name, value in run.max_abs().items()]
+    checks = [(c.name, c.quantity, f"{c.value:.4g}", "-" if c.limit is None else f"{c.limit:.4g}",
+               "n/a" if c.passed is None else ("pass" if c.passed else "FAIL")) for c in assessment.criteria]
+    verdict = (f"The vehicle derails: {assessment.derailment}." if assessment.derailment is not None
+               else f"Running safety: {'every limit met' if assessment.passed else 'a limit is exceeded'}.")
     return Section("Curving", (
-        f"Run along the paper's curve ({track.length:.0f} m) at {vehicle.speed / KMH:.0f} km/h with flange "
-        "contact and creep saturation; largest absolute values (SI: N, rad, m, 1/m):",
-        Table(("output", "max |value|"), rows),
+        f"Track: {track_name}. Run of {track.length:.0f} m at {speed / KMH:.0f} km/h ({said}) with the wheel/rail "
+        f"contact; wheel loads: {wheel_rail.loads} (docs/curving.md). Largest absolute values:",
+        Table(("output", "max |value|", "unit"), rows),
+        f"EN 14363 running-safety quantities (2 m sliding means; docs/curving.md). {verdict}",
+        Table(("criterion", "quantity", "value (SI)", "limit", "verdict"), checks),
     ))
 
 
@@ -182,7 +200,7 @@ def _frequency_section(vehicle: VehicleModel) -> Section | None:
     ))
 
 
-def report_html(vehicle: VehicleModel, *, speed: float | None = None) -> str:
+def report_html(vehicle: VehicleModel, *, speed: float | None = None, track=None, track_name: str = "") -> str:
     """The whole report of ``vehicle`` as an HTML document (see the module docstring).
 
     Parameters
@@ -192,6 +210,11 @@ def report_html(vehicle: VehicleModel, *, speed: float | None = None) -> str:
     speed : float, optional
         Speed of the modes table [m/s]; the model's speed by default (1 m/s for a model
         without rail data, whose matrices do not depend on it).
+    track : Track, optional
+        The track of the curving section (default: the paper's curve, said so); run at
+        its own speed when it has one, else at the model's.
+    track_name : str
+        How the report names the track.
     """
     if vehicle.model is None:
         raise ValueError("the vehicle has no model to report on")
@@ -201,7 +224,7 @@ def report_html(vehicle: VehicleModel, *, speed: float | None = None) -> str:
     sections = [_model_section(vehicle), _parameters_section(vehicle), _equations_section(vehicle),
                 _modes_section(vehicle, speed)]
     if rail:
-        sections += [_stability_section(vehicle), _curving_section(vehicle)]
+        sections += [_stability_section(vehicle), _curving_section(vehicle, track, track_name)]
         frequency = _frequency_section(vehicle)
         if frequency is not None:
             sections.append(frequency)
