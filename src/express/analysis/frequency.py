@@ -50,6 +50,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from express.base.diagnostics import ArgumentError
+from express.base.names import did_you_mean
 from express.base.threads import limited_blas
 from express.numeric.statespace import VehicleModel, point_lateral_row
 
@@ -120,7 +121,7 @@ class FrequencyResponse:
             return self.outputs[name]
         if name in self.dofs:
             return self.X[:, self.dofs.index(name)]
-        raise KeyError(f"unknown DOF or output {name!r}; known: {', '.join(self.names)}")
+        raise KeyError(f"unknown DOF or output {name!r}{did_you_mean(name, self.names)} (known: {', '.join(self.names)})")
 
     def velocity_of(self, name: str) -> np.ndarray:
         """Complex velocity amplitude ``i w X`` of a DOF or output, shape (F,)."""
@@ -391,7 +392,7 @@ class TransferFunctions:
     def of(self, dof: str, input_name: str) -> np.ndarray:
         """``H`` of one DOF and one input, shape (F,) (KeyError naming what exists)."""
         if dof not in self.dofs:
-            raise KeyError(f"unknown DOF {dof!r}; DOFs: {', '.join(self.dofs)}")
+            raise KeyError(f"unknown DOF {dof!r}{did_you_mean(dof, self.dofs)} (DOFs: {', '.join(self.dofs)})")
         if input_name not in self.inputs:
             raise KeyError(f"unknown input {input_name!r}; inputs: {', '.join(self.inputs)}")
         return self.H[:, self.dofs.index(dof), self.inputs.index(input_name)]

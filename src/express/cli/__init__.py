@@ -23,6 +23,7 @@ from __future__ import annotations
 import argparse
 import contextlib
 import os
+import re
 import sys
 import traceback
 import warnings
@@ -63,6 +64,12 @@ class _Parser(argparse.ArgumentParser):
     """An argument parser whose mistakes are one ``error:`` line and status 2."""
 
     def error(self, message: str) -> NoReturn:
+        choice = re.search(r"invalid choice: '([^']*)' \(choose from (.*)\)", message)
+        if choice:  # the same hint as every other name (express.base.names)
+            from express.base.names import did_you_mean
+
+            hint = did_you_mean(choice.group(1), re.findall(r"'([^']*)'", choice.group(2)))
+            message = message.replace(" (choose from", f"{hint} (choose from", 1)
         self.exit(EXIT_INPUT, f"error: {printable(f'{self.prog}: {message}')} (see {self.prog} --help)\n")
 
 

@@ -22,6 +22,7 @@ from pathlib import Path
 from typing import Any
 
 from express.base.diagnostics import UsageError
+from express.base.names import did_you_mean
 from express.base.units import KMH
 
 __all__ = [
@@ -283,7 +284,7 @@ def track_and_name(text: str | Path | None) -> tuple[Any, str]:
         road, description = named_track(name)
         return road, f"bundled track {name}: {description}"
     if "." not in Path(name).name and not Path(name).exists():
-        raise UsageError(f"--track {name}: no such file, and not a bundled track "
+        raise UsageError(f"--track {name}: no such file, and not a bundled track{did_you_mean(name, [*NAMED_CURVES, 'paper'])} "
                          f"({', '.join([*NAMED_CURVES, 'paper'])})")
     return read_track(Path(name)), f"track file {name}"
 

@@ -8,6 +8,7 @@ from pathlib import Path
 from typing import Any
 
 from express.base.diagnostics import AnalysisError, UsageError
+from express.base.names import did_you_mean
 from express.cli import common
 
 __all__ = ["MAX_POINTS", "add_parser", "run"]
@@ -112,7 +113,7 @@ def _series(vehicle: Any, dofs: list[str], frequencies: Any, amplitude: float, s
 
     for dof in dofs:
         if dof not in vehicle.dofs:
-            raise UsageError(f"--dof {dof}: unknown DOF; DOFs: {', '.join(vehicle.dofs)}")
+            raise UsageError(f"--dof {dof}: unknown DOF{did_you_mean(dof, vehicle.dofs)} (DOFs: {', '.join(vehicle.dofs)})")
     model = vehicle.model
     points = [p.name for p in model.rail.outputs] if model is not None and model.rail is not None else []
     if not points and not dofs:
@@ -137,7 +138,7 @@ def _ground_series(vehicle: Any, dofs: list[str], frequencies: Any, amplitude: f
 
     for dof in dofs:
         if dof not in vehicle.dofs:
-            raise UsageError(f"--dof {dof}: unknown DOF; DOFs: {', '.join(vehicle.dofs)}")
+            raise UsageError(f"--dof {dof}: unknown DOF{did_you_mean(dof, vehicle.dofs)} (DOFs: {', '.join(vehicle.dofs)})")
     response = ground_response(vehicle, frequencies)
     series: dict[str, tuple[Any, str]] = {}
     for dof in dofs or vehicle.dofs:

@@ -25,6 +25,9 @@ def add_parser(subparsers) -> None:
                         help="critical-speed (default) or eigenvalue: the least stable eigenvalue at --speed")
     parser.add_argument("--parameter", dest="parameters", action="append", metavar="NAME",
                         help="only this parameter (repeatable; default: every given parameter but the speed)")
+    parser.add_argument("--all", dest="every", action="store_true",
+                        help="rank every given parameter together (default: the design parameters, then the physical "
+                        "constants such as g and the parameters without effect on the output in separate lists)")
     parser.add_argument("--speed", type=common.SPEED, metavar="SPEED",
                         help=common.SPEED.help("speed of --output eigenvalue", "the model's speed"))
     parser.add_argument("--vmin", type=common.VMIN, default=3.6 * common.KMH, metavar="SPEED",
@@ -39,7 +42,7 @@ def add_parser(subparsers) -> None:
 
 def run(model: Path, overrides: dict[str, str], *, quantity: str = "critical-speed", parameters: list[str] | None = None,
         speed: float | None = None, vmin: float = 1.0, vmax: float = 150.0, plot: Path | None = None,
-        as_json: bool = False) -> int:
+        as_json: bool = False, every: bool = False) -> int:
     """Compute and print the sensitivities; returns the exit status."""
     from express.io.output import output_transaction
 
@@ -58,6 +61,8 @@ def run(model: Path, overrides: dict[str, str], *, quantity: str = "critical-spe
             summary = _critical(vehicle, names, vmin, vmax, plot)
         else:
             summary = _eigenvalue(vehicle, names, common.running_speed(vehicle, speed))
+        if parameters is None and not every:
+            summary = _design_only(vehicle, summary)
     if plot is not None:
         common.note(f"wrote {plot}")
     summary = {"model": str(model), **summary}
@@ -76,14 +81,26 @@ def _names(vehicle, parameters: list[str] | None) -> list[str]:
         return known
     unknown = [name for name in parameters if name not in known]
     if unknown:
-        import difflib
+        from express.base.names import did_you_mean
 
-        hints = []
-        for name in unknown:
-            close = difflib.get_close_matches(name, known, n=1)
-            hints.append(f"{name}" + (f" (did you mean {close[0]}?)" if close else ""))
-        raise UsageError(f"--parameter: not a given parameter of the model (or the speed): {', '.join(hints)}")
+        raise UsageError("; ".join(f"--parameter {name}: not a given parameter of the model (nor the speed)"
+                                   f"{did_you_mean(name, known)}" for name in unknown))
     return list(dict.fromkeys(parameters))
+
+
+def _design_only(vehicle, summary: dict) -> dict:
+    """The summary with the physical constants and the parameters without effect (a
+    derivative exactly 0: no matrix depends on them) moved out of ``sensitivities``."""
+    from express.analysis.study.sensitivity import physical_constants
+
+    constants = [name for name in physical_constants(vehicle) if name in summary["sensitivities"]]
+    sensitivities = summary["sensitivities"]
+    idle = [name for name, value in sensitivities.items()
+            if name not in constants and not any(value if isinstance(value, list) else [value])]
+    hidden = set(constants) | set(idle)
+    kept = {key: {n: v for n, v in value.items() if n not in hidden} if key in ("sensitivities", "elasticities") else value
+            for key, value in summary.items()}
+    return {**kept, "constants": {n: sensitivities[n] for n in constants}, "without_effect": idle}
 
 
 def _critical(vehicle, names: list[str], vmin: float, vmax: float, plot: Path | None) -> dict:
@@ -123,6 +140,7 @@ def _print(name: str, summary: dict, stream=sys.stdout) -> None:
         rows = sorted(summary["sensitivities"], key=lambda n: (-abs(summary["elasticities"][n]), n))
         for n in rows:
             print(f"  {n:<12} {summary['sensitivities'][n]:14.6g} {summary['elasticities'][n]:11.4f}", file=stream)
+        _print_others(summary, stream)
         return
     re, im = summary["eigenvalue"]
     print(f"{name}: least stable eigenvalue {re:.5g} {im:+.5g}j 1/s at {summary['speed'] / common.KMH:.1f} km/h",
@@ -130,3 +148,15 @@ def _print(name: str, summary: dict, stream=sys.stdout) -> None:
     print(f"  {'parameter':<12} {'dRe/dp [SI]':>14} {'dIm/dp [SI]':>14}", file=stream)
     for n, (dre, dim) in sorted(summary["sensitivities"].items(), key=lambda item: (-abs(item[1][0]), item[0])):
         print(f"  {n:<12} {dre:14.6g} {dim:14.6g}", file=stream)
+    _print_others(summary, stream)
+
+
+def _print_others(summary: dict, stream) -> None:
+    if summary.get("constants"):
+        shown = ", ".join(f"{n} {v if not isinstance(v, list) else v[0]:.4g}" for n, v in summary["constants"].items())
+        print(f"  physical constants (not ranked; d/dp [SI]): {shown}", file=stream)
+    if summary.get("without_effect"):
+        print(f"  without effect on the output (no matrix depends on them): {', '.join(summary['without_effect'])}",
+              file=stream)
+    if "constants" in summary:
+        print("  (--all ranks every parameter together)", file=stream)

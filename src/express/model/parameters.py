@@ -32,7 +32,6 @@ Examples
 
 from __future__ import annotations
 
-import difflib
 import importlib
 import math
 from collections.abc import Callable, Iterable, Mapping
@@ -42,6 +41,7 @@ import sympy as sp
 
 from express.base.diagnostics import ModelError, Problem
 from express.base.expressions import ExpressionError, expression_value, parse_expression
+from express.base.names import did_you_mean
 from express.base.units import (
     DIMENSIONS,
     KMH,
@@ -463,10 +463,7 @@ def _infinite_damping(value, dimension) -> bool:
 
 
 def _unknown(name: str, known: set[str]) -> str:
-    folded = [k for k in sorted(known) if k.lower() == name.lower()]
-    close = folded or difflib.get_close_matches(name, sorted(known), n=1)
-    hint = f"; did you mean {close[0]}?" if close else ""
-    return f"no such parameter in the model{hint}"
+    return f"no such parameter in the model{did_you_mean(name, known)}"
 
 
 def _written_unit(value: float | str) -> str:

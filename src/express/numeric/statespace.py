@@ -28,6 +28,7 @@ import sympy as sp
 from express.assembly.equations import STROKE, EquationsOfMotion, Matrices
 from express.assembly.first_order import FirstOrderError, IndefiniteMassError, StateForm, series_limits, state_form
 from express.base.diagnostics import ArgumentError, ModelError, Problem
+from express.base.names import did_you_mean
 from express.base.threads import limited_blas
 from express.base.units import KMH
 from express.model.parameters import expression_value, override_values, undefined_name_problems, with_values
@@ -180,7 +181,7 @@ class VehicleModel:
         try:
             return self.dofs.index(name)
         except ValueError:
-            raise ArgumentError(f"unknown DOF {name!r}; DOFs: {', '.join(self.dofs)}") from None
+            raise ArgumentError(f"unknown DOF {name!r}{did_you_mean(name, self.dofs)} (DOFs: {', '.join(self.dofs)})") from None
 
     def damping(self, v: float) -> np.ndarray:
         """The vehicle's damping matrix ``C(v)`` at speed ``v`` [m/s], shape (n, n)."""

@@ -72,6 +72,7 @@ from express.analysis.ride.spectral import (
 )
 from express.assembly.kinematics import end_motion
 from express.base.diagnostics import AnalysisError, InputError
+from express.base.names import did_you_mean
 from express.model.parameters import expression_value
 from express.model.records import Model
 from express.numeric.statespace import VehicleModel
@@ -151,7 +152,7 @@ def track_class_spectra(name: str) -> dict[str, TrackSpectrum]:
     if match:
         classes, k = (FRA_CLASSES if match.group(1) == "fra" else AAR_CLASSES), int(match.group(2)) - 1
         return {component: classes[component][k] for component in COMPONENTS}
-    raise InputError(f"unknown track class {name!r}; known: {', '.join(TRACK_CLASSES)}")
+    raise InputError(f"unknown track class {name!r}{did_you_mean(name, TRACK_CLASSES)} (known: {', '.join(TRACK_CLASSES)})")
 
 
 # --- inputs ------------------------------------------------------------------------------
@@ -501,7 +502,8 @@ def ride_response(
                           "ride_response", positive=True)
     unknown = [name for name in spectra if name not in COMPONENTS]
     if unknown:
-        raise InputError(f"ride: unknown track component(s) {', '.join(map(repr, unknown))}; known: {', '.join(COMPONENTS)}")
+        raise InputError("; ".join(f"ride: unknown track component {name!r}{did_you_mean(name, COMPONENTS)}" for name in unknown)
+                         + f" (known: {', '.join(COMPONENTS)})")
     inputs = rail_inputs(vehicle)
     notes = _undriven_notes(vehicle, inputs)
     used = []

@@ -42,6 +42,7 @@ from express.base.diagnostics import ArgumentError
 
 __all__ = ["OUTPUTS", "OutputSettings", "PointOutputs"]
 
+from express.base.names import did_you_mean
 from express.base.units import KMH
 
 #: Output name -> (SI unit, group). The group decides which analysis runs.
@@ -137,10 +138,7 @@ class OutputSettings:
                 else:
                     values[key] = raw
             else:
-                import difflib
-
-                close = difflib.get_close_matches(key, list(_QUANTITIES) + list(_OTHERS), n=1)
-                problems.append((key, "unknown option" + (f"; did you mean {close[0]}?" if close else "")))
+                problems.append((key, "unknown option" + did_you_mean(key, [*_QUANTITIES, *_OTHERS])))
         settings = cls(**values)
         if not settings.v_max > settings.v_min:
             problems.append(("v_max", "must be above v_min"))

@@ -48,6 +48,7 @@ __all__ = [
     "critical_speed_sensitivity",
     "eigenvalue_derivatives",
     "parameter_rates",
+    "physical_constants",
     "sensitivity_parameters",
 ]
 
@@ -122,6 +123,34 @@ def sensitivity_parameters(vehicle: VehicleModel) -> list[str]:
     speed = _speed_name(vehicle)
     return sorted(name for name, p in model.parameters.items()
                   if name != speed and getattr(p, "expression", None) is None and not getattr(p, "derived_by", None))
+
+
+#: Arguments of a parameter derivation that are material constants, not design values.
+MATERIAL_ARGUMENTS = ("youngs_modulus", "poisson")
+
+
+def physical_constants(vehicle: VehicleModel) -> list[str]:
+    """The given parameters that are physical constants rather than design values: the
+    gravity acceleration (``[gravity]``, ``[rail] gravity``) and the material constants
+    of a derivation (Young's modulus and Poisson's ratio of Kalker's creep law), sorted.
+
+    Examples
+    --------
+    >>> from express.numeric.statespace import load_vehicle
+    >>> physical_constants(load_vehicle("examples/manchester.toml"))
+    ['Emod', 'g', 'nu']
+    """
+    model = vehicle.model
+    if model is None:
+        return []
+    expressions = [model.gravity] if model.gravity is not None else []
+    if model.rail is not None:
+        expressions.append(model.rail.gravity)
+    for derivation in model.derivations:
+        expressions += [expression for argument, expression, _ in derivation.inputs if argument in MATERIAL_ARGUMENTS]
+    given = set(sensitivity_parameters(vehicle))
+    names = {symbol.name for e in expressions if isinstance(e, sp.Expr) for symbol in e.free_symbols}
+    return sorted(names & given)
 
 
 def _rates(vehicle: VehicleModel, names: Sequence[str]) -> dict[str, np.ndarray]:

@@ -22,7 +22,6 @@ all of them.
 
 from __future__ import annotations
 
-import difflib
 import math
 import sys
 from dataclasses import dataclass, field
@@ -31,6 +30,7 @@ from typing import Any
 
 from express.analysis.study.outputs import OUTPUTS, OutputSettings
 from express.base.diagnostics import ModelError, Problem
+from express.base.names import did_you_mean
 from express.io.toml_lines import find_line, line_index
 
 if sys.version_info >= (3, 11):
@@ -238,8 +238,7 @@ def parse_study(text: str, path: str | Path) -> StudySpec:
 
 
 def _hint(name: str, choices) -> str:
-    close = difflib.get_close_matches(name, list(choices), n=1)
-    return f"; did you mean {close[0]}?" if close else ""
+    return did_you_mean(name, choices)
 
 
 def _model(check: _Checker, study: dict, path: Path):
