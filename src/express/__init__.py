@@ -7,3 +7,7 @@ simplified symbolic matrices, plus the rail modules and analyses built on them.
 """
 
 __version__ = "0.1.0"
+
+from express.base.kernel_cache import configure_kernel_cache as _configure_kernel_cache
+
+_configure_kernel_cache()  # before Numba is imported: a writable place for the compiled kernels

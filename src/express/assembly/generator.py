@@ -220,7 +220,9 @@ def _singular(model: Model, pins: list[str], virtual_of: dict[str, str]) -> Mode
     )
 
 
-def generate(model: Model, *, keep_virtual: bool = False, added: AddedTerms | None = None) -> GenerationResult:
+def generate(
+    model: Model, *, keep_virtual: bool = False, added: AddedTerms | None = None, readable: bool = True
+) -> GenerationResult:
     """Generate the exact symbolic equations of motion of ``model``.
 
     Parameters
@@ -231,6 +233,11 @@ def generate(model: Model, *, keep_virtual: bool = False, added: AddedTerms | No
         Keep the virtual DOFs and the virtual elements (the paper's eq. 6).
     added : AddedTerms, optional
         Terms from the rail modules.
+    readable : bool
+        Factor every entry for people to read (``b**2*(kLL + kLU)``); ``False`` gives
+        the same values expanded (``b**2*kLL + b**2*kLU``), which is all a numerical
+        command needs and saves the factoring (about half of the generation of a
+        3-D car).
 
     Returns
     -------
@@ -262,9 +269,9 @@ def generate(model: Model, *, keep_virtual: bool = False, added: AddedTerms | No
     inverses = inverted_symbols(expressions)
     fractions = inverses is None
     try:
-        return _generate(model, keep_virtual, added, ExactDomain(symbols, fractions, inverses or ()))
+        return _generate(model, keep_virtual, added, ExactDomain(symbols, fractions, inverses or ()), readable)
     except _NeedsFractionsError:
-        return _generate(model, keep_virtual, added, ExactDomain(symbols, True))
+        return _generate(model, keep_virtual, added, ExactDomain(symbols, True), readable)
 
 
 def _add_outer(target, left, right, scale) -> None:
@@ -381,7 +388,7 @@ def _assemble(model: Model, added: AddedTerms, domain: ExactDomain, deflections:
         h = {in_index[u]: v for u, v in deflections.input_gradients[element.id].items()}
         k, c = conv(element.stiffness), conv(element.damping)
         if element.gap is not None:
-            parts.clearances.append(_clearance(element, g, h, reduced, deflections.inputs, domain))
+            parts.clearances.append(_clearance(element, g, h, reduced, deflections.inputs, domain.readable))
             continue
         if element.series:
             # spring deflection delta - s, damper stroke s (docs/model-format.md)
@@ -444,7 +451,7 @@ def _generation_warnings(model: Model, reduced: list[str], mass_matrix, clearanc
     return warnings
 
 
-def _generate(model: Model, keep_virtual: bool, added: AddedTerms, domain: ExactDomain) -> GenerationResult:
+def _generate(model: Model, keep_virtual: bool, added: AddedTerms, domain: ExactDomain, readable: bool) -> GenerationResult:
     # series elements add their damper stroke, a massless first-order coordinate
     full_dofs = generalized_coordinates(model) + [f"{e.id}.{STROKE}" for e in model.elements if e.series]
     pin_element_ids = {element.id for _, element in _pin_elements(model)}
@@ -453,9 +460,10 @@ def _generate(model: Model, keep_virtual: bool, added: AddedTerms, domain: Exact
     reduced, virtual, t_rows = _transformation(model, domain, full_dofs, deflections.gradients, keep_virtual)
     parts = _assemble(model, added, domain, deflections, reduced, t_rows, set() if keep_virtual else pin_element_ids)
     n, m = len(reduced), len(inputs)
+    form = domain.readable if readable else domain.to_expr
 
     def build(entries: dict[tuple[int, int], Any], columns: int) -> sp.MatrixBase:
-        return symbolic_matrix(n, columns, {key: domain.readable(value) for key, value in entries.items() if value})
+        return symbolic_matrix(n, columns, {key: form(value) for key, value in entries.items() if value})
 
     matrices = {"M": build(parts.mass, n), "C": build(parts.damping, n), "K": build(parts.stiffness, n)}
     if inputs:
@@ -492,7 +500,7 @@ def _generate(model: Model, keep_virtual: bool, added: AddedTerms, domain: Exact
     t_matrix = symbolic_matrix(
         len(full_dofs),
         n,
-        {(i, j): domain.readable(value) for i, dof in enumerate(full_dofs) for j, value in t_rows[dof].items() if value},
+        {(i, j): form(value) for i, dof in enumerate(full_dofs) for j, value in t_rows[dof].items() if value},
     )
     return GenerationResult(equations, tuple(warnings), t_matrix, tuple(full_dofs))
 
@@ -515,12 +523,13 @@ def symbolic_matrix(rows: int, columns: int, entries: dict[tuple[int, int], sp.E
     return sp.ImmutableMatrix(rows, columns, flat)
 
 
-def _clearance(element, gradient: dict, inputs_gradient: dict, dofs: list[str], inputs: list[str], domain) -> ClearanceTerm:
-    """The record of a clearance element, its deflection in reduced coordinates."""
+def _clearance(element, gradient: dict, inputs_gradient: dict, dofs: list[str], inputs: list[str], form) -> ClearanceTerm:
+    """The record of a clearance element, its deflection in reduced coordinates
+    (``form``: the domain's ``readable``; a clearance has a few short entries)."""
     return ClearanceTerm(
         element=element.id,
-        gradient={dofs[i]: domain.readable(v) for i, v in sorted(gradient.items())},
-        inputs={inputs[j]: domain.readable(v) for j, v in sorted(inputs_gradient.items())},
+        gradient={dofs[i]: form(v) for i, v in sorted(gradient.items())},
+        inputs={inputs[j]: form(v) for j, v in sorted(inputs_gradient.items())},
         gap=sp.sympify(element.gap),
         stiffness=sp.sympify(element.stiffness),
         progressive=sp.sympify(element.progressive),

@@ -45,6 +45,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from express.base.diagnostics import ModelError, Problem, UsageError
+from express.base.reads import note_read
 
 __all__ = ["LIMITS", "MAX_EXPONENT", "MAX_NESTING", "Limit", "exceeded", "limit", "read_input_text"]
 
@@ -153,6 +154,7 @@ def read_input_text(path: str | Path, item: str = "", what: str = "the file") ->
             f"file larger than the limit of {most // (1024 * 1024)} MB "
             f"(raise it with the environment variable {LIMITS['file_mb'].variable})"
         )
+    note_read(path, data)  # the derivation cache's key (express.base.reads)
     if b"\0" in data:
         raise refuse("not a UTF-8 text file (it holds NUL bytes)")
     try:

@@ -34,6 +34,7 @@ from express import __version__
 from express.base.diagnostics import EXIT_ANALYSIS, EXIT_INPUT, EXIT_INTERNAL, EXIT_OK, AnalysisError, InputError
 from express.base.interrupts import handling_signals, remove_temporaries
 from express.cli import (
+    cache,
     common,
     conicity,
     contact_geometry,
@@ -56,8 +57,8 @@ from express.cli import (
 __all__ = ["build_parser", "main"]
 
 COMMANDS = (generate, convert, simulate, curving, frf, eigen, critical_speed, demo, draw, export, report, study, sensitivity, ride,
-            contact_geometry, conicity)
-_META = ("handler", "numeric", "debug", "command")
+            contact_geometry, conicity, cache)
+_META = ("handler", "numeric", "debug", "command", "no_cache")
 
 
 class _Parser(argparse.ArgumentParser):
@@ -90,6 +91,8 @@ def build_parser() -> argparse.ArgumentParser:
         command.add_parser(commands)
     for sub in commands.choices.values():
         sub.add_argument("--debug", action="store_true", default=argparse.SUPPRESS, help=argparse.SUPPRESS)
+        sub.add_argument("--no-cache", action="store_true", default=argparse.SUPPRESS,
+                         help="derive the model anew and store nothing (also EXPRESS_NO_CACHE=1; docs/cache.md)")
     return parser
 
 
@@ -104,6 +107,27 @@ def _one_blas_thread(numeric: bool) -> Iterator[None]:
 
     with blas_threads():
         yield
+
+
+@contextlib.contextmanager
+def _cache_switch(no_cache: bool) -> Iterator[None]:
+    """The derivation cache off for ``--no-cache`` (:mod:`express.numeric.cache`), in this
+    process and in the workers it starts (``EXPRESS_NO_CACHE``)."""
+    if not no_cache:
+        yield
+        return
+    from express.numeric.cache import disabled
+
+    before = os.environ.get("EXPRESS_NO_CACHE")
+    os.environ["EXPRESS_NO_CACHE"] = "1"
+    try:
+        with disabled():
+            yield
+    finally:
+        if before is None:
+            os.environ.pop("EXPRESS_NO_CACHE", None)
+        else:
+            os.environ["EXPRESS_NO_CACHE"] = before
 
 
 def printable(text: str) -> str:
@@ -148,9 +172,10 @@ def _run(parser: argparse.ArgumentParser, argv: Sequence[str] | None) -> int:
     values: dict[str, Any] = vars(args)
     handler = values["handler"]
     numeric = bool(values.get("numeric", False))
+    no_cache = bool(values.get("no_cache", False))
     for key in _META:
         values.pop(key, None)
-    with _one_blas_thread(numeric), warnings.catch_warnings():
+    with _one_blas_thread(numeric), _cache_switch(no_cache), warnings.catch_warnings():
         warnings.showwarning = _show_warning
         return int(handler(**values))
 

@@ -60,6 +60,7 @@ __all__ = [
     "npz_bytes",
     "output_transaction",
     "write_bytes",
+    "write_bytes_now",
     "write_csv",
     "write_output",
     "write_text",
@@ -436,6 +437,19 @@ def write_bytes(path: str | os.PathLike, data: bytes, *, inputs: Iterable[str | 
             check_destination(path, inputs=inputs)
         active.stage(path, data)
         return
+    write_bytes_now(path, data, inputs=inputs)
+
+
+def write_bytes_now(path: str | os.PathLike, data: bytes, *, inputs: Iterable[str | os.PathLike] = ()) -> None:
+    """Write ``data`` to ``path`` whole or not at all, now, outside any active
+    :func:`output_transaction` (for files that are not a command's outputs: an entry
+    of the derivation cache is kept even when the command fails later).
+
+    Raises
+    ------
+    OutputError
+        If ``path`` cannot receive it (nothing was replaced).
+    """
     transaction = Transaction(tuple(os.fspath(p) for p in inputs))
     try:
         transaction.stage(path, data)

@@ -3,8 +3,8 @@
 The symbolic M, C, K, P, Pd (and any further matrix) are turned into one generated
 NumPy-free Python function of the parameter vector: the non-zero entries are
 collected, identical entries evaluated once (the cars of a train share theirs), and
-the common subexpressions of what remains shared (:func:`sympy.cse`, through
-:func:`sympy.lambdify`).  A call costs a few microseconds per distinct entry and a
+the common subexpressions of what remains shared (:func:`sympy.cse`, as a
+straight-line program, :class:`express.numeric.program.ExpressionProgram`).  A call costs a few microseconds per distinct entry and a
 scatter into zero arrays, whatever the number of cars; no ``subs`` or ``xreplace``
 is ever used per point.
 
@@ -50,6 +50,7 @@ import sympy as sp
 
 from express.assembly.equations import EquationsOfMotion, Matrices
 from express.base.diagnostics import ArgumentError
+from express.numeric.program import ExpressionProgram, UnsupportedExpressionError
 
 __all__ = ["CompiledMatrices", "EigenBlocks", "SpeedSplit", "compile_matrices", "diagonal_blocks", "strong_components"]
 
@@ -81,13 +82,29 @@ class SpeedSplit:
 
 
 class _Entries:
-    """Distinct non-zero entries compiled into one function of the parameters."""
+    """Distinct non-zero entries compiled into one function of the parameters (through
+    an :class:`~express.numeric.program.ExpressionProgram`, the form the derivation
+    cache stores)."""
 
     def __init__(self, expressions: Sequence[sp.Expr], symbols: Sequence[sp.Symbol]):
         self.size = len(expressions)
-        # floats as exact fractions: the code printer would round them to 15 digits
-        exact = [e.xreplace({f: sp.Rational(f) for f in e.atoms(sp.Float)}) for e in expressions]
-        self.function = sp.lambdify(list(symbols), exact, modules="math", cse=True) if expressions else None
+        self.program: ExpressionProgram | None = None
+        try:
+            self.program = ExpressionProgram.from_expressions(expressions, [symbol.name for symbol in symbols])
+        except UnsupportedExpressionError:  # a function (sin, Abs): compiled by SymPy, not cacheable
+            exact = [e.xreplace({f: sp.Rational(f) for f in e.atoms(sp.Float)}) for e in expressions]
+            self.function = sp.lambdify(list(symbols), exact, modules="math", cse=True)
+            return
+        self.function = self.program.function() if self.size else None
+
+    @classmethod
+    def from_program(cls, program: ExpressionProgram) -> _Entries:
+        """Entries computed by ``program`` (read back from the cache: no SymPy work)."""
+        entries = cls.__new__(cls)
+        entries.program = program
+        entries.size = program.size
+        entries.function = program.function() if program.size else None
+        return entries
 
     def __call__(self, arguments: Sequence[float]) -> np.ndarray:
         if self.function is None:
@@ -141,6 +158,42 @@ class CompiledMatrices:
         self._constant = _Entries(lists[False], symbols)
         self._speed_dependent = _Entries(lists[True], symbols)
         self._speed_position = self.parameters.index(self.speed) if self.speed else -1
+
+    @classmethod
+    def from_programs(
+        cls,
+        parameters: Sequence[str],
+        speed: str | None,
+        shapes: Mapping[str, tuple[int, int]],
+        scatter: Mapping[str, tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]],
+        constant: ExpressionProgram,
+        speed_dependent: ExpressionProgram,
+    ) -> CompiledMatrices:
+        """The compiled matrices of :meth:`programs`' parts (read back from the derivation
+        cache, :mod:`express.numeric.derived`: no SymPy work)."""
+        compiled = cls.__new__(cls)
+        compiled.parameters = tuple(parameters)
+        compiled.speed = speed
+        compiled.shapes = dict(shapes)
+        compiled._scatter = dict(scatter)
+        compiled._constant = _Entries.from_program(constant)
+        compiled._speed_dependent = _Entries.from_program(speed_dependent)
+        compiled._speed_position = compiled.parameters.index(speed) if speed else -1
+        return compiled
+
+    def programs(self) -> tuple[ExpressionProgram, ExpressionProgram, dict[str, tuple[np.ndarray, ...]]]:
+        """``(constant entries, speed-dependent entries, scatter)``: the program of the
+        distinct entries without and with the speed, and per matrix the flat places and
+        the entry indices of each (``places0, places1, sources0, sources1``).
+
+        Raises
+        ------
+        UnsupportedExpressionError
+            When an entry has a function (compiled by SymPy instead; nothing to store).
+        """
+        if self._constant.program is None or self._speed_dependent.program is None:
+            raise UnsupportedExpressionError("an entry has a function: no program")
+        return self._constant.program, self._speed_dependent.program, dict(self._scatter)
 
     @property
     def distinct_entries(self) -> int:
@@ -320,6 +373,28 @@ class CompiledExpressions:
         self.size = len(expressions)
         self.names = tuple(sorted({s.name for e in expressions for s in e.free_symbols}))
         self._entries = _Entries(expressions, [sp.Symbol(name) for name in self.names])
+
+    @property
+    def program(self) -> ExpressionProgram:
+        """The program that computes the expressions (the derivation cache stores it).
+
+        Raises
+        ------
+        UnsupportedExpressionError
+            When an expression has a function (compiled by SymPy instead).
+        """
+        if self._entries.program is None:
+            raise UnsupportedExpressionError("an expression has a function: no program")
+        return self._entries.program
+
+    @classmethod
+    def from_program(cls, program: ExpressionProgram) -> CompiledExpressions:
+        """The compiled expressions of ``program`` (read back: no SymPy work)."""
+        compiled = cls.__new__(cls)
+        compiled.size = program.size
+        compiled.names = program.parameters
+        compiled._entries = _Entries.from_program(program)
+        return compiled
 
     def __call__(self, values: Mapping[str, float]) -> np.ndarray:
         """Values of the expressions, shape (size,).

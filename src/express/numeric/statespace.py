@@ -351,11 +351,50 @@ def vehicle_model(model: Model, *, with_rail: bool = True) -> VehicleModel:
     ModelError
         For missing parameter values or a singular mass matrix.
     """
-    equations = generate_vehicle(model, with_rail=with_rail).equations
+    derivation = _derivation(model, with_rail)
+    return _evaluate_vehicle(model, *derivation)
+
+
+def _derivation(model: Model, with_rail: bool, key: str | None = None) -> tuple:
+    """``(equations, evaluator, speed name, with_rail, layout, rail numbers)`` of ``model``:
+    read from the derivation cache under ``key`` when there is an entry, else derived
+    (entries expanded, not factored: :func:`express.assembly.generator.generate`) and
+    stored under ``key``."""
+    from express.assembly.equations import derivation_steps
+    from express.numeric.cache import entry_damaged, read_entry, write_entry
+    from express.numeric.derived import read_vehicle_entry, vehicle_entry
+    from express.numeric.program import ProgramError, UnsupportedExpressionError
+
     speed_name = None
     if with_rail and model.rail is not None and isinstance(model.rail.speed, sp.Symbol):
         speed_name = model.rail.speed.name
-    return _evaluate_vehicle(model, equations, compile_matrices(equations, speed_name), speed_name, with_rail)
+    cached = None
+    payload = read_entry(key) if key else None
+    if payload is not None:
+        try:
+            cached = read_vehicle_entry(payload, derivation_steps(model))
+            if cached.compiled.speed != (speed_name if speed_name in cached.compiled.parameters else None):
+                raise ProgramError("another speed")
+        except ProgramError:
+            entry_damaged(key or "")
+            cached = None
+    if cached is not None:
+        equations, evaluator = cached.equations, cached.compiled
+    else:
+        equations = generate_vehicle(model, with_rail=with_rail, readable=False).equations
+        evaluator = compile_matrices(equations, speed_name)
+    layout, rail_numbers = None, None
+    if with_rail and model.rail is not None and equations.inputs:
+        layout = rail_layout(model)
+        rail_numbers = _RailNumbers(model, equations, layout, cached.rail_numbers if cached else None)
+    if key and cached is None:
+        try:
+            entry = vehicle_entry(equations, evaluator, rail_numbers.compiled if rail_numbers else None)
+        except UnsupportedExpressionError:  # an entry with a function: derived every time
+            entry = None
+        if entry is not None:
+            write_entry(key, entry)
+    return equations, evaluator, speed_name, with_rail, layout, rail_numbers
 
 
 def _evaluate_vehicle(
@@ -432,7 +471,9 @@ class _RailNumbers:
 
     KEYS = ("f1", "f2", "conicity", "r0", "b", "flange_clearance", "rail_stiffness", "friction", "wheel_load")
 
-    def __init__(self, model: Model, equations: EquationsOfMotion, layout: RailLayout):
+    def __init__(
+        self, model: Model, equations: EquationsOfMotion, layout: RailLayout, compiled: CompiledExpressions | None = None
+    ):
         rail = model.rail
         assert rail is not None
         # (expression, item, what) of every number, for the compiled function and the errors
@@ -444,7 +485,9 @@ class _RailNumbers:
             self.uses.append((model.body(name).position[0], f"body {name}", "position"))
             self.uses += [(getattr(wheelset, key), f"wheelset {name}", key) for key in self.KEYS]
         self.uses += [(station.position, "station", "position") for station in layout.stations]
-        self.compiled = CompiledExpressions([expression for expression, _, _ in self.uses])
+        if compiled is None or compiled.size != len(self.uses):  # compiled: read from the derivation cache
+            compiled = CompiledExpressions([expression for expression, _, _ in self.uses])
+        self.compiled = compiled
 
     def __call__(self, model: Model, values: Mapping[str, float]) -> tuple[float, tuple[WheelsetData, ...], np.ndarray]:
         """``(speed, wheelsets, station positions)`` at ``values``; a ModelError naming
@@ -505,10 +548,10 @@ def point_lateral_row(model: Model, dofs: EquationsOfMotion | tuple[str, ...], b
 
 
 
-#: Generated vehicles by (model file, mtime, size, with_rail): generation takes about a
-#: second, re-evaluation with other values about a millisecond, so repeated in-process
-#: calls (scripts, tests, studies) reuse the generation.
-_GENERATED: dict[tuple, VehicleModel] = {}
+#: Derived vehicles by derivation-cache key (the bytes of every file read, the options):
+#: derivation takes about a second, re-evaluation with other values about a
+#: millisecond, so repeated in-process calls (scripts, tests, studies) reuse it.
+_GENERATED: dict[str, VehicleModel] = {}
 _GENERATED_CACHE_SIZE = 4
 
 
@@ -516,6 +559,11 @@ def load_vehicle(
     path: str | Path, overrides: Mapping[str, float | str] | None = None, *, with_rail: bool = True
 ) -> VehicleModel:
     """Read a model file once and return its numerical vehicle with ``overrides`` applied.
+
+    The derivation (equations and compiled functions) comes from the derivation cache
+    when the same files were derived before (:mod:`express.numeric.cache`,
+    ``docs/cache.md``), and is reused within the process; the overrides are applied
+    after it.
 
     Parameters
     ----------
@@ -540,22 +588,24 @@ def load_vehicle(
     >>> vehicle.wheelsets[0].conicity
     0.2
     """
+    from express.base.reads import recorded_reads
     from express.io import load_model
+    from express.numeric.cache import entry_key
 
-    path = Path(path)
-    model = load_model(path)
+    with recorded_reads() as reads:
+        model = load_model(Path(path))
     values = override_values(model, overrides or {})
-    stat = path.resolve().stat()
-    key = (str(path.resolve()), stat.st_mtime_ns, stat.st_size, with_rail)
+    key = entry_key("vehicle", reads, {"with_rail": with_rail})
     base = _GENERATED.get(key)
     if base is None:
+        derivation = _derivation(model, with_rail, key)
         try:
-            base = vehicle_model(model, with_rail=with_rail)
+            base = _evaluate_vehicle(model, *derivation)
         except ModelError:
             if not values:
                 raise
             # e.g. a singular M at the file's values that the overrides cure
-            return vehicle_model(with_values(model, values), with_rail=with_rail)
+            return _evaluate_vehicle(with_values(model, values), *derivation)
         if len(_GENERATED) >= _GENERATED_CACHE_SIZE:
             _GENERATED.pop(next(iter(_GENERATED)))
         _GENERATED[key] = base

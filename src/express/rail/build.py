@@ -101,8 +101,11 @@ def rail_terms(model: Model) -> AddedTerms:
     )
 
 
-def generate_vehicle(model: Model, *, keep_virtual: bool = False, with_rail: bool = True) -> GenerationResult:
-    """Generate the equations of a model, with its rail terms when it has rail data.
+def generate_vehicle(
+    model: Model, *, keep_virtual: bool = False, with_rail: bool = True, readable: bool = True
+) -> GenerationResult:
+    """Generate the equations of a model, with its rail terms when it has rail data
+    (``readable=False``: entries expanded, not factored; :func:`express.assembly.generator.generate`).
 
     Examples
     --------
@@ -113,7 +116,7 @@ def generate_vehicle(model: Model, *, keep_virtual: bool = False, with_rail: boo
     (24, 4)
     """
     added = rail_terms(model) if with_rail and model.rail is not None else None
-    return generate(model, keep_virtual=keep_virtual, added=added)
+    return generate(model, keep_virtual=keep_virtual, added=added, readable=readable)
 
 
 def _profile_nodes(model: Model) -> dict[str, Derivation]:

@@ -1,0 +1,279 @@
+"""A derived vehicle as cache data, and back (:mod:`express.numeric.cache` stores it).
+
+The entry of a numerical vehicle holds what :func:`express.numeric.statespace.load_vehicle`
+needs without symbolic work: the equations' names (DOFs, eliminated DOFs, inputs,
+parameters, values, units), the compiled matrices (the programs of their distinct
+entries and where each goes) and the program of the rail numbers (speed, wheelset data,
+station positions).  The symbolic matrices are rebuilt from the programs only when
+something asks for them (:class:`LazyMatrices`: a sensitivity, a report); the
+clearances (bump stops) are stored as a small program too.
+
+Reading checks every field's type and every program (:meth:`ExpressionProgram.from_data`);
+anything else raises :class:`~express.numeric.program.ProgramError`, and the caller
+rebuilds the entry.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import sympy as sp
+
+from express.assembly.equations import ClearanceTerm, EquationsOfMotion
+from express.assembly.generator import symbolic_matrix
+from express.numeric.compiled import CompiledExpressions, CompiledMatrices
+from express.numeric.program import ExpressionProgram, ProgramError
+
+__all__ = ["CachedVehicle", "LazyMatrices", "read_vehicle_entry", "vehicle_entry"]
+
+
+class LazyMatrices(dict):
+    """The symbolic matrices of a cached vehicle, rebuilt on first use (a plain ``dict``
+    from then on: every read, iteration or length asks for them first)."""
+
+    def __init__(self, build: Callable[[], dict[str, Any]]):
+        super().__init__()
+        self._build: Callable[[], dict[str, Any]] | None = build
+
+    def _fill(self) -> None:
+        if self._build is not None:
+            build, self._build = self._build, None
+            super().update(build())
+
+    def __getitem__(self, key):
+        self._fill()
+        return super().__getitem__(key)
+
+    def get(self, key, default=None):
+        self._fill()
+        return super().get(key, default)
+
+    def __iter__(self):
+        self._fill()
+        return super().__iter__()
+
+    def __len__(self) -> int:
+        self._fill()
+        return super().__len__()
+
+    def __contains__(self, key) -> bool:
+        self._fill()
+        return super().__contains__(key)
+
+    def keys(self):
+        self._fill()
+        return super().keys()
+
+    def values(self):
+        self._fill()
+        return super().values()
+
+    def items(self):
+        self._fill()
+        return super().items()
+
+    def __eq__(self, other) -> bool:
+        self._fill()
+        return super().__eq__(other)
+
+    __hash__ = None
+
+    def __repr__(self) -> str:
+        self._fill()
+        return super().__repr__()
+
+    def copy(self) -> dict:
+        self._fill()
+        return dict(super().items())
+
+
+@dataclass(frozen=True)
+class CachedVehicle:
+    """A vehicle's derivation read back from the cache.
+
+    Attributes
+    ----------
+    equations : EquationsOfMotion
+        With :class:`LazyMatrices`; ``derivation`` as given to :func:`read_vehicle_entry`.
+    compiled : CompiledMatrices
+    rail_numbers : CompiledExpressions or None
+    """
+
+    equations: EquationsOfMotion
+    compiled: CompiledMatrices
+    rail_numbers: CompiledExpressions | None
+
+
+def vehicle_entry(
+    equations: EquationsOfMotion, compiled: CompiledMatrices, rail_numbers: CompiledExpressions | None
+) -> dict[str, Any]:
+    """The cache data of a derived vehicle (JSON-ready)."""
+    constant, speed_dependent, scatter = compiled.programs()
+    clearances, program = _clearance_data(equations.clearances)
+    return {
+        "name": equations.name,
+        "kind": "vehicle",
+        "dofs": list(equations.dofs),
+        "eliminated": list(equations.eliminated),
+        "inputs": list(equations.inputs),
+        "parameters": list(equations.parameters),
+        "values": {name: float(value) for name, value in equations.values.items()},
+        "units": dict(equations.units),
+        "clearances": clearances,
+        "clearance_program": program.to_data(),
+        "speed": compiled.speed,
+        "compiled_parameters": list(compiled.parameters),
+        "shapes": {key: list(shape) for key, shape in compiled.shapes.items()},
+        "scatter": {key: [part.tolist() for part in parts] for key, parts in scatter.items()},
+        "constant": constant.to_data(),
+        "speed_dependent": speed_dependent.to_data(),
+        "rail_numbers": None if rail_numbers is None else rail_numbers.program.to_data(),
+    }
+
+
+def read_vehicle_entry(payload: Any, derivation: tuple = ()) -> CachedVehicle:
+    """The vehicle of :func:`vehicle_entry`'s data, every field checked.
+
+    Raises
+    ------
+    ProgramError
+        For data that is not a vehicle entry.
+    """
+    data = _mapping(payload)
+    if data.get("kind") != "vehicle":
+        raise ProgramError("not a vehicle entry")
+    constant = ExpressionProgram.from_data(data.get("constant"))
+    speed_dependent = ExpressionProgram.from_data(data.get("speed_dependent"))
+    parameters = _strings(data.get("compiled_parameters"))
+    speed = data.get("speed")
+    if speed is not None and speed not in parameters:
+        raise ProgramError("bad speed")
+    if list(constant.parameters) != parameters or list(speed_dependent.parameters) != parameters:
+        raise ProgramError("programs of other parameters")
+    shapes = {key: _shape(value) for key, value in _mapping(data.get("shapes")).items()}
+    scatter = {key: _scatter(value, shapes.get(key), constant.size, speed_dependent.size)
+               for key, value in _mapping(data.get("scatter")).items()}
+    if set(scatter) != set(shapes) or not {"M", "C", "K"} <= set(shapes):
+        raise ProgramError("bad matrices")
+    compiled = CompiledMatrices.from_programs(parameters, speed, shapes, scatter, constant, speed_dependent)
+    rail = data.get("rail_numbers")
+    rail_numbers = None if rail is None else CompiledExpressions.from_program(ExpressionProgram.from_data(rail))
+    clearances = _read_clearances(data.get("clearances"), ExpressionProgram.from_data(data.get("clearance_program")))
+    values = {name: _float(value) for name, value in _mapping(data.get("values")).items()}
+    units = {name: _string(value) for name, value in _mapping(data.get("units")).items()}
+    equations = EquationsOfMotion(
+        name=_string(data.get("name")),
+        dofs=tuple(_strings(data.get("dofs"))),
+        eliminated=tuple(_strings(data.get("eliminated"))),
+        inputs=tuple(_strings(data.get("inputs"))),
+        matrices=LazyMatrices(lambda: _matrices(compiled)),
+        parameters=tuple(_strings(data.get("parameters"))),
+        values=values,
+        units=units,
+        clearances=clearances,
+        derivation=derivation,
+    )
+    if shapes["M"] != (len(equations.dofs), len(equations.dofs)):
+        raise ProgramError("bad matrix shape")
+    return CachedVehicle(equations, compiled, rail_numbers)
+
+
+def _matrices(compiled: CompiledMatrices) -> dict[str, Any]:
+    """The symbolic matrices of the compiled ones (their programs' expressions put back)."""
+    constant, speed_dependent, scatter = compiled.programs()
+    expressions = (constant.expressions(), speed_dependent.expressions())
+    result = {}
+    for key, (places0, places1, sources0, sources1) in scatter.items():
+        rows, columns = compiled.shapes[key]
+        entries: dict[tuple[int, int], sp.Expr] = {}
+        for which, places, sources in ((0, places0, sources0), (1, places1, sources1)):
+            for place, source in zip(places.tolist(), sources.tolist(), strict=True):
+                entries[divmod(place, columns)] = expressions[which][source]
+        result[key] = symbolic_matrix(rows, columns, entries)
+    return result
+
+
+def _clearance_data(clearances: tuple[ClearanceTerm, ...]) -> tuple[list, ExpressionProgram]:
+    records, expressions = [], []
+    for term in clearances:
+        records.append({"element": term.element, "gradient": list(term.gradient), "inputs": list(term.inputs)})
+        expressions += [*term.gradient.values(), *term.inputs.values(), term.gap, term.stiffness, term.progressive]
+    names = sorted({symbol.name for expression in expressions for symbol in sp.sympify(expression).free_symbols})
+    return records, ExpressionProgram.from_expressions(expressions, names)
+
+
+def _read_clearances(data: Any, program: ExpressionProgram) -> tuple[ClearanceTerm, ...]:
+    records = data if isinstance(data, list) else None
+    if records is None:
+        raise ProgramError("bad clearances")
+    expressions = iter(program.expressions() if records else [])
+    terms = []
+    for record in records:
+        record = _mapping(record)
+        gradient_names, input_names = _strings(record.get("gradient")), _strings(record.get("inputs"))
+        if program.size < 3:
+            raise ProgramError("bad clearances")
+        try:
+            gradient = {name: next(expressions) for name in gradient_names}
+            inputs = {name: next(expressions) for name in input_names}
+            gap, stiffness, progressive = next(expressions), next(expressions), next(expressions)
+        except StopIteration:
+            raise ProgramError("bad clearances") from None
+        terms.append(ClearanceTerm(_string(record.get("element")), gradient, inputs, gap, stiffness, progressive))
+    if next(expressions, None) is not None:
+        raise ProgramError("bad clearances")
+    return tuple(terms)
+
+
+def _mapping(value: Any) -> dict:
+    if not isinstance(value, dict) or not all(isinstance(key, str) for key in value):
+        raise ProgramError("expected a mapping")
+    return value
+
+
+def _string(value: Any) -> str:
+    if not isinstance(value, str):
+        raise ProgramError("expected a text")
+    return value
+
+
+def _strings(value: Any) -> list[str]:
+    if not isinstance(value, list) or not all(isinstance(item, str) for item in value):
+        raise ProgramError("expected a list of texts")
+    return value
+
+
+def _float(value: Any) -> float:
+    if type(value) not in (int, float):
+        raise ProgramError("expected a number")
+    number = float(value)
+    if math.isinf(number):
+        raise ProgramError("a value is not finite")
+    return number
+
+
+def _shape(value: Any) -> tuple[int, int]:
+    if not (isinstance(value, list) and len(value) == 2 and all(type(x) is int and x >= 0 for x in value)):
+        raise ProgramError("bad shape")
+    return (value[0], value[1])
+
+
+def _scatter(
+    value: Any, shape: tuple[int, int] | None, constants: int, speed_dependent: int
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    if shape is None or not (isinstance(value, list) and len(value) == 4):
+        raise ProgramError("bad scatter")
+    cells = shape[0] * shape[1]
+    limits = (cells, cells, constants, speed_dependent)
+    parts = []
+    for part, limit in zip(value, limits, strict=True):
+        if not (isinstance(part, list) and all(type(x) is int and 0 <= x < limit for x in part)):
+            raise ProgramError("bad scatter")
+        parts.append(np.array(part, dtype=np.intp))
+    if len(parts[0]) != len(parts[2]) or len(parts[1]) != len(parts[3]):
+        raise ProgramError("bad scatter")
+    return parts[0], parts[1], parts[2], parts[3]
