@@ -37,7 +37,15 @@ from express.base.diagnostics import ModelError, Problem
 from express.model.parameters import display_unit
 from express.model.records import AXES, DOF_NAMES, Model, check_model
 
-__all__ = ["SPARSE_BELOW", "AddedTerms", "GenerationResult", "generate", "pin_transformation", "symbolic_matrix"]
+__all__ = [
+    "SPARSE_BELOW",
+    "AddedTerms",
+    "GenerationResult",
+    "equation_values",
+    "generate",
+    "pin_transformation",
+    "symbolic_matrix",
+]
 
 
 @dataclass(frozen=True)
@@ -473,13 +481,7 @@ def _generate(model: Model, keep_virtual: bool, added: AddedTerms, domain: Exact
     for matrix in matrices.values():
         symbols |= matrix.free_symbols
     parameters = tuple(sorted(s.name for s in symbols))
-    # the virtual stiffness vanishes from the result: leave its value out too
-    virtual_only = {
-        symbol.name
-        for element in model.elements
-        if element.id in pin_element_ids
-        for symbol in (sp.sympify(element.stiffness).free_symbols | sp.sympify(element.damping).free_symbols)
-    } - set(parameters)
+    values, units = equation_values(model, parameters)
     equations = EquationsOfMotion(
         name=model.name,
         dofs=tuple(reduced),
@@ -487,12 +489,8 @@ def _generate(model: Model, keep_virtual: bool, added: AddedTerms, domain: Exact
         inputs=tuple(inputs),
         matrices=Matrices.of(matrices),
         parameters=parameters,
-        values={name: p.value for name, p in sorted(model.parameters.items()) if name not in virtual_only},
-        units={  # as written, or the SI unit of a derived parameter's dimension
-            name: display_unit(p)
-            for name, p in sorted(model.parameters.items())
-            if display_unit(p) and name not in virtual_only
-        },
+        values=values,
+        units=units,
         clearances=tuple(parts.clearances),
         derivation=derivation_steps(model),
     )
@@ -503,6 +501,24 @@ def _generate(model: Model, keep_virtual: bool, added: AddedTerms, domain: Exact
         {(i, j): form(value) for i, dof in enumerate(full_dofs) for j, value in t_rows[dof].items() if value},
     )
     return GenerationResult(equations, tuple(warnings), t_matrix, tuple(full_dofs))
+
+
+def equation_values(model: Model, parameters: tuple[str, ...]) -> tuple[dict[str, float], dict[str, str]]:
+    """``(values, units)`` of :class:`EquationsOfMotion`: every parameter's SI value and
+    the unit it was written in (or the SI unit of a derived parameter's dimension),
+    without the parameters only the virtual elements use (they vanish from the result)."""
+    pin_element_ids = {element.id for _, element in _pin_elements(model)}
+    virtual_only = {
+        symbol.name
+        for element in model.elements
+        if element.id in pin_element_ids
+        for symbol in (sp.sympify(element.stiffness).free_symbols | sp.sympify(element.damping).free_symbols)
+    } - set(parameters)
+    values = {name: p.value for name, p in sorted(model.parameters.items()) if name not in virtual_only}
+    units = {
+        name: display_unit(p) for name, p in sorted(model.parameters.items()) if display_unit(p) and name not in virtual_only
+    }
+    return values, units
 
 
 #: A matrix with fewer non-zeros than this share of its entries is built sparse.

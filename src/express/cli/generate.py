@@ -50,10 +50,9 @@ def _export(model: Path, overrides: dict[str, str], fmt: str, output: str, *, ke
     from express.export import FORMATS as EXPORTERS
     from express.export import to_matlab
     from express.io.output import STDOUT
-    from express.rail.build import generate_vehicle
+    from express.numeric.generation import load_generation
 
-    loaded = common.load_model_with(model, overrides)
-    result = generate_vehicle(loaded, keep_virtual=keep_virtual, with_rail=with_rail)
+    result = load_generation(model, overrides, keep_virtual=keep_virtual, with_rail=with_rail)  # docs/cache.md
     common.print_warnings(result.warnings)
     equations = result.equations
     if fmt == "matlab":

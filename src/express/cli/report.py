@@ -29,6 +29,7 @@ def run(model: Path, overrides: dict[str, str], *, output: str, speed: float | N
         track: str | None = None) -> int:
     """Write the report; returns the exit status."""
     from express.io.output import output_transaction, write_text
+    from express.numeric.generation import load_generation
     from express.numeric.statespace import load_vehicle
     from express.report.build import report_html
 
@@ -37,6 +38,8 @@ def run(model: Path, overrides: dict[str, str], *, output: str, speed: float | N
         outputs.declare(output)
         road, where = common.track_and_name(track)
         vehicle = load_vehicle(model, overrides)
-        write_text(output, report_html(vehicle, speed=speed, track=road if track is not None else None, track_name=where))
+        readable = load_generation(model, overrides).equations  # factored for people (docs/cache.md)
+        write_text(output, report_html(vehicle, speed=speed, track=road if track is not None else None, track_name=where,
+                                       equations=readable))
     common.note(f"wrote {output}")
     return 0

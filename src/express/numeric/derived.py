@@ -1,4 +1,5 @@
-"""A derived vehicle as cache data, and back (:mod:`express.numeric.cache` stores it).
+"""A derived vehicle, or a readable generation, as cache data and back
+(:mod:`express.numeric.cache` stores them).
 
 The entry of a numerical vehicle holds what :func:`express.numeric.statespace.load_vehicle`
 needs without symbolic work: the equations' names (DOFs, eliminated DOFs, inputs,
@@ -8,6 +9,11 @@ station positions).  The symbolic matrices are rebuilt from the programs only wh
 something asks for them (:class:`LazyMatrices`: a sensitivity, a report); the
 clearances (bump stops) are stored as a small program too.
 
+The entry of a readable generation (``express generate`` and the exporters) holds the
+factored entries of every matrix and of ``T`` as one program, rebuilt into the same
+SymPy expressions (``Add``, ``Mul``, ``Pow`` of the same arguments), so the exports are
+the same bytes.
+
 Reading checks every field's type and every program (:meth:`ExpressionProgram.from_data`);
 anything else raises :class:`~express.numeric.program.ProgramError`, and the caller
 rebuilds the entry.
@@ -15,7 +21,6 @@ rebuilds the entry.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
@@ -24,11 +29,19 @@ import numpy as np
 import sympy as sp
 
 from express.assembly.equations import ClearanceTerm, EquationsOfMotion
-from express.assembly.generator import symbolic_matrix
+from express.assembly.generator import GenerationResult, symbolic_matrix
+from express.model.records import Model
 from express.numeric.compiled import CompiledExpressions, CompiledMatrices
 from express.numeric.program import ExpressionProgram, ProgramError
 
-__all__ = ["CachedVehicle", "LazyMatrices", "read_vehicle_entry", "vehicle_entry"]
+__all__ = [
+    "CachedVehicle",
+    "LazyMatrices",
+    "generation_entry",
+    "read_generation_entry",
+    "read_vehicle_entry",
+    "vehicle_entry",
+]
 
 
 class LazyMatrices(dict):
@@ -121,8 +134,6 @@ def vehicle_entry(
         "eliminated": list(equations.eliminated),
         "inputs": list(equations.inputs),
         "parameters": list(equations.parameters),
-        "values": {name: float(value) for name, value in equations.values.items()},
-        "units": dict(equations.units),
         "clearances": clearances,
         "clearance_program": program.to_data(),
         "speed": compiled.speed,
@@ -135,8 +146,9 @@ def vehicle_entry(
     }
 
 
-def read_vehicle_entry(payload: Any, derivation: tuple = ()) -> CachedVehicle:
-    """The vehicle of :func:`vehicle_entry`'s data, every field checked.
+def read_vehicle_entry(payload: Any, model: Model) -> CachedVehicle:
+    """The vehicle of :func:`vehicle_entry`'s data, every field checked; the name, values,
+    units and derivation steps come from ``model`` (the model the entry was derived from).
 
     Raises
     ------
@@ -162,24 +174,31 @@ def read_vehicle_entry(payload: Any, derivation: tuple = ()) -> CachedVehicle:
     compiled = CompiledMatrices.from_programs(parameters, speed, shapes, scatter, constant, speed_dependent)
     rail = data.get("rail_numbers")
     rail_numbers = None if rail is None else CompiledExpressions.from_program(ExpressionProgram.from_data(rail))
-    clearances = _read_clearances(data.get("clearances"), ExpressionProgram.from_data(data.get("clearance_program")))
-    values = {name: _float(value) for name, value in _mapping(data.get("values")).items()}
-    units = {name: _string(value) for name, value in _mapping(data.get("units")).items()}
-    equations = EquationsOfMotion(
-        name=_string(data.get("name")),
-        dofs=tuple(_strings(data.get("dofs"))),
-        eliminated=tuple(_strings(data.get("eliminated"))),
-        inputs=tuple(_strings(data.get("inputs"))),
-        matrices=LazyMatrices(lambda: _matrices(compiled)),
-        parameters=tuple(_strings(data.get("parameters"))),
-        values=values,
-        units=units,
-        clearances=clearances,
-        derivation=derivation,
-    )
+    equations = _equations(data, model, LazyMatrices(lambda: _matrices(compiled)))
     if shapes["M"] != (len(equations.dofs), len(equations.dofs)):
         raise ProgramError("bad matrix shape")
     return CachedVehicle(equations, compiled, rail_numbers)
+
+
+def _equations(data: dict, model: Model, matrices: dict) -> EquationsOfMotion:
+    """The equations of an entry: names from ``data``, values from ``model``."""
+    from express.assembly.equations import derivation_steps
+    from express.assembly.generator import equation_values
+
+    parameters = tuple(_strings(data.get("parameters")))
+    values, units = equation_values(model, parameters)
+    return EquationsOfMotion(
+        name=model.name,
+        dofs=tuple(_strings(data.get("dofs"))),
+        eliminated=tuple(_strings(data.get("eliminated"))),
+        inputs=tuple(_strings(data.get("inputs"))),
+        matrices=matrices,
+        parameters=parameters,
+        values=values,
+        units=units,
+        clearances=_read_clearances(data.get("clearances"), ExpressionProgram.from_data(data.get("clearance_program"))),
+        derivation=derivation_steps(model),
+    )
 
 
 def _matrices(compiled: CompiledMatrices) -> dict[str, Any]:
@@ -247,15 +266,6 @@ def _strings(value: Any) -> list[str]:
     return value
 
 
-def _float(value: Any) -> float:
-    if type(value) not in (int, float):
-        raise ProgramError("expected a number")
-    number = float(value)
-    if math.isinf(number):
-        raise ProgramError("a value is not finite")
-    return number
-
-
 def _shape(value: Any) -> tuple[int, int]:
     if not (isinstance(value, list) and len(value) == 2 and all(type(x) is int and x >= 0 for x in value)):
         raise ProgramError("bad shape")
@@ -277,3 +287,94 @@ def _scatter(
     if len(parts[0]) != len(parts[2]) or len(parts[1]) != len(parts[3]):
         raise ProgramError("bad scatter")
     return parts[0], parts[1], parts[2], parts[3]
+
+
+# --------------------------------------------------------------------------------------
+# the readable generation (express generate and the exporters)
+# --------------------------------------------------------------------------------------
+
+
+def generation_entry(result: GenerationResult) -> dict[str, Any]:
+    """The cache data of a readable generation: every distinct entry of the matrices and
+    of ``T`` as one program, where each goes, the clearances and the warnings."""
+    equations = result.equations
+    distinct: dict[sp.Expr, int] = {}
+    places: dict[str, Any] = {}
+    for key, matrix in [*equations.matrices.items(), (_TRANSFORMATION, result.transformation)]:
+        rows, columns = matrix.shape
+        found = []
+        for (i, j), expression in sorted(matrix.todok().items()):
+            if expression != 0:
+                found.append([i * columns + j, distinct.setdefault(expression, len(distinct))])
+        places[key] = {"shape": [rows, columns], "entries": found}
+    names = sorted({symbol.name for expression in distinct for symbol in expression.free_symbols})
+    clearances, clearance_program = _clearance_data(equations.clearances)
+    return {
+        "name": equations.name,
+        "kind": "generation",
+        "dofs": list(equations.dofs),
+        "eliminated": list(equations.eliminated),
+        "inputs": list(equations.inputs),
+        "parameters": list(equations.parameters),
+        "full_dofs": list(result.full_dofs),
+        "clearances": clearances,
+        "clearance_program": clearance_program.to_data(),
+        "program": ExpressionProgram.from_expressions(list(distinct), names).to_data(),
+        "places": places,
+        "warnings": [[w.line, w.item, w.message] for w in result.warnings],
+    }
+
+
+def read_generation_entry(payload: Any, model: Model) -> GenerationResult:
+    """The generation of :func:`generation_entry`'s data, every field checked; names,
+    values, units, derivation steps and the warnings' file come from ``model``.
+
+    Raises
+    ------
+    ProgramError
+        For data that is not a generation entry.
+    """
+    from express.base.diagnostics import Problem
+
+    data = _mapping(payload)
+    if data.get("kind") != "generation":
+        raise ProgramError("not a generation entry")
+    expressions = ExpressionProgram.from_data(data.get("program")).expressions()
+    matrices = {key: _read_matrix(value, expressions) for key, value in _mapping(data.get("places")).items()}
+    transformation = matrices.pop(_TRANSFORMATION, None)
+    if transformation is None or not {"M", "C", "K"} <= set(matrices):
+        raise ProgramError("bad matrices")
+    warnings = []
+    for item in _list(data.get("warnings")):
+        if not (isinstance(item, list) and len(item) == 3 and (item[0] is None or type(item[0]) is int)):
+            raise ProgramError("bad warning")
+        warnings.append(Problem(model.source, item[0], _string(item[1]), _string(item[2])))
+    equations = _equations(data, model, matrices)
+    full_dofs = tuple(_strings(data.get("full_dofs")))
+    if matrices["M"].shape != (len(equations.dofs),) * 2 or transformation.shape != (len(full_dofs), len(equations.dofs)):
+        raise ProgramError("bad matrix shape")
+    return GenerationResult(equations, tuple(warnings), transformation, full_dofs)
+
+
+#: The key of ``T`` (``q = T q_r``) among the matrices of a generation entry.
+_TRANSFORMATION = "transformation T"
+
+
+def _read_matrix(value: Any, expressions: list[sp.Expr]) -> Any:
+    data = _mapping(value)
+    rows, columns = _shape(data.get("shape"))
+    entries: dict[tuple[int, int], sp.Expr] = {}
+    for item in _list(data.get("entries")):
+        if not (isinstance(item, list) and len(item) == 2 and all(type(x) is int for x in item)):
+            raise ProgramError("bad matrix entry")
+        place, source = item
+        if not (0 <= place < rows * columns and 0 <= source < len(expressions)):
+            raise ProgramError("bad matrix entry")
+        entries[divmod(place, columns)] = expressions[source]
+    return symbolic_matrix(rows, columns, entries)
+
+
+def _list(value: Any) -> list:
+    if not isinstance(value, list):
+        raise ProgramError("expected a list")
+    return value

@@ -360,7 +360,6 @@ def _derivation(model: Model, with_rail: bool, key: str | None = None) -> tuple:
     read from the derivation cache under ``key`` when there is an entry, else derived
     (entries expanded, not factored: :func:`express.assembly.generator.generate`) and
     stored under ``key``."""
-    from express.assembly.equations import derivation_steps
     from express.numeric.cache import entry_damaged, read_entry, write_entry
     from express.numeric.derived import read_vehicle_entry, vehicle_entry
     from express.numeric.program import ProgramError, UnsupportedExpressionError
@@ -372,7 +371,7 @@ def _derivation(model: Model, with_rail: bool, key: str | None = None) -> tuple:
     payload = read_entry(key) if key else None
     if payload is not None:
         try:
-            cached = read_vehicle_entry(payload, derivation_steps(model))
+            cached = read_vehicle_entry(payload, model)
             if cached.compiled.speed != (speed_name if speed_name in cached.compiled.parameters else None):
                 raise ProgramError("another speed")
         except ProgramError:

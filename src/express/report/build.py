@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 import sympy as sp
 
+from express.assembly.equations import EquationsOfMotion
 from express.base.units import KMH
 from express.drawing.geometry import model_geometry
 from express.drawing.views import figure_model
@@ -97,8 +98,8 @@ def _parameters_section(vehicle: VehicleModel) -> Section:
     return Section("Parameters", (Table(("name", "value", "SI value", "source"), rows),))
 
 
-def _equations_section(vehicle: VehicleModel) -> Section:
-    equations = vehicle.equations
+def _equations_section(vehicle: VehicleModel, readable: EquationsOfMotion | None) -> Section:
+    equations = readable if readable is not None else vehicle.equations
     entries: list[tuple[str, str]] = []
     total = 0
     for key in ("M", "C", "K"):
@@ -200,7 +201,10 @@ def _frequency_section(vehicle: VehicleModel) -> Section | None:
     ))
 
 
-def report_html(vehicle: VehicleModel, *, speed: float | None = None, track=None, track_name: str = "") -> str:
+def report_html(
+    vehicle: VehicleModel, *, speed: float | None = None, track=None, track_name: str = "",
+    equations: EquationsOfMotion | None = None,
+) -> str:
     """The whole report of ``vehicle`` as an HTML document (see the module docstring).
 
     Parameters
@@ -215,13 +219,17 @@ def report_html(vehicle: VehicleModel, *, speed: float | None = None, track=None
         its own speed when it has one, else at the model's.
     track_name : str
         How the report names the track.
+    equations : EquationsOfMotion, optional
+        The readable (factored) equations to show
+        (:func:`express.numeric.generation.load_generation`); by default the vehicle's
+        own, expanded as numerical work takes them.
     """
     if vehicle.model is None:
         raise ValueError("the vehicle has no model to report on")
     rail = vehicle.layout is not None and bool(vehicle.wheelsets)
     if speed is None:
         speed = vehicle.speed if rail and np.isfinite(vehicle.speed) else 1.0
-    sections = [_model_section(vehicle), _parameters_section(vehicle), _equations_section(vehicle),
+    sections = [_model_section(vehicle), _parameters_section(vehicle), _equations_section(vehicle, equations),
                 _modes_section(vehicle, speed)]
     if rail:
         sections += [_stability_section(vehicle), _curving_section(vehicle, track, track_name)]
