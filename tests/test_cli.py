@@ -149,7 +149,7 @@ def test_every_handler_receives_exactly_the_parsed_values():
     for name, sub in subparsers.choices.items():
         defaults = sub._defaults
         handler = defaults["handler"]
-        dests = {a.dest for a in sub._actions if a.dest not in ("help", "debug")}
+        dests = {a.dest for a in sub._actions if a.dest not in ("help", "debug", "no_cache")}
         parameters = set(inspect.signature(handler).parameters)
         assert parameters == dests, name
         assert handler.__module__ == f"express.cli.{name.replace('-', '_')}"

@@ -21,14 +21,14 @@ rebuilds the entry.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 import sympy as sp
 
-from express.assembly.equations import ClearanceTerm, EquationsOfMotion
+from express.assembly.equations import ClearanceTerm, EquationsOfMotion, Matrices
 from express.assembly.generator import GenerationResult, symbolic_matrix
 from express.model.records import Model
 from express.numeric.compiled import CompiledExpressions, CompiledMatrices
@@ -44,64 +44,34 @@ __all__ = [
 ]
 
 
-class LazyMatrices(dict):
-    """The symbolic matrices of a cached vehicle, rebuilt on first use (a plain ``dict``
-    from then on: every read, iteration or length asks for them first)."""
+#: The fields of :class:`express.assembly.equations.Matrices`.
+_FIELDS = frozenset(("M", "C", "K", "P", "Pd", "further"))
 
-    def __init__(self, build: Callable[[], dict[str, Any]]):
-        super().__init__()
-        self._build: Callable[[], dict[str, Any]] | None = build
 
-    def _fill(self) -> None:
-        if self._build is not None:
-            build, self._build = self._build, None
-            super().update(build())
+class LazyMatrices(Matrices):
+    """The symbolic matrices of a cached vehicle, rebuilt on first use: reading any matrix
+    (by name, by key, iterating, comparing) builds them all once."""
 
-    def __getitem__(self, key):
-        self._fill()
-        return super().__getitem__(key)
+    def __init__(self, build: Callable[[], Mapping[str, Any]]):  # no dataclass fields yet
+        object.__setattr__(self, "_build", build)
 
-    def get(self, key, default=None):
-        self._fill()
-        return super().get(key, default)
+    def __getattribute__(self, name: str) -> Any:
+        if name in _FIELDS:
+            build = object.__getattribute__(self, "_build")
+            if build is not None:
+                object.__setattr__(self, "_build", None)
+                built = Matrices.of(build())
+                for field_name in _FIELDS:
+                    object.__setattr__(self, field_name, getattr(built, field_name))
+        return object.__getattribute__(self, name)
 
-    def __iter__(self):
-        self._fill()
-        return super().__iter__()
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, Matrices):
+            return NotImplemented
+        return all(getattr(self, name) == getattr(other, name) for name in sorted(_FIELDS))
 
-    def __len__(self) -> int:
-        self._fill()
-        return super().__len__()
-
-    def __contains__(self, key) -> bool:
-        self._fill()
-        return super().__contains__(key)
-
-    def keys(self):
-        self._fill()
-        return super().keys()
-
-    def values(self):
-        self._fill()
-        return super().values()
-
-    def items(self):
-        self._fill()
-        return super().items()
-
-    def __eq__(self, other) -> bool:
-        self._fill()
-        return super().__eq__(other)
-
-    __hash__ = None
-
-    def __repr__(self) -> str:
-        self._fill()
-        return super().__repr__()
-
-    def copy(self) -> dict:
-        self._fill()
-        return dict(super().items())
+    def __hash__(self) -> int:
+        return hash(tuple(getattr(self, name) for name in sorted(_FIELDS)))
 
 
 @dataclass(frozen=True)
@@ -180,7 +150,7 @@ def read_vehicle_entry(payload: Any, model: Model) -> CachedVehicle:
     return CachedVehicle(equations, compiled, rail_numbers)
 
 
-def _equations(data: dict, model: Model, matrices: dict) -> EquationsOfMotion:
+def _equations(data: dict, model: Model, matrices: Mapping[str, Any]) -> EquationsOfMotion:
     """The equations of an entry: names from ``data``, values from ``model``."""
     from express.assembly.equations import derivation_steps
     from express.assembly.generator import equation_values
@@ -192,7 +162,7 @@ def _equations(data: dict, model: Model, matrices: dict) -> EquationsOfMotion:
         dofs=tuple(_strings(data.get("dofs"))),
         eliminated=tuple(_strings(data.get("eliminated"))),
         inputs=tuple(_strings(data.get("inputs"))),
-        matrices=matrices,
+        matrices=Matrices.of(matrices),
         parameters=parameters,
         values=values,
         units=units,

@@ -48,7 +48,7 @@ def load_generation(
     """
     from express.base.reads import recorded_reads
     from express.io import load_model
-    from express.model.records import with_values
+    from express.model.parameters import with_values
     from express.numeric.cache import entry_damaged, entry_key, read_entry, write_entry
     from express.numeric.derived import generation_entry, read_generation_entry
     from express.numeric.program import ProgramError, UnsupportedExpressionError

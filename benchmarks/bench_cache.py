@@ -1,0 +1,171 @@
+#!/usr/bin/env python3
+"""Derivation-cache benchmark (issue 24): commands with a warm cache against ``--no-cache``.
+
+Run from the repository root::
+
+    PYTHONPATH=src python3 benchmarks/bench_cache.py              # ~5 min on a quiet machine
+    PYTHONPATH=src python3 benchmarks/bench_cache.py --runs 3     # quicker
+    PYTHONPATH=src python3 benchmarks/bench_cache.py --train 100  # the 100-car train too (long)
+
+Every command is a fresh process, as a user starts it, timed wall clock; medians of
+``--runs`` starts, the three ways taking turns so that a change of load hits them alike:
+
+* ``--no-cache``: derives everything (the named baseline, today's cost);
+* cold: an empty cache folder each start (derives and stores: the cost of a first run);
+* warm: the folder filled by an earlier start (reads the entry back).
+
+Commands: ``eigen --speed 100``, ``critical-speed`` and ``frf --points 200`` on the
+bundled forced-steering and Manchester cars and on the 37-coordinate 3-D coach with
+series dampers (``tests/data/coach-series-dampers.toml``).  Targets: warm <= 0.5 s
+each; cold <= 1.1 x ``--no-cache``.
+
+Also: ``load_vehicle`` of a cached model in one process (medians over ``--runs * 5``
+loads with the in-process reuse cleared, so each reads the disk entry; target <= 50 ms,
+of which ``load_model``, the reading of the model file that every load does, is shown
+apart); the import time of a warm command's modules; the first-run Numba compilation
+(``express conicity S1002 60E1``, whose kernels are compiled on first use, with an empty
+``NUMBA_CACHE_DIR`` and then again with it filled).
+
+The last line is ``warm_max_s=<x> load_vehicle_ms=<y> cold_over_uncached=<r>``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import datetime
+import os
+import platform
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+from machine import cpu_name, usable_cores  # benchmarks/machine.py
+
+ROOT = Path(__file__).resolve().parents[1]
+MODELS = {
+    "forced-steering": ROOT / "examples" / "forced-steering.toml",
+    "manchester": ROOT / "examples" / "manchester.toml",
+    "coach (37 coordinates)": ROOT / "tests" / "data" / "coach-series-dampers.toml",
+}
+COMMANDS = {
+    "eigen": ["eigen", "--speed", "100"],
+    "critical-speed": ["critical-speed"],
+    "frf": ["frf", "--points", "200"],
+}
+WARM_TARGET_S = 0.5
+LOAD_TARGET_MS = 50.0
+COLD_LIMIT = 1.10
+
+
+def _environment(cache: Path) -> dict[str, str]:
+    environment = dict(os.environ)
+    environment["PYTHONPATH"] = str(ROOT / "src") + os.pathsep + environment.get("PYTHONPATH", "")
+    environment["EXPRESS_CACHE_DIR"] = str(cache)
+    environment.pop("EXPRESS_NO_CACHE", None)
+    return environment
+
+
+def _time(argv: list[str], environment: dict[str, str]) -> float:
+    start = time.perf_counter()
+    result = subprocess.run([sys.executable, "-m", "express", *argv], env=environment, capture_output=True, text=True)
+    elapsed = time.perf_counter() - start
+    if result.returncode not in (0, 1):
+        raise SystemExit(f"express {' '.join(argv)} failed ({result.returncode}): {result.stderr.strip()[-400:]}")
+    return elapsed
+
+
+def _three_ways(argv: list[str], runs: int, scratch: Path) -> tuple[float, float, float]:
+    """Medians of (--no-cache, cold, warm) wall times."""
+    warm_folder = scratch / "warm"
+    _time(argv, _environment(warm_folder))  # fill it
+    times: dict[str, list[float]] = {"uncached": [], "cold": [], "warm": []}
+    for run in range(runs):
+        times["uncached"].append(_time([*argv, "--no-cache"], _environment(scratch / "unused")))
+        times["cold"].append(_time(argv, _environment(scratch / f"cold-{run}-{time.time_ns()}")))
+        times["warm"].append(_time(argv, _environment(warm_folder)))
+    return tuple(statistics.median(times[k]) for k in ("uncached", "cold", "warm"))  # type: ignore[return-value]
+
+
+def _load_vehicle_ms(model: Path, runs: int, scratch: Path) -> tuple[float, float]:
+    """Median ms of load_vehicle reading the disk entry, and of load_model alone."""
+    code = f"""
+import os, statistics, sys, time
+os.environ["EXPRESS_CACHE_DIR"] = {str(scratch / "load")!r}
+from express.io import load_model
+from express.numeric import statespace
+statespace.load_vehicle({str(model)!r})
+loads, models = [], []
+for _ in range({runs}):
+    statespace._GENERATED.clear()
+    start = time.perf_counter(); statespace.load_vehicle({str(model)!r}); loads.append(time.perf_counter() - start)
+    start = time.perf_counter(); load_model({str(model)!r}); models.append(time.perf_counter() - start)
+print(statistics.median(loads) * 1e3, statistics.median(models) * 1e3)
+"""
+    result = subprocess.run([sys.executable, "-c", code], env=_environment(scratch / "load"), capture_output=True,
+                            text=True, check=True)
+    total, model_only = (float(x) for x in result.stdout.split())
+    return total, model_only
+
+
+def _numba_first_run(scratch: Path) -> tuple[float, float]:
+    environment = _environment(scratch / "numba-express")
+    environment["NUMBA_CACHE_DIR"] = str(scratch / f"numba-{time.time_ns()}")
+    argv = ["conicity", "S1002", "60E1", "--json"]
+    return _time(argv, environment), _time(argv, environment)
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--runs", type=int, default=5, help="starts per way (median)")
+    parser.add_argument("--train", type=int, default=0, help="also a train of this many cars (examples/make_vehicles.py)")
+    parser.add_argument("--no-numba", action="store_true", help="skip the first-run Numba compilation")
+    args = parser.parse_args(argv)
+    load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
+    print(f"# bench_cache {datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M} UTC; {cpu_name()}, "
+          f"{usable_cores()} usable cores, load average {load:.1f}; Python {platform.python_version()}")
+    models = dict(MODELS)
+    with tempfile.TemporaryDirectory(prefix="bench-cache-") as folder:
+        scratch = Path(folder)
+        if args.train:
+            train = scratch / f"train{args.train}.toml"
+            subprocess.run([sys.executable, str(ROOT / "examples" / "make_vehicles.py"), "--cars", str(args.train),
+                            "-o", str(train)], check=True, capture_output=True)
+            models[f"train of {args.train} cars"] = train
+        print(f"{'model':<24} {'command':<15} {'--no-cache s':>12} {'cold s':>8} {'warm s':>8} {'speed-up':>9} "
+              f"{'cold/none':>9}")
+        warm_max, cold_ratios = 0.0, []
+        for label, model in models.items():
+            commands = COMMANDS if not label.startswith("train") else {"eigen": COMMANDS["eigen"]}
+            for name, command in commands.items():
+                uncached, cold, warm = _three_ways([command[0], str(model), *command[1:]], args.runs, scratch)
+                warm_max = max(warm_max, warm) if not label.startswith("train") else warm_max
+                cold_ratios.append(cold / uncached)
+                print(f"{label:<24} {name:<15} {uncached:12.3f} {cold:8.3f} {warm:8.3f} {uncached / warm:8.1f}x "
+                      f"{cold / uncached:9.3f}", flush=True)
+        loads = {label: _load_vehicle_ms(model, args.runs * 5, scratch) for label, model in MODELS.items()}
+        for label, (total, model_only) in loads.items():
+            print(f"load_vehicle (cached) {label}: {total:.1f} ms, of which load_model {model_only:.1f} ms, "
+                  f"the cache's part {total - model_only:.1f} ms")
+        if not args.no_numba:
+            first, second = _numba_first_run(scratch)
+            print(f"first run after installing (Numba kernels compiled, empty NUMBA_CACHE_DIR): "
+                  f"express conicity S1002 60E1 {first:.1f} s; the second run {second:.1f} s")
+    worst_load = max(total for total, _ in loads.values())
+    cold_median = statistics.median(cold_ratios)
+    verdicts = [
+        f"warm <= {WARM_TARGET_S} s: {'met' if warm_max <= WARM_TARGET_S else 'TARGET MISSED'} (worst {warm_max:.3f} s)",
+        f"load_vehicle <= {LOAD_TARGET_MS:.0f} ms: {'met' if worst_load <= LOAD_TARGET_MS else 'TARGET MISSED'} "
+        f"(worst {worst_load:.1f} ms)",
+        f"cold <= {COLD_LIMIT} x --no-cache: {'met' if cold_median <= COLD_LIMIT else 'TARGET MISSED'} "
+        f"(median ratio {cold_median:.3f})",
+    ]
+    print("\n".join(verdicts))
+    print(f"warm_max_s={warm_max:.3f} load_vehicle_ms={worst_load:.1f} cold_over_uncached={cold_median:.3f}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
