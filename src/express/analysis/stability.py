@@ -39,10 +39,12 @@ True
 from __future__ import annotations
 
 from collections.abc import Iterable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+from typing import Any
 
 import numpy as np
 
+from express.analysis.critical_options import CriticalOptions
 from express.analysis.modes import EigenResult, Mode, modes_of
 from express.base.diagnostics import ArgumentError
 from express.base.threads import limited_blas
@@ -51,6 +53,7 @@ from express.numeric.statespace import VehicleModel
 
 __all__ = [
     "WINDOW_JUMP",
+    "CriticalOptions",
     "CriticalSpeed",
     "EigenResult",
     "Mode",
@@ -61,6 +64,7 @@ __all__ = [
     "modes_of",
     "natural_frequencies",
     "root_locus",
+    "search_options",
     "sweep_as_dict",
     "unstable_windows",
 ]
@@ -268,12 +272,13 @@ def max_real_part(vehicle: VehicleModel, speeds: Iterable[float]) -> np.ndarray:
 @limited_blas
 def critical_speed(
     vehicle: VehicleModel,
+    options: CriticalOptions | None = None,
     *,
-    v_min: float = 1.0,
-    v_max: float = 150.0,
-    tolerance_kmh: float = 0.1,
-    threshold: float = 1e-6,
-    points: int = 40,
+    v_min: float | None = None,
+    v_max: float | None = None,
+    tolerance_kmh: float | None = None,
+    threshold: float | None = None,
+    points: int | None = None,
 ) -> CriticalSpeed | None:
     """Lowest speed at which the largest real part of the eigenvalues becomes positive.
 
@@ -294,19 +299,23 @@ def critical_speed(
     Parameters
     ----------
     vehicle : VehicleModel
-    v_min, v_max : float
+        The vehicle (with rail data: its eigenvalues depend on the speed).
+    options : CriticalOptions, optional
+        The search's options in SI (:class:`~express.analysis.critical_options.CriticalOptions`,
+        the one set of defaults); the keywords below override single ones.
+    v_min, v_max : float, optional
         Speed range scanned [m/s], ``0 < v_min < v_max``.
-    tolerance_kmh : float
+    tolerance_kmh : float, optional
         Width of the final bracket [km/h]; the speed returned (its midpoint) is within
         half of it of the crossing.
-    threshold : float
+    threshold : float, optional
         A real part counts as positive only above this [1/s], so that modes whose real
         part is zero up to round-off (rigid-body modes, undamped modes) are not taken
         for an instability. Raise it (e.g. to 1e-4) when the model has a repeated zero
         eigenvalue, whose computed real part is of order ``sqrt(eps) |A|``: at
         ``Gamma = 0`` the bundled cars have no lateral restoring stiffness and reach
         4e-6 1/s.
-    points : int
+    points : int, optional
         Number of speeds of the coarse scan (>= 2).
 
     Returns
@@ -327,15 +336,14 @@ def critical_speed(
     >>> critical_speed(car, v_max=40.0) is None
     True
     """
-    if not (0 < v_min < v_max):
-        raise ArgumentError(f"need 0 < v_min < v_max, got v_min={v_min}, v_max={v_max}")
-    if not tolerance_kmh > 0:
-        raise ArgumentError(f"tolerance_kmh must be positive, got {tolerance_kmh}")
-    if points < 2:
-        raise ArgumentError(f"points must be at least 2, got {points}")
+    options = search_options(options, v_min=v_min, v_max=v_max, tolerance_kmh=tolerance_kmh, threshold=threshold,
+                             points=points)
+    if not options.tolerance > 0:
+        raise ArgumentError(f"tolerance_kmh must be positive, got {options.tolerance_kmh}")
+    v_min, v_max, threshold = options.v_min, options.v_max, options.threshold
     _check_speed_dependent(vehicle)
     pieces = vehicle.eigen_blocks
-    grid = np.geomspace(v_min, v_max, points)
+    grid = options.grid
     sigma = pieces.eigenvalues(grid).real.max(axis=1)
     evaluations = grid.size
     unstable = sigma > threshold
@@ -346,7 +354,7 @@ def critical_speed(
         mode = _least_stable_mode(vehicle, float(v_min))
         return CriticalSpeed(float(v_min), mode, True, (float(v_min), float(v_min)), evaluations + 1)
     lo, hi = float(grid[first - 1]), float(grid[first])
-    tolerance = tolerance_kmh * KMH
+    tolerance = options.tolerance
     while hi - lo > tolerance:
         mid = 0.5 * (lo + hi)
         evaluations += 1
@@ -359,13 +367,37 @@ def critical_speed(
     return CriticalSpeed(speed, mode, False, (lo, hi), evaluations + 1)
 
 
+def search_options(options: CriticalOptions | None = None, **changes: float | None) -> CriticalOptions:
+    """``options`` (default :class:`CriticalOptions`) with the keywords that are not None
+    changed; ``tolerance_kmh`` [km/h] sets ``tolerance`` [m/s].
+
+    Parameters
+    ----------
+    options : CriticalOptions, optional
+        The starting options.
+    **changes : float or None
+        ``v_min``, ``v_max`` [m/s], ``tolerance_kmh`` [km/h], ``threshold`` [1/s], ``points``.
+
+    Returns
+    -------
+    CriticalOptions
+    """
+    given: dict[str, Any] = {key: value for key, value in changes.items() if value is not None}
+    if "tolerance_kmh" in given:
+        given["tolerance"] = given.pop("tolerance_kmh") * KMH
+    if "points" in given:
+        given["points"] = int(given["points"])
+    return replace(options or CriticalOptions(), **given)
+
+
 @limited_blas
 def critical_speed_vs_conicity(
     vehicle: VehicleModel,
     conicities: Iterable[float],
+    options: CriticalOptions | None = None,
     *,
     parameter: str = "Gamma",
-    **options,
+    **keywords,
 ) -> list[CriticalSpeed | None]:
     """Critical speed for each value of the tread conicity (paper Fig. 11).
 
@@ -374,9 +406,11 @@ def critical_speed_vs_conicity(
     vehicle : VehicleModel
     conicities : sequence of float
         Values of ``parameter`` [-].
+    options : CriticalOptions, optional
+        The search's options (:func:`critical_speed`).
     parameter : str
         Name of the model parameter varied (``"Gamma"`` in the bundled vehicles).
-    **options
+    **keywords
         Passed to :func:`critical_speed` (``v_min``, ``v_max``, ``tolerance_kmh``,
         ``threshold``, ``points``).
 
@@ -401,7 +435,7 @@ def critical_speed_vs_conicity(
     if vehicle.model is None or parameter not in vehicle.model.parameters:
         known = ", ".join(sorted(vehicle.model.parameters)) if vehicle.model is not None else "none"
         raise ArgumentError(f"the model has no parameter {parameter!r} (parameters: {known})")
-    return [critical_speed(vehicle.with_values({parameter: float(g)}), **options) for g in conicities]
+    return [critical_speed(vehicle.with_values({parameter: float(g)}), options, **keywords) for g in conicities]
 
 
 def sweep_as_dict(parameter: str, values: Iterable[float], sweep: list[CriticalSpeed | None]) -> dict:

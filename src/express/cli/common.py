@@ -21,6 +21,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
+from express.analysis.critical_options import CriticalOptions
 from express.base.diagnostics import UsageError
 from express.base.names import did_you_mean
 from express.base.units import KMH
@@ -30,6 +31,7 @@ __all__ = [
     "DT",
     "FMAX",
     "FMIN",
+    "SEARCH",
     "SPEED",
     "TOLERANCE",
     "VMAX",
@@ -37,6 +39,7 @@ __all__ = [
     "Quantity",
     "add_json_option",
     "add_model_arguments",
+    "add_search_arguments",
     "count",
     "figure_path",
     "join_negative_values",
@@ -152,6 +155,20 @@ SPEED = Quantity("--speed", "speed", "km/h", 0.0, 1000.0, open_low=True)
 VMIN = Quantity("--vmin", "speed", "km/h", 0.0, 1000.0, open_low=True)
 VMAX = Quantity("--vmax", "speed", "km/h", 0.0, 1000.0, open_low=True)
 TOLERANCE = Quantity("--tolerance", "speed", "km/h", 1e-3, 100.0)
+#: The critical-speed search's defaults (one set, SI: :class:`CriticalOptions`).
+SEARCH = CriticalOptions()
+
+
+def add_search_arguments(parser: argparse.ArgumentParser, tolerance: bool = False) -> None:
+    """``--vmin``, ``--vmax`` (and ``--tolerance``) of a critical-speed search, with the
+    defaults of :data:`SEARCH`."""
+    parser.add_argument("--vmin", type=VMIN, default=SEARCH.v_min, metavar="SPEED",
+                        help=VMIN.help("lowest speed scanned", f"{SEARCH.v_min / KMH:g} km/h"))
+    parser.add_argument("--vmax", type=VMAX, default=SEARCH.v_max, metavar="SPEED",
+                        help=VMAX.help("highest speed scanned, above --vmin", f"{SEARCH.v_max / KMH:g} km/h"))
+    if tolerance:
+        parser.add_argument("--tolerance", type=TOLERANCE, default=SEARCH.tolerance, metavar="SPEED",
+                            help=TOLERANCE.help("width of the final bisection bracket", f"{SEARCH.tolerance / KMH:g} km/h"))
 FMIN = Quantity("--fmin", "frequency", "Hz", 1e-4, 1000.0)
 FMAX = Quantity("--fmax", "frequency", "Hz", 1e-4, 1000.0)
 AMPLITUDE = Quantity("--amplitude", "length", "mm", 0.0, 100.0, open_low=True)

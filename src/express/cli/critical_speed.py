@@ -9,8 +9,10 @@ import sys
 from pathlib import Path
 from typing import Any
 
+from express.analysis.critical_options import CriticalOptions
 from express.base.diagnostics import UsageError
 from express.cli import common
+from express.cli.common import SEARCH
 
 __all__ = ["MAX_SWEEP", "add_parser", "parse_range", "run"]
 
@@ -64,12 +66,7 @@ def add_parser(subparsers) -> None:
         "--conicities START:STOP:COUNT, the critical speed for each tread conicity.",
     )
     common.add_model_arguments(parser)
-    parser.add_argument("--vmin", type=common.VMIN, default=3.6 * common.KMH, metavar="SPEED",
-                        help=common.VMIN.help("lowest speed scanned", "3.6 km/h"))
-    parser.add_argument("--vmax", type=common.VMAX, default=540 * common.KMH, metavar="SPEED",
-                        help=common.VMAX.help("highest speed scanned, above --vmin", "540 km/h"))
-    parser.add_argument("--tolerance", type=common.TOLERANCE, default=0.1 * common.KMH, metavar="SPEED",
-                        help=common.TOLERANCE.help("width of the final bisection bracket", "0.1 km/h"))
+    common.add_search_arguments(parser, tolerance=True)
     parser.add_argument("--conicities", type=parse_range, metavar="START:STOP:COUNT",
                         help=f"sweep the conicity, e.g. 0.02:0.4:40 (COUNT values, ends included; "
                         f"1 <= COUNT <= {MAX_SWEEP}), or a list 0.05,0.1")
@@ -91,7 +88,8 @@ def add_parser(subparsers) -> None:
 
 
 def run(
-    model: Path, overrides: dict[str, str], *, vmin: float = 1.0, vmax: float = 150.0, tolerance: float = 0.1 / 3.6,
+    model: Path, overrides: dict[str, str], *, vmin: float = SEARCH.v_min, vmax: float = SEARCH.v_max,
+    tolerance: float = SEARCH.tolerance,
     conicities: list[float] | None = None, parameter: str = "Gamma", output: str | None = None,
     plot: Path | None = None, as_json: bool = False, nonlinear: bool = False, vstart: float | None = None,
     creep_law: str = "fastsim",
@@ -111,7 +109,7 @@ def run(
         raise UsageError("-o is written only with --conicities or --nonlinear")
     if output == "-" and as_json:
         raise UsageError("-o - and --json both write to standard output; choose one")
-    options = {"v_min": vmin, "v_max": vmax, "tolerance_kmh": tolerance / common.KMH}
+    options = CriticalOptions(v_min=vmin, v_max=vmax, tolerance=tolerance)
     with output_transaction([model]) as transaction:
         if output is not None:
             transaction.declare(output)
@@ -139,13 +137,14 @@ def run(
     return 0
 
 
-def _compute(vehicle: Any, options: dict, conicities: list[float] | None, parameter: str) -> tuple[Any, list | None]:
+def _compute(vehicle: Any, options: CriticalOptions, conicities: list[float] | None,
+             parameter: str) -> tuple[Any, list | None]:
     from express.analysis.stability import critical_speed, critical_speed_vs_conicity
 
-    result = critical_speed(vehicle, **options)
+    result = critical_speed(vehicle, options)
     sweep = None
     if conicities is not None:
-        sweep = critical_speed_vs_conicity(vehicle, conicities, parameter=parameter, **options)
+        sweep = critical_speed_vs_conicity(vehicle, conicities, options, parameter=parameter)
     return result, sweep
 
 
@@ -242,7 +241,7 @@ def _run_nonlinear(model: Path, overrides: dict[str, str], vmin: float, vmax: fl
         from express.analysis.nonlinear_stability import nonlinear_critical_speed
         from express.analysis.stability import critical_speed
 
-        linear = critical_speed(vehicle, v_min=vmin, v_max=vmax, tolerance_kmh=tolerance / common.KMH)
+        linear = critical_speed(vehicle, CriticalOptions(v_min=vmin, v_max=vmax, tolerance=tolerance))
         if vstart is None and (linear is None or linear.unstable_at_min):
             raise AnalysisError(f"no linear critical speed between --vmin and --vmax ({vmax / common.KMH:g} km/h) to "
                                 "start the ramp-down above: give --vstart")

@@ -30,10 +30,7 @@ def add_parser(subparsers) -> None:
                         "constants such as g and the parameters without effect on the output in separate lists)")
     parser.add_argument("--speed", type=common.SPEED, metavar="SPEED",
                         help=common.SPEED.help("speed of --output eigenvalue", "the model's speed"))
-    parser.add_argument("--vmin", type=common.VMIN, default=3.6 * common.KMH, metavar="SPEED",
-                        help=common.VMIN.help("lowest speed scanned", "3.6 km/h"))
-    parser.add_argument("--vmax", type=common.VMAX, default=540 * common.KMH, metavar="SPEED",
-                        help=common.VMAX.help("highest speed scanned", "540 km/h"))
+    common.add_search_arguments(parser)
     parser.add_argument("--plot", type=common.figure_path, metavar="FILE",
                         help="critical speed: ranked tornado chart with the elasticities (.png, .svg, .pdf)")
     common.add_json_option(parser)
@@ -41,8 +38,8 @@ def add_parser(subparsers) -> None:
 
 
 def run(model: Path, overrides: dict[str, str], *, quantity: str = "critical-speed", parameters: list[str] | None = None,
-        speed: float | None = None, vmin: float = 1.0, vmax: float = 150.0, plot: Path | None = None,
-        as_json: bool = False, every: bool = False) -> int:
+        speed: float | None = None, vmin: float = common.SEARCH.v_min, vmax: float = common.SEARCH.v_max,
+        plot: Path | None = None, as_json: bool = False, every: bool = False) -> int:
     """Compute and print the sensitivities; returns the exit status."""
     from express.io.output import output_transaction
 
@@ -104,7 +101,7 @@ def _design_only(vehicle, summary: dict) -> dict:
 
 
 def _critical(vehicle, names: list[str], vmin: float, vmax: float, plot: Path | None) -> dict:
-    from express.analysis.study.critical import CriticalOptions
+    from express.analysis.critical_options import CriticalOptions
     from express.analysis.study.sensitivity import critical_speed_sensitivity
 
     result = critical_speed_sensitivity(vehicle, names, CriticalOptions(v_min=vmin, v_max=vmax, tolerance=0.0))

@@ -10,12 +10,12 @@ with a check run of the steered car with its steering link cut.
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 
+from express.analysis.critical_options import CriticalOptions
 from express.analysis.stability import WINDOW_JUMP, unstable_windows
 from express.base.units import KMH
 from express.paper.demo_common import Cars, write_figure, write_table
@@ -41,7 +41,7 @@ __all__ = [
 V_MAX = 200.0
 #: Conicities of Fig. 11.
 CONICITIES = np.round(np.linspace(0.02, 0.40, 39), 4)
-_OPTIONS: dict[str, Any] = {"v_min": 1.0, "v_max": V_MAX, "tolerance_kmh": 0.1}
+_OPTIONS = CriticalOptions(v_max=V_MAX)
 
 
 @dataclass(frozen=True)
@@ -124,12 +124,12 @@ def measure_stability(cars: Cars, conicities: np.ndarray = CONICITIES, *, diagno
     conicities = np.asarray(conicities, dtype=float)
     speeds, unstable, windows, modes, sweeps = {}, {}, {}, {}, {}
     for name, car in cars.items():
-        sweep = critical_speed_vs_conicity(car, conicities, **_OPTIONS)
+        sweep = critical_speed_vs_conicity(car, conicities, _OPTIONS)
         sweeps[name] = sweep
         speeds[name] = np.array([c.speed_kmh if c is not None else np.nan for c in sweep])
         unstable[name] = np.array([c is not None and c.unstable_at_min for c in sweep])
         windows[name] = unstable_windows(car, conicities, speeds[name], unstable[name], v_max=V_MAX,
-                                         tolerance_kmh=_OPTIONS["tolerance_kmh"])
+                                         tolerance_kmh=_OPTIONS.tolerance_kmh)
         modes[name] = tuple(c.mode.describe() if c is not None else None for c in sweep)
     low = None
     steered = speeds["steered"]
@@ -138,11 +138,11 @@ def measure_stability(cars: Cars, conicities: np.ndarray = CONICITIES, *, diagno
              if c is not None and not c.unstable_at_min and c.speed_kmh < 0.5 * peak]
     if diagnose and falls:
         gamma, case = falls[0]
-        cut = critical_speed(cars.steered.with_values({"Gamma": float(gamma), "kLU": 1.0}), **_OPTIONS)
+        cut = critical_speed(cars.steered.with_values({"Gamma": float(gamma), "kLU": 1.0}), _OPTIONS)
         low = LowConicity(float(gamma), case.speed_kmh, case.mode.describe(), case.mode.frequency_hz,
                           cut.speed_kmh if cut is not None else None)
-    return StabilitySweep(conicities, speeds, unstable, windows, modes, _OPTIONS["v_min"], _OPTIONS["v_max"],
-                          _OPTIONS["tolerance_kmh"], low)
+    return StabilitySweep(conicities, speeds, unstable, windows, modes, _OPTIONS.v_min, _OPTIONS.v_max,
+                          _OPTIONS.tolerance_kmh, low)
 
 
 def vcr_shape(sweep: StabilitySweep, reference: float = PAPER.conicity_of_max_vcr.value) -> VcrShape:
@@ -229,7 +229,7 @@ def measure_stability_map(car, v_max: float = 150.0, points: int = 300) -> Stabi
 
     speeds = np.linspace(1.0, v_max, points)
     eigenvalues = root_locus(car, speeds)
-    result = critical_speed(car, v_min=1.0, v_max=v_max)
+    result = critical_speed(car, replace(_OPTIONS, v_max=v_max))
     critical = result.speed_kmh if result is not None and not result.unstable_at_min else None
     return StabilityMap(speeds, eigenvalues, mode_branches(eigenvalues), critical)
 

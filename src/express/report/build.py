@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 import sympy as sp
 
+from express.analysis.critical_options import CriticalOptions
 from express.assembly.equations import EquationsOfMotion
 from express.base.units import KMH
 from express.drawing.geometry import model_geometry
@@ -138,8 +139,9 @@ def _stability_section(vehicle: VehicleModel) -> Section:
     from express.analysis.plots import figure_eigen_locus
     from express.analysis.stability import critical_speed, root_locus
 
-    v_min, v_max = 1.0, 150.0
-    result = critical_speed(vehicle, v_min=v_min, v_max=v_max)
+    options = CriticalOptions()
+    v_min, v_max = options.v_min, options.v_max
+    result = critical_speed(vehicle, options)
     text = result.describe() if result is not None else f"stable up to {v_max / KMH:.0f} km/h"
     speeds = np.linspace(v_min, v_max, 200)
     figure = figure_eigen_locus(speeds / KMH, root_locus(vehicle, speeds), title="real parts of the eigenvalues",

@@ -45,10 +45,14 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.linalg
 
+from express.analysis.critical_options import CriticalOptions
 from express.base.diagnostics import ArgumentError
 from express.numeric.statespace import VehicleModel
 
 __all__ = ["CriticalOptions", "CriticalResult", "CriticalSpeedSearch", "HopfPoint", "StateBlocks", "fast_critical_speed", "hopf_point"]
+
+#: The search's defaults (:class:`~express.analysis.critical_options.CriticalOptions`).
+DEFAULT_OPTIONS = CriticalOptions()
 
 #: Relative step of ``s = 1/v`` below which Newton's method keeps its Jacobian (chord
 #: steps: one LU factorization serves the last iterations).
@@ -57,48 +61,6 @@ _CHORD = 1e-5
 #: Relative distance of a bisection midpoint from the crossing below which the midpoint
 #: is decided by solving the eigenvalue problem rather than by comparison.
 _REPLAY_GUARD = 1e-9
-
-
-@dataclass(frozen=True)
-class CriticalOptions:
-    """Options of the critical-speed search, in SI (those of ``express critical-speed``).
-
-    Attributes
-    ----------
-    v_min, v_max : float
-        Speed range [m/s] (defaults 3.6 and 540 km/h).
-    tolerance : float
-        Width of the final bisection bracket [m/s] (default 0.1 km/h); 0 reports the
-        exact crossing instead of the bracket midpoint.
-    threshold : float
-        A real part counts as positive only above this [1/s].
-    points : int
-        Speeds of the geometric grid (>= 2).
-    check : str
-        ``"grid"`` or ``"local"`` (module docstring).
-    """
-
-    v_min: float = 1.0
-    v_max: float = 150.0
-    tolerance: float = 0.1 / 3.6
-    threshold: float = 1e-6
-    points: int = 40
-    check: str = "grid"
-
-    def __post_init__(self) -> None:
-        if not (0 < self.v_min < self.v_max and math.isfinite(self.v_max)):
-            raise ArgumentError(f"need 0 < v_min < v_max, got v_min={self.v_min}, v_max={self.v_max}")
-        if not (self.tolerance >= 0 and math.isfinite(self.tolerance)):
-            raise ArgumentError(f"tolerance must be >= 0, got {self.tolerance}")
-        if self.points < 2:
-            raise ArgumentError(f"points must be at least 2, got {self.points}")
-        if self.check not in ("grid", "local"):
-            raise ArgumentError(f'check must be "grid" or "local", got {self.check!r}')
-
-    @property
-    def grid(self) -> np.ndarray:
-        """The scanned speeds [m/s], as in the stability code."""
-        return np.geomspace(self.v_min, self.v_max, self.points)
 
 
 @dataclass(frozen=True)
@@ -363,7 +325,7 @@ def _crossing_in_cell(blocks: StateBlocks, lo: float, hi: float, options: Critic
 
 
 def fast_critical_speed(
-    vehicle: VehicleModel | StateBlocks, options: CriticalOptions = CriticalOptions(), guess: HopfPoint | None = None
+    vehicle: VehicleModel | StateBlocks, options: CriticalOptions = DEFAULT_OPTIONS, guess: HopfPoint | None = None
 ) -> CriticalResult:
     """Critical speed as :func:`~express.analysis.stability.critical_speed` reports it,
     with the exact crossing (module docstring).
@@ -409,7 +371,7 @@ class CriticalSpeedSearch:
     options : CriticalOptions
     """
 
-    def __init__(self, options: CriticalOptions = CriticalOptions()):
+    def __init__(self, options: CriticalOptions = DEFAULT_OPTIONS):
         self.options = options
         self.grid = options.grid
         self.crossing: HopfPoint | None = None

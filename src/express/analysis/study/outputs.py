@@ -37,13 +37,13 @@ from typing import Any
 
 import numpy as np
 
-from express.analysis.study.critical import CriticalOptions, CriticalSpeedSearch, StateBlocks
+from express.analysis.critical_options import CriticalOptions, SearchCheck
+from express.analysis.study.critical import CriticalSpeedSearch, StateBlocks
 from express.base.diagnostics import ArgumentError
 
 __all__ = ["OUTPUTS", "OutputSettings", "PointOutputs"]
 
 from express.base.names import did_you_mean
-from express.base.units import KMH
 
 #: Output name -> (SI unit, group). The group decides which analysis runs.
 OUTPUTS: dict[str, tuple[str, str]] = {
@@ -58,12 +58,14 @@ OUTPUTS: dict[str, tuple[str, str]] = {
     "frf_peak_frequency": ("Hz", "frf"),
 }
 
+#: The critical-speed search's defaults (the one set: :class:`CriticalOptions`).
+_SEARCH = CriticalOptions()
 #: Option -> (dimension, default in SI, low, high); None dimension: not a quantity.
 _QUANTITIES = {
-    "v_min": ("speed", 3.6 * KMH, 1e-6, 1000.0),
-    "v_max": ("speed", 540 * KMH, 1e-6, 1000.0),
-    "tolerance": ("speed", 0.1 * KMH, 0.0, 100.0),
-    "threshold": ("frequency", 1e-6, 0.0, 1.0),
+    "v_min": ("speed", _SEARCH.v_min, 1e-6, 1000.0),
+    "v_max": ("speed", _SEARCH.v_max, 1e-6, 1000.0),
+    "tolerance": ("speed", _SEARCH.tolerance, 0.0, 100.0),
+    "threshold": ("frequency", _SEARCH.threshold, 0.0, 1.0),
     "speed": ("speed", None, 1e-6, 1000.0),
     "dt": ("time", 0.005, 1e-5, 0.1),
     "frf_fmin": ("frequency", 0.1, 1e-4, 1000.0),
@@ -77,12 +79,12 @@ _OTHERS = ("points", "check", "track", "frf_output", "frf_points")
 class OutputSettings:
     """``[study.options]`` in SI (module docstring)."""
 
-    v_min: float = 3.6 * KMH
-    v_max: float = 540 * KMH
-    tolerance: float = 0.1 * KMH
-    threshold: float = 1e-6
-    points: int = 40
-    check: str = "grid"
+    v_min: float = _SEARCH.v_min
+    v_max: float = _SEARCH.v_max
+    tolerance: float = _SEARCH.tolerance
+    threshold: float = _SEARCH.threshold
+    points: int = _SEARCH.points
+    check: SearchCheck = _SEARCH.check
     speed: float | None = None
     track: Path | None = None
     dt: float = 0.005
