@@ -179,9 +179,9 @@ class NonlinearCriticalSpeed:
         if self.speed is None:
             return (f"no limit cycle at the start speed {self.options['v_start'] / KMH:.1f} km/h ({linear})")
         low = "" if math.isfinite(self.bracket[0]) else " (still cycling at the lowest speed)"
-        if math.isfinite(self.uncertainty):
-            step = (f"dt {self.dt * 1e3:g} ms, uncertainty {self.uncertainty / KMH:.2f} km/h "
-                    f"(halving dt moved it {self.step_change / KMH:.2f} km/h"
+        if math.isfinite(self.step_change):
+            bound = f"uncertainty {self.uncertainty / KMH:.2f} km/h " if math.isfinite(self.uncertainty) else ""
+            step = (f"dt {self.dt * 1e3:g} ms, {bound}(halving dt moved it {self.step_change / KMH:.2f} km/h"
                     f"{'' if self.converged else ', NOT converged in dt'})")
         else:
             step = f"dt {self.dt * 1e3:g} ms, not checked by halving dt"
