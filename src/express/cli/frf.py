@@ -39,6 +39,13 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--speed", type=common.SPEED, metavar="SPEED", help=common.SPEED.help("running speed", "the model's speed"))
     parser.add_argument("--dof", dest="dofs", action="append", default=[], metavar="DOF",
                         help="also report this DOF's displacement amplitude, e.g. --dof W1.y (repeatable)")
+    parser.add_argument("--input", dest="components", action="append", default=[],
+                        choices=("alignment", "vertical", "cross_level", "gauge"),
+                        help="track irregularity driving the vehicle, one at a time (repeatable): the output "
+                        "points' accelerations and displacements in every direction, named POINT.aZ/INPUT and "
+                        "POINT.uZ/INPUT (docs/ride.md for the rail grounds that carry vertical inputs); "
+                        "default: the lateral alignment of paper Fig. 10")
+    parser.add_argument("--log", action="store_true", help="--plot with logarithmic amplitude axes")
     parser.add_argument("-o", "--output", metavar="FILE", help="amplitudes and phases as CSV (- for standard output)")
     parser.add_argument("--plot", type=common.figure_path, metavar="FILE", help="figure (.png, .svg or .pdf)")
     common.add_json_option(parser)
@@ -49,6 +56,7 @@ def run(
     model: Path, overrides: dict[str, str], *, fmin: float = 0.1, fmax: float = 20.0, points: int = 200,
     amplitude: float = 1e-3, speed: float | None = None, dofs: list[str] | None = None,
     output: str | None = None, plot: Path | None = None, as_json: bool = False,
+    components: list[str] | None = None, log: bool = False,
 ) -> int:
     """Compute the response and write the outputs all together; returns the exit status."""
     import numpy as np
@@ -60,6 +68,9 @@ def run(
         raise UsageError(f"--fmax {fmax:g} Hz: must be above --fmin {fmin:g} Hz")
     if output == "-" and as_json:
         raise UsageError("-o - and --json both write to standard output; choose one")
+    components = list(dict.fromkeys(components or []))
+    if components and dofs:
+        raise UsageError("--dof goes with the alignment response (no --input): --input reports the output points")
     with output_transaction([model]) as transaction:
         if output is not None:
             transaction.declare(output)
@@ -71,12 +82,17 @@ def run(
         rail = vehicle.layout is not None and bool(vehicle.wheelsets)
         v = common.running_speed(vehicle, speed) if rail else float("nan")
         frequencies = np.geomspace(fmin, fmax, points)
-        series = _series(vehicle, dofs, frequencies, amplitude, v) if rail else _ground_series(vehicle, dofs, frequencies, amplitude)
+        if components and not rail:
+            raise UsageError("--input: the model has no rail data (wheelsets): no track drives it")
+        if components:
+            series = _track_series(vehicle, components, frequencies, amplitude, v)
+        else:
+            series = _series(vehicle, dofs, frequencies, amplitude, v) if rail else _ground_series(vehicle, dofs, frequencies, amplitude)
         if output is not None:
             columns, units = _columns(frequencies, series)
             write_csv(output, columns, units)
         if plot is not None:
-            _figure(vehicle, frequencies, series, amplitude, v, plot)
+            _figure(vehicle, frequencies, series, amplitude, v, plot, log)
     for path in [p for p in (output, plot) if p is not None and str(p) != "-"]:
         common.note(f"wrote {path}")
     peaks = {}
@@ -94,12 +110,14 @@ def run(
         })
         return 0
     stream = sys.stderr if output == "-" else sys.stdout
-    where = f"sinusoidal irregularity Y = {amplitude * 1e3:g} mm at {v / common.KMH:.1f} km/h" if v == v else (
+    kind = " and ".join(components) if components else "lateral alignment"
+    where = f"sinusoidal {kind} Y = {amplitude * 1e3:g} mm at {v / common.KMH:.1f} km/h" if v == v else (
         f"each ground input alone, amplitude {amplitude * 1e3:g} mm (DOF/input)")
     print(f"{vehicle.equations.name}: {where}, {fmin:g}-{fmax:g} Hz ({points} points)", file=stream)
-    print(f"  {'output':<14} {'peak amplitude':>18} {'at f [Hz]':>10}", file=stream)
+    width = max([14, *(len(name) for name in peaks)])
+    print(f"  {'output':<{width}} {'peak amplitude':>18} {'at f [Hz]':>10}", file=stream)
     for name, peak in peaks.items():
-        print(f"  {name:<14} {peak['amplitude']:12.4g} {peak['unit']:<5} {peak['frequency_hz']:10.3f}", file=stream)
+        print(f"  {name:<{width}} {peak['amplitude']:12.4g} {peak['unit']:<5} {peak['frequency_hz']:10.3f}", file=stream)
     if output is None:
         common.note("(-o FILE.csv writes every frequency; --json prints them)")
     return 0
@@ -126,6 +144,30 @@ def _series(vehicle: Any, dofs: list[str], frequencies: Any, amplitude: float, s
         if not np.all(np.isfinite(values)):
             raise AnalysisError(f"frf: the response of {name} is not finite at some frequency (a resonance "
                                 "without damping, or values out of range)")
+    return series
+
+
+def _track_series(vehicle: Any, components: list[str], frequencies: Any, amplitude: float, speed: float) -> dict:
+    """``<point>.a<axis>/<input>`` [m/s^2] and ``<point>.u<axis>/<input>`` [m] of every
+    output point for each track component alone
+    (:func:`express.analysis.track_response.track_frequency_response`)."""
+    from express.analysis.track_response import track_frequency_response
+    from express.base.diagnostics import ArgumentError
+
+    try:
+        response = track_frequency_response(vehicle, frequencies, components=components, amplitude=amplitude, speed=speed)
+    except ArgumentError as error:
+        raise UsageError(str(error)) from None
+    points = [name for name, unit in zip(response.names, response.units, strict=True) if unit == "m/s^2"]
+    if not points:
+        raise UsageError("frf --input: the model has no output points ([rail.outputs])")
+    series: dict[str, tuple[Any, str]] = {}
+    for component in components:
+        for name in points:
+            series[f"{name}/{component}"] = (response.of(name, component), "m/s^2")
+        for name in points:
+            point, _, axis = name.rpartition(".")
+            series[f"{point}.u{axis[1:]}/{component}"] = (response.displacement_of(name, component), "m")
     return series
 
 
@@ -166,21 +208,17 @@ def _columns(frequencies: Any, series: dict) -> tuple[dict, dict]:
     return columns, units
 
 
-def _figure(vehicle: Any, frequencies: Any, series: dict, amplitude: float, speed: float, plot: Path) -> None:
+def _figure(vehicle: Any, frequencies: Any, series: dict, amplitude: float, speed: float, plot: Path,
+            log: bool = False) -> None:
+    """One axis per unit (accelerations, displacements, rotations), log scales with ``log``."""
     import numpy as np
 
-    from express.analysis.plots import figure_frequency_response, save_figure
+    from express.analysis.plots import figure_frequency_responses, save_figure
 
-    accelerations = [n for n in series if series[n][1] == "m/s^2"]
-    others = [n for n in series if n not in accelerations]  # the --dof displacements
-    curves = [{"label": _LABELS.get(n, n), "values": np.abs(series[n][0])} for n in accelerations]
-    curves += [{"label": f"{n} [{series[n][1]}]", "values": np.abs(series[n][0])} for n in others]
-    if accelerations and others:
-        ylabel = "amplitude (units in the legend)"
-    elif accelerations:
-        ylabel = "acceleration amplitude [m/s²]"
-    else:
-        ylabel = "displacement amplitude"
+    panels: dict[str, list[dict]] = {}
+    for name, (values, unit) in series.items():
+        label = _LABELS.get(name, name)
+        panels.setdefault(unit, []).append({"label": label, "values": np.abs(values)})
     title = (f"{vehicle.equations.name}: response to Y = {amplitude * 1e3:g} mm at {speed / common.KMH:.0f} km/h"
              if speed == speed else f"{vehicle.equations.name}: response to each ground input ({amplitude * 1e3:g} mm)")
-    save_figure(figure_frequency_response(frequencies, curves, ylabel=ylabel, title=title), plot)
+    save_figure(figure_frequency_responses(frequencies, panels, title=title, log=log), plot)

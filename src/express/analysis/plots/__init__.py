@@ -19,6 +19,7 @@ from express.analysis.plots.paper_figures import (
     figure_critical_speed,
     figure_curving,
     figure_frequency_response,
+    figure_frequency_responses,
     figure_lever_step,
     figure_simulation,
 )
@@ -37,6 +38,7 @@ __all__ = [
     "figure_damping_vs_speed",
     "figure_eigen_locus",
     "figure_frequency_response",
+    "figure_frequency_responses",
     "figure_lever_step",
     "figure_root_locus_complex",
     "figure_simulation",

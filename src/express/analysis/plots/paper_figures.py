@@ -232,6 +232,48 @@ def figure_frequency_response(
     return figure
 
 
+#: Axis label of each unit of :func:`figure_frequency_responses`.
+_UNIT_LABELS = {"m/s^2": "acceleration amplitude [m/s²]", "m": "displacement amplitude [m]",
+                "rad": "rotation amplitude [rad]", "N": "force amplitude [N]"}
+
+
+def figure_frequency_responses(frequencies: np.ndarray, panels: Mapping[str, Sequence[Mapping]], *,
+                               title: str = "", log: bool = False):
+    """Amplitudes against frequency, one axis per unit (never two units on one axis).
+
+    Parameters
+    ----------
+    frequencies : numpy.ndarray, shape (F,)
+        [Hz], > 0.
+    panels : mapping of str to sequence of mapping
+        Unit (``"m/s^2"``, ``"m"``, ``"rad"``, ``"N"``) -> curves with ``label`` and
+        ``values`` (real amplitudes, shape (F,)); one axis per unit, stacked.
+    title : str
+    log : bool
+        Logarithmic amplitude axes (the frequency axis is always logarithmic).
+    """
+    figure, axes = new_figure(len(panels), 1, figsize=(7.2, 1.0 + 3.0 * len(panels)), sharex=True, squeeze=False)
+    palette = (BLUE, ORANGE, GREEN, RED, PURPLE, GREY)
+    for axis, (unit, curves) in zip(axes[:, 0], panels.items(), strict=True):
+        for k, curve in enumerate(curves):
+            linestyle = ("-", "--", ":", "-.")[(k // len(palette)) % 4]
+            axis.plot(frequencies, curve["values"], color=palette[k % len(palette)], linestyle=linestyle,
+                      label=curve["label"])
+        _log_frequency_axis(axis)
+        if log:
+            axis.set_yscale("log")
+        else:
+            axis.set_ylim(bottom=0.0)
+        axis.set_ylabel(_UNIT_LABELS.get(unit, f"amplitude [{unit}]"))
+        axis.grid(True, which="minor", alpha=0.15)
+        axis.legend(loc="best", framealpha=0.9, fontsize="small", ncol=2 if len(curves) > 6 else 1)
+    axes[-1, 0].set_xlim(float(frequencies[0]), float(frequencies[-1]))
+    axes[-1, 0].set_xlabel("frequency f [Hz]")
+    axes[0, 0].set_title(title)
+    figure.tight_layout()
+    return figure
+
+
 def _log_frequency_axis(axis) -> None:
     from matplotlib.ticker import FuncFormatter, LogLocator
 
