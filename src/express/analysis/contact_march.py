@@ -26,6 +26,7 @@ import sympy as sp
 from numba import njit, types
 from numba.extending import overload
 
+from express.analysis.curving.outputs import WheelRailOutputs
 from express.analysis.integrator import (
     WheelsetCoordinates,
     bump_stop_arrays,
@@ -50,8 +51,9 @@ from express.rail.profile_contact import contact_terms, profile_nodes
 from express.rail.wheelrail import irregularity_input, wheelset_terms
 
 __all__ = [
-    "LINEAR_TERMS", "ContactFeedback", "contact_arrays", "contact_force_history", "contact_outputs", "contact_rhs",
-    "linear_coefficients", "linear_wheel_rail", "march_contact",
+    "LINEAR_TERMS", "ContactFeedback", "WheelLoadModel", "contact_arrays", "contact_force_history", "contact_rhs",
+    "contact_wheel_outputs", "linear_coefficients", "linear_wheel_rail", "march_contact",
+    "static_wheel_loads", "wheel_loads_at", "wheel_loads_history",
 ]
 
 #: The model's linear wheel/rail terms of a wheelset, in the order of the columns of
@@ -133,6 +135,70 @@ def contact_arrays(contacts: list[WheelsetContact], law: str = "fastsim") -> Con
 _ARRAYS: dict[tuple, tuple] = {}
 
 
+class WheelLoadModel(NamedTuple):
+    """Vertical wheel loads during the march: the static load plus the quasi-static load
+    transfer of :mod:`express.rail.load_transfer` (an estimate; ``docs/contact.md``)::
+
+        Q_left  = Q0 + common[k, j] + half_difference[k, j] + sum_i gain[k, i, j] x[places[i]]
+        Q_right = Q0 + common[k, j] - half_difference[k, j] - sum_i gain[k, i, j] x[places[i]]
+
+    ``common`` is the change of the load normal to the track plane (cant, centrifugal
+    force), ``half_difference`` the roll moment of the cant deficiency over ``2 b0``, and
+    ``gain`` that of each body's lateral displacement ``x[places[i]]`` (the suspension's
+    roll; ``places[i] < 0``: a body without one).
+
+    Attributes
+    ----------
+    static : numpy.ndarray, shape (n_wheelsets,)
+        Q0 [N].
+    common, half_difference : numpy.ndarray, shape (steps + 1, n_wheelsets)
+        [N].
+    places : numpy.ndarray of int, shape (n_bodies,)
+    gain : numpy.ndarray, shape (steps + 1, n_bodies, n_wheelsets)
+        [N/m].
+    """
+
+    static: np.ndarray
+    common: np.ndarray
+    half_difference: np.ndarray
+    places: np.ndarray
+    gain: np.ndarray
+
+
+def static_wheel_loads(static: np.ndarray, steps: int) -> WheelLoadModel:
+    """A :class:`WheelLoadModel` of the static loads only (``steps + 1`` instants)."""
+    count = static.size
+    return WheelLoadModel(np.ascontiguousarray(static, dtype=float), np.zeros((steps + 1, count)),
+                          np.zeros((steps + 1, count)), np.full(1, -1, dtype=np.int64), np.zeros((steps + 1, 1, count)))
+
+
+@njit(cache=True)
+def wheel_loads_at(loads, x, k, j):
+    """``(Q_left, Q_right)`` [N] of wheelset ``j`` at step ``k`` and state ``x``
+    (:class:`WheelLoadModel`)."""
+    difference = loads.half_difference[k, j]
+    for i in range(loads.places.size):
+        if loads.places[i] >= 0:
+            difference += loads.gain[k, i, j] * x[loads.places[i]]
+    middle = loads.static[j] + loads.common[k, j]
+    return middle + difference, middle - difference
+
+
+@njit(cache=True)
+def _loads_history(loads, states, out):
+    for k in range(states.shape[0]):
+        for j in range(out.shape[1]):
+            out[k, j, 0], out[k, j, 1] = wheel_loads_at(loads, states[k], k, j)
+
+
+def wheel_loads_history(loads: WheelLoadModel, states: np.ndarray) -> np.ndarray:
+    """:func:`wheel_loads_at` of every instant of ``states`` (shape (N, >= n)), shape
+    (N, n_wheelsets, 2), left then right [N]."""
+    out = np.zeros((states.shape[0], loads.static.size, 2))
+    _loads_history(loads, np.ascontiguousarray(states, dtype=float), out)
+    return out
+
+
 class ContactFeedback(NamedTuple):
     """The contact from profile tables of every wheelset, for
     :func:`express.analysis.integrator.heun_march`: the contact forces less the model's
@@ -144,11 +210,14 @@ class ContactFeedback(NamedTuple):
     contacts : ContactSet
     linear : numpy.ndarray, shape (n_wheelsets, len(LINEAR_TERMS))
         :func:`linear_coefficients`.
+    loads : WheelLoadModel
+        The vertical wheel loads.
     """
 
     wheelsets: WheelsetCoordinates
     contacts: ContactSet
     linear: np.ndarray
+    loads: WheelLoadModel
 
 
 @njit(cache=True)
@@ -177,7 +246,8 @@ def contact_feedback(x, k, feedback, z, record):
         out = record[j]
         y, psi, y_dot, psi_dot = x[w.iy[j]], x[w.ipsi[j]], x[w.ivy[j]], x[w.ivpsi[j]]
         y_rail, rho = w.y_rail[k, j], w.rho[k, j]
-        wheelset_forces(feedback.contacts, j, y - y_rail, psi, y_dot, psi_dot, rho, w.speed, work, out)
+        left, right = wheel_loads_at(feedback.loads, x, k, j)
+        wheelset_forces(feedback.contacts, j, left, right, y - y_rail, psi, y_dot, psi_dot, rho, w.speed, work, out)
         lateral, yaw = linear_wheel_rail(feedback.linear[j], y, psi, y_dot, psi_dot, y_rail, rho)
         z[j] = out[_OUT_Y] - lateral
         z[count + j] = out[_OUT_M] - yaw
@@ -194,13 +264,15 @@ def _contact_law(x, k, feedback, z, record):
 
 
 def march_contact(phi, drive, g0, g1, x0, wheel_rail: dict, contact: ContactSet, linear: np.ndarray, *,
-                  progress=None):
+                  loads: WheelLoadModel | None = None, progress=None):
     """March with the contact feedback (arguments as :func:`express.analysis.integrator.
     march`; ``contact`` from :func:`contact_arrays`, ``linear`` from
-    :func:`linear_coefficients`); returns the states, shape (steps + 1, N), and the
-    contact forces of each state (:func:`contact_force_history`)."""
+    :func:`linear_coefficients`, ``loads`` the wheel loads, the static ones by default);
+    returns the states, shape (steps + 1, N), and the contact forces of each state
+    (:func:`contact_force_history`)."""
     steps = drive.shape[0]
-    feedback = ContactFeedback(wheelset_coordinates(wheel_rail, x0.size), contact, np.ascontiguousarray(linear))
+    loads = static_wheel_loads(contact.wheel_load, steps) if loads is None else loads
+    feedback = ContactFeedback(wheelset_coordinates(wheel_rail, x0.size), contact, np.ascontiguousarray(linear), loads)
     history = np.zeros((steps + 1, len(wheel_rail["iy"]), len(OUTPUTS)))
     states = run_march(phi, drive, g0, g1, x0, feedback, bump_stop_arrays(wheel_rail, x0.size, steps), history,
                        progress)
@@ -208,57 +280,51 @@ def march_contact(phi, drive, g0, g1, x0, wheel_rail: dict, contact: ContactSet,
 
 
 @njit(cache=True)
-def _history(y, psi, y_dot, psi_dot, y_rail, rho, speed, contacts, result):
+def _history(y, psi, y_dot, psi_dot, y_rail, rho, speed, contacts, loads, result):
     work = np.zeros((2, len(WORK_FIELDS)))
     for k in range(y.shape[0]):
         for j in range(y.shape[1]):
-            wheelset_forces(contacts, j, y[k, j] - y_rail[k, j], psi[k, j], y_dot[k, j], psi_dot[k, j], rho[k, j],
-                            speed, work, result[k, j])
+            wheelset_forces(contacts, j, loads[k, j, 0], loads[k, j, 1], y[k, j] - y_rail[k, j], psi[k, j],
+                            y_dot[k, j], psi_dot[k, j], rho[k, j], speed, work, result[k, j])
 
 
-def contact_force_history(q, q_dot, iy, ipsi, y_rail, rho, speed, contact: ContactSet) -> np.ndarray:
+def contact_force_history(q, q_dot, iy, ipsi, y_rail, rho, speed, contact: ContactSet,
+                          loads: np.ndarray | None = None) -> np.ndarray:
     """:data:`~express.rail.contact_forces.OUTPUTS` of every wheelset at every step,
-    shape (steps, n_wheelsets, len(OUTPUTS))."""
+    shape (steps, n_wheelsets, len(OUTPUTS)); ``loads`` the wheel loads (left, right) [N],
+    shape (steps, n_wheelsets, 2), the static ones by default."""
     y, psi = np.ascontiguousarray(q[:, iy]), np.ascontiguousarray(q[:, ipsi])
     y_dot, psi_dot = np.ascontiguousarray(q_dot[:, iy]), np.ascontiguousarray(q_dot[:, ipsi])
+    if loads is None:
+        loads = np.broadcast_to(contact.wheel_load[None, :, None], (q.shape[0], len(iy), 2))
     result = np.zeros((q.shape[0], len(iy), len(OUTPUTS)))
     _history(y, psi, y_dot, psi_dot, np.ascontiguousarray(y_rail), np.ascontiguousarray(rho), float(speed), contact,
-             result)
+             np.ascontiguousarray(loads, dtype=float), result)
     return result
 
 
-def contact_outputs(history: np.ndarray, wheel_loads, y_relative: np.ndarray) -> dict[str, np.ndarray]:
-    """The simulation's wheelset outputs from :func:`contact_force_history`: ``Q{n}`` the
-    lateral force from the rail on the flanging wheel (the one with the larger contact
-    angle), ``QP{n}`` over its static load, ``Qtot{n}`` on the wheelset, ``flange{n}``
-    the lateral component of the flanging wheel's normal force, ``dy{n}`` how far its
-    rail gives way (``y_relative``, the wheelset's displacement from the track, less the
-    contact's position), ``NL{n}``, ``NR{n}`` the normal forces [N]."""
-    index = {name: i for i, name in enumerate(OUTPUTS)}
-    outputs = {}
-    for j in range(history.shape[1]):
-        h = history[:, j]
-        left = h[:, index["angle_left"]] >= h[:, index["angle_right"]]
-        wheel = np.where(left, h[:, index["Y_left"]], h[:, index["Y_right"]])
-        normal = np.where(left, h[:, index["N_left"]], h[:, index["N_right"]])
-        angle = np.where(left, h[:, index["angle_left"]], h[:, index["angle_right"]])
-        side = np.where(left, 1.0, -1.0)
-        u = np.where(left, h[:, index["u_left"]], h[:, index["u_right"]])
-        n = j + 1
-        outputs[f"Q{n}"] = wheel
-        outputs[f"QP{n}"] = wheel / wheel_loads[j]
-        outputs[f"Qtot{n}"] = h[:, index["Y"]]
-        outputs[f"flange{n}"] = -side * normal * np.sin(angle)
-        outputs[f"NL{n}"] = h[:, index["N_left"]]
-        outputs[f"NR{n}"] = h[:, index["N_right"]]
-        outputs[f"dy{n}"] = y_relative[:, j] - u
-    return outputs
+def contact_wheel_outputs(vehicle, history: np.ndarray, q: np.ndarray, loads: str) -> WheelRailOutputs:
+    """The per-wheel record (:class:`~express.analysis.curving.outputs.WheelRailOutputs`)
+    of a march from its contact forces ``history`` (:func:`march_contact`): each wheel's
+    Q, Y, Fx, contact position and angle as the contact used them; the angle of attack is
+    each wheelset's yaw ``q[:, psi]``; ``loads`` says where Q came from."""
+    column = {name: k for k, name in enumerate(OUTPUTS)}
+
+    def pair(name: str) -> np.ndarray:
+        return history[:, :, [column[f"{name}_left"], column[f"{name}_right"]]]
+
+    return WheelRailOutputs(
+        vertical_load=pair("Q"), lateral_force=pair("Y"), longitudinal_force=pair("Fx"), contact_position=pair("u"),
+        contact_angle=pair("angle"), angle_of_attack=q[:, [w.psi for w in vehicle.wheelsets]],
+        static_load=np.array([w.wheel_load for w in vehicle.wheelsets], dtype=float), loads=loads)
 
 
 def contact_rhs(vehicle, track, contacts: list[WheelsetContact], *, speed: float | None = None, start: float = 0.0,
                 law: str = "fastsim"):
     """The contact simulation's equations as ``f(t, x)`` for reference integrations
-    (``scipy.integrate.solve_ivp``); bump stops are not included."""
+    (``scipy.integrate.solve_ivp``); bump stops are not included, the wheel loads are
+    the static ones (the march adds the load transfer of
+    :func:`express.analysis.curving.measure.estimated_wheel_loads`)."""
     v = float(vehicle.speed if speed is None else speed)
     a, b, bd = vehicle.state_matrix(v), vehicle.input_matrix(v), vehicle.input_rate_matrix(v)
     n = vehicle.n

@@ -218,8 +218,11 @@ def limit_cycle(vehicle: VehicleModel, speed: float, state: np.ndarray, *, durat
                       progress=False, creep_law=creep_law, contact=contact)
     y = result.q[:, vehicle.wheelsets[wheelset].y]
     third = max(1, len(y) // 3)
-    q_name = f"Q{wheelset + 1}"
-    force = float(np.max(np.abs(result.outputs[q_name][-third:]))) if q_name in result.outputs else math.nan
+    if result.wheel_rail is not None:  # the contact tables: the larger lateral force of the two wheels
+        force = float(np.max(np.abs(result.wheel_rail.lateral_force[-third:, wheelset])))
+    else:
+        q_name = f"Q{wheelset + 1}"
+        force = float(np.max(np.abs(result.outputs[q_name][-third:]))) if q_name in result.outputs else math.nan
     return (float(np.max(np.abs(y[-third:]))), float(np.max(np.abs(y[-2 * third: -third]))), force,
             _state(vehicle, result), result.options.get("contact", "deadband"))
 

@@ -5,7 +5,7 @@ cant, lateral irregularity and their rates, the rear stations delayed behind the
 leading wheelset), with flange contact and creep saturation fed back at every step.
 Results are indexed by ``d1``, the leading wheelset's distance along the track.
 
-Derived quantities (``rail.md``):
+Derived quantities (``rail.md``).  With the paper's dead-band wheel/rail model:
 
 ``Q{n}``
     Lateral force from the rail on the flanging wheel of wheelset n [N], the quantity
@@ -16,6 +16,18 @@ Derived quantities (``rail.md``):
     Total lateral force from the rails on wheelset n [N] (creep plus flange).
 ``QP{n}``
     Derailment quotient ``Q / P`` of the flanging wheel, ``P`` the static wheel load.
+``flange{n}``, ``dy{n}``
+    The flange force ``-kR dy`` [N] and the flange penetration ``dy`` [m].
+
+With the contact from profile tables, instead of those, the quantities engineers sign
+a vehicle off with (:mod:`express.analysis.curving.outputs`, ``docs/contact.md``): per
+wheel (``L``, ``R``) the vertical load ``Q{n}{s}`` [N] (a quasi-static estimate of the
+load transfer, ``options["wheel_loads"]``), the lateral force ``Y{n}{s}`` [N] in the
+track plane, ``YQ{n}{s}``, the longitudinal creep force ``Fx{n}{s}`` [N], the contact
+position ``u{n}{s}`` [m] and angle ``gamma{n}{s}`` [rad], the flange-contact flag
+``flanging{n}{s}``; per wheelset the track shift force ``SY{n}`` [N] and the angle of
+attack ``aoa{n}`` [rad]; per vehicle the wheel unloading ``dQQ0``.  Always:
+
 ``psi_TW{n}``
     Yaw of wheelset n relative to its bogie frame [rad] (the steering angle; the ideal
     radial value is ``a / R``).
@@ -37,6 +49,7 @@ from pathlib import Path
 
 import numpy as np
 
+from express.analysis.curving.outputs import WheelRailOutputs
 from express.analysis.integrator import discretize, march
 from express.analysis.track_inputs import TrackInputs, rail_layout, station_index, track_inputs
 from express.assembly.clearance import clearance_force, clearances_of
@@ -73,7 +86,12 @@ class SimulationResult:
     speed : float
         [m/s].
     options : dict
-        ``flange``, ``saturation``, ``dt``.
+        ``flange``, ``saturation``, ``dt``; with the contact tables ``contact`` and
+        ``wheel_loads`` (where the wheel loads Q come from).
+    wheel_rail : WheelRailOutputs, optional
+        The per-wheel, per-wheelset and per-vehicle wheel/rail quantities of a run with
+        the contact tables (:class:`~express.analysis.curving.outputs.WheelRailOutputs`);
+        their columns are in ``outputs`` too.
     """
 
     time: np.ndarray
@@ -84,6 +102,7 @@ class SimulationResult:
     outputs: dict[str, np.ndarray]
     speed: float
     options: dict = field(default_factory=dict)
+    wheel_rail: WheelRailOutputs | None = None
 
     def series(self) -> dict[str, np.ndarray]:
         """Every column: time, d1, each DOF, each DOF rate (``<dof>_dot``), outputs."""
@@ -139,6 +158,10 @@ _OUTPUT_UNITS = (
     ("psi_TW", "rad"), ("theta_", "rad"), ("dy", "m"), ("dQQ0", ""), ("rho", "1/m"), ("SY", "N"), ("S", "m"),
     ("stop_", "N"), ("YQ", ""), ("Y", "N"), ("Fx", "N"), ("gamma", "rad"), ("aoa", "rad"), ("u", "m"),
 )
+
+
+#: How the wheel loads Q of a run with the contact tables are found (``options["wheel_loads"]``).
+WHEEL_LOADS_ESTIMATE = "quasi-static estimate"
 
 
 def output_unit(name: str) -> str:
@@ -273,10 +296,12 @@ def simulate(
     tables = contact_tables_of(vehicle, contact, creep_law) if (flange or saturation) else None
     if tables is not None:  # the contact from the profiles' tables
         from express.analysis.contact_march import linear_coefficients, march_contact
+        from express.analysis.curving.measure import estimated_wheel_loads
 
         states, history = march_contact(
             np.ascontiguousarray(phi), np.ascontiguousarray(drive), np.ascontiguousarray(g0),
-            np.ascontiguousarray(g1), x0, wheel_rail, tables, linear_coefficients(vehicle, v), progress=show,
+            np.ascontiguousarray(g1), x0, wheel_rail, tables, linear_coefficients(vehicle, v),
+            loads=estimated_wheel_loads(vehicle, inputs, v, tables.wheel_load), progress=show,
         )
     else:
         states = march(
@@ -286,12 +311,14 @@ def simulate(
     q = states[:, :n]
     # feedback forces act on massive coordinates only: they do not enter q_F'
     q_dot = vehicle.form.velocities(states, inputs.u, inputs.u_rate)
-    outputs = derived_outputs(vehicle, q, q_dot, inputs, v, flange=flange, saturation=saturation)
+    outputs = derived_outputs(vehicle, q, q_dot, inputs, v, flange=flange, saturation=saturation,
+                              deadband=tables is None)
+    record = None
     if tables is not None:
-        from express.analysis.contact_march import contact_outputs
+        from express.analysis.contact_march import contact_wheel_outputs
 
-        iy = [w.y for w in vehicle.wheelsets]
-        outputs.update(contact_outputs(history, [w.wheel_load for w in vehicle.wheelsets], q[:, iy] - inputs.y_rail))
+        record = contact_wheel_outputs(vehicle, history, q, WHEEL_LOADS_ESTIMATE)
+        outputs.update(record.columns())
     if stops["names"]:
         stop_forces = -_stop_forces(states, stops)
         for k, name in enumerate(stops["names"]):
@@ -299,9 +326,10 @@ def simulate(
     options: dict[str, object] = {"flange": flange, "saturation": saturation, "dt": dt}
     if tables is not None:
         options["contact"] = f"tables ({creep_law})"
+        options["wheel_loads"] = WHEEL_LOADS_ESTIMATE
     if stops["names"]:
         options["clearances"] = True
-    return SimulationResult(time, distance, vehicle.dofs, q, q_dot, outputs, v, options)
+    return SimulationResult(time, distance, vehicle.dofs, q, q_dot, outputs, v, options, record)
 
 
 def contact_tables_of(vehicle: VehicleModel, contact: str | None, creep_law: str) -> ContactSet | None:
@@ -372,8 +400,11 @@ def _wheel_rail_arrays(vehicle: VehicleModel, inputs: TrackInputs, speed: float)
     }
 
 
-def derived_outputs(vehicle: VehicleModel, q, q_dot, inputs: TrackInputs, speed: float, *, flange=True, saturation=True):
-    """The derived quantities of ``rail.md`` from the state histories."""
+def derived_outputs(vehicle: VehicleModel, q, q_dot, inputs: TrackInputs, speed: float, *, flange=True, saturation=True,
+                    deadband=True):
+    """The derived quantities of ``rail.md`` from the state histories; ``deadband``
+    False leaves out the dead-band model's wheel/rail forces (``Q{n}``, ``QP{n}``,
+    ``Qtot{n}``, ``flange{n}``, ``dy{n}``: a run with the contact tables has its own)."""
     ws = vehicle.wheelsets
     iy = [w.y for w in ws]
     ipsi = [w.psi for w in ws]
@@ -387,12 +418,13 @@ def derived_outputs(vehicle: VehicleModel, q, q_dot, inputs: TrackInputs, speed:
     }
     bogies = bogie_of_wheelsets(vehicle)
     for j, wheelset in enumerate(ws, start=1):
-        wheel = forces["flange"][:, j - 1] + 0.5 * forces["lateral_creep"][:, j - 1]
-        outputs[f"Q{j}"] = wheel
-        outputs[f"QP{j}"] = wheel / wheelset.wheel_load
-        outputs[f"Qtot{j}"] = forces["lateral"][:, j - 1]
-        outputs[f"flange{j}"] = forces["flange"][:, j - 1]
-        outputs[f"dy{j}"] = forces["dy"][:, j - 1]
+        if deadband:
+            wheel = forces["flange"][:, j - 1] + 0.5 * forces["lateral_creep"][:, j - 1]
+            outputs[f"Q{j}"] = wheel
+            outputs[f"QP{j}"] = wheel / wheelset.wheel_load
+            outputs[f"Qtot{j}"] = forces["lateral"][:, j - 1]
+            outputs[f"flange{j}"] = forces["flange"][:, j - 1]
+            outputs[f"dy{j}"] = forces["dy"][:, j - 1]
         bogie = bogies.get(wheelset.name)
         if bogie is not None:
             # each body's yaw is measured from the track at its own station: add the

@@ -72,7 +72,7 @@ __all__ = [
 
 #: Entries of the output vector of :func:`wheelset_forces`.
 OUTPUTS = ("Y", "M", "N_left", "N_right", "Y_left", "Y_right", "Fx_left", "Fx_right", "u_left", "u_right",
-           "angle_left", "angle_right", "beyond")
+           "angle_left", "angle_right", "beyond", "Q_left", "Q_right")
 #: Creep laws of :func:`wheelset_forces`, by named constant and by name.
 POLACH, FASTSIM = 0, 1
 LAWS = {"polach": POLACH, "fastsim": FASTSIM}
@@ -86,7 +86,11 @@ def _sides(name: str) -> tuple[int, int]:
 
 
 _OUT_Y, _OUT_M, _OUT_BEYOND = (OUTPUTS.index(name) for name in ("Y", "M", "beyond"))
-_OUT_NORMAL, _OUT_LATERAL, _OUT_FX, _OUT_U, _OUT_ANGLE = (_sides(name) for name in ("N", "Y", "Fx", "u", "angle"))
+_OUT_NORMAL, _OUT_LATERAL, _OUT_FX, _OUT_U, _OUT_ANGLE, _OUT_LOAD = (
+    _sides(name) for name in ("N", "Y", "Fx", "u", "angle", "Q"))
+#: Smallest wheel load the contact carries [N]: a lifted wheel (Q <= 0) transmits no
+#: force; this keeps the ellipse's scale finite.
+_LIFTED = 1.0
 
 #: Columns of the work array of :func:`wheelset_forces`: the table's fields, then the
 #: quantities of each contact the kernel computes.
@@ -234,13 +238,16 @@ def _map(contact, start, step, count, y, side):
 
 
 @njit(cache=True)
-def wheelset_forces(contacts, j, y, psi, y_dot, psi_dot, rho, speed, work, out):
+def wheelset_forces(contacts, j, load_left, load_right, y, psi, y_dot, psi_dot, rho, speed, work, out):
     """Forces of the rails on wheelset ``j`` of ``contacts`` (see the module docstring)
     into ``out`` (:data:`OUTPUTS`): lateral force ``Y`` [N] and yaw moment ``M`` [N m] on
     the wheelset, each wheel's normal force, lateral force, longitudinal force, contact
-    position ``u``, contact angle, and the overshoot beyond the tables [m].
+    position ``u``, contact angle, the overshoot beyond the tables [m] and its vertical
+    load ``Q``.
 
-    ``contacts`` is a :class:`ContactSet`; ``y`` [m] the wheelset's displacement from the
+    ``contacts`` is a :class:`ContactSet`; ``load_left``, ``load_right`` [N] the vertical
+    wheel loads Q (``contacts.wheel_load[j]`` each for the static ones; a wheel with
+    ``Q <= 0`` is lifted and carries no force); ``y`` [m] the wheelset's displacement from the
     track, ``psi`` [rad] its yaw, ``y_dot`` [m/s], ``psi_dot`` [rad/s] their rates, ``rho``
     [1/m] the track curvature, ``speed`` [m/s]; ``work`` is scratch space of shape
     (2, len(:data:`WORK_FIELDS`)).
@@ -248,7 +255,8 @@ def wheelset_forces(contacts, j, y, psi, y_dot, psi_dot, rho, speed, work, out):
     # size-reason: one numba kernel per wheelset and step, both wheels in one pass (no calls in the hot loop)
     table, t_start, t_step, t_count = (contacts.tables[j], contacts.table_start[j], contacts.table_step[j],
                                        contacts.table_count[j])
-    wheel_load, friction, shear_modulus = contacts.wheel_load[j], contacts.friction[j], contacts.shear_modulus[j]
+    friction, shear_modulus = contacts.friction[j], contacts.shear_modulus[j]
+    loads = (max(load_left, _LIFTED), max(load_right, _LIFTED))
     extra = 0.0
     for side in range(2):
         position, over = _map(contacts.rail_maps[j], contacts.map_start[j], contacts.map_step[j],
@@ -263,14 +271,13 @@ def wheelset_forces(contacts, j, y, psi, y_dot, psi_dot, rho, speed, work, out):
     lateral_slip = y_dot / speed - psi
     # pass 1 (Polach): normal forces Q / cos(delta), wheel rotation from the linear pitch
     # balance; pass 2 (the chosen law) at the corrected normal forces and rotation
-    load_cbrt = wheel_load ** (1.0 / 3.0)
     top = 0.0
     bottom = 0.0
     for side in range(2):
         sigma = 1.0 - 2.0 * side
-        normal = wheel_load / work[side, COS_ANGLE]
+        normal = loads[side] / work[side, COS_ANGLE]
         work[side, _NORMAL] = normal
-        scale = load_cbrt * work[side, SECANT_CBRT]
+        scale = loads[side] ** (1.0 / 3.0) * work[side, SECANT_CBRT]
         work[side, _SCALE] = scale
         f11 = shear_modulus * work[side, SEMI_A] * work[side, SEMI_B] * scale * scale * work[side, C11]
         r = work[side, RADIUS]
@@ -310,7 +317,7 @@ def wheelset_forces(contacts, j, y, psi, y_dot, psi_dot, rho, speed, work, out):
             sigma = 1.0 - 2.0 * side
             old = work[side, _NORMAL]
             kappa = work[side, _LATERAL] / old
-            new = wheel_load / max(work[side, COS_ANGLE] + sigma * kappa * work[side, SIN_ANGLE], 0.05)
+            new = loads[side] / max(work[side, COS_ANGLE] + sigma * kappa * work[side, SIN_ANGLE], 0.05)
             work[side, _NORMAL] = new
             if attempt == 1:
                 work[side, _FX] *= new / old
@@ -334,16 +341,20 @@ def wheelset_forces(contacts, j, y, psi, y_dot, psi_dot, rho, speed, work, out):
         out[_OUT_FX[side]] = work[side, _FX]
         out[_OUT_U[side]] = work[side, _U]
         out[_OUT_ANGLE[side]] = work[side, ANGLE]
+        out[_OUT_LOAD[side]] = load_left if side == 0 else load_right
     out[_OUT_Y] = total_y - contacts.wall[j] * extra
     out[_OUT_M] = total_m
     out[_OUT_BEYOND] = extra
 
 
 def quasi_static_forces(contact: WheelsetContact, y: float, psi: float = 0.0, y_dot: float = 0.0,
-                        psi_dot: float = 0.0, rho: float = 0.0, speed: float = 1.0, law: str = "polach") -> dict[str, float]:
+                        psi_dot: float = 0.0, rho: float = 0.0, speed: float = 1.0, law: str = "polach",
+                        loads: tuple[float, float] | None = None) -> dict[str, float]:
     """:func:`wheelset_forces` of one state, by name (:data:`OUTPUTS`); SI units; ``law``
-    ``"polach"`` or ``"fastsim"``."""
+    ``"polach"`` or ``"fastsim"``; ``loads`` the wheel loads (left, right) [N], the static
+    ``contact.wheel_load`` by default."""
+    left, right = (contact.wheel_load, contact.wheel_load) if loads is None else loads
     out = np.zeros(len(OUTPUTS))
-    wheelset_forces(contact_set([contact], law), 0, float(y), float(psi), float(y_dot), float(psi_dot), float(rho),
-                    float(speed), np.zeros((2, len(WORK_FIELDS))), out)
+    wheelset_forces(contact_set([contact], law), 0, float(left), float(right), float(y), float(psi), float(y_dot),
+                    float(psi_dot), float(rho), float(speed), np.zeros((2, len(WORK_FIELDS))), out)
     return dict(zip(OUTPUTS, out.tolist(), strict=True))

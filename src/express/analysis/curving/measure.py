@@ -5,7 +5,9 @@ Two contact models give the per-wheel forces:
 
 * the **contact tables** of the profiles (:mod:`express.analysis.contact_march`): each
   wheel's lateral and longitudinal force, contact position and angle come from the
-  compiled contact of :mod:`express.rail.contact_forces`;
+  compiled contact of :mod:`express.rail.contact_forces`, at the wheel loads the time
+  march uses (the static loads with the quasi-static load transfer,
+  :func:`estimated_wheel_loads`);
 * the **dead-band** model of the paper (:mod:`express.rail.nonlinear`): each wheel takes
   half of the wheelset's (saturated) lateral creep force, the flanging wheel (the left one
   when the wheelset is pressed left past the clearance) the flange force too; the
@@ -21,6 +23,8 @@ station and displaced by its lateral coordinate (the suspension's roll).
 from __future__ import annotations
 
 import math
+from dataclasses import replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -31,7 +35,10 @@ from express.rail.contact_forces import ContactSet
 from express.rail.load_transfer import BodyLoads, body_loads, track_plane_accelerations, wheel_loads
 from express.rail.nonlinear import linear_creepages, wheelset_forces
 
-__all__ = ["DEFAULT_FLANGE_ANGLE", "estimated_loads", "vehicle_body_loads", "wheel_rail_outputs"]
+if TYPE_CHECKING:
+    from express.analysis.contact_march import WheelLoadModel
+
+__all__ = ["DEFAULT_FLANGE_ANGLE", "estimated_loads", "estimated_wheel_loads", "vehicle_body_loads", "wheel_rail_outputs"]
 
 #: Flange angle of the dead-band model's flange contact [rad] (70 degrees, the flank of
 #: S1002 and of most standard profiles); used for its contact angle and Nadal's limit.
@@ -85,6 +92,36 @@ def _value(vehicle: VehicleModel, field: str) -> float:
     return expression_value(getattr(vehicle.model.rail, field), vehicle.values)
 
 
+def estimated_wheel_loads(vehicle, inputs, speed: float, static: np.ndarray) -> WheelLoadModel:
+    """The quasi-static wheel loads of :func:`express.analysis.curving.measure.
+    estimated_loads` along ``inputs`` (a :class:`~express.analysis.track_inputs.
+    TrackInputs`) at ``speed`` [m/s], as changes of the static loads ``static`` [N]; the
+    estimate is linear in the bodies' lateral displacements (the wheelsets' own excepted:
+    their contact points move with them), whose gains are taken one body at a time."""
+    from express.analysis.contact_march import WheelLoadModel
+
+    body = vehicle_body_loads(vehicle)
+    count = inputs.u.shape[0]
+    n = vehicle.n
+    base = estimated_loads(vehicle, np.zeros((count, n)), inputs, speed, body)
+    straight = replace(inputs, u=np.zeros_like(inputs.u), rho_stations=np.zeros_like(inputs.rho_stations))
+    level = estimated_loads(vehicle, np.zeros((count, n)), straight, speed, body)
+    wheelsets = {w.name for w in vehicle.wheelsets}
+    # a wheelset's contact points move with it: its own displacement shifts no load
+    places = np.array([vehicle.dof_index(f"{name}.y") if f"{name}.y" in vehicle.dofs and name not in wheelsets else -1
+                       for name in body.bodies], dtype=np.int64)
+    gain = np.zeros((count, places.size, len(vehicle.wheelsets)))
+    for i, place in enumerate(places):
+        if place >= 0:
+            unit = np.zeros((count, n))
+            unit[:, place] = 1.0
+            shifted = estimated_loads(vehicle, unit, inputs, speed, body)
+            gain[:, i] = 0.5 * ((shifted.left - shifted.right) - (base.left - base.right))
+    return WheelLoadModel(np.ascontiguousarray(static, dtype=float),
+                          0.5 * ((base.left + base.right) - (level.left + level.right)),
+                          0.5 * ((base.left - base.right) - (level.left - level.right)), places, gain)
+
+
 def _deadband_forces(vehicle: VehicleModel, q, q_dot, inputs, speed: float, flange_angle: float):
     ws = vehicle.wheelsets
     iy, ipsi = [w.y for w in ws], [w.psi for w in ws]
@@ -108,19 +145,16 @@ def _deadband_forces(vehicle: VehicleModel, q, q_dot, inputs, speed: float, flan
     return lateral, longitudinal, position, angle
 
 
-def _table_forces(vehicle: VehicleModel, q, q_dot, inputs, speed: float, contact: ContactSet):
-    from express.analysis.contact_march import contact_force_history
-    from express.rail.contact_forces import OUTPUTS
+def _table_outputs(vehicle: VehicleModel, q, q_dot, inputs, speed: float, contact: ContactSet) -> WheelRailOutputs:
+    """The record of the contact tables with the wheel loads the time march uses
+    (:func:`estimated_wheel_loads`)."""
+    from express.analysis.contact_march import contact_force_history, contact_wheel_outputs, wheel_loads_history
 
     ws = vehicle.wheelsets
+    loads = wheel_loads_history(estimated_wheel_loads(vehicle, inputs, speed, contact.wheel_load), q)
     history = contact_force_history(q, q_dot, [w.y for w in ws], [w.psi for w in ws], inputs.y_rail,
-                                    inputs.rho_wheelsets, speed, contact)
-    column = {name: k for k, name in enumerate(OUTPUTS)}
-
-    def pair(name: str) -> np.ndarray:
-        return np.stack([history[:, :, column[f"{name}_left"]], history[:, :, column[f"{name}_right"]]], axis=2)
-
-    return pair("Y"), pair("Fx"), pair("u"), pair("angle")
+                                    inputs.rho_wheelsets, speed, contact, loads)
+    return contact_wheel_outputs(vehicle, history, q, "quasi-static estimate")
 
 
 def wheel_rail_outputs(vehicle: VehicleModel, q: np.ndarray, q_dot: np.ndarray, inputs, speed: float, *,
@@ -144,10 +178,9 @@ def wheel_rail_outputs(vehicle: VehicleModel, q: np.ndarray, q_dot: np.ndarray, 
         The dead-band model's flange contact angle [rad].
     """
     q, q_dot = np.atleast_2d(q), np.atleast_2d(q_dot)
-    if contact is None:
-        lateral, longitudinal, position, angle = _deadband_forces(vehicle, q, q_dot, inputs, speed, flange_angle)
-    else:
-        lateral, longitudinal, position, angle = _table_forces(vehicle, q, q_dot, inputs, speed, contact)
+    if contact is not None:
+        return _table_outputs(vehicle, q, q_dot, inputs, speed, contact)
+    lateral, longitudinal, position, angle = _deadband_forces(vehicle, q, q_dot, inputs, speed, flange_angle)
     body = vehicle_body_loads(vehicle)
     loads = estimated_loads(vehicle, q, inputs, speed, body)
     return WheelRailOutputs(

@@ -25,7 +25,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from express.analysis.curving.measure import wheel_rail_outputs
+from express.analysis.curving.measure import estimated_wheel_loads, wheel_rail_outputs
 from express.analysis.curving.outputs import WheelRailOutputs
 from express.analysis.simulate import derived_outputs
 from express.analysis.track_inputs import TrackInputs
@@ -265,19 +265,16 @@ class SteadyCurvingSolver:
         return np.concatenate([self._contact(x, inputs), self._stops(x, inputs)])
 
     def _contact(self, x: np.ndarray, inputs: TrackInputs) -> np.ndarray:
-        n = self.vehicle.n
         y, psi, y_dot, psi_dot = x[self.iy], x[self.ipsi], x[self.ivy], x[self.ivpsi]
         rho = inputs.rho_wheelsets[0]
-        if self.tables is not None:
-            from express.analysis.contact_march import contact_force_history
+        if self.tables is not None:  # the time march's own law (express.analysis.contact_march)
+            from express.analysis.contact_march import OUTPUTS, contact_feedback
 
-            q_dot = self.vehicle.form.velocities(x)
-            history = contact_force_history(x[None, :n], q_dot[None, :], self.iy, self.ipsi, inputs.y_rail,
-                                            inputs.rho_wheelsets, self.speed, self.tables)[0]
-            c = self.linear
-            lateral = -(c[:, 0] * y + c[:, 1] * psi + c[:, 2] * y_dot + c[:, 3] * psi_dot) + c[:, 5] * rho
-            yaw = -(c[:, 6] * y + c[:, 7] * psi + c[:, 8] * y_dot + c[:, 9] * psi_dot) + c[:, 11] * rho
-            return np.concatenate([history[:, 0] - lateral, history[:, 1] - yaw])
+            count = self.iy.size
+            wheel_rail = np.zeros(2 * count)
+            contact_feedback(np.ascontiguousarray(x, dtype=float), 0, self._contact_feedback(inputs), wheel_rail,
+                             np.zeros((count, len(OUTPUTS))))
+            return wheel_rail
         forces = nonlinear.wheelset_forces(y, psi, y_dot, psi_dot, inputs.y_rail[0], rho, self.speed,
                                            self.vehicle.wheelsets, flange=self.flange, saturation=self.saturation)
         return np.concatenate([forces["flange"] + forces["lateral_correction"], forces["yaw_correction"]])
@@ -315,6 +312,24 @@ class SteadyCurvingSolver:
             rate = (self._stop_force(delta + step) - self._stop_force(delta)) / step
             slopes[contact.size:, : self.vehicle.n] = rate[:, None] * self.stop_rows
         return slopes
+
+    def _contact_feedback(self, inputs: TrackInputs):
+        """The march's :class:`~express.analysis.contact_march.ContactFeedback` on
+        ``inputs`` (one instant), kept for the last inputs."""
+        from express.analysis.contact_march import ContactFeedback
+        from express.analysis.integrator import WheelsetCoordinates
+
+        held = getattr(self, "_held_feedback", None)
+        if held is not None and held[0] is inputs:
+            return held[1]
+        assert self.tables is not None
+        iy, ipsi, ivy, ivpsi = (np.ascontiguousarray(a, dtype=np.int64) for a in (self.iy, self.ipsi, self.ivy, self.ivpsi))
+        coordinates = WheelsetCoordinates(iy, ipsi, ivy, ivpsi, np.ascontiguousarray(inputs.y_rail, dtype=float),
+                                          np.ascontiguousarray(inputs.rho_wheelsets, dtype=float), float(self.speed))
+        feedback = ContactFeedback(coordinates, self.tables, np.ascontiguousarray(self.linear),
+                                   estimated_wheel_loads(self.vehicle, inputs, self.speed, self.tables.wheel_load))
+        self._held_feedback = (inputs, feedback)
+        return feedback
 
     def _equations(self, inputs: TrackInputs):
         forcing = self.b @ inputs.u[0]
