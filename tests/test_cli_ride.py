@@ -122,7 +122,8 @@ def test_ride_csv_on_standard_output(capsys):
 
 
 _TABLES = {
-    "negative.csv": ("n [1/m], vertical\n0.01, 1e-4\n0.02, -1e-5\n0.03, 1e-6\n", "PSD must be >= 0"),
+    "negative.csv": ("n [1/m], vertical\n0.01, 1e-4\n0.02, -1e-5\n0.03, 1e-6\n", "PSD must be in 0 ... 1000 m^3"),
+    "overflow.csv": ("n [1/m], vertical\n0.01, 1e300\n0.02, 1e-5\n", "PSD must be in 0 ... 1000 m^3"),
     "unsorted.csv": ("n [1/m], vertical\n0.01, 1e-4\n0.03, 1e-5\n0.02, 1e-6\n", "wavenumbers must increase"),
     "header.csv": ("frequency, vertical\n0.01, 1e-4\n0.02, 1e-5\n", "first column must be"),
     "component.csv": ("n [1/m], twist\n0.01, 1e-4\n0.02, 1e-5\n", "unknown component"),
@@ -145,7 +146,7 @@ def test_ride_bad_psd_tables_exit_2_with_the_line_and_write_nothing(capsys, tmp_
 def test_ride_table_reports_every_problem_at_once(capsys, tmp_path):
     table = _table(tmp_path, "two.csv", "n [1/m], vertical\n0.01, 1e-4\n0.005, -1e-5\n0.03, 1e-6\n")
     err = assert_input_error(capsys, "ride", CONVENTIONAL, "--track", table)
-    assert f"{table}:3: column vertical: PSD must be >= 0" in err
+    assert f"{table}:3: column vertical: PSD must be in 0 ... 1000" in err
     assert f"{table}:3: column n: wavenumbers must increase" in err
 
 

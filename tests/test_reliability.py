@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from cli_support import CONVENTIONAL, EXAMPLES, LEVER, STEERED, assert_input_error, run, run_json
+from cli_support import CONVENTIONAL, LEVER, STEERED, assert_input_error, run, run_json
 from express.base.units import UnitError, parse_quantity
 
 # ------------------------------------------------------------------ angles are a dimension
@@ -66,5 +66,115 @@ def test_convert_keeps_the_unit_written_in_set(capsys) -> None:
     assert 'kLL = { value = 5.0, unit = "kN/mm" }' in out
 
 
-def _unused(*_: object) -> None:  # keep imports used while the file grows
-    _ = (EXAMPLES, Path)
+# ------------------------------------------------------------------ no internal error from input
+
+
+@pytest.mark.parametrize(("kind", "words"), [
+    ("directory", "not a regular file but a directory"),
+    ("/dev/null", "not a regular file but a character device"),
+    ("/dev/zero", "not a regular file but a character device"),
+    ("fifo", "a FIFO (named pipe) that nobody writes into"),
+    ("missing", "file does not exist"),
+])
+def test_inputs_that_are_not_regular_files_are_refused_by_their_kind(capsys, tmp_path: Path, kind: str, words: str) -> None:
+    import os
+
+    path = {"directory": str(tmp_path), "missing": str(tmp_path / "none.toml")}.get(kind, kind)
+    if kind == "fifo":
+        path = str(tmp_path / "model.exp")
+        os.mkfifo(path)
+    err = assert_input_error(capsys, "generate", path, mentions=words)
+    assert err.count("error:") == 1
+
+
+def test_a_model_through_a_pipe_is_read(capsys, tmp_path: Path) -> None:
+    """``express eigen <(cat model)``: a FIFO with a writer is an input (read once, not cached)."""
+    import os
+    import threading
+
+    fifo = tmp_path / "model.toml"
+    os.mkfifo(fifo)
+    writer = threading.Thread(target=lambda: fifo.write_bytes(Path(CONVENTIONAL).read_bytes()))
+    writer.start()
+    status, out, err = run(capsys, "eigen", fifo)
+    writer.join()
+    assert status == 0, err
+    assert "23 modes" in out
+
+
+def test_a_cycle_of_601_definitions_names_a_few_and_counts_them(capsys, tmp_path: Path) -> None:
+    text = Path(CONVENTIONAL).read_text()
+    cycle = "\n".join(f'q{k} = "q{(k + 1) % 601} + 1"' for k in range(601))
+    model = tmp_path / "cycle.toml"
+    model.write_text(text.replace("[parameters]", "[parameters]\n" + cycle, 1))
+    err = assert_input_error(capsys, "eigen", model, mentions="601 definitions in the cycle")
+    assert len(err.splitlines()) == 1 and len(err) < 400
+    assert "q0 (line" in err and "q5 (line" in err and "q7 (line" not in err
+
+
+def test_a_chain_of_3000_derived_parameters_is_evaluated_without_recursion(capsys, tmp_path: Path) -> None:
+    text = Path(CONVENTIONAL).read_text()
+    chain = "\n".join(f'p{k} = "p{k - 1} + 1"' for k in range(1, 3001))
+    model = tmp_path / "chain.toml"
+    model.write_text(text.replace("[parameters]", "[parameters]\np0 = 0.0\n" + chain, 1))
+    status, _, err = run(capsys, "eigen", model, "--set", "p0=1")
+    assert status == 0, err
+
+
+@pytest.mark.parametrize("content", [b"\x7fELF\x02\x01\x01\x00" + bytes(range(256)) * 4, b'\x80\x81{"format": 1}\n', b"[1, 2]\n"])
+def test_a_file_that_is_not_a_checkpoint_is_refused_as_such(capsys, tmp_path: Path, content: bytes) -> None:
+    study = tmp_path / "study.toml"
+    study.write_text(f'[study]\nmodel = "{STEERED}"\nkind = "grid"\noutputs = ["critical_speed"]\n'
+                     "[study.parameters]\nGamma = { values = [0.1, 0.2] }\n")
+    (tmp_path / "out.csv.checkpoint.jsonl").write_bytes(content)
+    assert_input_error(capsys, "study", study, "-o", tmp_path / "out.csv", "--resume",
+                       mentions="not a checkpoint of an EXPRESS study")
+    assert not (tmp_path / "out.csv").exists()
+
+
+def test_a_checkpoint_cut_short_in_its_header_starts_again(capsys, tmp_path: Path) -> None:
+    study = tmp_path / "study.toml"
+    study.write_text(f'[study]\nmodel = "{STEERED}"\nkind = "grid"\noutputs = ["critical_speed"]\n'
+                     "[study.parameters]\nGamma = { values = [0.1, 0.2] }\n")
+    (tmp_path / "out.csv.checkpoint.jsonl").write_bytes(b'{"format": "express-study-che')
+    status, _, err = run(capsys, "study", study, "-o", tmp_path / "out.csv", "--resume", "--workers", "1")
+    assert status == 0, err
+    assert len((tmp_path / "out.csv").read_text().splitlines()) == 3
+
+
+def test_a_missing_optional_package_names_the_extra(capsys, tmp_path: Path, monkeypatch) -> None:
+    import importlib.util
+
+    real = importlib.util.find_spec
+    monkeypatch.setattr(importlib.util, "find_spec", lambda name, *a: None if name == "pythonfmu" else real(name, *a))
+    assert_input_error(capsys, "export", CONVENTIONAL, "--format", "fmu", "-o", tmp_path / "car.fmu",
+                       mentions="pip install 'express[interop]'")
+    assert not (tmp_path / "car.fmu").exists()
+
+
+# ------------------------------------------------------------------ messages a person can read
+
+
+def test_after_20_problems_a_count_of_the_rest(capsys, tmp_path: Path) -> None:
+    text = Path(CONVENTIONAL).read_text()
+    undefined = "\n".join(f'u{k} = "nothing{k} * 2"' for k in range(1000))
+    model = tmp_path / "many.toml"
+    model.write_text(text.replace("[parameters]", "[parameters]\n" + undefined, 1))
+    err = assert_input_error(capsys, "generate", model)
+    lines = err.splitlines()
+    assert len(lines) == 21 and "undefined name nothing0" in lines[0]
+    assert lines[-1] == "error: ... and 980 more problems (1000 in all, the first 20 shown)"
+
+
+def test_quoted_input_is_cut_to_200_characters(capsys) -> None:
+    values = ",".join(["0.1"] * 10001)
+    err = assert_input_error(capsys, "critical-speed", CONVENTIONAL, "--conicities", values, mentions="40003 characters")
+    assert len(err) < 500
+
+
+def test_substructure_instances_with_the_same_prefix_are_one_problem_naming_both(capsys, tmp_path: Path) -> None:
+    model = tmp_path / "same-prefix.toml"
+    model.write_text(Path(CONVENTIONAL).read_text().replace('prefix = "T2_"', 'prefix = "T1_"'))
+    err = assert_input_error(capsys, "generate", model)
+    assert err.count("error:") == 1, err
+    assert "instance rear: its ids collide with those of instance front" in err and "'T1_'" in err

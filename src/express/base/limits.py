@@ -41,13 +41,14 @@ Examples
 from __future__ import annotations
 
 import os
+import stat
 from dataclasses import dataclass
 from pathlib import Path
 
 from express.base.diagnostics import ModelError, Problem, UsageError
 from express.base.reads import note_read
 
-__all__ = ["LIMITS", "MAX_EXPONENT", "MAX_NESTING", "Limit", "exceeded", "limit", "read_input_text"]
+__all__ = ["LIMITS", "MAX_EXPONENT", "MAX_NESTING", "Limit", "exceeded", "input_kind_problem", "limit", "read_input_text"]
 
 #: Deepest nesting of parentheses, signs and powers in one expression (no override:
 #: no formula needs more, and Python's own recursion limit is not far beyond).
@@ -125,12 +126,71 @@ def exceeded(name: str, found: int) -> str | None:
     )
 
 
+_KINDS = (
+    (stat.S_ISDIR, "a directory"),
+    (stat.S_ISCHR, "a character device (such as /dev/null, /dev/zero or a terminal)"),
+    (stat.S_ISBLK, "a block device"),
+    (stat.S_ISSOCK, "a socket"),
+)
+
+
+def input_kind_problem(path: str | Path, fifo: bool = True) -> str | None:
+    """What is wrong with ``path`` as an input file, judged by its kind before it is
+    opened (opening a FIFO or a device may block or never end), or None (also for a
+    file that cannot be looked at: opening it says why).
+
+    A regular file is an input; so is a FIFO (a pipe from the shell, ``<(...)``) when
+    ``fifo``, and :func:`read_input_text` refuses one without a writer.
+
+    Examples
+    --------
+    >>> input_kind_problem("/dev/null")
+    'not a regular file but a character device (such as /dev/null, /dev/zero or a terminal)'
+    """
+    try:
+        mode = os.stat(path).st_mode
+    except OSError:  # a missing file: the reader's own message when it opens it
+        return None
+    if stat.S_ISREG(mode) or (fifo and stat.S_ISFIFO(mode)):
+        return None
+    kind = next((words for test, words in _KINDS if test(mode)), "a FIFO (named pipe)" if stat.S_ISFIFO(mode) else "")
+    return f"not a regular file but {kind}" if kind else "not a regular file"
+
+
+def _read_fifo(path: Path, most: int) -> bytes | None:
+    """The bytes of a FIFO, or None when nobody writes into it (opened without blocking)."""
+    handle = os.open(path, os.O_RDONLY | os.O_NONBLOCK)
+    try:
+        try:
+            first = os.read(handle, most + 1)
+        except BlockingIOError:  # a writer, no data yet
+            first = b""
+            writer = True
+        else:
+            writer = bool(first)
+        if not writer:
+            return None
+        os.set_blocking(handle, True)
+        chunks = [first]
+        size = len(first)
+        while size <= most:
+            chunk = os.read(handle, most + 1 - size)
+            if not chunk:
+                break
+            chunks.append(chunk)
+            size += len(chunk)
+        return b"".join(chunks)
+    finally:
+        os.close(handle)
+
+
 def read_input_text(path: str | Path, item: str = "", what: str = "the file") -> str:
     """The text of an input file (a model, a profile), refused beyond the size limit
     before it is read whole (``EXPRESS_MAX_FILE_MB``) and when it is not UTF-8 text.
 
-    Any readable file is accepted (a pipe from the shell too); ``/dev/zero`` stops at
-    the limit.  Newlines are made universal, as ``open()`` in text mode does; ``what``
+    A regular file or a pipe from the shell is accepted; a directory, a device
+    (``/dev/null``, ``/dev/zero``), a socket or a FIFO that nobody writes into is refused
+    by its kind before it is read (:func:`input_kind_problem`).  Newlines are made universal, as ``open()`` in text mode does; ``what``
     names the file in the message of one that cannot be read.
 
     Raises
@@ -144,9 +204,18 @@ def read_input_text(path: str | Path, item: str = "", what: str = "the file") ->
     def refuse(message: str) -> ModelError:
         return ModelError([Problem(str(path), None, item, message)])
 
+    kind = input_kind_problem(path)
+    if kind is not None:
+        raise refuse(kind)
     try:
-        with open(path, "rb") as file:
-            data = file.read(most + 1)
+        if stat.S_ISFIFO(os.stat(path).st_mode):
+            fifo = _read_fifo(path, most)
+            if fifo is None:
+                raise refuse("a FIFO (named pipe) that nobody writes into")
+            data = fifo
+        else:
+            with open(path, "rb") as file:
+                data = file.read(most + 1)
     except OSError as error:
         raise refuse(f"cannot read {what} ({error.strerror or error})") from None
     if len(data) > most:

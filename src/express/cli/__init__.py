@@ -71,7 +71,8 @@ class _Parser(argparse.ArgumentParser):
 
             hint = did_you_mean(choice.group(1), re.findall(r"'([^']*)'", choice.group(2)))
             message = message.replace(" (choose from", f"{hint} (choose from", 1)
-        self.exit(EXIT_INPUT, f"error: {printable(f'{self.prog}: {message}')} (see {self.prog} --help)\n")
+        message = _LONG_QUOTE.sub(lambda m: f'"{m.group(1)[:MAX_QUOTE - 3]}..." ({len(m.group(1))} characters)', message)
+        self.exit(EXIT_INPUT, f"error: {shortened(f'{self.prog}: {message}')} (see {self.prog} --help)\n")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -141,9 +142,39 @@ def _show_warning(message, category, filename, lineno, file=None, line=None) -> 
     print(f"warning: {printable(str(message))}", file=sys.stderr)
 
 
+#: Characters of the user's input quoted back in a command-line error.
+MAX_QUOTE = 200
+_COUNT_LINE = re.compile(r"\d+ bad rows in all, the first \d+ listed$")
+_LONG_QUOTE = re.compile(f'"([^"]{{{MAX_QUOTE + 1},}})"')
+#: Problems printed of one error; the rest are counted (a file with 1000 bad lines).
+MAX_PROBLEMS = 20
+#: Characters of one error line; a longer one is cut (it quotes too much input).
+MAX_LINE = 500
+
+
+def shortened(line: str) -> str:
+    """``line`` (made printable) cut to :data:`MAX_LINE` characters, saying how much was left out."""
+    line = printable(line)
+    if len(line) <= MAX_LINE:
+        return line
+    return f"{line[:MAX_LINE - 40]}... ({len(line) - MAX_LINE + 40} more characters)"
+
+
 def _print_error_lines(lines: Sequence[str]) -> None:
-    for line in lines:
-        print(f"error: {printable(line)}", file=sys.stderr)
+    """One ``error:`` line per problem: the first :data:`MAX_PROBLEMS`, then a count (a
+    list that ends in its own count, :class:`~express.base.diagnostics.RowProblems`, has
+    one line more)."""
+    counts = [line for line in lines if _COUNT_LINE.search(line)]  # a reader's own count is kept
+    problems = [line for line in lines if not _COUNT_LINE.search(line)]
+    for line in problems[:MAX_PROBLEMS]:
+        print(f"error: {shortened(line)}", file=sys.stderr)
+    if len(problems) > MAX_PROBLEMS + 1:
+        print(f"error: ... and {len(problems) - MAX_PROBLEMS} more problems ({len(problems)} in all, the first "
+              f"{MAX_PROBLEMS} shown)", file=sys.stderr)
+    elif len(problems) == MAX_PROBLEMS + 1:
+        print(f"error: {shortened(problems[-1])}", file=sys.stderr)
+    for line in counts:
+        print(f"error: {shortened(line)}", file=sys.stderr)
 
 
 def _internal_error(error: BaseException, debug: bool) -> int:

@@ -46,6 +46,7 @@ __all__ = [
     "load_rail_vehicle",
     "note",
     "print_json",
+    "require_package",
     "running_speed",
 ]
 
@@ -226,6 +227,25 @@ def add_model_arguments(parser: argparse.ArgumentParser) -> None:
 
 def add_json_option(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--json", dest="as_json", action="store_true", help="print a JSON summary (SI units)")
+
+
+def require_package(module: str, extra: str, purpose: str) -> None:
+    """Refuse, before any work, a command that needs an optional package not installed:
+    ``--format fmu needs the optional package pythonfmu: pip install 'express[interop]'``.
+
+    Raises
+    ------
+    UsageError
+        When ``module`` cannot be imported.
+    """
+    import importlib.util
+
+    try:
+        found = importlib.util.find_spec(module) is not None
+    except (ImportError, ValueError):
+        found = False
+    if not found:
+        raise UsageError(f"{purpose} needs the optional package {module}: pip install 'express[{extra}]'")
 
 
 def figure_path(text: str) -> Path:

@@ -37,6 +37,8 @@ def run(model: Path, overrides: dict[str, str], *, output: str, fmt: str | None 
     fmt = fmt or next((name for name, s in FORMATS.items() if s == suffix), None)
     if fmt is None:
         raise UsageError(f"-o {output}: unknown format; give --format {'|'.join(FORMATS)} or a suffix .mat, .npz, .fmu")
+    if fmt == "fmu":
+        common.require_package("pythonfmu", "interop", "--format fmu")
     with output_transaction(inputs=[model]) as outputs:
         outputs.declare(output, binary=True)
         vehicle = common.load_rail_vehicle(model, overrides, "export")

@@ -22,6 +22,11 @@ TRACK_CLASSES = ("ERRI-low", "ERRI-high", *(f"FRA-{k}" for k in range(1, 7)), *(
 #: RMS below which a direction counts as not excited (not drawn) [m/s^2].
 _NEGLIGIBLE = 1e-9
 _PSD_UNITS = {"n": ("1/m", {"m^2/(1/m)", "m^3"}), "omega": ("rad/m", {"m^2/(rad/m)", "m^3/rad", "m^3"})}
+#: Largest PSD value of a table [m^3]: over a band of 1e-3 1/m an irregularity of 1 m RMS, far
+#: beyond any track; larger values (1e300) only overflow the response (docs/reliability.md).
+PSD_MAX = 1e3
+#: Largest wavenumber of a table [1/m or rad/m]: a wavelength below a millimetre.
+WAVENUMBER_MAX = 1e4
 
 
 def add_parser(subparsers) -> None:
@@ -190,11 +195,13 @@ def _table_values(source: str, rows: list, width: int, names: list[str], problem
         if not all(math.isfinite(x) for x in numbers):
             problems.append(Problem(source, number, "PSD table", "values must be finite"))
             continue
-        if numbers[0] < 0:
-            problems.append(Problem(source, number, f"column {names[0]}", f"wavenumber must be >= 0, got {numbers[0]:g}"))
+        if not 0 <= numbers[0] <= WAVENUMBER_MAX:
+            problems.append(Problem(source, number, f"column {names[0]}",
+                                    f"wavenumber must be in 0 ... {WAVENUMBER_MAX:g}, got {numbers[0]:g}"))
         for k in range(1, width):
-            if numbers[k] < 0:
-                problems.append(Problem(source, number, f"column {names[k]}", f"PSD must be >= 0, got {numbers[k]:g}"))
+            if not 0 <= numbers[k] <= PSD_MAX:
+                problems.append(Problem(source, number, f"column {names[k]}",
+                                        f"PSD must be in 0 ... {PSD_MAX:g} m^3 (an irregularity of metres), got {numbers[k]:g}"))
         if values and numbers[0] <= values[-1][1][0]:
             problems.append(Problem(source, number, f"column {names[0]}", f"wavenumbers must increase: {numbers[0]:g} "
                                     f"after {values[-1][1][0]:g} (line {values[-1][0]})"))

@@ -6,6 +6,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from express.base.diagnostics import ModelError, Problem
+from express.base.limits import input_kind_problem
 from express.io.classic import parse_classic, read_classic
 from express.io.toml_model import parse_toml_model, read_toml_model
 from express.io.toml_writer import model_to_toml
@@ -23,9 +24,9 @@ def load_model(path: str | Path) -> Model:
         For a missing, unreadable or malformed file (every problem at once).
     """
     path = Path(path)
-    if not path.is_file():
-        what = "is a directory" if path.is_dir() else "does not exist"
-        raise ModelError([Problem(str(path), None, "", f"file {what}")])
+    kind = "file does not exist" if not path.exists() else input_kind_problem(path)
+    if kind is not None:
+        raise ModelError([Problem(str(path), None, "", kind)])
     if path.suffix.lower() == ".toml":
         return read_toml_model(path)
     return read_classic(path)

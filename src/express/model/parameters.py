@@ -195,9 +195,17 @@ def _order(model: Model) -> tuple[list[_Node], list[Problem]]:
     return order, problems
 
 
+#: Members of a cycle named in its message; a longer cycle is counted.
+CYCLE_SHOWN = 6
+
+
 def _cycle_problem(cycle: list[_Node], model: Model) -> Problem:
+    """One problem per cycle: its members (the first :data:`CYCLE_SHOWN`, then a count)."""
     first = cycle[0]
-    chain = " uses ".join(_where(node, model) for node in [*cycle, first])
+    shown = [*cycle, first] if len(cycle) <= CYCLE_SHOWN else cycle[:CYCLE_SHOWN]
+    chain = " uses ".join(_where(node, model) for node in shown)
+    if len(cycle) > CYCLE_SHOWN:
+        chain += f" uses ... ({len(cycle)} definitions in the cycle, back to {_where(first, model)})"
     if isinstance(first, Derivation):
         return Problem(model.source, first.line, first.item, f"circular definition: {chain}")
     return Problem(model.source, model.parameters[first].line, f"parameter {first}", f"circular definition: {chain}")

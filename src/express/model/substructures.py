@@ -221,6 +221,7 @@ def instantiate(sub: Substructure, instance: Instance, source: str = "<substruct
 def expand(substructures: dict[str, Substructure], instances: list[Instance], source: str = "<model>") -> tuple[Items, list[Problem]]:
     """Items of every instance, in order, and every problem (unknown substructures too)."""
     items, problems = Items(), []
+    owners: dict[tuple[str, str], Instance] = {}  # (kind, id) -> the instance that made it
     for instance in instances:
         sub = substructures.get(instance.substructure)
         if sub is None:
@@ -229,8 +230,40 @@ def expand(substructures: dict[str, Substructure], instances: list[Instance], so
                                     f'unknown substructure "{instance.substructure}" (defined: {known})'))
             continue
         more, found = instantiate(sub, instance, source)
-        items, problems = items + more, problems + found
+        more, collision = _without_collisions(more, instance, owners, source)
+        items, problems = items + more, problems + found + collision
     return items, problems
+
+
+_KINDS = ("bodies", "grounds", "points", "elements", "pins")
+
+
+def _without_collisions(items: Items, instance: Instance, owners: dict, source: str) -> tuple[Items, list[Problem]]:
+    """The items of ``instance`` whose ids no earlier instance made, and one problem per
+    earlier instance it collides with (naming both, the count and a few ids) instead of
+    one "duplicate id" per item."""
+    clashes: dict[str, list[str]] = {}
+    others: dict[str, Instance] = {}
+    kept = {}
+    for kind in _KINDS:
+        mine = []
+        for record in getattr(items, kind):
+            other = owners.get((kind, record.id))
+            if other is not None and other is not instance:
+                clashes.setdefault(other.id, []).append(record.id)
+                others[other.id] = other
+                continue
+            owners[(kind, record.id)] = instance
+            mine.append(record)
+        kept[kind] = tuple(mine)
+    problems = []
+    for other, ids in clashes.items():
+        shown = ", ".join(ids[:3]) + (", ..." if len(ids) > 3 else "")
+        same = f" (both have {instance.prefix!r})" if others[other].prefix == instance.prefix else ""
+        problems.append(Problem(source, instance.line, f"instance {instance.id}",
+                                f"its ids collide with those of instance {other} ({len(ids)} ids: {shown}); "
+                                f"give each instance its own prefix{same} or rename"))
+    return Items(**kept), problems
 
 
 def with_instances(model: Model, substructures: dict[str, Substructure] | list[Substructure], instances: list[Instance]) -> Model:

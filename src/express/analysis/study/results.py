@@ -82,8 +82,15 @@ class Checkpoint:
                 f"{self.path}: a checkpoint of an unfinished run exists; continue it with --resume "
                 "or delete it to start again"
             )
+        header = self._header() if exists else None
+        if header == "torn":  # cut short while it was being created: nothing in it yet
+            exists = False
         if exists:
-            header = self._header()
+            if not isinstance(header, dict) or header.get("format") != _HEADER:
+                raise UsageError(
+                    f"{self.path}: not a checkpoint of an EXPRESS study (its first line is not a checkpoint "
+                    "header); delete it or write the results elsewhere"
+                )
             if header != self.identity:
                 raise UsageError(
                     f"{self.path}: the checkpoint belongs to another study (or the study, its model "
@@ -96,14 +103,24 @@ class Checkpoint:
             self._stream = open(self.path, "w", encoding="utf-8")  # noqa: SIM115 - kept open: appended to until the study ends
             self._write([self.identity])
 
-    def _header(self) -> dict | None:
-        with open(self.path, encoding="utf-8") as stream:
-            first = stream.readline()
+    def _header(self) -> dict | str | None:
+        """The header line; ``"torn"`` for a file cut short before its header was whole,
+        None for one that is not a checkpoint (binary, another format)."""
         try:
-            header = json.loads(first)
-        except json.JSONDecodeError:
+            with open(self.path, "rb") as stream:
+                first = stream.readline(1 << 20)
+        except OSError as error:
+            raise UsageError(f"{self.path}: cannot read the checkpoint ({error.strerror or error})") from None
+        if not first.endswith(b"\n"):  # torn: a part of this study's header (or nothing)?
+            return "torn" if self._header_bytes().startswith(first) else None
+        try:
+            header = json.loads(first.decode("utf-8"))
+        except (UnicodeDecodeError, json.JSONDecodeError):
             return None
         return header if isinstance(header, dict) else None
+
+    def _header_bytes(self) -> bytes:
+        return (json.dumps(self.identity, allow_nan=False) + "\n").encode("utf-8")
 
     def _truncate_torn_line(self) -> None:
         """Drop a last line cut short by a crash, so that appends start on a new line."""
@@ -126,7 +143,7 @@ class Checkpoint:
         """Every complete record in the file (a torn last line is skipped)."""
         if not self.path.exists():
             return
-        with open(self.path, encoding="utf-8") as stream:
+        with open(self.path, encoding="utf-8", errors="replace") as stream:  # a damaged line is skipped
             stream.readline()
             for line in stream:
                 if not line.endswith("\n"):

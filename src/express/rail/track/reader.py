@@ -31,6 +31,7 @@ from typing import Any
 import numpy as np
 
 from express.base.diagnostics import ModelError, Problem
+from express.base.limits import input_kind_problem
 from express.base.units import KMH, UnitError, parse_quantity
 from express.io.toml_lines import KeyPath, find_line, line_index
 from express.rail.track._common import FieldProblem, is_finite_number, is_number
@@ -337,9 +338,10 @@ def _read_text(path: Path, limit: int, item: str, encoding: str) -> str:
         return ModelError([Problem(source, None, item, message)])
 
     try:
+        kind = input_kind_problem(path, fifo=False)  # a FIFO would block on open
+        if kind is not None:
+            raise refuse(kind)
         info = path.stat()
-        if not path.is_file():
-            raise refuse("not a regular file")
         if info.st_size > limit:
             raise refuse(f"the file has {info.st_size} bytes, more than the limit {limit}")
         data = path.read_bytes()
