@@ -18,6 +18,9 @@ def test_one_curve_json(capsys):
     assert data["loads"] == "quasi-static estimate"
     assert row["flanging1L"] == 1.0  # right curve: the outer wheel of the leading wheelset flanges
     assert row["a_q"] == pytest.approx(1.80, abs=0.01)
+    (assessment,) = data["assessments"]
+    by_name = {c["name"]: c for c in assessment["criteria"]}
+    assert by_name["YQ1L"]["value"] == pytest.approx(row["YQ1L"]) and by_name["YQ1L"]["limit"] == 0.8
 
 
 def test_sweep_writes_csv_and_figure(capsys, tmp_path):

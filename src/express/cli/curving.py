@@ -111,11 +111,15 @@ def run(
             save_figure(figure_steady_curving(results, title=f"{vehicle.equations.name}: steady curving, {where}"), plot)
     for path in [p for p in (output, plot) if p is not None and str(p) != "-"]:
         common.note(f"wrote {path}")
+    from express.analysis.curving.assessment import assess_steady
+
+    assessments = [assess_steady(vehicle, result) for result in results]
     if as_json:
         common.print_json({"model": str(model), "curves": where, "contact": results[0].contact,
-                           "loads": results[0].wheel_rail.loads, "units": units, "results": rows})
+                           "loads": results[0].wheel_rail.loads, "units": units, "results": rows,
+                           "assessments": [a.as_dict() for a in assessments]})
     elif output != "-":
-        _print_table(vehicle.equations.name, where, results, sys.stdout)
+        _print_table(vehicle.equations.name, where, results, assessments, sys.stdout)
     return 0
 
 
@@ -154,17 +158,18 @@ def _speed_for(vehicle: Any, curve: Any, deficiency: float) -> float:
                            expression_value(rail.gravity, vehicle.values))
 
 
-def _print_table(name: str, where: str, results: list, stream) -> None:
+def _print_table(name: str, where: str, results: list, assessments: list, stream) -> None:
     first = results[0]
     print(f"{name}: steady curving, {where}; contact {first.contact}, wheel loads {first.wheel_rail.loads}", file=stream)
     count = first.wheel_rail.wheelsets
-    head = "  R [m]  cant [mm]  V [km/h]  a_q [m/s2]  dQ/Q0 " + "".join(
+    head = "  R [m]  cant [mm]  V [km/h]  a_q [m/s2]  dQ/Q0  EN 14363 " + "".join(
         f"| ws{j + 1}: aoa [mrad]  Y/Q max  SY [kN]  flange " for j in range(count))
     print(head, file=stream)
-    for result in results:
+    for result, assessment in zip(results, assessments, strict=True):
         out = result.wheel_rail
+        verdict = "derails" if assessment.derailment else ("pass" if assessment.passed else "FAIL")
         cells = [f"{result.curve.radius:7.0f}  {result.curve.cant * 1e3:9.1f}  {result.speed / common.KMH:8.1f}  "
-                 f"{result.unbalanced_acceleration:10.3f}  {out.vehicle_unloading[0]:5.3f} "]
+                 f"{result.unbalanced_acceleration:10.3f}  {out.vehicle_unloading[0]:5.3f}  {verdict:>8} "]
         for j in range(count):
             flanging = "".join(s for s, on in zip("LR", out.flange_contact[0, j], strict=True) if on) or "-"
             cells.append(f"| {out.angle_of_attack[0, j] * 1e3:16.3f}  {out.y_over_q[0, j].max():7.3f}  "
