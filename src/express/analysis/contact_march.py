@@ -47,6 +47,7 @@ from express.rail.contact_forces import (
     wheelset_forces,
 )
 from express.rail.curve import station_of
+from express.rail.options import CreepLaw
 from express.rail.profile_contact import contact_terms, profile_nodes
 from express.rail.wheelrail import irregularity_input, wheelset_terms
 
@@ -115,7 +116,7 @@ def linear_coefficients(vehicle, speed: float) -> np.ndarray:
     return out
 
 
-def contact_arrays(contacts: list[WheelsetContact], law: str = "fastsim") -> ContactSet:
+def contact_arrays(contacts: list[WheelsetContact], law: CreepLaw = "fastsim") -> ContactSet:
     """The tables and rail maps of the wheelsets stacked for the compiled march
     (:func:`express.rail.contact_forces.contact_set`, cached for the same contacts)."""
     if law not in LAWS:
@@ -320,7 +321,7 @@ def contact_wheel_outputs(vehicle, history: np.ndarray, q: np.ndarray, loads: st
 
 
 def contact_rhs(vehicle, track, contacts: list[WheelsetContact], *, speed: float | None = None, start: float = 0.0,
-                law: str = "fastsim"):
+                law: CreepLaw = "fastsim"):
     """The contact simulation's equations as ``f(t, x)`` for reference integrations
     (``scipy.integrate.solve_ivp``); bump stops are not included, the wheel loads are
     the static ones (the march adds the load transfer of

@@ -44,6 +44,7 @@ from express.base.diagnostics import ArgumentError
 from express.base.threads import limited_blas
 from express.base.units import KMH
 from express.numeric.statespace import VehicleModel
+from express.rail.options import ContactModel, CreepLaw
 from express.rail.track import Straight, Track
 
 __all__ = ["BifurcationPoint", "NonlinearCriticalSpeed", "StepCheck", "limit_cycle", "nonlinear_critical_speed"]
@@ -208,7 +209,7 @@ def _state(vehicle: VehicleModel, result) -> np.ndarray:
 
 
 def limit_cycle(vehicle: VehicleModel, speed: float, state: np.ndarray, *, duration: float, dt: float,
-                wheelset: int = 0, creep_law: str = "fastsim", contact: str | None = None):
+                wheelset: int = 0, creep_law: CreepLaw = "fastsim", contact: ContactModel | None = None):
     """Run ``duration`` [s] at ``speed`` from ``state`` on straight track; returns the
     amplitudes of the wheelset's lateral motion over the last and the middle third [m],
     the largest flange force of the last third [N], the final state and the
@@ -238,8 +239,8 @@ class _Settings:
     threshold: float
     persistence: float
     extensions: int
-    creep_law: str
-    contact: str | None
+    creep_law: CreepLaw
+    contact: ContactModel | None
 
 
 @dataclass
@@ -316,8 +317,8 @@ def nonlinear_critical_speed(
     disturbance: float = 5e-3,
     threshold: float = 0.1e-3,
     persistence: float = 0.95,
-    creep_law: str = "fastsim",
-    contact: str | None = None,
+    creep_law: CreepLaw = "fastsim",
+    contact: ContactModel | None = None,
     linear: CriticalSpeed | None = None,
     v_max: float = 150.0,
     extensions: int = 4,

@@ -59,6 +59,7 @@ from express.model.topology import classify_bodies
 from express.numeric.statespace import VehicleModel
 from express.rail.contact_forces import ContactSet
 from express.rail.nonlinear import wheelset_forces
+from express.rail.options import ContactModel, CreepLaw
 from express.rail.track import Track
 
 __all__ = [
@@ -220,8 +221,8 @@ def simulate(
     initial_state: np.ndarray | None = None,
     progress: bool | None = None,
     clearances: bool | None = None,
-    contact: str | None = None,
-    creep_law: str = "fastsim",
+    contact: ContactModel | None = None,
+    creep_law: CreepLaw = "fastsim",
 ) -> SimulationResult:
     """Run ``vehicle`` along ``track``.
 
@@ -332,7 +333,7 @@ def simulate(
     return SimulationResult(time, distance, vehicle.dofs, q, q_dot, outputs, v, options, record)
 
 
-def contact_tables_of(vehicle: VehicleModel, contact: str | None, creep_law: str) -> ContactSet | None:
+def contact_tables_of(vehicle: VehicleModel, contact: ContactModel | None, creep_law: CreepLaw) -> ContactSet | None:
     """The stacked contact tables when the contact comes from profiles (``None``: the
     dead-band model)."""
     if contact not in (None, "tables", "deadband"):

@@ -83,13 +83,14 @@ def setup_from(gauge: float, flange_back: float, inclination: float, wheel_radiu
 def load_profiles(names: list[str], units: str | None):
     """The wheel and rail :class:`~express.rail.profiles.Profile` of ``WHEEL RAIL``."""
     from express.base.diagnostics import ModelError
+    from express.rail.options import PROFILE_KINDS
     from express.rail.profile_formats import read_profile
     from express.rail.profiles import STANDARD_PROFILES, standard_profile
 
     standard = {name.upper() for name in STANDARD_PROFILES} | {"UIC60"}
     profiles: list = []
     problems: list = []
-    for name, kind in zip(names, ("wheel", "rail"), strict=True):
+    for name, kind in zip(names, PROFILE_KINDS, strict=True):
         try:
             if not Path(name).exists() and name.strip().upper() in standard:
                 profile = standard_profile(name)

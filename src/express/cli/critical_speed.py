@@ -13,6 +13,7 @@ from express.analysis.critical_options import CriticalOptions
 from express.base.diagnostics import UsageError
 from express.cli import common
 from express.cli.common import SEARCH
+from express.rail.options import CREEP_LAWS, CreepLaw
 
 __all__ = ["MAX_SWEEP", "add_parser", "parse_range", "run"]
 
@@ -81,7 +82,7 @@ def add_parser(subparsers) -> None:
                         "bifurcation diagram's points")
     parser.add_argument("--vstart", type=VSTART, metavar="SPEED",
                         help=VSTART.help("with --nonlinear: first speed of the ramp-down", "1.2 x the linear V_cr"))
-    parser.add_argument("--creep-law", choices=("fastsim", "polach"), default="fastsim",
+    parser.add_argument("--creep-law", choices=CREEP_LAWS, default="fastsim",
                         help="with --nonlinear and profiles: the creep law (default fastsim)")
     common.add_json_option(parser)
     parser.set_defaults(handler=run, numeric=True)
@@ -92,7 +93,7 @@ def run(
     tolerance: float = SEARCH.tolerance,
     conicities: list[float] | None = None, parameter: str = "Gamma", output: str | None = None,
     plot: Path | None = None, as_json: bool = False, nonlinear: bool = False, vstart: float | None = None,
-    creep_law: str = "fastsim",
+    creep_law: CreepLaw = "fastsim",
 ) -> int:
     """Find the critical speed (and the sweep) and write the outputs all together."""
     from express.io.output import output_transaction
@@ -223,7 +224,7 @@ def _print(name: str, result: Any, vmax: float, conicities: list[float] | None, 
 
 
 def _run_nonlinear(model: Path, overrides: dict[str, str], vmin: float, vmax: float, tolerance: float,
-                   output: str | None, plot: Path | None, as_json: bool, vstart: float | None, creep_law: str) -> int:
+                   output: str | None, plot: Path | None, as_json: bool, vstart: float | None, creep_law: CreepLaw) -> int:
     """The linear and the nonlinear critical speed (ramp-down), the bifurcation diagram."""
     from express.base.diagnostics import AnalysisError
     from express.io.output import output_transaction

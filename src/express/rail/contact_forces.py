@@ -64,6 +64,7 @@ from express.rail.contact_tables import (
     rail_deflection_map,
 )
 from express.rail.creep_law import fastsim, polach
+from express.rail.options import CreepLaw
 
 __all__ = [
     "FASTSIM", "LAWS", "OUTPUTS", "POLACH", "WORK_FIELDS", "ContactSet", "WheelsetContact", "contact_set",
@@ -185,7 +186,7 @@ class ContactSet(NamedTuple):
     law: int
 
 
-def contact_set(contacts: list[WheelsetContact], law: str = "fastsim") -> ContactSet:
+def contact_set(contacts: list[WheelsetContact], law: CreepLaw = "fastsim") -> ContactSet:
     """The contacts of the wheelsets stacked for the compiled kernels."""
     if law not in LAWS:
         raise ArgumentError(f"creep law {law!r}: use one of {', '.join(LAWS)}")
@@ -348,7 +349,7 @@ def wheelset_forces(contacts, j, load_left, load_right, y, psi, y_dot, psi_dot, 
 
 
 def quasi_static_forces(contact: WheelsetContact, y: float, psi: float = 0.0, y_dot: float = 0.0,
-                        psi_dot: float = 0.0, rho: float = 0.0, speed: float = 1.0, law: str = "polach",
+                        psi_dot: float = 0.0, rho: float = 0.0, speed: float = 1.0, law: CreepLaw = "polach",
                         loads: tuple[float, float] | None = None) -> dict[str, float]:
     """:func:`wheelset_forces` of one state, by name (:data:`OUTPUTS`); SI units; ``law``
     ``"polach"`` or ``"fastsim"``; ``loads`` the wheel loads (left, right) [N], the static

@@ -45,6 +45,7 @@ from express.rail.contact_tables import (
     contact_tables,
     linear_contact_parameters,
 )
+from express.rail.options import ProfileKind
 from express.rail.profile_formats import read_profile
 from express.rail.profiles import STANDARD_PROFILES, Profile, standard_profile
 
@@ -76,7 +77,7 @@ def _standard(name: str) -> Profile:
     return standard_profile(name)
 
 
-def _profile(text: str, kind: str, base: str, units: str) -> Profile:
+def _profile(text: str, kind: ProfileKind, base: str, units: str) -> Profile:
     """A standard profile by name, else a file relative to ``base``."""
     if text.strip().upper().replace(" ", "") in {*STANDARD_PROFILES, "UIC60"}:
         return _standard(text.strip().upper().replace(" ", ""))

@@ -62,12 +62,13 @@ import numpy as np
 
 from express.base.diagnostics import ArgumentError, ModelError, Problem, RowProblems, excerpt
 from express.base.limits import read_input_text
+from express.rail.options import ProfileKind
 from express.rail.profiles import Profile, check_profile_points, parse_profile
 
 __all__ = ["PROFILE_FORMATS", "parse_miniprof", "parse_profile_format", "parse_simpack", "profile_format", "read_profile"]
 
 #: File suffix -> (format, kind of profile it holds).
-PROFILE_FORMATS = {
+PROFILE_FORMATS: dict[str, tuple[str, ProfileKind]] = {
     ".prr": ("simpack", "rail"), ".prw": ("simpack", "wheel"),
     ".ban": ("miniprof", "rail"), ".whl": ("miniprof", "wheel"),
 }
@@ -85,7 +86,7 @@ _SPLIT = re.compile(r"[\s,]+")
 
 def read_profile(
     path: str | Path,
-    kind: str,
+    kind: ProfileKind,
     *,
     units: str | None = None,
     name: str | None = None,
@@ -128,13 +129,13 @@ def read_profile(
     )
 
 
-def profile_format(path: str | Path) -> tuple[str, str] | None:
+def profile_format(path: str | Path) -> tuple[str, ProfileKind] | None:
     """``(format, kind)`` of a profile file by its suffix (case-insensitive), ``None`` for
     a two-column file."""
     return PROFILE_FORMATS.get(Path(path).suffix.lower())
 
 
-def parse_profile_format(text: str, kind: str, *, file: str, units: str | None = None, name: str | None = None,
+def parse_profile_format(text: str, kind: ProfileKind, *, file: str, units: str | None = None, name: str | None = None,
                          spike_tolerance: float = 0.5e-3, min_points: int = 10) -> Profile:
     """The profile in ``text``, read in the format of ``file``'s suffix (see the module
     docstring), as :func:`express.rail.profiles.parse_profile` reads a two-column file.
@@ -192,12 +193,12 @@ def _wheel_side(y, z, lines, file, form, problems):
 # ------------------------------------------------------------------------- SIMPACK
 
 
-def parse_simpack(text: str, kind: str, *, file: str = "<profile>.prw", **options) -> Profile:
+def parse_simpack(text: str, kind: ProfileKind, *, file: str = "<profile>.prw", **options) -> Profile:
     """A ``.prr``/``.prw`` profile from its text (``file`` names it and gives the suffix)."""
     return parse_profile_format(text, kind, file=file, **options)
 
 
-def _simpack_points(text: str, file: str, kind: str, problems: list[Problem]):
+def _simpack_points(text: str, file: str, kind: ProfileKind, problems: list[Problem]):
     """Points ``(y, z, lines)`` in mm, CONTACT's axes (z down), after the settings."""
     settings: dict[str, float] = {}
     points: list[tuple[int, float, float]] = []
@@ -352,12 +353,12 @@ def _apply_settings(y, z, lines, settings, file, problems):
 # ------------------------------------------------------------------------ MiniProf
 
 
-def parse_miniprof(text: str, kind: str, *, file: str = "<profile>.whl", **options) -> Profile:
+def parse_miniprof(text: str, kind: ProfileKind, *, file: str = "<profile>.whl", **options) -> Profile:
     """A ``.ban``/``.whl`` profile from its text (``file`` names it and gives the suffix)."""
     return parse_profile_format(text, kind, file=file, **options)
 
 
-def _miniprof_points(text: str, file: str, kind: str, problems: list[Problem]):
+def _miniprof_points(text: str, file: str, kind: ProfileKind, problems: list[Problem]):
     """Points ``(X, Y, lines)`` in mm, CONTACT's axes (Y made positive down)."""
     lines_in = text.splitlines()
     old_style = any("MINIPROF" in raw for raw in lines_in[:3])
@@ -448,7 +449,7 @@ def _miniprof_rows(rows, columns, file, problems):
     return array[:, 1], array[:, 2], array[:, 0].astype(int)
 
 
-def _measured_up(z: np.ndarray, kind: str) -> bool:
+def _measured_up(z: np.ndarray, kind: ProfileKind) -> bool:
     """CONTACT's ``check_z_pos_down``: True when the points have z positive up.
 
     A wheel's lowest z (z down) lies at a side face, at either end of the points; a

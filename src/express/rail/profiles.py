@@ -30,6 +30,7 @@ from pathlib import Path
 import numpy as np
 
 from express.base.diagnostics import ArgumentError, ModelError, Problem, RowProblems, excerpt
+from express.rail.options import PROFILE_KINDS, ProfileKind
 
 __all__ = [
     "STANDARD_PROFILES",
@@ -69,13 +70,13 @@ class Profile:
     """
 
     name: str
-    kind: str
+    kind: ProfileKind
     y: np.ndarray
     z: np.ndarray
     source: str = ""
 
     def __post_init__(self) -> None:
-        if self.kind not in ("wheel", "rail"):
+        if self.kind not in PROFILE_KINDS:
             raise ArgumentError(f"profile kind must be 'wheel' or 'rail', not {self.kind!r}")
         if self.y.shape != self.z.shape or self.y.ndim != 1:
             raise ArgumentError("profile y and z must be 1-D arrays of one length")
@@ -117,7 +118,7 @@ def parse_inclination(text: str | float) -> float:
 
 def parse_profile(
     text: str,
-    kind: str,
+    kind: ProfileKind,
     *,
     file: str = "<profile>",
     units: str | None = None,
@@ -126,7 +127,7 @@ def parse_profile(
     min_points: int = 10,
 ) -> Profile:
     """:func:`express.rail.profile_formats.read_profile` on a two-column text already read (``file`` names it in the messages)."""
-    if kind not in ("wheel", "rail"):
+    if kind not in PROFILE_KINDS:
         raise ArgumentError(f"profile kind must be 'wheel' or 'rail', not {kind!r}")
     if units is not None and units not in _UNITS:
         raise ArgumentError(f"profile units must be 'mm' or 'm', not {units!r}")
@@ -403,7 +404,7 @@ def _arc_length_samples(func, lo: float, hi: float, step: float, breaks: tuple[f
 
 
 #: The profiles shipped under ``express/data/profiles`` (name -> file, kind).
-STANDARD_PROFILES = {"S1002": ("S1002.csv", "wheel"), "60E1": ("60E1.csv", "rail")}
+STANDARD_PROFILES: dict[str, tuple[str, ProfileKind]] = {"S1002": ("S1002.csv", "wheel"), "60E1": ("60E1.csv", "rail")}
 _ALIASES = {"UIC60": "60E1", "60E1": "60E1", "S1002": "S1002"}
 
 

@@ -28,11 +28,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import cast
 
 import numpy as np
 
 from express.analysis.curving.outputs import SIDES, WheelRailOutputs
 from express.rail.contact_forces import ContactSet
+from express.rail.options import CreepLaw
 
 __all__ = [
     "SAMPLING",
@@ -231,7 +233,8 @@ def assess_run(vehicle, track, result) -> tuple[WheelRailOutputs, Assessment]:
     contact = None
     label = str(result.options.get("contact", ""))
     if label.startswith("tables"):
-        contact = contact_tables_of(vehicle, "tables", label.partition("(")[2].rstrip(")") or "fastsim")
+        law = cast("CreepLaw", label.partition("(")[2].rstrip(")") or "fastsim")  # the run's own label
+        contact = contact_tables_of(vehicle, "tables", law)
     inputs = track_inputs(vehicle, track, result.distance, result.speed)
     outputs = wheel_rail_outputs(vehicle, result.q, result.q_dot, inputs, result.speed, contact=contact)
     friction = min(w.friction for w in vehicle.wheelsets)

@@ -34,6 +34,7 @@ from express.base.diagnostics import ArgumentError, InputError
 from express.model.parameters import expression_value
 from express.numeric.statespace import VehicleModel
 from express.rail import nonlinear
+from express.rail.options import ContactModel, CreepLaw
 
 __all__ = [
     "MAX_UNBALANCED_ACCELERATION",
@@ -211,8 +212,8 @@ class SteadyCurvingSolver:
         linear steady state).
     """
 
-    def __init__(self, vehicle: VehicleModel, speed: float | None = None, *, contact: str | None = None,
-                 creep_law: str = "fastsim", flange: bool = True, saturation: bool = True):
+    def __init__(self, vehicle: VehicleModel, speed: float | None = None, *, contact: ContactModel | None = None,
+                 creep_law: CreepLaw = "fastsim", flange: bool = True, saturation: bool = True):
         from express.analysis.simulate import contact_tables_of
 
         if vehicle.layout is None or vehicle.model is None or vehicle.model.rail is None:

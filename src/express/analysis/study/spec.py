@@ -26,7 +26,7 @@ import math
 import sys
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal, cast, get_args
 
 from express.analysis.study.outputs import OUTPUTS, OutputSettings
 from express.base.diagnostics import ModelError, Problem
@@ -40,7 +40,9 @@ else:  # pragma: no cover
 
 __all__ = ["KINDS", "Constraint", "ParameterRange", "StudySpec", "parse_study", "read_study"]
 
-KINDS = ("grid", "lhs", "sobol", "optimise", "sobol-indices")
+#: The kinds of study (``kind = ...`` of the study file).
+StudyKind = Literal["grid", "lhs", "sobol", "optimise", "sobol-indices"]
+KINDS: tuple[StudyKind, ...] = get_args(StudyKind)
 _STUDY_KEYS = ("model", "kind", "outputs", "parameters", "set", "options", "samples", "seed", "title",
                "objective", "constraints", "optimiser")
 _RANGE_KEYS = ("values", "from", "to", "count", "scale")
@@ -122,7 +124,7 @@ class StudySpec:
     path: Path
     text: str
     model: Path
-    kind: str
+    kind: StudyKind
     parameters: tuple[ParameterRange, ...]
     fixed: dict[str, float]
     outputs: tuple[str, ...]
@@ -205,6 +207,7 @@ def parse_study(text: str, path: str | Path) -> StudySpec:
     if kind not in KINDS:
         check.add(("kind",), "study.kind", f"unknown kind {kind!r}; use one of {', '.join(KINDS)}")
         kind = "grid"
+    kind = cast(StudyKind, kind)
     model = _model(check, study, path)
     outputs = _outputs(check, study)
     settings = _settings(check, study.get("options", {}), path)
