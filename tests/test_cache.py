@@ -1,4 +1,4 @@
-"""The derivation cache (express.numeric.cache, docs/cache.md): hits and misses, every key
+"""The derivation cache (express.io.cache, docs/cache.md): hits and misses, every key
 ingredient, damaged and foreign entries, concurrent writers, an unwritable place, the
 size bound, the command line, and the in-process reuse.
 
@@ -17,7 +17,8 @@ import pytest
 from express.base.limits import read_input_text
 from express.base.reads import recorded_reads
 from express.cli import main
-from express.numeric import cache, statespace
+from express.io import cache
+from express.numeric import statespace
 from express.numeric.statespace import load_vehicle
 
 MODEL = """
@@ -308,3 +309,21 @@ def test_the_no_cache_option_of_a_command(fresh, derivations, capsys):
     assert main(["eigen", str(fresh), "--speed", "100"]) == 0
     assert capsys.readouterr().out == without
     assert len(_entries()) == 1
+
+
+def test_kalkers_coefficients_are_kept_by_their_exact_arguments(fresh, monkeypatch):
+    """A warm load of a model with [rail.creep] from = "kalker" neither solves Kalker's
+    contact again nor imports SciPy's root finder; the values are the same floats."""
+    from express.rail import contact
+
+    model = Path(__file__).resolve().parents[1] / "examples" / "conventional.toml"
+    cold = _load_anew(model)
+    solved: list[int] = []
+    original = contact.creep_coefficients
+    monkeypatch.setattr(contact, "creep_coefficients", lambda *a: solved.append(1) or original(*a))
+    warm = _load_anew(model)
+    assert not solved
+    assert warm.values == cold.values and warm.wheelsets == cold.wheelsets
+    statespace._GENERATED.clear()
+    load_vehicle(model, {"mc": "30 t"})  # another wheel load: solved anew
+    assert solved

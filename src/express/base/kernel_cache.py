@@ -4,7 +4,7 @@ Numba stores a kernel compiled with ``cache=True`` next to its source (``__pycac
 and, when that folder cannot be written (an install in a read-only site-packages), in
 its own user cache; when neither can be written it refuses the kernel.  EXPRESS points
 Numba at ``<cache>/numba`` (``EXPRESS_CACHE_DIR``, else the user's cache directory,
-:mod:`express.numeric.cache`) whenever the package's own folder is read-only and
+:mod:`express.io.cache`) whenever the package's own folder is read-only and
 ``NUMBA_CACHE_DIR`` is not set already.  It must run before Numba is imported:
 ``express/__init__.py`` calls :func:`configure_kernel_cache`.
 """

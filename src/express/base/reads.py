@@ -2,7 +2,7 @@
 
 :func:`recorded_reads` collects every file read through
 :func:`express.base.limits.read_input_text` (model files, profiles, delta-r tables)
-while its block runs; the derivation cache (:mod:`express.numeric.cache`) keys an entry
+while its block runs; the derivation cache (:mod:`express.io.cache`) keys an entry
 by them, so that a change to any file a model reads forces a rebuild.
 
 Examples
@@ -21,7 +21,7 @@ import hashlib
 import os
 from collections.abc import Iterator
 
-__all__ = ["note_read", "recorded_reads"]
+__all__ = ["note_read", "recorded_reads", "recording"]
 
 _READS: contextvars.ContextVar[list[tuple[str, str]] | None] = contextvars.ContextVar("express_reads", default=None)
 
@@ -39,6 +39,11 @@ def recorded_reads() -> Iterator[list[tuple[str, str]]]:
         _READS.reset(token)
         if outer is not None:
             outer.extend(reads)
+
+
+def recording() -> bool:
+    """Whether a :func:`recorded_reads` block is active (a model is being read for the cache)."""
+    return _READS.get() is not None
 
 
 def note_read(path: str | os.PathLike, data: bytes) -> None:

@@ -112,12 +112,12 @@ def _one_blas_thread(numeric: bool) -> Iterator[None]:
 
 @contextlib.contextmanager
 def _cache_switch(no_cache: bool) -> Iterator[None]:
-    """The derivation cache off for ``--no-cache`` (:mod:`express.numeric.cache`), in this
+    """The derivation cache off for ``--no-cache`` (:mod:`express.io.cache`), in this
     process and in the workers it starts (``EXPRESS_NO_CACHE``)."""
     if not no_cache:
         yield
         return
-    from express.numeric.cache import disabled
+    from express.io.cache import disabled
 
     before = os.environ.get("EXPRESS_NO_CACHE")
     os.environ["EXPRESS_NO_CACHE"] = "1"

@@ -1,5 +1,5 @@
 """``express cache info|clear``: the derivation cache's place, size and entries, or empty it
-(:mod:`express.numeric.cache`, ``docs/cache.md``)."""
+(:mod:`express.io.cache`, ``docs/cache.md``)."""
 
 from __future__ import annotations
 
@@ -20,7 +20,7 @@ def add_parser(subparsers) -> None:
 
 def run(action: str) -> int:
     """Print the cache's information or clear it; returns the exit status."""
-    from express.numeric.cache import cache_info, clear_cache
+    from express.io.cache import cache_info, clear_cache
 
     if action == "clear":
         removed = clear_cache()

@@ -1,5 +1,5 @@
 """A derived vehicle, or a readable generation, as cache data and back
-(:mod:`express.numeric.cache` stores them).
+(:mod:`express.io.cache` stores them).
 
 The entry of a numerical vehicle holds what :func:`express.numeric.statespace.load_vehicle`
 needs without symbolic work: the equations' names (DOFs, eliminated DOFs, inputs,

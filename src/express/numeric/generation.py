@@ -3,7 +3,7 @@
 ``express generate`` and the exporters need the factored, readable matrices
 (:func:`express.assembly.generator.generate`); :func:`load_generation` derives them once
 per set of input files and options and reads them back afterwards
-(:mod:`express.numeric.cache`, ``docs/cache.md``).  ``--set`` overrides are applied after
+(:mod:`express.io.cache`, ``docs/cache.md``).  ``--set`` overrides are applied after
 the cache: they change the values, units and derivation steps, never the matrices.
 """
 
@@ -48,8 +48,8 @@ def load_generation(
     """
     from express.base.reads import recorded_reads
     from express.io import load_model
+    from express.io.cache import entry_damaged, entry_key, read_entry, write_entry
     from express.model.parameters import with_values
-    from express.numeric.cache import entry_damaged, entry_key, read_entry, write_entry
     from express.numeric.derived import generation_entry, read_generation_entry
     from express.numeric.program import ProgramError, UnsupportedExpressionError
     from express.rail.build import generate_vehicle

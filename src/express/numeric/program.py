@@ -12,7 +12,7 @@ subexpressions (:func:`sympy.cse`) written as numbered operations on *registers*
 
 The program is data (integers and names, :meth:`to_data` / :meth:`from_data`, checked
 strictly when read back), so it can be stored in the derivation cache
-(:mod:`express.numeric.cache`) and read back without SymPy work and without evaluating
+(:mod:`express.io.cache`) and read back without SymPy work and without evaluating
 anything from the file: :meth:`function` writes the Python source itself, from the
 checked integers, the way :func:`sympy.lambdify` does from expressions (``r5 = r0*r3``),
 and :meth:`expressions` rebuilds the SymPy expressions with ``Add``/``Mul``/``Pow``.

@@ -360,7 +360,7 @@ def _derivation(model: Model, with_rail: bool, key: str | None = None) -> tuple:
     read from the derivation cache under ``key`` when there is an entry, else derived
     (entries expanded, not factored: :func:`express.assembly.generator.generate`) and
     stored under ``key``."""
-    from express.numeric.cache import entry_damaged, read_entry, write_entry
+    from express.io.cache import entry_damaged, read_entry, write_entry
     from express.numeric.derived import read_vehicle_entry, vehicle_entry
     from express.numeric.program import ProgramError, UnsupportedExpressionError
 
@@ -560,7 +560,7 @@ def load_vehicle(
     """Read a model file once and return its numerical vehicle with ``overrides`` applied.
 
     The derivation (equations and compiled functions) comes from the derivation cache
-    when the same files were derived before (:mod:`express.numeric.cache`,
+    when the same files were derived before (:mod:`express.io.cache`,
     ``docs/cache.md``), and is reused within the process; the overrides are applied
     after it.
 
@@ -589,7 +589,7 @@ def load_vehicle(
     """
     from express.base.reads import recorded_reads
     from express.io import load_model
-    from express.numeric.cache import entry_key
+    from express.io.cache import entry_key
 
     with recorded_reads() as reads:
         model = load_model(Path(path))

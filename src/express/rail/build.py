@@ -19,6 +19,7 @@ from typing import Any
 
 from express.assembly.generator import AddedTerms, GenerationResult, generate
 from express.base.diagnostics import ArgumentError
+from express.base.reads import recording
 from express.model.parameters import register_derivation
 from express.model.records import Derivation, Model
 from express.rail.curve import Station, cant_deficiency_forces, curvature_point_inputs, station_of, stations
@@ -137,10 +138,23 @@ def _contact_terms(node: Derivation) -> dict:
 
 def _kalker(wheel_load: float, wheel_radius: float, rail_head_radius: float, youngs_modulus: float, poisson: float) -> dict[str, float]:
     """The ``"kalker"`` derivation of ``[rail.creep]``: f11, f22 [N] per wheel from the
-    Hertz ellipse and Kalker's Table E.3 (:func:`express.rail.contact.creep_coefficients`)."""
+    Hertz ellipse and Kalker's Table E.3 (:func:`express.rail.contact.creep_coefficients`).
+
+    While a model file is read for the derivation cache (:func:`express.base.reads.recording`)
+    the result is kept there too, by the exact arguments: a warm command then needs
+    neither SciPy's root finder nor its import (``docs/cache.md``)."""
+    arguments = (wheel_load, wheel_radius, rail_head_radius, youngs_modulus, poisson)
+    if recording():
+        from express.io.cache import memoized_values
+
+        return memoized_values("kalker", arguments, lambda: _kalker_now(*arguments))
+    return _kalker_now(*arguments)
+
+
+def _kalker_now(*arguments: float) -> dict[str, float]:
     from express.rail.contact import creep_coefficients  # SciPy's special functions and root finder: on first use
 
-    coefficients = creep_coefficients(wheel_load, wheel_radius, rail_head_radius, youngs_modulus, poisson)
+    coefficients = creep_coefficients(*arguments)
     return {"f11": coefficients.f11, "f22": coefficients.f22}
 
 

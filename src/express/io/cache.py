@@ -36,7 +36,7 @@ import hashlib
 import json
 import os
 import warnings
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -51,6 +51,7 @@ __all__ = [
     "clear_cache",
     "disabled",
     "entry_key",
+    "memoized_values",
     "read_entry",
     "write_entry",
 ]
@@ -211,6 +212,22 @@ def write_entry(key: str, payload: Any) -> None:
         _warn_once("write", f"derivation cache: cannot write in {cache_directory()} ({error}); working without storing")
         return
     _evict(size_bound())
+
+
+def memoized_values(kind: str, arguments: Sequence[float], compute: Callable[[], dict[str, float]]) -> dict[str, float]:
+    """``compute()`` of a pure numerical function of ``arguments``, kept in the cache by
+    the exact arguments (``repr`` of the floats: the same bits or a miss).  The values
+    read back are the floats that were computed (JSON keeps a double exactly)."""
+    key = entry_key(f"values {kind}", (), {"arguments": [repr(float(x)) for x in arguments]})
+    payload = read_entry(key)
+    values = payload.get("values") if isinstance(payload, dict) and payload.get("kind") == "values" else None
+    if isinstance(values, dict) and values and all(isinstance(v, float) for v in values.values()):
+        return dict(values)
+    if payload is not None:
+        entry_damaged(key)
+    result = compute()
+    write_entry(key, {"name": f"{kind} values", "kind": "values", "values": {k: float(v) for k, v in result.items()}})
+    return result
 
 
 def _entries() -> list[tuple[Path, os.stat_result]]:
