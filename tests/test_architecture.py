@@ -245,6 +245,23 @@ def test_the_analyses_raise_the_projects_errors():
     assert not bare, "\n".join(bare)
 
 
+def test_the_entry_point_is_lazy_and_names_real_modules():
+    """``express/__init__.py`` imports no stage at module level (``import express`` and
+    ``express --help`` stay quick); each public name points at a module of the package."""
+    init = PACKAGE / "__init__.py"
+    tree = ast.parse(init.read_text(encoding="utf-8"))
+    eager = [f"line {node.lineno}" for node in tree.body if isinstance(node, (ast.Import, ast.ImportFrom))
+             and any(alias.name.startswith("express") for alias in node.names)
+             or isinstance(node, ast.ImportFrom) and (node.module or "").startswith("express")]
+    assert not eager, f"express/__init__.py imports the package at module level: {eager}"
+    public = next(node.value for node in tree.body if isinstance(node, ast.AnnAssign | ast.Assign)
+                  and "_PUBLIC" in ast.unparse(node.targets[0] if isinstance(node, ast.Assign) else node.target))
+    modules = dict(_modules())
+    targets = ast.literal_eval(public)
+    unknown = [f"{name}: {target}" for name, target in targets.items() if target.partition(":")[0] not in modules]
+    assert not unknown, "public names from no module of the package:\n" + "\n".join(unknown)
+
+
 @pytest.mark.parametrize(("limit", "what"), [(650, "module")])
 def test_modules_stay_small(limit, what):
     large = []

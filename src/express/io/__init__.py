@@ -18,6 +18,15 @@ __all__ = ["load_model", "model_to_toml", "parse_classic", "parse_toml_model", "
 def load_model(path: str | Path) -> Model:
     """Read a model file: ``.toml`` is the modern format, anything else the classic one.
 
+    Parameters
+    ----------
+    path : str or Path
+        The model file.
+
+    Returns
+    -------
+    Model
+
     Raises
     ------
     ModelError

@@ -106,7 +106,22 @@ def generate_vehicle(
     model: Model, *, keep_virtual: bool = False, with_rail: bool = True, readable: bool = True
 ) -> GenerationResult:
     """Generate the equations of a model, with its rail terms when it has rail data
-    (``readable=False``: entries expanded, not factored; :func:`express.assembly.generator.generate`).
+    (:func:`express.assembly.generator.generate` with the terms of :func:`rail_terms`).
+
+    Parameters
+    ----------
+    model : Model
+        The model (validated again).
+    keep_virtual : bool
+        Keep the virtual DOFs and elements of the pinned joints (the paper's eq. 6).
+    with_rail : bool
+        Add the wheel/rail and curve terms when the model has rail data.
+    readable : bool
+        Factor the entries for reading (``False``: expanded, quicker for numbers only).
+
+    Returns
+    -------
+    GenerationResult
 
     Examples
     --------

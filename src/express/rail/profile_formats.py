@@ -105,6 +105,8 @@ def read_profile(
         What it describes (sets the plausibility checks and the label).
     units : {"mm", "m"}, optional
         Unit of both columns when the file has no header (a header wins only if it agrees).
+    name : str, optional
+        The profile's name (default: the file's stem).
     spike_tolerance : float
         A point more than this [m] away from the median of itself and its four neighbours
         is reported as a spike.

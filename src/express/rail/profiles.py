@@ -448,7 +448,17 @@ def standard_profile_text(name: str, step: float = 0.1) -> str:
 
 
 def standard_profile(name: str) -> Profile:
-    """The shipped profile ``name``: ``"S1002"`` (wheel) or ``"60E1"`` (alias ``"UIC60"``)."""
+    """The shipped profile ``name``: ``"S1002"`` (wheel) or ``"60E1"`` (alias ``"UIC60"``).
+
+    Parameters
+    ----------
+    name : str
+        ``"S1002"``, ``"60E1"`` or ``"UIC60"`` (case and blanks ignored).
+
+    Returns
+    -------
+    Profile
+    """
     key = _standard_key(name)
     filename, kind = STANDARD_PROFILES[key]
     text = resources.files("express").joinpath("data").joinpath("profiles").joinpath(filename).read_text(encoding="utf-8")
