@@ -106,3 +106,27 @@ def test_report_takes_a_track_and_assesses(capsys, tmp_path):
     page = target.read_text()
     assert "bundled track R1000" in page and "at 150 km/h" in page
     assert "YQ1L_nadal" in page and "Prud" in page
+
+
+TIGHT = """
+[[segment]]
+type = "transition"
+length = 50.0
+[[segment]]
+type = "curve"
+length = 100.0
+radius = 250.0
+direction = "right"
+cant = "150 mm"
+"""
+
+
+@pytest.mark.parametrize("command", ["simulate", "report"])
+def test_a_curve_too_fast_for_the_track_exits_2(capsys, tmp_path, command):
+    # R = 250 m with 150 mm cant at 160 km/h: 6.5 m/s^2 of cant deficiency on the narrow gauge
+    track = tmp_path / "tight.toml"
+    track.write_text(TIGHT, encoding="utf-8")
+    target = tmp_path / ("out.csv" if command == "simulate" else "out.html")
+    err = assert_input_error(capsys, command, CONVENTIONAL, "--track", track, "--set", "v=160", "-o", target,
+                             mentions="unbalanced acceleration")
+    assert "curve 1 of the track" in err and not target.exists()

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from express.base.diagnostics import UsageError
 from express.cli import common
 
 __all__ = ["add_parser", "run"]
@@ -38,6 +39,13 @@ def run(model: Path, overrides: dict[str, str], *, output: str, speed: float | N
         outputs.declare(output)
         road, where = common.track_and_name(track)
         vehicle = load_vehicle(model, overrides)
+        if track is not None:
+            from express.analysis.curving.steady import track_problems
+
+            speed_on_track = road.speed if road.speed is not None else vehicle.speed
+            problems = track_problems(vehicle, road, speed_on_track)
+            if problems:
+                raise UsageError("\n".join(f"report: {problem}" for problem in problems))
         readable = load_generation(model, overrides).equations  # factored for people (docs/cache.md)
         write_text(output, report_html(vehicle, speed=speed, track=road if track is not None else None, track_name=where,
                                        equations=readable))

@@ -83,6 +83,11 @@ def run(
         transaction.add_inputs(_files_read_by(road))
         vehicle = common.load_rail_vehicle(model, overrides, "simulate")
         v, where = _speed_and_source(vehicle, speed, road, where)
+        from express.analysis.curving.steady import track_problems
+
+        problems = track_problems(vehicle, road, v)
+        if problems:
+            raise UsageError("\n".join(f"simulate: {problem}" for problem in problems))
         steps = road.length / (v * dt)
         if steps > MAX_STEPS:
             raise UsageError(f"--dt {dt:g} s: {steps:,.0f} steps for {road.length:g} m at {v / common.KMH:g} km/h; "

@@ -153,6 +153,7 @@ def _curving_section(vehicle: VehicleModel, track=None, track_name: str = "") ->
     """A run along ``track`` (default: the paper's curve) at the track's speed (else the
     model's), with its EN 14363 running-safety assessment."""
     from express.analysis.curving.assessment import assess_run
+    from express.analysis.curving.steady import track_problems
     from express.analysis.simulate import simulate
     from express.rail.track.named import named_track
 
@@ -162,6 +163,10 @@ def _curving_section(vehicle: VehicleModel, track=None, track_name: str = "") ->
         track_name = "no track given: the paper's Fig. 9 curve (R = 400 m, 95 mm cant, 95 m sine transitions)"
     speed = track.speed if track.speed is not None else vehicle.speed
     said = "the track's speed" if track.speed is not None else "the model's speed"
+    problems = track_problems(vehicle, track, speed)
+    if problems:
+        return Section("Curving", (f"Track: {track_name}. Not run at {speed / KMH:.0f} km/h ({said}): "
+                                   + "; ".join(problems) + ". Give a track that suits the vehicle (--track).",))
     run = simulate(vehicle, track, speed=speed, progress=False)
     wheel_rail, assessment = assess_run(vehicle, track, run)
     run.outputs.update({k: v for k, v in wheel_rail.columns().items() if k not in run.outputs})

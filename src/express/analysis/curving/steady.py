@@ -43,6 +43,7 @@ __all__ = [
     "SteadyCurving",
     "SteadyCurvingSolver",
     "curves_of_track",
+    "track_problems",
     "steady_curving",
 ]
 
@@ -407,6 +408,18 @@ def curves_of_track(track) -> list[SteadyCurve]:
     """The circular curves of a :class:`~express.rail.track.Track`, in order."""
     return [SteadyCurve(float(segment.radius), float(segment.cant), str(segment.direction))
             for segment in track.segments if hasattr(segment, "radius")]
+
+
+def track_problems(vehicle: VehicleModel, track, speed: float) -> list[str]:
+    """Why ``vehicle`` cannot run ``track`` at ``speed`` [m/s]: every circular curve
+    checked as :meth:`SteadyCurve.problems` (cant against the cant base, unbalanced
+    acceleration against :data:`MAX_UNBALANCED_ACCELERATION`); empty if none."""
+    if vehicle.model is None or vehicle.model.rail is None:
+        return []
+    base = expression_value(vehicle.model.rail.cant_base, vehicle.values)
+    gravity = expression_value(vehicle.model.rail.gravity, vehicle.values)
+    return [f"curve {k + 1} of the track (R = {curve.radius:g} m): {problem}"
+            for k, curve in enumerate(curves_of_track(track)) for problem in curve.problems(speed, base, gravity)]
 
 
 def _pseudo_transient(equations, start: np.ndarray, scale: float, steps: int = 1000) -> tuple[np.ndarray, int, float]:
