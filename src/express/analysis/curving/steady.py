@@ -43,8 +43,8 @@ __all__ = [
     "SteadyCurving",
     "SteadyCurvingSolver",
     "curves_of_track",
-    "track_problems",
     "steady_curving",
+    "track_problems",
 ]
 
 #: Largest unbalanced lateral acceleration in the track plane a steady curve may ask for
