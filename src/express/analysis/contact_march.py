@@ -35,6 +35,7 @@ from express.analysis.integrator import (
     wheelset_coordinates,
 )
 from express.analysis.track_inputs import track_inputs
+from express.base.caches import IdentityCache
 from express.base.diagnostics import ArgumentError
 from express.model.parameters import expression_value
 from express.rail.contact_forces import (
@@ -72,9 +73,10 @@ _YAW_ROW = tuple(i for i, term in enumerate(LINEAR_TERMS) if term[0] == "psi")
 
 def _linear_terms(model) -> list[list[tuple[int, object]]]:
     """``(slot, expression)`` of every wheelset's linear wheel/rail terms (cached by model)."""
-    cached = _TERMS.get(id(model))
-    if cached is not None and cached[0] is model:
-        return cached[1]
+    return _TERMS.get_or_make((model,), lambda: _build_linear_terms(model))
+
+
+def _build_linear_terms(model) -> list[list[tuple[int, object]]]:
     rail = model.rail
     nodes = profile_nodes(model)
     by_body = station_of(model)
@@ -90,13 +92,10 @@ def _linear_terms(model) -> list[list[tuple[int, object]]]:
         terms_of.append([(slot[(row, column, kind)], value)
                          for kind, terms in (("K", stiffness), ("C", damping), ("P", forces))
                          for row, column, value in terms if (row, column, kind) in slot])
-    if len(_TERMS) >= 16:
-        _TERMS.pop(next(iter(_TERMS)))
-    _TERMS[id(model)] = (model, terms_of)
     return terms_of
 
 
-_TERMS: dict[int, tuple] = {}
+_TERMS: IdentityCache[list[list[tuple[int, object]]]] = IdentityCache(16)
 
 
 def linear_coefficients(vehicle, speed: float) -> np.ndarray:
@@ -121,19 +120,19 @@ def contact_arrays(contacts: list[WheelsetContact], law: CreepLaw = "fastsim") -
     (:func:`express.rail.contact_forces.contact_set`, cached for the same contacts)."""
     if law not in LAWS:
         raise ArgumentError(f"creep law {law!r}: use one of {', '.join(LAWS)}")
-    key = tuple((id(c.tables), id(c.rail_map), c.wheel_load, c.friction, c.rail_stiffness) for c in contacts)
     held = tuple(item for c in contacts for item in (c.tables, c.rail_map))
-    cached = _ARRAYS.get(key)
-    if cached is not None and all(a is b for a, b in zip(cached[0], held, strict=True)):
-        return cached[1]._replace(law=LAWS[law])
-    arrays = contact_set(contacts, law)
-    if len(_ARRAYS) >= 16:
-        _ARRAYS.pop(next(iter(_ARRAYS)))
-    _ARRAYS[key] = (held, arrays)
-    return arrays
+    numbers = tuple((c.wheel_load, c.friction, c.rail_stiffness) for c in contacts)
+    made: list[ContactSet] = []
+
+    def make() -> ContactSet:
+        made.append(contact_set(contacts, law))
+        return made[0]
+
+    arrays = _ARRAYS.get_or_make(held, make, numbers)
+    return arrays if made else arrays._replace(law=LAWS[law])
 
 
-_ARRAYS: dict[tuple, tuple] = {}
+_ARRAYS: IdentityCache[ContactSet] = IdentityCache(16)
 
 
 class WheelLoadModel(NamedTuple):

@@ -49,6 +49,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
+from express.base.caches import IdentityCache
 from express.base.diagnostics import ModelError, ModelWarning, Problem
 from express.base.expressions import expression_value
 from express.base.units import KMH, format_quantity, unit_factor
@@ -160,7 +161,6 @@ class _Checks:
     reused while only the parameter values change (``with_values`` in a study)."""
 
     def __init__(self, model: Model):
-        self.keep = (model.bodies, model.points, model.elements, model.rail, model.gravity, model.derivations)
         bodies = {body.id: body for body in model.bodies}
         elements = {element.id: element for element in model.elements}
         found: dict[tuple, list] = {}
@@ -181,22 +181,13 @@ class _Checks:
                 if wheelset.body in bodies:
                     self.wheelsets.append((wheelset, bodies[wheelset.body].mass, model.rail.gravity))
 
-    def matches(self, model: Model) -> bool:
-        now = (model.bodies, model.points, model.elements, model.rail, model.gravity, model.derivations)
-        return all(a is b for a, b in zip(self.keep, now, strict=True))
 
-
-_CACHE: list[_Checks] = []
+_CACHE: IdentityCache[_Checks] = IdentityCache(8)
 
 
 def _checks(model: Model) -> _Checks:
-    for entry in _CACHE:
-        if entry.matches(model):
-            return entry
-    entry = _Checks(model)
-    _CACHE.insert(0, entry)
-    del _CACHE[8:]
-    return entry
+    parts = (model.bodies, model.points, model.elements, model.rail, model.gravity, model.derivations)
+    return _CACHE.get_or_make(parts, lambda: _Checks(model))
 
 
 def _value(expression: sp.Expr, values: Mapping[str, float]) -> float | None:

@@ -37,11 +37,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
 from numba import njit
 
+from express.base.caches import IdentityCache
 from express.base.diagnostics import ArgumentError
 from express.rail.contact_tables import (
     ANGLE,
@@ -133,17 +134,13 @@ def wheelset_contact(tables: ContactTables, wheel_load: float, friction: float,
     """A :class:`WheelsetContact` with its rail map (:func:`rail_deflection_map`)."""
     if not wheel_load > 0 or not friction > 0:
         raise ArgumentError("wheel load and friction must be positive")
-    key = (id(tables), float(wheel_load), float(rail_stiffness))
-    cached = _MAPS.get(key)
-    if cached is None or cached[0] is not tables:
-        if len(_MAPS) >= 64:
-            _MAPS.pop(next(iter(_MAPS)))
-        cached = _MAPS[key] = (tables, rail_deflection_map(tables, wheel_load, rail_stiffness))
-    return WheelsetContact(tables, cached[1], float(wheel_load), float(friction), float(rail_stiffness))
+    rail_map = _MAPS.get_or_make((tables,), lambda: rail_deflection_map(tables, wheel_load, rail_stiffness),
+                                 (float(wheel_load), float(rail_stiffness)))
+    return WheelsetContact(tables, rail_map, float(wheel_load), float(friction), float(rail_stiffness))
 
 
 #: Rail maps already built, by (tables, wheel load, rail stiffness).
-_MAPS: dict[tuple, tuple] = {}
+_MAPS: IdentityCache[Any] = IdentityCache(64)
 
 
 class ContactSet(NamedTuple):

@@ -35,6 +35,7 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 import sympy as sp
 
+from express.base.caches import IdentityCache
 from express.base.diagnostics import ArgumentError
 from express.model.parameters import derivation_function, evaluation_order
 from express.model.records import Derivation
@@ -247,32 +248,20 @@ def _combine(partials: np.ndarray, start: int, sources: tuple[str, ...], rates, 
     return total
 
 
-_MATRICES: dict[int, MatrixDerivatives] = {}
-_GRAPHS: dict[tuple, GraphRates] = {}
 #: Models (sets of equations) kept compiled.
 _KEEP = 4
+_MATRICES: IdentityCache[MatrixDerivatives] = IdentityCache(_KEEP)
+_GRAPHS: IdentityCache[GraphRates] = IdentityCache(_KEEP)
 
 
 def matrix_derivatives(equations) -> MatrixDerivatives:
     """The compiled derivatives of ``equations``' matrices (cached per set of equations)."""
-    cached = _MATRICES.get(id(equations))
-    if cached is None or cached.equations is not equations:
-        if len(_MATRICES) >= _KEEP:
-            _MATRICES.pop(next(iter(_MATRICES)))
-        cached = _MATRICES[id(equations)] = MatrixDerivatives(equations)
-    return cached
+    return _MATRICES.get_or_make((equations,), lambda: MatrixDerivatives(equations))
 
 
 def graph_rates(model, equations) -> GraphRates:
     """The compiled chain rule of ``model``'s parameter graph (cached per set of
     equations and shape of the graph: which parameters are derived, and how)."""
-    shape = tuple((name, id(p.expression), p.derived_by) for name, p in model.parameters.items()
-                  if p.expression is not None or p.derived_by)
-    key = (id(equations), shape)
-    cached = _GRAPHS.get(key)
-    if cached is None:
-        if len(_GRAPHS) >= _KEEP:
-            _GRAPHS.pop(next(iter(_GRAPHS)))
-        cached = _GRAPHS[key] = GraphRates(model)
-        cached.equations = equations  # type: ignore[attr-defined]  # keeps the ids of the key alive
-    return cached
+    derived = [(name, p) for name, p in model.parameters.items() if p.expression is not None or p.derived_by]
+    shape = tuple((name, p.derived_by) for name, p in derived)
+    return _GRAPHS.get_or_make((equations, *(p.expression for _, p in derived)), lambda: GraphRates(model), shape)
