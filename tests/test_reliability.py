@@ -178,3 +178,40 @@ def test_substructure_instances_with_the_same_prefix_are_one_problem_naming_both
     err = assert_input_error(capsys, "generate", model)
     assert err.count("error:") == 1, err
     assert "instance rear: its ids collide with those of instance front" in err and "'T1_'" in err
+
+
+# ------------------------------------------------------------------ truncation
+
+
+def _cut(tmp_path: Path, source: str, lines: int) -> Path:
+    path = tmp_path / f"cut{Path(source).suffix}"
+    path.write_text("".join(Path(source).read_text().splitlines(keepends=True)[:lines]))
+    return path
+
+
+@pytest.mark.parametrize("fraction", [0.3, 0.6, 0.85, 0.97, 0.985])
+def test_a_classic_file_cut_short_is_refused_where_it_stops(capsys, tmp_path: Path, fraction: float) -> None:
+    """``forced-steering.exp`` (written by ``convert``: its header lists every id) cut at
+    any line: a missing section or an id listed without its row."""
+    source = str(Path(STEERED).with_suffix(".exp"))
+    total = len(Path(source).read_text().splitlines())
+    lines = int(total * fraction)
+    err = assert_input_error(capsys, "generate", _cut(tmp_path, source, lines), mentions=f"the file stops early, at line {lines}")
+    assert err.count("error:") == 1
+
+
+@pytest.mark.parametrize(("lines", "mentions"), [
+    (6, "sections (2) Ground, (3) CP, (4) TSD, (5) Pinned Joint missing"),
+    (22, "sections (4) TSD, (5) Pinned Joint missing"),
+    (32, "section (5) Pinned Joint missing"),
+    (31, "section (5) Pinned Joint missing"),
+])
+def test_the_papers_lever_cut_before_its_last_rows_is_refused(capsys, tmp_path: Path, lines: int, mentions: str) -> None:
+    assert_input_error(capsys, "generate", _cut(tmp_path, LEVER, lines), mentions=mentions)
+
+
+@pytest.mark.parametrize("text", ["", "\n\n", '[model]\nname = "empty"\n', "[parameters]\nm = 1.0\n"])
+def test_a_toml_model_without_bodies_is_refused(capsys, tmp_path: Path, text: str) -> None:
+    path = tmp_path / "empty.toml"
+    path.write_text(text)
+    assert_input_error(capsys, "generate", path, mentions="the model has no bodies")

@@ -190,9 +190,59 @@ def _scan(text: str, source: str, problems: list[Problem]) -> dict[str, list]:
             ))
             continue
         rows[section].append((number, fields))
-    if not seen_sections and not problems:
+    if not seen_sections and not problems and _RENAMING.search(text):  # EXPRESS's header, then nothing
+        last = len(text.splitlines())
+        problems.append(Problem(source, last, "", f"the file stops early, at line {last}, before its first section"))
+    elif not seen_sections and not problems:
         problems.append(Problem(source, None, "", "no section header such as (1) Body found: not a classic model file"))
+    elif seen_sections:
+        _check_structure(text, rows, seen_sections, source, problems)
     return rows
+
+
+def _check_structure(text: str, rows: dict[str, list], seen: set[str], source: str, problems: list[Problem]) -> None:
+    """What the paper's format promises: the five sections, (1) Body to (5) Pinned Joint,
+    bodies, and every connection point used by an element or a pinned joint. A file
+    that stops early breaks one of these; the message says where it stops."""
+    last = len(text.splitlines())
+    missing = [f"({k}) {name}" for k, name in SECTIONS.items() if name not in seen]
+    if missing:
+        after = max((k for k, name in SECTIONS.items() if name in seen), default=0)
+        early = all(k > after for k, name in SECTIONS.items() if name not in seen)
+        where = f"the file stops early, at line {last}: " if early else ""
+        problems.append(Problem(source, None if not early else last, "",
+                                f"{where}section{'s' if len(missing) > 1 else ''} {', '.join(missing)} missing "
+                                "(a classic model has the five sections (1) Body to (5) Pinned Joint)"))
+    if "Body" in seen and not rows["Body"]:
+        problems.append(Problem(source, None, "section (1) Body", "no bodies: a model needs at least one"))
+    if missing:
+        return
+    _check_promised(text, rows, last, source, problems)
+    used = {field for _, fields in rows["TSD"] for field in fields[3:5]}
+    used |= {field for _, fields in rows["Pinned Joint"] for field in fields[1:3]}
+    unused = [(number, fields[0]) for number, fields in rows["CP"] if fields[0] not in used]
+    for number, identifier in unused[:3]:
+        problems.append(Problem(source, number, f"CP {identifier}",
+                                f"used by no element or pinned joint (a file cut short ends at line {last})"))
+    if len(unused) > 3:
+        problems.append(Problem(source, None, "section (3) CP", f"{len(unused)} connection points used by nothing in all"))
+
+
+_RENAMING = re.compile(r"#\s+([BGCTP]\d+) = \S", re.MULTILINE)
+
+
+def _check_promised(text: str, rows: dict[str, list], last: int, source: str, problems: list[Problem]) -> None:
+    """A file written by EXPRESS lists every id in its renaming header (``#   P4 = T2_LR_pin``):
+    an id listed there without its row means the file was cut short."""
+    promised = _RENAMING.findall(text)
+    if not promised:
+        return
+    present = {fields[0] for section in rows.values() for _, fields in section}
+    absent = [identifier for identifier in promised if identifier not in present]
+    if absent:
+        shown = ", ".join(absent[:5]) + (f" and {len(absent) - 5} more" if len(absent) > 5 else "")
+        problems.append(Problem(source, last, "", f"the file stops early, at line {last}: {shown} listed in its "
+                                f"renaming header but without a row"))
 
 
 def _section(header: re.Match, number: int, source: str, seen: set[str], problems: list[Problem]) -> str | None:

@@ -351,6 +351,9 @@ def parse_toml_model(text: str, source: str = "<string>") -> Model:
     # a name without value is allowed (symbolic generation); an analysis that needs
     # numbers names the items using it (express.model.parameters.undefined_name_problems)
     problems = reader.problems + check_model(model) + parameter_problems(model)
+    if not bodies and not reader.problems:  # an empty or cut-short file is not a model
+        problems.append(Problem(source, None, "bodies", "the model has no bodies: give [bodies.NAME] tables or "
+                                "[instances] of substructures (an empty or truncated file?)"))
     if problems:
         raise ModelError(problems)
     return resolve(model)
