@@ -1,4 +1,6 @@
-"""Line numbers of TOML tables and keys, for messages that point into a file.
+"""Reading TOML: the one parser that reports a syntax error as a :class:`Problem` with its
+line (:func:`parse_toml`), and line numbers of TOML tables and keys, for messages that
+point into a file.
 
 :mod:`tomllib` returns plain data without positions, so the readers (model files,
 track files) scan the text once more with :func:`line_index` and look a key path up
@@ -17,9 +19,18 @@ Example
 from __future__ import annotations
 
 import re
+import sys
 from collections.abc import Mapping, Sequence
+from typing import Any
 
-__all__ = ["KeyPath", "find_line", "line_index"]
+from express.base.diagnostics import ModelError, Problem
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover - exercised on Python 3.10 only
+    import tomli as tomllib
+
+__all__ = ["KeyPath", "find_line", "line_index", "parse_toml"]
 
 #: A key path: table names and keys, and with ``number_arrays`` the 1-based position
 #: (an int) of an entry of an array of tables, e.g. ``("segment", 2, "length")``.
@@ -78,3 +89,43 @@ def find_line(index: Mapping[KeyPath, int], path: Sequence[str | int]) -> int | 
         if found is not None:
             return found
     return None
+
+
+def parse_toml(text: str, source: str) -> dict[str, Any]:
+    """The data of a TOML text; a syntax error is a :class:`ModelError` whose one problem
+    gives the file, the line and what is wrong.
+
+    Parameters
+    ----------
+    text : str
+        The TOML text.
+    source : str
+        The file's name as the user gave it (shown in the message).
+
+    Returns
+    -------
+    dict
+        The parsed tables.
+
+    Raises
+    ------
+    ModelError
+        ``<source>:<line>: TOML: not valid TOML: <reason>``, or arrays or tables nested
+        too deeply to read.
+
+    Examples
+    --------
+    >>> parse_toml("[study\\n", "s.toml")
+    Traceback (most recent call last):
+    ...
+    express.base.diagnostics.ModelError: s.toml:1: TOML: not valid TOML: Expected ']' at the end of a table declaration
+    """
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as error:
+        match = re.search(r"line (\d+)", str(error))
+        line = int(match.group(1)) if match else None
+        message = re.sub(r"\s*\(at line \d+, column \d+\)", "", str(error))
+        raise ModelError([Problem(source, line, "TOML", f"not valid TOML: {message}")]) from None
+    except RecursionError:
+        raise ModelError([Problem(source, None, "TOML", "arrays or tables nested too deeply to read")]) from None

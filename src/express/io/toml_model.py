@@ -42,7 +42,6 @@ from __future__ import annotations
 
 import math
 import re
-import sys
 from pathlib import Path
 from typing import Any
 
@@ -55,6 +54,7 @@ from express.base.units import UnitError, parse_quantity, unit_factor
 from express.io.classic import model_name_from_path, read_model_text
 from express.io.toml_contact import conicity_value
 from express.io.toml_items import TomlReader, check_id, cut_text, read_items, show_value, value_kind
+from express.io.toml_lines import parse_toml
 from express.model.parameters import parameter_problems, resolve
 from express.model.records import (
     Derivation,
@@ -65,11 +65,6 @@ from express.model.records import (
     Wheelset,
     check_model,
 )
-
-if sys.version_info >= (3, 11):
-    import tomllib
-else:  # pragma: no cover - exercised on Python 3.10 only
-    import tomli as tomllib
 
 __all__ = ["WHEELSET_KEYS", "parse_toml_model", "read_toml_model"]
 
@@ -296,15 +291,7 @@ def parse_toml_model(text: str, source: str = "<string>") -> Model:
     ModelError
         With every problem found, each naming the file, line and item.
     """
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as error:
-        match = re.search(r"line (\d+)", str(error))
-        line = int(match.group(1)) if match else None
-        message = re.sub(r"\s*\(at line \d+, column \d+\)", "", str(error))
-        raise ModelError([Problem(source, line, "TOML", f"not valid TOML: {message}")]) from None
-    except RecursionError:
-        raise ModelError([Problem(source, None, "TOML", "arrays or tables nested too deeply to read")]) from None
+    data = parse_toml(text, source)
     size = _size_problems(data, source)
     if size:
         raise ModelError(size)

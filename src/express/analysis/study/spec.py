@@ -23,7 +23,6 @@ all of them.
 from __future__ import annotations
 
 import math
-import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Literal, cast, get_args
@@ -31,12 +30,7 @@ from typing import Any, Literal, cast, get_args
 from express.analysis.study.outputs import OUTPUTS, OutputSettings
 from express.base.diagnostics import ModelError, Problem
 from express.base.names import did_you_mean
-from express.io.toml_lines import find_line, line_index
-
-if sys.version_info >= (3, 11):
-    import tomllib
-else:  # pragma: no cover
-    import tomli as tomllib
+from express.io.toml_lines import find_line, line_index, parse_toml
 
 __all__ = ["KINDS", "Constraint", "ParameterRange", "StudySpec", "parse_study", "read_study"]
 
@@ -174,25 +168,11 @@ def read_study(path: str | Path) -> StudySpec:
     return parse_study(text, path)
 
 
-def _toml_problem(source: str, error: tomllib.TOMLDecodeError) -> Problem:
-    message = str(error)
-    line = getattr(error, "lineno", None)
-    if line is None and "(at line " in message:
-        try:
-            line = int(message.rsplit("(at line ", 1)[1].split(",")[0])
-        except ValueError:
-            line = None
-    return Problem(source, line, "", f"not valid TOML: {message.split(' (at line')[0]}")
-
-
 def parse_study(text: str, path: str | Path) -> StudySpec:
     """Check the text of a study file at ``path`` (the model is found relative to it)."""
     path = Path(path)
     source = str(path)
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as error:
-        raise ModelError([_toml_problem(source, error)]) from None
+    data = parse_toml(text, source)
     check = _Checker(source, text)
     study = data.get("study")
     if not isinstance(study, dict):

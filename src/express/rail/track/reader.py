@@ -16,14 +16,13 @@ Limits, checked before anything is read or computed: a track file is at most
 be regular files. A CSV that does not parse is reported by line, the first
 :data:`MAX_ROW_PROBLEMS` bad rows listed, and only the first bad row quoted (at most
 :data:`EXCERPT_CHARS` characters), since the file may not be the user's own. Nothing is
-evaluated as code; TOML is parsed with :mod:`tomllib` (``tomli`` on Python 3.10).
+evaluated as code; TOML is parsed by :func:`express.io.toml_lines.parse_toml` (:mod:`tomllib`).
 """
 
 from __future__ import annotations
 
 import math
 import re
-import sys
 from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any
@@ -33,7 +32,7 @@ import numpy as np
 from express.base.diagnostics import ModelError, Problem
 from express.base.limits import input_kind_problem
 from express.base.units import KMH, UnitError, parse_quantity
-from express.io.toml_lines import KeyPath, find_line, line_index
+from express.io.toml_lines import KeyPath, find_line, line_index, parse_toml
 from express.rail.track._common import FieldProblem, is_finite_number, is_number
 from express.rail.track.geometry import DIRECTIONS, TRANSITION_SHAPES, Curve, Segment, Straight, Track, Transition
 from express.rail.track.irregularity import (
@@ -44,11 +43,6 @@ from express.rail.track.irregularity import (
     SpectrumIrregularity,
 )
 from express.rail.track.spectra import SPECTRA, get_spectrum
-
-if sys.version_info >= (3, 11):
-    import tomllib
-else:  # pragma: no cover - exercised on Python 3.10 only
-    import tomli as tomllib
 
 __all__ = [
     "EXCERPT_CHARS",
@@ -376,13 +370,7 @@ def load_track(path: str | Path) -> Track:
     path = Path(path)
     source = str(path)
     text = _read_text(path, MAX_TRACK_FILE_BYTES, "track", "utf-8-sig")
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        match = re.search(r"line (\d+)", str(exc))
-        line = int(match.group(1)) if match else None
-        message = re.sub(r"\s*\(at line \d+, column \d+\)", "", str(exc))
-        raise ModelError([Problem(source, line, "TOML", f"not valid TOML: {message}")]) from None
+    data = parse_toml(text, source)
     return track_from_dict(data, source, text=text, base_dir=path.parent)
 
 
