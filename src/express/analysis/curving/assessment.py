@@ -235,8 +235,10 @@ def assess_run(vehicle, track, result) -> tuple[WheelRailOutputs, Assessment]:
     if label.startswith("tables"):
         law = cast("CreepLaw", label.partition("(")[2].rstrip(")") or "fastsim")  # the run's own label
         contact = contact_tables_of(vehicle, "tables", law)
-    inputs = track_inputs(vehicle, track, result.distance, result.speed)
-    outputs = wheel_rail_outputs(vehicle, result.q, result.q_dot, inputs, result.speed, contact=contact)
+    outputs = getattr(result, "wheel_rail", None)  # the march's own contact forces (contact tables)
+    if outputs is None:
+        inputs = track_inputs(vehicle, track, result.distance, result.speed)
+        outputs = wheel_rail_outputs(vehicle, result.q, result.q_dot, inputs, result.speed, contact=contact)
     friction = min(w.friction for w in vehicle.wheelsets)
     angle = flange_angle_of(contact, DEFAULT_FLANGE_ANGLE)
     return outputs, assess(outputs, result.distance, radius=smallest_radius(track), friction=friction,
