@@ -215,3 +215,44 @@ def test_a_toml_model_without_bodies_is_refused(capsys, tmp_path: Path, text: st
     path = tmp_path / "empty.toml"
     path.write_text(text)
     assert_input_error(capsys, "generate", path, mentions="the model has no bodies")
+
+
+# ------------------------------------------------------------------ studies bounded by time
+
+
+def _study_file(tmp_path: Path, body: str) -> Path:
+    path = tmp_path / "study.toml"
+    path.write_text(f'[study]\nmodel = "{STEERED}"\noutputs = ["critical_speed"]\n' + body)
+    return path
+
+
+@pytest.mark.parametrize(("body", "mentions"), [
+    ('kind = "grid"\n[study.parameters]\nGamma = { from = 0.05, to = 0.4, count = 9223372036854775807 }\n',
+     "count = 9223372036854775807 is more than the limit of 10000000 points"),
+    ('kind = "grid"\n[study.parameters]\nGamma = { from = 0.05, to = 0.4, count = 10000 }\n'
+     'kx1 = { from = "1 MN/m", to = "4 MN/m", count = 1001 }\n', "expands to 10010000 points (10000 x 1001 grid)"),
+    ('kind = "sobol-indices"\nsamples = 10000000\n[study.parameters]\nGamma = { from = 0.05, to = 0.4 }\n'
+     'kx1 = { from = "1 MN/m", to = "4 MN/m" }\n', "expands to 40000000 points"),
+    ('kind = "lhs"\nsamples = 9223372036854775807\n[study.parameters]\nGamma = { from = 0.05, to = 0.4 }\n',
+     "must be a whole number from 1 to 10000000"),
+])
+def test_counts_are_checked_before_any_allocation(capsys, tmp_path: Path, body: str, mentions: str) -> None:
+    assert_input_error(capsys, "study", _study_file(tmp_path, body), "-o", tmp_path / "out.csv", mentions=mentions)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["study.toml"]
+
+
+def test_a_study_estimated_to_take_too_long_is_refused_before_it_starts(capsys, tmp_path: Path, monkeypatch) -> None:
+    """The estimate is timed on a few points; the bound is lowered here so that a small
+    grid stands for a huge one."""
+    from express.analysis.study import run as study_run
+
+    monkeypatch.setattr(study_run, "CALIBRATE_ABOVE", 4)
+    study = _study_file(tmp_path, 'kind = "grid"\n[study.parameters]\nGamma = { from = 0.05, to = 0.4, count = 6 }\n')
+    output = tmp_path / "out.csv"
+    err = assert_input_error(capsys, "study", study, "-o", output, "--workers", "1", "--max-hours", "1e-9",
+                             mentions="the study would take about")
+    assert "6 points at" in err and "give --max-hours" in err and "--scheduler" in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["study.toml"]  # no checkpoint, no output
+    status, _, err = run(capsys, "study", study, "-o", output, "--workers", "1", "--max-hours", "1")
+    assert status == 0, err
+    assert len(output.read_text().splitlines()) == 7

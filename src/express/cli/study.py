@@ -30,14 +30,30 @@ def add_parser(subparsers) -> None:
                         help="run on a Dask cluster: the scheduler's address, e.g. tcp://10.0.0.5:8786")
     parser.add_argument("--resume", action="store_true",
                         help="continue from the checkpoint beside RESULTS, computing only the missing points")
+    parser.add_argument("--max-hours", type=_hours, metavar="H",
+                        help="run a study estimated (from a few points timed before it starts) to take up to H "
+                        "hours on the workers at hand; default 24")
     parser.add_argument("--plot", type=common.figure_path, metavar="FILE",
                         help="grid of one or two parameters: the first output against them (.png, .svg, .pdf)")
     common.add_json_option(parser)
     parser.set_defaults(handler=run, numeric=True)
 
 
+def _hours(text: str) -> float:
+    """``--max-hours``: a number of hours, 0 < H <= 1e6."""
+    import argparse
+
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f'"{text}" is not a number of hours') from None
+    if not 0 < value <= 1e6:
+        raise argparse.ArgumentTypeError(f'"{text}" is outside the valid range 0 < --max-hours <= 1e6')
+    return value
+
+
 def run(study: Path, output: str, *, workers: int | None = None, scheduler: str | None = None, resume: bool = False,
-        plot: Path | None = None, as_json: bool = False) -> int:
+        plot: Path | None = None, as_json: bool = False, max_hours: float | None = None) -> int:
     """Run the study and write its results; returns the exit status."""
     from express.analysis.study.run import run_study
     from express.analysis.study.spec import read_study
@@ -48,7 +64,7 @@ def run(study: Path, output: str, *, workers: int | None = None, scheduler: str 
     if plot is not None:
         _check_plot(spec, plot)
     summary = run_study(spec, output, workers=workers, scheduler=scheduler, resume=resume,
-                        progress=common.is_terminal(sys.stderr) and not as_json)
+                        progress=common.is_terminal(sys.stderr) and not as_json, max_hours=max_hours)
     if plot is not None:
         _plot(spec, Path(output), plot)
         summary.extra["files"].append(str(plot))

@@ -12,6 +12,7 @@ exactly.
 from __future__ import annotations
 
 import hashlib
+import math
 import os
 import sys
 import time
@@ -120,9 +121,72 @@ def _check_output(spec: StudySpec, output: Path) -> None:
     check_destination(output, inputs=[spec.path, spec.model], binary=True)
 
 
+#: Hours a study may be estimated to take on the workers at hand before it is refused
+#: (``--max-hours`` raises it; ``docs/studies.md``).
+MAX_HOURS = 24.0
+#: Points evaluated (and discarded) to estimate the cost of a study of more than
+#: :data:`CALIBRATE_ABOVE` points: the first, the middle and the last; the median counts.
+CALIBRATION_POINTS = 3
+CALIBRATE_ABOVE = 1000
+
+
+@dataclass(frozen=True)
+class CostEstimate:
+    """What a study will cost, from a calibration before it starts.
+
+    Attributes
+    ----------
+    points : int
+        Points left to evaluate.
+    seconds_per_point : float
+        Median of the calibration points, in this process.
+    workers : int
+        Workers at hand (local processes, or the cluster's threads).
+    """
+
+    points: int
+    seconds_per_point: float
+    workers: int
+
+    @property
+    def hours(self) -> float:
+        return self.points * self.seconds_per_point / max(1, self.workers) / 3600.0
+
+
+def estimate_cost(engine: Engine, indices: np.ndarray, points: np.ndarray) -> CostEstimate:
+    """Time a few points (:data:`CALIBRATION_POINTS`) in this process and scale to the
+    study's ``indices`` on the engine's workers."""
+    picks = sorted({0, len(indices) // 2, len(indices) - 1})[:CALIBRATION_POINTS]
+    times = []
+    for k in picks:
+        started = time.perf_counter()
+        runner.evaluate_points(engine.task, [int(indices[k])], [points[k].tolist()])
+        times.append(time.perf_counter() - started)
+    return CostEstimate(len(indices), float(np.median(times)), engine.parallel)
+
+
+def check_cost(estimate: CostEstimate, max_hours: float | None) -> None:
+    """Refuse a study estimated to take longer than ``max_hours`` (default :data:`MAX_HOURS`).
+
+    Raises
+    ------
+    UsageError
+        With the estimate and the ways to proceed.
+    """
+    bound = MAX_HOURS if max_hours is None else max_hours
+    if estimate.hours <= bound:
+        return
+    raise UsageError(
+        f"the study would take about {estimate.hours:.3g} h: {estimate.points} points at "
+        f"{estimate.seconds_per_point:.3g} s each (measured) on {estimate.workers} "
+        f"worker{'s' if estimate.workers != 1 else ''}, more than the bound of {bound:g} h; give --max-hours "
+        f"{math.ceil(estimate.hours)} to run it anyway, fewer points, or a cluster (--scheduler)"
+    )
+
+
 def run_study(
     spec: StudySpec, output: str | Path, *, workers: int | None = None, scheduler: str | None = None,
-    resume: bool = False, progress: bool = False,
+    resume: bool = False, progress: bool = False, max_hours: float | None = None,
 ) -> StudySummary:
     """Run a checked study and write its results file (module docstring).
 
@@ -139,6 +203,9 @@ def run_study(
         Continue from the checkpoint beside ``output``.
     progress : bool
         Show a progress bar on standard error.
+    max_hours : float, optional
+        Refuse a study estimated (:func:`estimate_cost`) to take longer on the workers at
+        hand; default :data:`MAX_HOURS`.
 
     Raises
     ------
@@ -172,7 +239,12 @@ def run_study(
         engine = Engine(task, min(workers, len(points)), scheduler)
         with engine:
             checkpoint.open(resume)
-            table, computed = _evaluate(engine, checkpoint, points, spec, units, progress)
+            try:
+                table, computed = _evaluate(engine, checkpoint, points, spec, units, progress, max_hours)
+            except UsageError:  # refused before any point was computed: nothing left behind
+                if not resume and checkpoint.path.exists() and not any(True for _ in checkpoint.records()):
+                    checkpoint.remove()
+                raise
         grid = [r.values for r in spec.parameters] if spec.kind == "grid" else None
         extra = {}
         if spec.kind == "sobol-indices":
@@ -190,7 +262,8 @@ def _digest(data: bytes) -> str:
     return hashlib.sha256(data).hexdigest()
 
 
-def _evaluate(engine: Engine, checkpoint: Checkpoint, points: np.ndarray, spec: StudySpec, units, progress: bool):
+def _evaluate(engine: Engine, checkpoint: Checkpoint, points: np.ndarray, spec: StudySpec, units, progress: bool,
+              max_hours: float | None = None):
     count = len(points)
     table = ResultTable.empty(spec.names, units, spec.outputs, count)
     done = np.zeros(count, dtype=bool)
@@ -205,6 +278,8 @@ def _evaluate(engine: Engine, checkpoint: Checkpoint, points: np.ndarray, spec: 
         whole = np.add.reduceat(done, starts) == np.diff(np.append(starts, count))
         done = np.repeat(whole, block)[:count]
     todo = np.flatnonzero(~done)
+    if count > CALIBRATE_ABOVE and len(todo):
+        check_cost(estimate_cost(engine, todo, points[todo]), max_hours)
     bar = _progress(count, count - len(todo), progress)
     try:
         for records in engine.run(todo.tolist(), points[todo]):

@@ -32,7 +32,7 @@ from express.base.diagnostics import ModelError, Problem
 from express.base.names import did_you_mean
 from express.io.toml_lines import find_line, line_index, parse_toml
 
-__all__ = ["KINDS", "Constraint", "ParameterRange", "StudySpec", "parse_study", "read_study"]
+__all__ = ["KINDS", "MAX_POINTS", "Constraint", "ParameterRange", "StudySpec", "parse_study", "point_count", "read_study"]
 
 #: The kinds of study (``kind = ...`` of the study file).
 StudyKind = Literal["grid", "lhs", "sobol", "optimise", "sobol-indices"]
@@ -202,10 +202,11 @@ def parse_study(text: str, path: str | Path) -> StudySpec:
     if kind == "optimise" and settings.check == "local":
         check.add(("options", "check"), "study.options.check", 'check = "local" follows neighbouring points of a '
                   'grid or sample; an optimisation uses the grid check')
-    if kind == "grid" and parameters:
-        total = math.prod(len(p.values) for p in parameters)
+    if parameters:
+        total, how = point_count(kind, len(parameters), [len(p.values) for p in parameters], samples, optimiser)
         if total > MAX_POINTS:
-            check.add(("parameters",), "study.parameters", f"the grid has {total} points; at most {MAX_POINTS}")
+            check.add(("parameters",), "study.parameters",
+                      f"the study expands to {total} points ({how}); at most {MAX_POINTS}")
     title = study.get("title", "")
     if not isinstance(title, str):
         check.add(("title",), "study.title", "must be a string")
@@ -377,6 +378,9 @@ def _range(check: _Checker, spec: dict, parameter, where, item, kind: str) -> Pa
         if count < 1:
             check.add(where, item, f"empty range: count = {count}")
             return None
+        if count > MAX_POINTS:  # before any allocation
+            check.add(where, item, f"count = {count} is more than the limit of {MAX_POINTS} points of a study")
+            return None
     elif count is not None:
         check.add(where, item, f"count is for a grid; a {kind} study takes study.samples")
         return None
@@ -413,6 +417,25 @@ def _fixed(check: _Checker, table: Any, model, varied: set[str]) -> dict[str, fl
         if parsed is not None:
             fixed[name] = parsed[0]
     return fixed
+
+
+def point_count(kind: str, dimensions: int, counts: list[int], samples: int, optimiser: dict) -> tuple[int, str]:
+    """The points a study evaluates once expanded, and how they come about (in words).
+
+    Examples
+    --------
+    >>> point_count("sobol-indices", 3, [2, 2, 2], 1000, {})
+    (5000, 'samples x (parameters + 2) = 1000 x 5 for Sobol indices')
+    """
+    if kind == "grid":
+        return math.prod(counts), " x ".join(map(str, counts)) + " grid"
+    if kind == "sobol-indices":
+        return samples * (dimensions + 2), f"samples x (parameters + 2) = {samples} x {dimensions + 2} for Sobol indices"
+    if kind == "optimise":
+        population = optimiser.get("population", 0) * dimensions
+        iterations = optimiser.get("iterations", 0) + 1
+        return population * iterations, f"population x parameters x (iterations + 1) = {population} x {iterations}"
+    return samples, f"{samples} samples"
 
 
 def _integer(check: _Checker, table: dict, key: str, default: int, low: int, high: int, path=()) -> int:
