@@ -39,14 +39,16 @@ def artifact_dir() -> Path:
     return path
 
 
-def inspect_page(path: Path, screenshot: Path) -> dict:
+def inspect_page(path: Path, screenshot: Path, viewport: tuple[int, int] | None = None) -> dict:
     """Load ``path`` and return console errors, network requests other than the file,
-    the rendered sizes of figures and formulas; keep a full-page screenshot."""
+    the rendered sizes of figures and formulas, how far the page overflows its window
+    sideways (``overflow_px``, 0 when nothing does) and the text of the page; keep a
+    full-page screenshot. ``viewport``: window (width, height) [px]."""
     from playwright.sync_api import sync_playwright
 
     with sync_playwright() as playwright:
         browser = playwright.chromium.launch(executable_path=require_browser(), args=CHROMIUM_FLAGS)
-        page = browser.new_page()
+        page = browser.new_page(**({"viewport": {"width": viewport[0], "height": viewport[1]}} if viewport else {}))
         errors: list[str] = []
         requests: list[str] = []
         page.on("console", lambda message: errors.append(message.text) if message.type == "error" else None)
@@ -59,7 +61,12 @@ def inspect_page(path: Path, screenshot: Path) -> dict:
         formulas = page.eval_on_selector_all(
             "math", "els => els.map(e => [e.getBoundingClientRect().width, e.getBoundingClientRect().height])")
         sections = page.eval_on_selector_all("section h2", "els => els.map(e => e.textContent)")
+        overflow = page.evaluate(  # how far a part of a section sticks out of the page's column, or the window
+            "Math.max(document.documentElement.scrollWidth - document.documentElement.clientWidth, ...Array.from("
+            "document.querySelectorAll('section > *')).map(e => e.getBoundingClientRect().right - "
+            "document.body.getBoundingClientRect().right))")
+        text = page.evaluate("document.body.innerText")
         page.screenshot(path=str(screenshot), full_page=True)
         browser.close()
     return {"errors": errors, "requests": [r for r in requests if not r.startswith("file:")],
-            "figures": sizes, "formulas": formulas, "sections": sections}
+            "figures": sizes, "formulas": formulas, "sections": sections, "overflow_px": overflow, "text": text}

@@ -120,17 +120,18 @@ def test_eigen_mode_mistakes(tmp_path, capsys, arguments, message):
 
 
 def test_frf_plot_draws_the_dofs_asked_for(tmp_path, capsys, monkeypatch):
-    """``frf --plot`` honours ``--dof``: its curves are in the figure beside the floor points."""
+    """``frf --plot`` honours ``--dof``: its curve is in the figure beside the floor
+    points, each unit on its own axis (issue 25: no m/s^2 and m on one axis)."""
     from express.analysis import plots
 
-    drawn = []
-    original = plots.figure_frequency_response
+    drawn = {}
+    original = plots.figure_frequency_responses
 
-    def spy(frequencies, curves, **kwargs):
-        drawn.extend(curve["label"] for curve in curves)
-        return original(frequencies, curves, **kwargs)
+    def spy(frequencies, panels, **kwargs):
+        drawn.update({unit: [curve["label"] for curve in curves] for unit, curves in panels.items()})
+        return original(frequencies, panels, **kwargs)
 
-    monkeypatch.setattr(plots, "figure_frequency_response", spy)
+    monkeypatch.setattr(plots, "figure_frequency_responses", spy)
     status, _, _ = run(capsys, "frf", STEERED, "--dof", "W1.y", "--points", "20", "--plot", tmp_path / "frf.png")
     assert status == 0 and (tmp_path / "frf.png").exists()
-    assert "W1.y [m]" in drawn and len(drawn) >= 2
+    assert drawn["m"] == ["W1.y"] and len(drawn["m/s^2"]) >= 2

@@ -42,5 +42,40 @@ def test_report_renders_in_chromium(tmp_path, steered_report):
     seen = inspect_page(page, artifact_dir() / "report-forced-steering.png")
     assert seen["errors"] == [] and seen["requests"] == []
     assert seen["sections"] == ["Model", "Parameters", "Equations", "Modes", "Stability", "Curving", "Frequency response"]
-    assert len(seen["figures"]) == 3 and all(w > 300 and h > 200 for w, h in seen["figures"])
+    # model, 1 or 2 mode shapes, stability, curving run and EN 14363 bars, frequency response
+    assert len(seen["figures"]) >= 6 and all(w > 300 and h > 150 for w, h in seen["figures"])
     assert seen["formulas"] and all(w > 5 and h > 5 for w, h in seen["formulas"][:50])
+
+
+def test_markdown_code_spans_become_code_and_wide_tables_scroll():
+    page = render_page("t", [Section("s", ("see `express generate` outputs", Table(("a",), [("b",)])))])
+    assert "<code>express generate</code>" in page and "`" not in page.split("<body>")[1]
+    assert '<div class="scroll"><table>' in page
+
+
+@pytest.fixture(scope="module")
+def coach_report():
+    """The issue's case: a 3-D standard-gauge coach of 37 coordinates with series yaw and
+    lateral dampers (Manchester vehicle 1 with them); without the scrolling box its
+    equations stick out of a 1400 px window by 39 px."""
+    return report_html(load_vehicle("tests/data/coach-series-dampers.toml"))
+
+
+@pytest.mark.slow
+def test_coach_report_counts_its_car_body_and_shows_its_hunting_mode(coach_report):
+    assert "7 bodies (4 wheelsets, 2 bogies, 0 levers, 1 car body)" in coach_report
+    assert "other)" not in coach_report
+    assert "the least-damped mode: car body lower sway" in coach_report
+    assert "the hunting mode: hunting" in coach_report
+    assert "EN 14363 quantity against its limit" in coach_report
+
+
+@pytest.mark.slow
+def test_coach_report_renders_in_a_1400_px_window_without_overflow(tmp_path, coach_report):
+    page = tmp_path / "report.html"
+    page.write_text(coach_report, encoding="utf-8")
+    seen = inspect_page(page, artifact_dir() / "report-coach-series-dampers.png", viewport=(1400, 900))
+    assert seen["errors"] == [] and seen["requests"] == []
+    assert seen["overflow_px"] <= 0  # the equations scroll inside their box instead
+    assert "`" not in seen["text"]  # no literal Markdown
+    assert len(seen["figures"]) >= 6 and all(w > 300 and h > 150 for w, h in seen["figures"])

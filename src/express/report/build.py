@@ -125,13 +125,19 @@ def _equations_section(vehicle: VehicleModel, readable: EquationsOfMotion | None
 
 def _modes_section(vehicle: VehicleModel, speed: float) -> Section:
     from express.analysis.stability import eigen_analysis
+    from express.report.figures import mode_figures
 
     result = eigen_analysis(vehicle, speed)
     rows = [(k + 1, m.real, m.imag, m.frequency_hz, m.damping_ratio, m.describe()) for k, m in enumerate(result.modes)]
     at = f" at {speed / KMH:.1f} km/h" if vehicle.layout is not None else ""
+    model = _model_of(vehicle)
+    geometry = model_geometry(model, _value_of(vehicle), classify_bodies(model).role)
+    shapes = [Figure(svg_of(figure), caption) for figure, caption in mode_figures(vehicle, geometry, speed, result.modes)]
     return Section("Modes", (
-        f"{len(rows)} modes{at}, least stable first; {'stable' if result.stable else 'UNSTABLE'}.",
+        f"{len(rows)} modes{at}, least stable first; {'stable' if result.stable else 'UNSTABLE'}. Names from the "
+        "distribution of each mode's kinetic energy (docs/analyses.md).",
         Table(("mode", "Re [1/s]", "Im [rad/s]", "f [Hz]", "damping ratio", "description"), rows),
+        *shapes,
     ))
 
 
@@ -176,11 +182,20 @@ def _curving_section(vehicle: VehicleModel, track=None, track_name: str = "") ->
                "n/a" if c.passed is None else ("pass" if c.passed else "FAIL")) for c in assessment.criteria]
     verdict = (f"The vehicle derails: {assessment.derailment}." if assessment.derailment is not None
                else f"Running safety: {'every limit met' if assessment.passed else 'a limit is exceeded'}.")
+    from express.analysis.plots import figure_simulation
+    from express.report.figures import figure_assessment
+
+    run_figure = figure_simulation(run.distance, run.outputs, title=f"{vehicle.equations.name}: {track_name[:60]}")
+    safety = figure_assessment(assessment.criteria)
     return Section("Curving", (
         f"Track: {track_name}. Run of {track.length:.0f} m at {speed / KMH:.0f} km/h ({said}) with the wheel/rail "
-        f"contact; wheel loads: {wheel_rail.loads} (docs/curving.md). Largest absolute values:",
+        f"contact; wheel loads: {wheel_rail.loads} (docs/curving.md).",
+        Figure(svg_of(run_figure), "Curvature, wheelset yaw relative to the bogie and lateral wheel/rail forces "
+                                   "against the distance of the leading wheelset."),
+        "Largest absolute values:",
         Table(("output", "max |value|", "unit"), rows),
         f"EN 14363 running-safety quantities (2 m sliding means; docs/curving.md). {verdict}",
+        *([Figure(svg_of(safety), "Each EN 14363 quantity against its limit (1 = the limit).")] if safety else []),
         Table(("criterion", "quantity", "value (SI)", "limit", "verdict"), checks),
     ))
 

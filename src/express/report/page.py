@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import html
 import io
+import re
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
@@ -24,6 +25,8 @@ th { background: #f4f4f4; } td.number { text-align: right; font-variant-numeric:
 figure { margin: 0.5rem 0; } figure svg { max-width: 100%; height: auto; }
 figcaption { font-size: 0.85rem; color: #555; }
 math { font-size: 1.1rem; } p.note { font-size: 0.85rem; color: #555; }
+div.scroll { overflow: auto; max-width: 100%; } div.equations { max-height: 36rem; border: 1px solid #eee; }
+code { font-family: ui-monospace, monospace; font-size: 0.9em; background: #f4f4f4; padding: 0 0.2em; }
 """
 
 
@@ -82,21 +85,28 @@ def _table(table: Table) -> str:
     head = "".join(f"<th>{html.escape(h)}</th>" for h in table.header)
     body = "\n".join("<tr>" + "".join(_cell(c) for c in row) + "</tr>" for row in table.rows)
     caption = f"<caption>{html.escape(table.caption)}</caption>" if table.caption else ""
-    return f"<table>{caption}<thead><tr>{head}</tr></thead>\n<tbody>\n{body}\n</tbody></table>"
+    return (f'<div class="scroll"><table>{caption}<thead><tr>{head}</tr></thead>\n<tbody>\n{body}\n</tbody>'
+            "</table></div>")
 
 
 def _part(part: str | Table | Figure | Math) -> str:
     if isinstance(part, Table):
         return _table(part)
     if isinstance(part, Figure):
-        return f"<figure>{part.svg}<figcaption>{html.escape(part.caption)}</figcaption></figure>"
+        return f"<figure>{part.svg}<figcaption>{_text(part.caption)}</figcaption></figure>"
     if isinstance(part, Math):
         rows = "\n".join(
             f'<tr><td>{html.escape(label)}</td><td><math display="block">{mathml}</math></td></tr>'
             for label, mathml in part.equations
         )
-        return f"<table><tbody>\n{rows}\n</tbody></table>"
-    return f"<p>{html.escape(part)}</p>"
+        return f'<div class="scroll equations"><table><tbody>\n{rows}\n</tbody></table></div>'
+    return f"<p>{_text(part)}</p>"
+
+
+def _text(text: str) -> str:
+    """Escaped text with ``code`` spans (Markdown backticks) as ``<code>``: no literal
+    Markdown on the page."""
+    return re.sub(r"`([^`]+)`", r"<code>\1</code>", html.escape(text))
 
 
 def render_page(title: str, sections: Sequence[Section], *, note: str = "") -> str:
@@ -114,7 +124,7 @@ def render_page(title: str, sections: Sequence[Section], *, note: str = "") -> s
         "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
         f"<title>{html.escape(title)}</title>\n<style>{_STYLE}</style>\n</head>\n<body>\n"
         f"<h1>{html.escape(title)}</h1>\n"
-        + (f'<p class="note">{html.escape(note)}</p>\n' if note else "")
+        + (f'<p class="note">{_text(note)}</p>\n' if note else "")
         + f"<nav><ol>{contents}</ol></nav>\n"
         + "\n".join(body)
         + "\n</body>\n</html>\n"
