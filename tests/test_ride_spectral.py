@@ -15,7 +15,7 @@ from scipy import linalg, signal
 
 from express.analysis.ride import (
     delay_factors,
-    frequency_response,
+    state_space_response,
     harmonic_realisation,
     output_autospectra,
     output_spectra,
@@ -51,7 +51,7 @@ def sdof(input_kind: str) -> tuple[np.ndarray, ...]:
 
 def test_sdof_white_force_closed_form() -> None:
     A, B, Cm, D = sdof("force")
-    H = frequency_response(A, B, Cm, D, FREQS)
+    H = state_space_response(A, B, Cm, D, FREQS)
     g = output_autospectra(H, np.full((FREQS.size, 1), G0))
     variance = spectral_variance(FREQS, g)
     assert variance[0] == pytest.approx(math.pi * S0 / (K * C), rel=1e-5)  # sigma_x^2 = pi S0 / (k c)
@@ -65,7 +65,7 @@ def test_sdof_white_force_closed_form() -> None:
 def test_sdof_white_base_velocity_closed_form() -> None:
     """Integral table: int |(b0 + i w b1) / (a0 + i w a1 - w^2 a2)|^2 dw = pi (a0 b1^2 + a2 b0^2) / (a0 a1 a2)."""
     A, B, Cm, D = sdof("base")
-    H = frequency_response(A, B, Cm, D, FREQS)
+    H = state_space_response(A, B, Cm, D, FREQS)
     variance = spectral_variance(FREQS, output_autospectra(H, np.full((FREQS.size, 1), G0)))
     assert variance[0] == pytest.approx(math.pi * S0 * M / C, rel=1e-5)  # relative displacement
     assert variance[1] == pytest.approx(math.pi * S0 * (C / M + K / C), rel=1e-4)  # absolute velocity
@@ -91,7 +91,7 @@ def quarter_car() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 def test_quarter_car_white_base_velocity_against_lyapunov() -> None:
     A, B, Cm = quarter_car()
-    H = frequency_response(A, B, Cm, None, FREQS)
+    H = state_space_response(A, B, Cm, None, FREQS)
     variance = spectral_variance(FREQS, output_autospectra(H, np.full((FREQS.size, 1), G0)))
     # independent: stationary covariance P of x' = A x + B w, A P + P A^T + 2 pi S0 B B^T = 0
     P = linalg.solve_continuous_lyapunov(A, -2 * math.pi * S0 * B @ B.T)
@@ -121,7 +121,7 @@ def test_quarter_car_white_force_closed_form() -> None:
     A, _, _ = quarter_car()
     B = np.array([[0.0], [0.0], [1 / QC["ms"]], [0.0]])  # force on the body; the road stays at 0
     Cm = np.array([[1.0, 1.0, 0, 0], [0, 0, 1.0, 0]])  # z_s = (z_s - z_u) + (z_u - r); z_s'
-    H = frequency_response(A, B, Cm, None, FREQS)
+    H = state_space_response(A, B, Cm, None, FREQS)
     variance = spectral_variance(FREQS, output_autospectra(H, np.full((FREQS.size, 1), G0)))
     den, (mu, cs, kk) = quarter_car_denominator(), (QC["mu"], QC["cs"], QC["ks"] + QC["kt"])
     assert variance[0] == pytest.approx(S0 * newland_i4(den, (kk, cs, mu, 0.0)), rel=1e-5)
@@ -136,7 +136,7 @@ def test_quarter_car_white_base_velocity_closed_form() -> None:
     ``s kt (cs s + ks) / D`` per unit road velocity, variances ``S0 I4``."""
     A, B, _ = quarter_car()
     Cm = np.array([[0, 0, 1.0, 0], A[2]])  # z_s', z_s''
-    H = frequency_response(A, B, Cm, None, FREQS)
+    H = state_space_response(A, B, Cm, None, FREQS)
     variance = spectral_variance(FREQS, output_autospectra(H, np.full((FREQS.size, 1), G0)))
     den, kt, ks, cs = quarter_car_denominator(), QC["kt"], QC["ks"], QC["cs"]
     assert variance[0] == pytest.approx(S0 * newland_i4(den, (kt * ks, kt * cs, 0.0, 0.0)), rel=1e-5)
@@ -155,7 +155,7 @@ def test_time_domain_realisation_rms_within_3_percent_of_spectral() -> None:
     rms_time = np.sqrt(np.mean(y[settled] ** 2, axis=0))
     f = np.linspace(0.0, 25.0, 5001)
     g_u = np.interp(f, f_table, g_table)
-    rms_spectral = spectral_rms(f, output_autospectra(frequency_response(A, B, Cm, None, f), g_u[:, None]))
+    rms_spectral = spectral_rms(f, output_autospectra(state_space_response(A, B, Cm, None, f), g_u[:, None]))
     np.testing.assert_allclose(rms_time, rms_spectral, rtol=0.03)
 
 

@@ -2,7 +2,7 @@
 
 When a model's conicity comes from profiles (:mod:`express.rail.profile_contact`), the
 simulation replaces the dead-band flange spring and the creep saturation by the contact
-forces of :func:`express.rail.contact_forces.wheelset_forces`: normal forces from the
+forces of :func:`express.rail.contact_forces.profile_wheelset_forces`: normal forces from the
 geometry, Hertz ellipses, creep forces by FASTSIM (or Polach), elastic rails.  As for the
 other nonlinear forces, the linear part of the motion stays in the exactly discretised
 ``A`` (:mod:`express.analysis.integrator`), and the difference between the contact forces
@@ -45,7 +45,7 @@ from express.rail.contact_forces import (
     ContactSet,
     WheelsetContact,
     contact_set,
-    wheelset_forces,
+    profile_wheelset_forces,
 )
 from express.rail.curve import station_of
 from express.rail.options import CreepLaw
@@ -236,7 +236,7 @@ def linear_wheel_rail(c, y, psi, y_dot, psi_dot, y_rail, rho):
 
 @njit(cache=True)
 def contact_feedback(x, k, feedback, z, record):
-    """Contact forces (:func:`express.rail.contact_forces.wheelset_forces`) less the
+    """Contact forces (:func:`express.rail.contact_forces.profile_wheelset_forces`) less the
     linear terms of every wheelset into ``z``; the forces into ``record`` (n_wheelsets,
     len(OUTPUTS))."""
     w = feedback.wheelsets
@@ -247,7 +247,7 @@ def contact_feedback(x, k, feedback, z, record):
         y, psi, y_dot, psi_dot = x[w.iy[j]], x[w.ipsi[j]], x[w.ivy[j]], x[w.ivpsi[j]]
         y_rail, rho = w.y_rail[k, j], w.rho[k, j]
         left, right = wheel_loads_at(feedback.loads, x, k, j)
-        wheelset_forces(feedback.contacts, j, left, right, y - y_rail, psi, y_dot, psi_dot, rho, w.speed, work, out)
+        profile_wheelset_forces(feedback.contacts, j, left, right, y - y_rail, psi, y_dot, psi_dot, rho, w.speed, work, out)
         lateral, yaw = linear_wheel_rail(feedback.linear[j], y, psi, y_dot, psi_dot, y_rail, rho)
         z[j] = out[_OUT_Y] - lateral
         z[count + j] = out[_OUT_M] - yaw
@@ -284,7 +284,7 @@ def _history(y, psi, y_dot, psi_dot, y_rail, rho, speed, contacts, loads, result
     work = np.zeros((2, len(WORK_FIELDS)))
     for k in range(y.shape[0]):
         for j in range(y.shape[1]):
-            wheelset_forces(contacts, j, loads[k, j, 0], loads[k, j, 1], y[k, j] - y_rail[k, j], psi[k, j],
+            profile_wheelset_forces(contacts, j, loads[k, j, 0], loads[k, j, 1], y[k, j] - y_rail[k, j], psi[k, j],
                             y_dot[k, j], psi_dot[k, j], rho[k, j], speed, work, result[k, j])
 
 

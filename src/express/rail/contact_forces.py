@@ -68,14 +68,23 @@ from express.rail.creep_law import fastsim, polach
 from express.rail.options import CreepLaw
 
 __all__ = [
-    "FASTSIM", "LAWS", "OUTPUTS", "POLACH", "WORK_FIELDS", "ContactSet", "WheelsetContact", "contact_set",
-    "quasi_static_forces", "wheelset_contact", "wheelset_forces",
+    "FASTSIM",
+    "LAWS",
+    "OUTPUTS",
+    "POLACH",
+    "WORK_FIELDS",
+    "ContactSet",
+    "WheelsetContact",
+    "contact_set",
+    "profile_wheelset_forces",
+    "quasi_static_forces",
+    "wheelset_contact",
 ]
 
-#: Entries of the output vector of :func:`wheelset_forces`.
+#: Entries of the output vector of :func:`profile_wheelset_forces`.
 OUTPUTS = ("Y", "M", "N_left", "N_right", "Y_left", "Y_right", "Fx_left", "Fx_right", "u_left", "u_right",
            "angle_left", "angle_right", "beyond", "Q_left", "Q_right")
-#: Creep laws of :func:`wheelset_forces`, by named constant and by name.
+#: Creep laws of :func:`profile_wheelset_forces`, by named constant and by name.
 POLACH, FASTSIM = 0, 1
 LAWS = {"polach": POLACH, "fastsim": FASTSIM}
 #: Wall stiffness beyond the tables when the rails are rigid [N/m].
@@ -94,7 +103,7 @@ _OUT_NORMAL, _OUT_LATERAL, _OUT_FX, _OUT_U, _OUT_ANGLE, _OUT_LOAD = (
 #: force; this keeps the ellipse's scale finite.
 _LIFTED = 1.0
 
-#: Columns of the work array of :func:`wheelset_forces`: the table's fields, then the
+#: Columns of the work array of :func:`profile_wheelset_forces`: the table's fields, then the
 #: quantities of each contact the kernel computes.
 WORK_FIELDS = FIELDS + ("normal", "fx", "lateral", "f11", "u", "scale")
 _NORMAL, _FX, _LATERAL, _F11, _U, _SCALE = (WORK_FIELDS.index(name) for name in WORK_FIELDS[len(FIELDS):])
@@ -236,7 +245,7 @@ def _map(contact, start, step, count, y, side):
 
 
 @njit(cache=True)
-def wheelset_forces(contacts, j, load_left, load_right, y, psi, y_dot, psi_dot, rho, speed, work, out):
+def profile_wheelset_forces(contacts, j, load_left, load_right, y, psi, y_dot, psi_dot, rho, speed, work, out):
     """Forces of the rails on wheelset ``j`` of ``contacts`` (see the module docstring)
     into ``out`` (:data:`OUTPUTS`): lateral force ``Y`` [N] and yaw moment ``M`` [N m] on
     the wheelset, each wheel's normal force, lateral force, longitudinal force, contact
@@ -348,11 +357,11 @@ def wheelset_forces(contacts, j, load_left, load_right, y, psi, y_dot, psi_dot, 
 def quasi_static_forces(contact: WheelsetContact, y: float, psi: float = 0.0, y_dot: float = 0.0,
                         psi_dot: float = 0.0, rho: float = 0.0, speed: float = 1.0, law: CreepLaw = "polach",
                         loads: tuple[float, float] | None = None) -> dict[str, float]:
-    """:func:`wheelset_forces` of one state, by name (:data:`OUTPUTS`); SI units; ``law``
+    """:func:`profile_wheelset_forces` of one state, by name (:data:`OUTPUTS`); SI units; ``law``
     ``"polach"`` or ``"fastsim"``; ``loads`` the wheel loads (left, right) [N], the static
     ``contact.wheel_load`` by default."""
     left, right = (contact.wheel_load, contact.wheel_load) if loads is None else loads
     out = np.zeros(len(OUTPUTS))
-    wheelset_forces(contact_set([contact], law), 0, float(left), float(right), float(y), float(psi), float(y_dot),
+    profile_wheelset_forces(contact_set([contact], law), 0, float(left), float(right), float(y), float(psi), float(y_dot),
                     float(psi_dot), float(rho), float(speed), np.zeros((2, len(WORK_FIELDS))), out)
     return dict(zip(OUTPUTS, out.tolist(), strict=True))

@@ -50,6 +50,7 @@ from express.rail.profile_formats import read_profile
 from express.rail.profiles import STANDARD_PROFILES, Profile, standard_profile
 
 __all__ = [
+    "DEFAULTS",
     "INPUTS",
     "KIND",
     "OUTPUTS",
@@ -70,6 +71,8 @@ KIND = "profiles"
 #: layer), which makes the node.
 INPUTS = PROFILE_INPUTS
 OUTPUTS = PROFILE_OUTPUTS
+#: The placement and material defaults of :data:`INPUTS` (SI), read from the one definition.
+DEFAULTS: dict[str, float] = {key: default for key, _, default in INPUTS if default is not None}
 
 
 @lru_cache(maxsize=8)
@@ -91,9 +94,10 @@ def _profile(text: str, kind: ProfileKind, base: str, units: str) -> Profile:
         raise ArgumentError(f"{kind} profile {text!r}: {where}") from None
 
 
-def profile_tables(wheel: str, rail: str, *, base: str = "", units: str = "", gauge: float = 1.435,
-                   flange_back: float = 1.360, inclination: float = 1.0 / 40.0, wheel_radius: float = 0.46,
-                   youngs_modulus: float = 206e9, poisson: float = 0.3) -> ContactTables:
+def profile_tables(wheel: str, rail: str, *, base: str = "", units: str = "", gauge: float = DEFAULTS["gauge"],
+                   flange_back: float = DEFAULTS["flange_back"], inclination: float = DEFAULTS["inclination"],
+                   wheel_radius: float = 0.46, youngs_modulus: float = DEFAULTS["youngs_modulus"],
+                   poisson: float = DEFAULTS["poisson"]) -> ContactTables:
     """Contact tables (:func:`express.rail.contact_tables.contact_tables`) of the named
     profiles or files (relative to ``base``) placed as given (SI)."""
     try:
@@ -198,11 +202,9 @@ def contact_terms(node: Derivation) -> dict[str, sp.Symbol]:
 def _node_tables(node: Derivation, values: Mapping[str, float]) -> ContactTables:
     arguments = {argument: expression_value(expression, values) for argument, expression, _ in node.inputs}
     settings = dict(node.settings)
+    placement = ("gauge", "flange_back", "inclination", "wheel_radius", "youngs_modulus", "poisson")
     return profile_tables(settings["wheel"], settings["rail"], base=settings.get("base", ""),
-                          units=settings.get("units", ""), gauge=arguments["gauge"],
-                          flange_back=arguments["flange_back"], inclination=arguments["inclination"],
-                          wheel_radius=arguments["wheel_radius"], youngs_modulus=arguments["youngs_modulus"],
-                          poisson=arguments["poisson"])
+                          units=settings.get("units", ""), **{key: arguments[key] for key in placement})
 
 
 def wheelset_contacts(model: Model, values: Mapping[str, float], wheelsets) -> list[WheelsetContact | None]:

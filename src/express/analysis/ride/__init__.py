@@ -26,7 +26,6 @@ from express.analysis.ride.comfort import (
 from express.analysis.ride.figures import figure_ride_spectra
 from express.analysis.ride.spectral import (
     delay_factors,
-    frequency_response,
     harmonic_realisation,
     output_autospectra,
     output_spectra,
@@ -34,6 +33,7 @@ from express.analysis.ride.spectral import (
     spatial_to_temporal,
     spectral_rms,
     spectral_variance,
+    state_space_response,
     track_input_spectrum,
     two_point_filter,
     two_point_filter_zeros,
@@ -91,7 +91,6 @@ __all__ = [
     "comfort_from_time_histories",
     "delay_factors",
     "figure_ride_spectra",
-    "frequency_response",
     "get_weighting",
     "harmonic_realisation",
     "mean_comfort",
@@ -112,6 +111,7 @@ __all__ = [
     "sperling_index_time",
     "sperling_transfer",
     "sperling_weighting",
+    "state_space_response",
     "track_class_spectra",
     "track_input_spectrum",
     "two_point_filter",

@@ -52,7 +52,6 @@ __all__ = [
     "check_frequencies",
     "check_psd",
     "delay_factors",
-    "frequency_response",
     "harmonic_realisation",
     "output_autospectra",
     "output_spectra",
@@ -60,6 +59,7 @@ __all__ = [
     "spatial_to_temporal",
     "spectral_rms",
     "spectral_variance",
+    "state_space_response",
     "track_input_spectrum",
     "two_point_filter",
     "two_point_filter_zeros",
@@ -129,7 +129,7 @@ def check_psd(psd: ArrayLike, n_f: int, where: str) -> FloatArray:
 # --- Frequency response and output spectra -----------------------------------------------
 
 
-def frequency_response(
+def state_space_response(
     A: ArrayLike, B: ArrayLike, C: ArrayLike, D: ArrayLike | None, frequencies: ArrayLike
 ) -> ComplexArray:
     """``H(f) = C (i w I - A)^-1 B + D`` of a state-space model, ``w = 2 pi f``.
@@ -150,11 +150,11 @@ def frequency_response(
     numpy.linalg.LinAlgError
         If ``i w I - A`` is singular at one of the frequencies (an undamped mode).
     """
-    f = check_frequencies(frequencies, "frequency_response")
+    f = check_frequencies(frequencies, "state_space_response")
     a, b, c = (np.asarray(x, dtype=float) for x in (A, B, C))
     n = a.shape[0]
     if a.shape != (n, n) or b.shape[0] != n or c.shape[1] != n:
-        raise InputError(f"frequency_response: inconsistent shapes A {a.shape}, B {b.shape}, C {c.shape}")
+        raise InputError(f"state_space_response: inconsistent shapes A {a.shape}, B {b.shape}, C {c.shape}")
     iw = 2j * math.pi * f
     resolvent = iw[:, None, None] * np.eye(n) - a
     x = np.linalg.solve(resolvent, np.broadcast_to(b.astype(complex), (f.size, *b.shape)))
