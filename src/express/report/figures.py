@@ -27,7 +27,7 @@ def figure_assessment(criteria: Sequence[Any], *, title: str = "EN 14363 running
     matplotlib.figure.Figure or None
         None when no criterion has a limit.
     """
-    from express.analysis.plots._base import new_figure
+    from express.analysis.plots import new_figure
 
     rated = [c for c in criteria if c.limit]
     if not rated:

@@ -14,7 +14,7 @@ Modules: ``_base`` (style, figure creation, saving), ``paper_figures`` (Figs. 3,
 11 and a simulation run), ``stability_maps`` (root locus, damping ratios).
 """
 
-from express.analysis.plots._base import FIGURE_SUFFIXES, STYLE, save_figure
+from express.analysis.plots._base import FIGURE_SUFFIXES, STYLE, new_figure, save_figure
 from express.analysis.plots.paper_figures import (
     figure_critical_speed,
     figure_curving,
@@ -43,5 +43,6 @@ __all__ = [
     "figure_root_locus_complex",
     "figure_simulation",
     "mode_branches",
+    "new_figure",
     "save_figure",
 ]
