@@ -50,11 +50,12 @@ from express.rail.contact_forces import (
 from express.rail.curve import station_of
 from express.rail.options import CreepLaw
 from express.rail.profile_contact import contact_terms, profile_nodes
+from express.rail.vertical_contact import vertical_contacts
 from express.rail.wheelrail import irregularity_input, wheelset_terms
 
 __all__ = [
     "LINEAR_TERMS", "ContactFeedback", "WheelLoadModel", "contact_arrays", "contact_force_history", "contact_rhs",
-    "contact_wheel_outputs", "linear_coefficients", "linear_wheel_rail", "march_contact",
+    "contact_wheel_outputs", "dynamic_wheel_loads", "linear_coefficients", "linear_wheel_rail", "march_contact",
     "static_wheel_loads", "wheel_loads_at", "wheel_loads_history",
 ]
 
@@ -136,31 +137,32 @@ _ARRAYS: IdentityCache[ContactSet] = IdentityCache(16)
 
 
 class WheelLoadModel(NamedTuple):
-    """Vertical wheel loads during the march: the static load plus the quasi-static load
-    transfer of :mod:`express.rail.load_transfer` (an estimate; ``docs/contact.md``)::
+    """Vertical wheel loads during the march, linear in the state::
 
-        Q_left  = Q0 + common[k, j] + half_difference[k, j] + sum_i gain[k, i, j] x[places[i]]
-        Q_right = Q0 + common[k, j] - half_difference[k, j] - sum_i gain[k, i, j] x[places[i]]
+        Q[side] = Q0 + offset[k, j, side] + sum_i gain[k', i, j, side] x[places[i]]
 
-    ``common`` is the change of the load normal to the track plane (cant, centrifugal
-    force), ``half_difference`` the roll moment of the cant deficiency over ``2 b0``, and
-    ``gain`` that of each body's lateral displacement ``x[places[i]]`` (the suspension's
-    roll; ``places[i] < 0``: a body without one).
+    (``k' = k``, or 0 when ``gain`` holds one instant: constant gains).  Two sources
+    (``docs/contact.md``): the model's own vertical contact springs
+    (:func:`dynamic_wheel_loads`, ``Q = Q0 - k_z deflection``), or the quasi-static load
+    transfer of :mod:`express.rail.load_transfer` for a lateral-only model
+    (:func:`express.analysis.curving.measure.estimated_wheel_loads`: the normal load of
+    cant and centrifugal force, the roll moment of the cant deficiency and of each body's
+    lateral displacement).
 
     Attributes
     ----------
     static : numpy.ndarray, shape (n_wheelsets,)
         Q0 [N].
-    common, half_difference : numpy.ndarray, shape (steps + 1, n_wheelsets)
-        [N].
-    places : numpy.ndarray of int, shape (n_bodies,)
-    gain : numpy.ndarray, shape (steps + 1, n_bodies, n_wheelsets)
-        [N/m].
+    offset : numpy.ndarray, shape (steps + 1, n_wheelsets, 2)
+        [N], left then right.
+    places : numpy.ndarray of int, shape (n_places,)
+        State coordinates the loads depend on.
+    gain : numpy.ndarray, shape (steps + 1 or 1, n_places, n_wheelsets, 2)
+        [N per unit].
     """
 
     static: np.ndarray
-    common: np.ndarray
-    half_difference: np.ndarray
+    offset: np.ndarray
     places: np.ndarray
     gain: np.ndarray
 
@@ -168,20 +170,45 @@ class WheelLoadModel(NamedTuple):
 def static_wheel_loads(static: np.ndarray, steps: int) -> WheelLoadModel:
     """A :class:`WheelLoadModel` of the static loads only (``steps + 1`` instants)."""
     count = static.size
-    return WheelLoadModel(np.ascontiguousarray(static, dtype=float), np.zeros((steps + 1, count)),
-                          np.zeros((steps + 1, count)), np.full(1, -1, dtype=np.int64), np.zeros((steps + 1, 1, count)))
+    return WheelLoadModel(np.ascontiguousarray(static, dtype=float), np.zeros((steps + 1, count, 2)),
+                          np.zeros(0, dtype=np.int64), np.zeros((1, 0, count, 2)))
+
+
+def dynamic_wheel_loads(vehicle, inputs, static: np.ndarray) -> WheelLoadModel | None:
+    """The loads of the model's own vertical contact springs
+    (:func:`express.rail.vertical_contact.vertical_contacts`) along ``inputs`` (a
+    :class:`~express.analysis.track_inputs.TrackInputs`); ``None`` unless every wheel
+    has one."""
+    if vehicle.model is None:
+        return None
+    springs = vertical_contacts(vehicle.model, vehicle.values, [w.name for w in vehicle.wheelsets], vehicle.dofs,
+                                vehicle.inputs)
+    every = [spring for pair in springs for spring in pair if spring is not None]
+    if len(every) != 2 * len(springs):
+        return None
+    count, dofs = len(springs), len(vehicle.dofs)
+    rows = np.array([spring.dofs for spring in every]).reshape(count, 2, dofs)
+    drive = np.array([spring.inputs for spring in every]).reshape(count, 2, -1)
+    stiffness = np.array([spring.stiffness for spring in every]).reshape(count, 2)
+    places = np.flatnonzero(np.any(rows != 0, axis=(0, 1)))
+    gain = -(stiffness[:, :, None] * rows[:, :, places]).transpose(2, 0, 1)[None]
+    offset = -stiffness[None] * np.einsum("jsm,km->kjs", drive, inputs.u)
+    return WheelLoadModel(np.ascontiguousarray(static, dtype=float), np.ascontiguousarray(offset),
+                          places.astype(np.int64), np.ascontiguousarray(gain))
 
 
 @njit(cache=True)
 def wheel_loads_at(loads, x, k, j):
     """``(Q_left, Q_right)`` [N] of wheelset ``j`` at step ``k`` and state ``x``
     (:class:`WheelLoadModel`)."""
-    difference = loads.half_difference[k, j]
+    row = k if loads.gain.shape[0] > 1 else 0
+    left = loads.static[j] + loads.offset[k, j, 0]
+    right = loads.static[j] + loads.offset[k, j, 1]
     for i in range(loads.places.size):
-        if loads.places[i] >= 0:
-            difference += loads.gain[k, i, j] * x[loads.places[i]]
-    middle = loads.static[j] + loads.common[k, j]
-    return middle + difference, middle - difference
+        value = x[loads.places[i]]
+        left += loads.gain[row, i, j, 0] * value
+        right += loads.gain[row, i, j, 1] * value
+    return left, right
 
 
 @njit(cache=True)

@@ -21,8 +21,9 @@ Derived quantities (``rail.md``).  With the paper's dead-band wheel/rail model:
 
 With the contact from profile tables, instead of those, the quantities engineers sign
 a vehicle off with (:mod:`express.analysis.curving.outputs`, ``docs/contact.md``): per
-wheel (``L``, ``R``) the vertical load ``Q{n}{s}`` [N] (a quasi-static estimate of the
-load transfer, ``options["wheel_loads"]``), the lateral force ``Y{n}{s}`` [N] in the
+wheel (``L``, ``R``) the vertical load ``Q{n}{s}`` [N] (``options["wheel_loads"]``:
+``"dynamic"`` from the model's vertical contact springs, or a ``"quasi-static estimate"``
+of the load transfer for a lateral-only model), the lateral force ``Y{n}{s}`` [N] in the
 track plane, ``YQ{n}{s}``, the longitudinal creep force ``Fx{n}{s}`` [N], the contact
 position ``u{n}{s}`` [m] and angle ``gamma{n}{s}`` [rad], the flange-contact flag
 ``flanging{n}{s}``; per wheelset the track shift force ``SY{n}`` [N] and the angle of
@@ -161,10 +162,6 @@ _OUTPUT_UNITS = (
 )
 
 
-#: How the wheel loads Q of a run with the contact tables are found (``options["wheel_loads"]``).
-WHEEL_LOADS_ESTIMATE = "quasi-static estimate"
-
-
 def output_unit(name: str) -> str:
     """SI unit of a derived output by its name (``""`` for ratios, flags and unknown names)."""
     return next((unit for prefix, unit in _OUTPUT_UNITS if name.startswith(prefix)), "")
@@ -297,12 +294,13 @@ def simulate(
     tables = contact_tables_of(vehicle, contact, creep_law) if (flange or saturation) else None
     if tables is not None:  # the contact from the profiles' tables
         from express.analysis.contact_march import linear_coefficients, march_contact
-        from express.analysis.curving.measure import estimated_wheel_loads
+        from express.analysis.curving.measure import march_wheel_loads
 
+        wheel_loads, load_kind = march_wheel_loads(vehicle, inputs, v, tables.wheel_load)
         states, history = march_contact(
             np.ascontiguousarray(phi), np.ascontiguousarray(drive), np.ascontiguousarray(g0),
             np.ascontiguousarray(g1), x0, wheel_rail, tables, linear_coefficients(vehicle, v),
-            loads=estimated_wheel_loads(vehicle, inputs, v, tables.wheel_load), progress=show,
+            loads=wheel_loads, progress=show,
         )
     else:
         states = march(
@@ -318,7 +316,7 @@ def simulate(
     if tables is not None:
         from express.analysis.contact_march import contact_wheel_outputs
 
-        record = contact_wheel_outputs(vehicle, history, q, WHEEL_LOADS_ESTIMATE)
+        record = contact_wheel_outputs(vehicle, history, q, load_kind)
         outputs.update(record.columns())
     if stops["names"]:
         stop_forces = -_stop_forces(states, stops)
@@ -327,7 +325,7 @@ def simulate(
     options: dict[str, object] = {"flange": flange, "saturation": saturation, "dt": dt}
     if tables is not None:
         options["contact"] = f"tables ({creep_law})"
-        options["wheel_loads"] = WHEEL_LOADS_ESTIMATE
+        options["wheel_loads"] = load_kind
     if stops["names"]:
         options["clearances"] = True
     return SimulationResult(time, distance, vehicle.dofs, q, q_dot, outputs, v, options, record)

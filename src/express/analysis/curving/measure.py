@@ -38,7 +38,8 @@ from express.rail.nonlinear import linear_creepages, wheelset_forces
 if TYPE_CHECKING:
     from express.analysis.contact_march import WheelLoadModel
 
-__all__ = ["DEFAULT_FLANGE_ANGLE", "estimated_loads", "estimated_wheel_loads", "vehicle_body_loads", "wheel_rail_outputs"]
+__all__ = ["DEFAULT_FLANGE_ANGLE", "estimated_loads", "estimated_wheel_loads", "march_wheel_loads", "vehicle_body_loads",
+           "wheel_rail_outputs"]
 
 #: Flange angle of the dead-band model's flange contact [rad] (70 degrees, the flank of
 #: S1002 and of most standard profiles); used for its contact angle and Nadal's limit.
@@ -107,19 +108,42 @@ def estimated_wheel_loads(vehicle, inputs, speed: float, static: np.ndarray) -> 
     straight = replace(inputs, u=np.zeros_like(inputs.u), rho_stations=np.zeros_like(inputs.rho_stations))
     level = estimated_loads(vehicle, np.zeros((count, n)), straight, speed, body)
     wheelsets = {w.name for w in vehicle.wheelsets}
-    # a wheelset's contact points move with it: its own displacement shifts no load
-    places = np.array([vehicle.dof_index(f"{name}.y") if f"{name}.y" in vehicle.dofs and name not in wheelsets else -1
-                       for name in body.bodies], dtype=np.int64)
-    gain = np.zeros((count, places.size, len(vehicle.wheelsets)))
+    # a wheelset's contact points move with them: its own displacement shifts no load
+    bodies = [i for i, name in enumerate(body.bodies) if f"{name}.y" in vehicle.dofs and name not in wheelsets]
+    places = np.array([vehicle.dof_index(f"{body.bodies[i]}.y") for i in bodies], dtype=np.int64)
+    gain = np.zeros((count, places.size, len(vehicle.wheelsets), 2))
     for i, place in enumerate(places):
-        if place >= 0:
-            unit = np.zeros((count, n))
-            unit[:, place] = 1.0
-            shifted = estimated_loads(vehicle, unit, inputs, speed, body)
-            gain[:, i] = 0.5 * ((shifted.left - shifted.right) - (base.left - base.right))
-    return WheelLoadModel(np.ascontiguousarray(static, dtype=float),
-                          0.5 * ((base.left + base.right) - (level.left + level.right)),
-                          0.5 * ((base.left - base.right) - (level.left - level.right)), places, gain)
+        unit = np.zeros((count, n))
+        unit[:, place] = 1.0
+        shifted = estimated_loads(vehicle, unit, inputs, speed, body)
+        half = 0.5 * ((shifted.left - shifted.right) - (base.left - base.right))
+        gain[:, i, :, 0], gain[:, i, :, 1] = half, -half
+    common = 0.5 * ((base.left + base.right) - (level.left + level.right))
+    half_difference = 0.5 * ((base.left - base.right) - (level.left - level.right))
+    offset = np.stack([common + half_difference, common - half_difference], axis=2)
+    return WheelLoadModel(np.ascontiguousarray(static, dtype=float), offset, places, gain)
+
+
+def march_wheel_loads(vehicle: VehicleModel, inputs, speed: float, static: np.ndarray) -> tuple[WheelLoadModel, str]:
+    """The wheel loads of the contact tables and where they come from: the model's own
+    vertical contact springs when every wheel has one
+    (:func:`express.analysis.contact_march.dynamic_wheel_loads`, ``"dynamic"``; plus the
+    change of the load normal to the track plane, which a linear model does not carry),
+    else the quasi-static estimate (:func:`estimated_wheel_loads`,
+    ``"quasi-static estimate"``)."""
+    from express.analysis.contact_march import dynamic_wheel_loads
+
+    dynamic = dynamic_wheel_loads(vehicle, inputs, static)
+    if dynamic is None:
+        return estimated_wheel_loads(vehicle, inputs, speed, static), "quasi-static estimate"
+    # the linear model carries the weight g; the load normal to a canted track plane is
+    # m a_n (cant and centrifugal force, second order in the cant angle): add its change
+    body = vehicle_body_loads(vehicle)
+    rest = np.zeros((inputs.u.shape[0], vehicle.n))
+    level = replace(inputs, u=np.zeros_like(inputs.u), rho_stations=np.zeros_like(inputs.rho_stations))
+    base, flat = estimated_loads(vehicle, rest, inputs, speed, body), estimated_loads(vehicle, rest, level, speed, body)
+    common = 0.5 * ((base.left + base.right) - (flat.left + flat.right))
+    return dynamic._replace(offset=dynamic.offset + common[:, :, None]), "dynamic"
 
 
 def _deadband_forces(vehicle: VehicleModel, q, q_dot, inputs, speed: float, flange_angle: float):
@@ -151,10 +175,10 @@ def _table_outputs(vehicle: VehicleModel, q, q_dot, inputs, speed: float, contac
     from express.analysis.contact_march import contact_force_history, contact_wheel_outputs, wheel_loads_history
 
     ws = vehicle.wheelsets
-    loads = wheel_loads_history(estimated_wheel_loads(vehicle, inputs, speed, contact.wheel_load), q)
+    model, kind = march_wheel_loads(vehicle, inputs, speed, contact.wheel_load)
     history = contact_force_history(q, q_dot, [w.y for w in ws], [w.psi for w in ws], inputs.y_rail,
-                                    inputs.rho_wheelsets, speed, contact, loads)
-    return contact_wheel_outputs(vehicle, history, q, "quasi-static estimate")
+                                    inputs.rho_wheelsets, speed, contact, wheel_loads_history(model, q))
+    return contact_wheel_outputs(vehicle, history, q, kind)
 
 
 def wheel_rail_outputs(vehicle: VehicleModel, q: np.ndarray, q_dot: np.ndarray, inputs, speed: float, *,

@@ -25,7 +25,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from express.analysis.curving.measure import estimated_wheel_loads, wheel_rail_outputs
+from express.analysis.curving.measure import march_wheel_loads, wheel_rail_outputs
 from express.analysis.curving.outputs import WheelRailOutputs
 from express.analysis.simulate import derived_outputs
 from express.analysis.track_inputs import TrackInputs
@@ -329,7 +329,7 @@ class SteadyCurvingSolver:
         coordinates = WheelsetCoordinates(iy, ipsi, ivy, ivpsi, np.ascontiguousarray(inputs.y_rail, dtype=float),
                                           np.ascontiguousarray(inputs.rho_wheelsets, dtype=float), float(self.speed))
         feedback = ContactFeedback(coordinates, self.tables, np.ascontiguousarray(self.linear),
-                                   estimated_wheel_loads(self.vehicle, inputs, self.speed, self.tables.wheel_load))
+                                   march_wheel_loads(self.vehicle, inputs, self.speed, self.tables.wheel_load)[0])
         self._held_feedback = (inputs, feedback)
         return feedback
 
