@@ -256,3 +256,55 @@ def test_a_study_estimated_to_take_too_long_is_refused_before_it_starts(capsys, 
     status, _, err = run(capsys, "study", study, "-o", output, "--workers", "1", "--max-hours", "1")
     assert status == 0, err
     assert len(output.read_text().splitlines()) == 7
+
+
+# ------------------------------------------------------------------ profiles know their role
+
+
+@pytest.fixture()
+def profile_files(tmp_path: Path) -> dict[str, Path]:
+    """The standard S1002 wheel and 60E1 rail as files, and the wheel mirrored."""
+    from express.rail.profiles import standard_profile_text
+
+    files = {"wheel": tmp_path / "w.csv", "rail": tmp_path / "r.csv", "mirrored": tmp_path / "wm.csv"}
+    files["wheel"].write_text(standard_profile_text("S1002"))
+    files["rail"].write_text(standard_profile_text("60E1"))
+    rows = [line.split(",") for line in files["wheel"].read_text().splitlines() if line[:1] in "-0123456789"]
+    files["mirrored"].write_text("y_mm,z_mm\n" + "".join(f"{-float(y):.6f},{z}\n" for y, z in reversed(rows)))
+    return files
+
+
+@pytest.mark.parametrize(("wheel", "rail", "mentions"), [
+    ("rail", "wheel", "r.csv: wheel profile: given as the wheel, but it has a convex head"),
+    ("wheel", "wheel", "the same file given as the wheel and as the rail"),
+    ("mirrored", "rail", "wm.csv: wheel profile: given as the wheel, but its flange (28 mm deep at y = 55.02 mm) "
+                         "lies at positive y: a mirrored wheel"),
+])
+@pytest.mark.parametrize("command", ["contact-geometry", "conicity"])
+def test_a_profile_in_the_wrong_role_is_refused_naming_file_role_and_shape(
+    capsys, tmp_path: Path, profile_files, wheel: str, rail: str, mentions: str, command: str,
+) -> None:
+    output = tmp_path / "out.csv"
+    err = assert_input_error(capsys, command, profile_files[wheel], profile_files[rail], "-o", output, mentions=mentions)
+    assert "nan" not in err.lower() and not output.exists()
+
+
+def test_a_wheel_given_as_the_rail_is_named_a_wheel(capsys, profile_files) -> None:
+    assert_input_error(capsys, "contact-geometry", "S1002", profile_files["wheel"],
+                       mentions="w.csv: rail profile: given as the rail, but it has a flange (28 mm deep")
+
+
+def test_the_shapes_of_the_roles() -> None:
+    """Documented tests on the shapes: the standard wheel and rail pass their own role
+    and fail the other; a flangeless cone (a roller) is no wheel for the commands."""
+    import numpy as np
+
+    from express.rail.profiles import role_problems, standard_profile
+
+    wheel, rail = standard_profile("S1002"), standard_profile("60E1")
+    assert role_problems(wheel.y * 1e3, wheel.z * 1e3, "S1002", "wheel") == []
+    assert role_problems(rail.y * 1e3, rail.z * 1e3, "60E1", "rail") == []
+    assert role_problems(wheel.y * 1e3, wheel.z * 1e3, "S1002", "rail")
+    assert role_problems(rail.y * 1e3, rail.z * 1e3, "60E1", "wheel")
+    y = np.linspace(-40.0, 40.0, 81)
+    assert "no flange" in role_problems(y, 0.05 * y, "cone", "wheel")[0].message

@@ -80,16 +80,29 @@ def setup_from(gauge: float, flange_back: float, inclination: float, wheel_radiu
     return ContactSetup(gauge=gauge, flange_back=flange_back, inclination=inclination, wheel_radius=wheel_radius)
 
 
+def _same_file(first: str, second: str) -> bool:
+    import os
+
+    try:
+        return os.path.samefile(first, second)
+    except OSError:
+        return False
+
+
 def load_profiles(names: list[str], units: str | None):
-    """The wheel and rail :class:`~express.rail.profiles.Profile` of ``WHEEL RAIL``."""
+    """The wheel and rail :class:`~express.rail.profiles.Profile` of ``WHEEL RAIL``, each
+    checked for its role by its shape (:func:`express.rail.profiles.role_problems`: a
+    rail file given as the wheel, a mirrored wheel, the same file twice are refused)."""
     from express.base.diagnostics import ModelError
     from express.rail.options import PROFILE_KINDS
     from express.rail.profile_formats import read_profile
-    from express.rail.profiles import STANDARD_PROFILES, standard_profile
+    from express.rail.profiles import STANDARD_PROFILES, role_problems, standard_profile
 
     standard = {name.upper() for name in STANDARD_PROFILES} | {"UIC60"}
     profiles: list = []
     problems: list = []
+    if _same_file(*names):
+        raise UsageError(f"{names[0]} and {names[1]}: the same file given as the wheel and as the rail")
     for name, kind in zip(names, PROFILE_KINDS, strict=True):
         try:
             if not Path(name).exists() and name.strip().upper() in standard:
@@ -101,6 +114,7 @@ def load_profiles(names: list[str], units: str | None):
         except ModelError as error:
             problems += error.problems
             continue
+        problems += role_problems(profile.y * 1e3, profile.z * 1e3, profile.source or name, kind)
         profiles.append(profile)
     if problems:
         raise ModelError(problems)

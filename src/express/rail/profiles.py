@@ -38,6 +38,7 @@ __all__ = [
     "check_profile_points",
     "parse_inclination",
     "parse_profile",
+    "role_problems",
     "row_numbers",
     "s1002_height",
     "smooth_profile",
@@ -244,6 +245,80 @@ def check_profile_points(y, z, lines, file, kind, unit, spike_tolerance, min_poi
     if unit is not None and len(y) >= 5 and not len(bad):
         problems += _check_spikes(y, z * _UNITS[unit], lines, file, spike_tolerance, unit)
     return problems
+
+
+#: Shape of a wheel profile (side frame, mm): a flange at least this deep below the
+#: taping line, at negative y ...
+FLANGE_DEPTH_MM = 10.0
+#: ... and a tread on the field side (y >= 0) that nowhere drops more than this below it.
+TREAD_DROP_MM = 2.0
+#: Shape of a rail profile: the crown (the highest point) within this of y = 0, ...
+CROWN_OFFSET_MM = 15.0
+#: ... the head falling at least this much to both ends, and rising nowhere again by
+#: more than this (a convex head, no flange-like dip).
+HEAD_FALL_MM = 1.0
+
+
+def role_problems(y_mm: np.ndarray, z_mm: np.ndarray, file: str, kind: ProfileKind) -> list[Problem]:
+    """Whether the shape fits the role (``docs/contact.md``, side frame, in mm): a wheel has
+    a flange (at least :data:`FLANGE_DEPTH_MM` below the taping line, at negative y) and a
+    tread (the field side nowhere :data:`TREAD_DROP_MM` below it); a rail a convex head
+    (its crown within :data:`CROWN_OFFSET_MM` of y = 0, falling to both ends and rising
+    nowhere again). A problem names the file, the role and what was seen.
+
+    Examples
+    --------
+    >>> y = np.linspace(-36.0, 36.0, 73)
+    >>> [p.message[:40] for p in role_problems(y, -y**2 / 50, "r.csv", "wheel")]
+    ['given as the wheel, but it has no flange']
+    """
+    seen = _shape(y_mm, z_mm)
+    if kind == "wheel":
+        if seen["flange"] and seen["flange_y"] < 0 and seen["tread"]:
+            return []
+        if seen["flange"] and seen["flange_y"] > 0:
+            what = (f"its flange ({seen['depth']:.3g} mm deep at y = {seen['flange_y']:.4g} mm) lies at positive y: "
+                    "a mirrored wheel (the flange belongs at negative y, toward the track centre; mirror y)")
+        elif seen["head"]:
+            what = f"it has a convex head ({seen['fall']}) instead of a flange and a tread: a rail profile?"
+        elif not seen["flange"]:
+            what = f"it has no flange (the lowest point is {seen['depth']:.3g} mm below y = 0, at least {FLANGE_DEPTH_MM:g} needed)"
+        else:
+            what = f"its field side (y > 0) drops {seen['drop']:.3g} mm below the taping line: no tread"
+        return [Problem(file, None, "wheel profile", f"given as the wheel, but {what}")]
+    if seen["head"]:
+        return []
+    if seen["flange"]:
+        what = (f"it has a flange ({seen['depth']:.3g} mm deep at y = {seen['flange_y']:.4g} mm) and "
+                "a tread: a wheel profile?")
+    else:
+        what = f"it has no convex head ({seen['why']})"
+    return [Problem(file, None, "rail profile", f"given as the rail, but {what}")]
+
+
+def _shape(y: np.ndarray, z: np.ndarray) -> dict:
+    """What a profile looks like: flange, tread, convex head (see :func:`role_problems`)."""
+    level = float(np.interp(0.0, y, z))
+    lowest = int(np.argmin(z))
+    depth = level - float(z[lowest])
+    field = z[y >= 0.0]
+    drop = level - float(field.min()) if field.size else 0.0
+    top = int(np.argmax(z))
+    outward = (z[: top + 1][::-1], z[top:])  # from the highest point to each end
+    rise_left, rise_right = (float(np.max(side - np.minimum.accumulate(side))) for side in outward)
+    falls = (float(z[top] - z[0]), float(z[top] - z[-1]))
+    why = ""
+    if abs(float(y[top])) > CROWN_OFFSET_MM:
+        why = f"the highest point is at y = {float(y[top]):.4g} mm, not near the crown at y = 0"
+    elif min(falls) < HEAD_FALL_MM:
+        why = f"it does not fall to both sides of its highest point (by {falls[0]:.3g} and {falls[1]:.3g} mm)"
+    elif max(rise_left, rise_right) > HEAD_FALL_MM:
+        why = f"it rises again by {max(rise_left, rise_right):.3g} mm away from its highest point"
+    return {
+        "flange": depth >= FLANGE_DEPTH_MM, "flange_y": float(y[lowest]), "depth": depth,
+        "tread": drop <= TREAD_DROP_MM, "drop": drop,
+        "head": not why, "why": why, "fall": f"falling {falls[0]:.3g} and {falls[1]:.3g} mm to the two sides",
+    }
 
 
 def _check_extent(y, z, file, kind, unit) -> list[Problem]:
