@@ -9,7 +9,7 @@ the summary's explanations need (cant deficiency, link force and stretch).  Trac
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -110,6 +110,12 @@ class Curving:
         [kg].
     kx1 : mapping of str to float or None
         Longitudinal axle-box stiffness per car [N/m].
+    steady_state : mapping
+        Per car, the steady state solved directly in the circular curve
+        (:func:`express.analysis.curving.steady.steady_curving`, ``docs/curving.md``):
+        ``psi_TW1``, ``aoa1`` [rad], ``YQ1`` (the leading wheelset's larger Y/Q), ``SY1``
+        [N], ``dQQ0`` and ``passed`` (1.0 when every EN 14363 limit is met); a car
+        without a steady state is left out.
     """
 
     geometry: CurveGeometry
@@ -133,6 +139,7 @@ class Curving:
     ideal_lever_ratio: float
     car_mass: float
     kx1: Mapping[str, float | None]
+    steady_state: Mapping[str, Mapping[str, float]] = field(default_factory=dict)
 
     @property
     def lever_fraction(self) -> float:
@@ -159,6 +166,25 @@ def _steady_values(runs, window) -> tuple[dict, dict, dict, dict]:
     flanging = {name: tuple(bool(steady_mean(np.abs(run.outputs[f"flange{j}"]), run.distance, window) > 0)
                             for j in (1, 2)) for name, run in runs.items()}
     return series, steady, peaks, flanging
+
+
+def _steady_states(cars: Cars, geometry: CurveGeometry) -> dict[str, dict[str, float]]:
+    """The steady state of each car in the circular curve of the run, solved directly."""
+    from express.analysis.curving.assessment import assess_steady
+    from express.analysis.curving.steady import CurveError, SteadyCurve, steady_curving
+
+    curve = SteadyCurve(geometry.radius, geometry.cant, geometry.direction)
+    out = {}
+    for name, car in cars.items():
+        try:
+            state = steady_curving(car, curve)[0]
+        except CurveError:  # a variant without a steady state (the demo's checks change parameters): none shown
+            continue
+        wheel_rail = state.wheel_rail
+        out[name] = {"psi_TW1": state.derived["psi_TW1"], "aoa1": float(wheel_rail.angle_of_attack[0, 0]),
+                     "YQ1": float(wheel_rail.y_over_q[0, 0].max()), "SY1": float(wheel_rail.track_shift_force[0, 0]),
+                     "dQQ0": float(wheel_rail.vehicle_unloading[0]), "passed": float(assess_steady(car, state).passed)}
+    return out
 
 
 def measure_curving(cars: Cars, track=None, *, check: bool = True) -> Curving:
@@ -204,6 +230,7 @@ def measure_curving(cars: Cars, track=None, *, check: bool = True) -> Curving:
         lever_ratio=values["lLL"] / values["lLU"], ideal_lever_ratio=values["a"] / values["lT"],
         car_mass=values["mc"] + 2 * values["mt"] + 4 * values["mw"],
         kx1={name: car.values.get("kx1") for name, car in cars.items()},
+        steady_state=_steady_states(cars, geometry),
     )
 
 
@@ -238,4 +265,15 @@ def write_curving(outdir: Path, curving: Curving, cars: Cars, log: Callable[[str
     s = curving.steady
     log(f"  Fig. 9: theta_L1 = {s['theta_L1']:.4f} rad, Q1 = {s['Q1_steered'] / 1e3:.1f} kN (steered), "
         f"{s['Q1_conventional'] / 1e3:.1f} kN (conventional)")
+    if curving.steady_state:
+        names = list(curving.steady_state)
+        keys = ("psi_TW1", "aoa1", "YQ1", "SY1", "dQQ0", "passed")
+        units = {"psi_TW1": "rad", "aoa1": "rad", "YQ1": "", "SY1": "N", "dQQ0": "", "passed": ""}
+        table = {"car": names, **{f"{k}_{units[k]}".rstrip("_"): [curving.steady_state[n][k] for n in names] for k in keys}}
+        paths.append(write_table(outdir / "fig9_steady_state.csv", table))
+        for name in names:
+            state = curving.steady_state[name]
+            log(f"  Fig. 9 steady state ({name}): psi_TW1 = {state['psi_TW1'] * 1e3:.2f} mrad (run's mean "
+                f"{s[f'psi_TW1_{name}'] * 1e3:.2f}), angle of attack {state['aoa1'] * 1e3:.2f} mrad, Y/Q "
+                f"{state['YQ1']:.3f}, EN 14363 {'met' if state['passed'] else 'NOT met'}")
     return paths
