@@ -165,7 +165,7 @@ def library(case: Case, vehicle) -> dict:
 # ---------------------------------------------------------------------------------------
 
 
-def matrix_rows(case: Case, vehicle, matrices) -> list[list[str]]:
+def matrix_rows(vehicle, matrices) -> list[list[str]]:
     """``matrix, row, column, value`` of every non-zero entry."""
     dofs, inputs = vehicle.dofs, vehicle.inputs
     rows = []
@@ -222,7 +222,7 @@ def response_rows(case: Case, response: dict) -> list[list[str]]:
 
 def tables(case: Case, vehicle, result: dict) -> dict[str, list[list[str]]]:
     """The rows of every table of ``result``, by file suffix."""
-    out = {"matrices": matrix_rows(case, vehicle, result["matrices"]),
+    out = {"matrices": matrix_rows(vehicle, result["matrices"]),
            "eigenvalues": eigenvalue_rows(result["eigenvalues"]),
            "frequency-response": response_rows(case, result["response"])}
     if case.conicities:
@@ -265,6 +265,28 @@ def agreement(case: Case, computed: dict, result: dict) -> dict[str, float]:
     return errors
 
 
+#: What the numbers mean, in the files themselves (docs/reference-benchmark.md says more).
+CONVENTIONS = {
+    "axes": "x forward, y left, z up; rotations rx, ry, rz by the right-hand rule; DOF <body>.<dof>",
+    "units": "SI: m, rad, kg, N, s; speed in m/s; frequency in Hz; eigenvalues 1/s (real), rad/s (imag)",
+    "equations": "M q'' + C(v) q' + K q = P(v) u + Pd u', C(v) = C0 + C1/v, P(v) = P0 + P2 v^2",
+    "eigenvalues": "all roots of det(lambda^2 M + lambda C(v) + K) = 0",
+    "critical_speed": "lowest speed in the scan at which the largest real part of the eigenvalues "
+                      "crosses zero, at the conicity Gamma given, the other values as listed",
+    "frequency_response": "q_i = Im(X_i exp(i w t)) per metre of alignment yR_n = Im(exp(i w (t - t_n))), "
+                          "t_n = (x_lead - x_n)/v; outputs: lateral displacement y + rz lx - rx lz of a point",
+    "comparison": "|a - b| <= rtol max(|b|, 1e-6 s), s the largest magnitude of the group",
+}
+LEVER_CONVENTIONS = {
+    key: CONVENTIONS[key] for key in ("axes", "comparison")
+} | {
+    "units": "SI: m, rad, kg, N, s; frequency in Hz; eigenvalues 1/s (real), rad/s (imag)",
+    "equations": "M q'' + C q' + K q = P u + Pd u'",
+    "eigenvalues": "all roots of det(lambda^2 M + lambda C + K) = 0",
+    "transfer_functions": "q_i = Im(H_ij exp(i w t)) for u_j = Im(exp(i w t)), one input at a time",
+}
+
+
 def describe(case: Case, vehicle, check: dict, double: dict) -> dict:
     """The JSON document of a case (everything but the tables)."""
     model = vehicle.model
@@ -282,6 +304,8 @@ def describe(case: Case, vehicle, check: dict, double: dict) -> dict:
         parameters[name] = {"value": number(value), "si_unit": unit, "kind": kind,
                             "unit_in_model": (parameter.unit if parameter is not None else "")}
     document = {
+        "conventions": CONVENTIONS if case.speeds else LEVER_CONVENTIONS,
+        "documentation": "docs/reference-benchmark.md",
         "vehicle": case.name,
         "model_file": case.model,
         "title": model.title if getattr(model, "title", None) else case.name,
@@ -317,10 +341,13 @@ def build(case: Case) -> dict[str, str]:
     start = time.perf_counter()
     vehicle = load(case)
     result = reference(case, vehicle, DPS)
-    check = agreement(case, reference(case, vehicle, CHECK_DPS), result)
-    double = agreement(case, library(case, vehicle), result)
+    checked = reference(case, vehicle, CHECK_DPS)
+    with mpmath.workdps(DPS):  # printed from the working precision
+        check = agreement(case, checked, result)
+        double = agreement(case, library(case, vehicle), result)
+        printed = tables(case, vehicle, result)
     files = {}
-    for suffix, rows in tables(case, vehicle, result).items():
+    for suffix, rows in printed.items():
         header = HEADERS["transfer-functions" if suffix == "frequency-response" and not case.speeds else suffix]
         suffix = "transfer-functions" if suffix == "frequency-response" and not case.speeds else suffix
         files[f"{case.name}-{suffix}.csv"] = csv_table(header, rows)

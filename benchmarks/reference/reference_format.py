@@ -1,7 +1,7 @@
 """Formatting of the reference files and the comparison rule of docs/reference-benchmark.md.
 
 Numbers are printed with a fixed count of significant digits (``1.23456789012345e+06``),
-rounded half-even from 40 computed digits; an exact zero prints as ``0``. JSON is written
+rounded half-even from 40 of the 50 computed digits; an exact zero prints as ``0``. JSON is written
 with sorted keys and two-space indentation, CSV with ``\\n`` line ends: the same data
 gives the same bytes.
 """
@@ -18,8 +18,9 @@ import mpmath
 import numpy as np
 
 #: A value below this fraction of the largest of its group is a rounding residue of an
-#: exact zero (the working precision is 50 digits) and prints as 0.
-ZERO = mpmath.mpf("1e-30")
+#: exact zero and prints as 0 (the residue is about 1e-45 of it at 50 digits, 1e-26 at
+#: the 30 digits of the check; no value of the benchmark comes near it otherwise).
+ZERO = mpmath.mpf("1e-20")
 #: The comparison rule: ``|a - b| <= rtol * max(|b|, FLOOR * s)``, ``s`` the largest
 #: magnitude of the group (a matrix, the eigenvalues at one speed, one response).
 FLOOR = 1e-6
@@ -32,13 +33,21 @@ class Number(str):
 def number(value, digits: int | None = None, scale=None) -> Number:
     """``value`` as text: with ``digits`` significant digits (rounded half-even), or as
     the shortest text that reads back as the same double when ``digits`` is None (the
-    inputs: parameter values, speeds, frequencies). ``scale``: see :data:`ZERO`."""
+    inputs: parameter values, speeds, frequencies). ``scale``: see :data:`ZERO`.
+
+    Call it inside the precision the value was computed at (:func:`mpmath.workdps`):
+    the last 10 of its digits are taken as uncertain."""
     if digits is None:
         return Number(repr(float(value)))
+    if mpmath.mp.dps < 2 * digits:  # mpf() below would round the value to the low precision
+        raise ValueError(f"print {digits} digits inside the working precision, not at {mpmath.mp.dps} digits")
     value = mpmath.mpf(value)
     if value == 0 or (scale is not None and abs(value) < ZERO * scale):
         return Number("0")
-    text = mpmath.nstr(value, 40, min_fixed=1, max_fixed=0)
+    # rounded first to the digits the working precision makes certain (40 of 50): an
+    # exact decimal tie (an entry such as 2.943043781365325e7) stays a tie and rounds
+    # half-even, whatever the binary rounding residue beyond
+    text = mpmath.nstr(value, min(40, mpmath.mp.dps - 10), min_fixed=1, max_fixed=0)
     mantissa, exponent = format(Decimal(text), f".{digits - 1}e").split("e")
     return Number(f"{mantissa}e{int(exponent):+03d}")
 
