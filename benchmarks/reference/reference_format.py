@@ -39,7 +39,7 @@ def number(value, digits: int | None = None, scale=None) -> Number:
     the last 10 of its digits are taken as uncertain."""
     if digits is None:
         return Number(repr(float(value)))
-    if mpmath.mp.dps < 2 * digits:  # mpf() below would round the value to the low precision
+    if mpmath.mp.dps - 10 < digits:  # mpf() below would round the value to the low precision
         raise ValueError(f"print {digits} digits inside the working precision, not at {mpmath.mp.dps} digits")
     value = mpmath.mpf(value)
     if value == 0 or (scale is not None and abs(value) < ZERO * scale):
