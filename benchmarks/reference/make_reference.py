@@ -275,7 +275,8 @@ CONVENTIONS = {
                       "crosses zero, at the conicity Gamma given, the other values as listed",
     "frequency_response": "q_i = Im(X_i exp(i w t)) per metre of alignment yR_n = Im(exp(i w (t - t_n))), "
                           "t_n = (x_lead - x_n)/v; outputs: lateral displacement y + rz lx - rx lz of a point",
-    "comparison": "|a - b| <= rtol max(|b|, 1e-6 s), s the largest magnitude of the group",
+    "comparison": "|a - b| <= rtol max(|b|, 1e-6 s), s the largest magnitude of the group; "
+                  "|a| <= rtol s where the reference is an exact zero",
 }
 LEVER_CONVENTIONS = {
     key: CONVENTIONS[key] for key in ("axes", "comparison")

@@ -95,7 +95,9 @@ def _complex_list(values) -> list:
 
 
 def relative_errors(computed, reference, *, match: bool = False, floor: float = FLOOR) -> np.ndarray:
-    """``|a - b| / max(|b|, floor * max|b|)`` of every entry, computed in mpmath.
+    """``|a - b| / max(|b|, floor * s)`` of every entry, ``s = max|b|``, computed in
+    mpmath; ``|a| / s`` where ``b`` is an exact zero (below :data:`ZERO` times ``s``: a
+    structural zero, whose double-precision value is rounding residue).
 
     Parameters
     ----------
@@ -117,6 +119,9 @@ def relative_errors(computed, reference, *, match: bool = False, floor: float = 
         rows, columns = linear_sum_assignment(cost)
         order = dict(zip(columns.tolist(), rows.tolist(), strict=True))
         a = [a[order[j]] for j in range(len(b))]
-    scale = max(abs(x) for x in b) * mpmath.mpf(floor)
-    return np.array([float(abs(x - y) / max(abs(y), scale)) if (y != 0 or scale) else float(abs(x))
+    largest = max(abs(x) for x in b)
+    if largest == 0:
+        return np.array([float(abs(x)) for x in a])
+    scale = largest * mpmath.mpf(floor)
+    return np.array([float(abs(x) / largest) if abs(y) < ZERO * largest else float(abs(x - y) / max(abs(y), scale))
                      for x, y in zip(a, b, strict=True)])
