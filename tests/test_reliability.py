@@ -308,3 +308,23 @@ def test_the_shapes_of_the_roles() -> None:
     assert role_problems(rail.y * 1e3, rail.z * 1e3, "60E1", "wheel")
     y = np.linspace(-40.0, 40.0, 81)
     assert "no flange" in role_problems(y, 0.05 * y, "cone", "wheel")[0].message
+
+
+# ------------------------------------------------------------------ stability relative to the spectrum
+
+
+def test_a_rounding_eigenvalue_is_not_an_instability(capsys) -> None:
+    """Young's modulus 1e-300 Pa: no creep forces, the free lateral motions give a double
+    eigenvalue 0 that rounding moves to +6.7e-7 1/s (spectrum scale 231 1/s): stable, as a
+    threshold relative to the spectrum's scale says; a real instability stays one."""
+    from express.analysis.modes import STABILITY_RTOL
+    from express.analysis.stability import eigen_analysis
+    from express.numeric.statespace import load_vehicle
+
+    result = eigen_analysis(load_vehicle(CONVENTIONAL, {"Emod": "1e-300"}), 120 / 3.6)
+    assert 0 < result.max_real < result.threshold == pytest.approx(STABILITY_RTOL * 230.82, rel=1e-3)
+    assert result.stable
+    status, out, _ = run(capsys, "eigen", CONVENTIONAL, "--set", "Emod=1e-300")
+    assert status == 0 and "; stable" in out.splitlines()[0]
+    status, out, _ = run(capsys, "eigen", CONVENTIONAL, "--speed", "520")
+    assert "; UNSTABLE" in out.splitlines()[0]

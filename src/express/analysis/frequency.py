@@ -257,7 +257,9 @@ def require_stable(vehicle: VehicleModel, speed: float) -> None:
         Naming the speed and the least-damped eigenvalue with its mode.
     """
     values = np.linalg.eigvals(vehicle.state_matrix(speed))
-    if values.size == 0 or not values.real.max() > 1e-9 * max(1.0, float(np.abs(values).max())):
+    from express.analysis.modes import stability_threshold
+
+    if values.size == 0 or not values.real.max() > stability_threshold(values):
         return  # rigid-body modes (eigenvalue 0) are rounding away from stable, not unstable
     from express.analysis.stability import eigen_analysis
     from express.base.diagnostics import AnalysisError

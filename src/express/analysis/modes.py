@@ -21,7 +21,27 @@ from express.model.parameters import expression_value
 from express.model.topology import Topology, classify_bodies
 from express.numeric.statespace import VehicleModel
 
-__all__ = ["DOMINANT_COUNT", "EigenResult", "Mode", "modes_of"]
+__all__ = ["DOMINANT_COUNT", "STABILITY_RTOL", "EigenResult", "Mode", "modes_of", "stability_threshold"]
+
+#: Relative stability threshold: a mode counts as unstable when its real part exceeds
+#: this times the spectrum's scale (its largest ``|lambda|``, at least 1 1/s). About the
+#: square root of the machine epsilon: rounding moves a simple eigenvalue by about
+#: ``eps |A|``, but a double one (the free lateral motion of a wheelset whose creep
+#: forces vanish, a Young's modulus of 1e-300 Pa) by ``sqrt(eps) |A|`` (docs/reliability.md).
+STABILITY_RTOL = 1e-8
+
+
+def stability_threshold(eigenvalues) -> float:
+    """The real part [1/s] above which an eigenvalue of this spectrum is unstable:
+    :data:`STABILITY_RTOL` times ``max(1, max |lambda|)``.
+
+    Examples
+    --------
+    >>> f"{stability_threshold([-0.5 + 20j, 6.7e-7, -316.0]):.3g}"
+    '3.16e-06'
+    """
+    values = np.abs(np.asarray(eigenvalues, dtype=complex))
+    return STABILITY_RTOL * max(1.0, float(values.max()) if values.size else 1.0)
 
 #: Number of DOFs listed in :attr:`Mode.dominant`.
 DOMINANT_COUNT = 4
@@ -171,9 +191,15 @@ class EigenResult:
         return max(mode.real for mode in self.modes)
 
     @property
+    def threshold(self) -> float:
+        """Real part [1/s] above which a mode counts as unstable (:func:`stability_threshold`)."""
+        return stability_threshold([mode.eigenvalue for mode in self.modes])
+
+    @property
     def stable(self) -> bool:
-        """True when every mode decays."""
-        return self.max_real < 0.0
+        """True when no mode grows: every real part at most :attr:`threshold` (a real part
+        of rounding size, relative to the spectrum's scale, is not an instability)."""
+        return self.max_real <= self.threshold
 
     def rows(self) -> list[dict[str, float | str]]:
         """One dict per mode, least stable first, for printing or CSV.
