@@ -263,7 +263,7 @@ def profile_wheelset_forces(contacts, j, load_left, load_right, y, psi, y_dot, p
     table, t_start, t_step, t_count = (contacts.tables[j], contacts.table_start[j], contacts.table_step[j],
                                        contacts.table_count[j])
     friction, shear_modulus = contacts.friction[j], contacts.shear_modulus[j]
-    loads = (max(load_left, _LIFTED), max(load_right, _LIFTED))
+    lifted_left, lifted_right = max(load_left, _LIFTED), max(load_right, _LIFTED)
     extra = 0.0
     for side in range(2):
         position, over = _map(contacts.rail_maps[j], contacts.map_start[j], contacts.map_step[j],
@@ -282,9 +282,10 @@ def profile_wheelset_forces(contacts, j, load_left, load_right, y, psi, y_dot, p
     bottom = 0.0
     for side in range(2):
         sigma = 1.0 - 2.0 * side
-        normal = loads[side] / work[side, COS_ANGLE]
+        load = lifted_left if side == 0 else lifted_right
+        normal = load / work[side, COS_ANGLE]
         work[side, _NORMAL] = normal
-        scale = loads[side] ** (1.0 / 3.0) * work[side, SECANT_CBRT]
+        scale = load ** (1.0 / 3.0) * work[side, SECANT_CBRT]
         work[side, _SCALE] = scale
         f11 = shear_modulus * work[side, SEMI_A] * work[side, SEMI_B] * scale * scale * work[side, C11]
         r = work[side, RADIUS]
@@ -324,7 +325,7 @@ def profile_wheelset_forces(contacts, j, load_left, load_right, y, psi, y_dot, p
             sigma = 1.0 - 2.0 * side
             old = work[side, _NORMAL]
             kappa = work[side, _LATERAL] / old
-            new = loads[side] / max(work[side, COS_ANGLE] + sigma * kappa * work[side, SIN_ANGLE], 0.05)
+            new = (lifted_left if side == 0 else lifted_right) / max(work[side, COS_ANGLE] + sigma * kappa * work[side, SIN_ANGLE], 0.05)
             work[side, _NORMAL] = new
             if attempt == 1:
                 work[side, _FX] *= new / old
