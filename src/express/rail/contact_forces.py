@@ -28,9 +28,10 @@ coefficients.  Then (``docs/contact.md``, "Nonlinear contact in simulation"):
   lead of the contact point of the yawed wheel.
 
 The yaw of the wheelset does not enter the table (the contact geometry is that of the
-unyawed wheelset); the vertical load of each wheel is its static load (no load transfer,
-as the Manchester benchmark's case A).  Beyond the table (or the rail map), a wall of
-the rail's stiffness holds the wheel.
+unyawed wheelset).  The vertical load of each wheel is an argument: the static load
+(:func:`quasi_static_forces`' default, as the Manchester benchmark's case A) or the
+march's (:class:`express.analysis.contact_march.WheelLoadModel`).  Beyond the table (or
+the rail map), a wall of the rail's stiffness holds the wheel.
 """
 
 from __future__ import annotations
