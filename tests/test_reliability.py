@@ -328,3 +328,16 @@ def test_a_rounding_eigenvalue_is_not_an_instability(capsys) -> None:
     assert status == 0 and "; stable" in out.splitlines()[0]
     status, out, _ = run(capsys, "eigen", CONVENTIONAL, "--speed", "520")
     assert "; UNSTABLE" in out.splitlines()[0]
+
+
+def test_writing_over_a_bundled_example_is_refused_as_documented(capsys, tmp_path: Path) -> None:
+    """docs/cli.md, Outputs: a bundled example is never a destination (also through a link)."""
+    import os
+
+    conventional = Path(CONVENTIONAL)
+    before = conventional.read_bytes()
+    link = tmp_path / "link.toml"
+    os.symlink(conventional, link)
+    for target in (conventional, link):
+        assert_input_error(capsys, "convert", LEVER, "-o", target, mentions="refusing to overwrite the bundled example")
+    assert conventional.read_bytes() == before

@@ -154,7 +154,28 @@ def check_destination(given: str | os.PathLike, *, inputs: Iterable[str | os.Pat
     return Destination(name, "file", real)
 
 
+#: Where the bundled examples and data live (the source tree's ``examples/``, the
+#: package's ``data/``): their files are inputs of every command, never a destination.
+BUNDLED = (Path(__file__).resolve().parents[3] / "examples", Path(__file__).resolve().parents[1] / "data")
+
+
+def _bundled(status: os.stat_result) -> Path | None:
+    """The bundled file that ``status`` is (also through a link), if any."""
+    for folder in BUNDLED:
+        if not folder.is_dir():
+            continue
+        for path in folder.rglob("*"):
+            with contextlib.suppress(OSError):
+                if path.is_file() and os.path.samestat(status, path.stat()):
+                    return path
+    return None
+
+
 def _refuse_input(name: str, status: os.stat_result, inputs: Iterable[str | os.PathLike]) -> None:
+    bundled = _bundled(status) if stat.S_ISREG(status.st_mode) else None
+    if bundled is not None:
+        raise OutputError(f"{name}: refusing to overwrite the bundled example {bundled.name} "
+                          f"({bundled.parent}); write elsewhere")
     for source in inputs:
         try:
             if os.path.samestat(status, os.stat(source)):
