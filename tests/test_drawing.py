@@ -7,10 +7,11 @@ import pytest
 import sympy as sp
 
 from express.base.diagnostics import ModelError
-from express.drawing.geometry import displaced_geometry, model_geometry, point_displacement
+from express.drawing.geometry import displaced_geometry, estimated_outline, model_geometry, point_displacement
 from express.drawing.modes import animate_mode_shape, figure_mode_shape, mode_shape
-from express.drawing.views import figure_model
+from express.drawing.views import figure_model, label_boxes
 from express.io import load_model
+from express.model.parameters import expression_value
 from express.model.topology import classify_bodies
 from express.numeric.statespace import load_vehicle
 
@@ -84,10 +85,49 @@ def test_views_draw_every_element_and_body(conventional):
     plan = figure.axes[0]
     (collection,) = plan.collections
     assert len(collection.get_segments()) >= len(model.elements)  # several polylines per symbol
-    boxes = [patch for patch in plan.patches]
-    assert len(boxes) == len(model.bodies)  # no levers in this car: every body is a box
-    labels = {text.get_text() for text in plan.texts}
-    assert {body.id for body in model.bodies} <= labels
+    wheelsets = [b for b in geometry.bodies if b.role == "wheelset"]
+    # no levers in this car: every body is its outline, every wheelset its two wheels
+    assert len(plan.patches) == len(model.bodies) - len(wheelsets) + 2 * len(wheelsets)
+    labels = {text.get_text() for text in plan.texts} | set(figure.texts[-1].get_text().replace(",", " ").split()
+                                                             if figure.texts else [])
+    assert {body.id for body in model.bodies} <= labels  # on the drawing or in the list under it
+
+
+def test_outline_from_mass_and_inertia_is_the_uniform_box():
+    """A box of 20 x 3 x 2.5 m and 30 t has Ix = m (w^2 + h^2) / 12 ...: back to its sides."""
+    m, (l, w, h) = 30000.0, (20.0, 3.0, 2.5)
+    inertia = (m * (w**2 + h**2) / 12, m * (l**2 + h**2) / 12, m * (l**2 + w**2) / 12)
+    assert estimated_outline(m, inertia) == pytest.approx((l, w, h), rel=1e-12)
+    assert estimated_outline(m, (1.0, 0.0, 1.0)) is None  # a wheelset's zero pitch inertia
+    assert estimated_outline(m, (1.0, 1.0, 5.0)) is None  # no box has these
+
+
+def test_wheels_are_circles_of_the_rolling_radius_in_the_side_view(conventional):
+    from matplotlib.patches import Circle
+
+    model, geometry = conventional
+    side = figure_model(geometry).axes[1]
+    circles = [p for p in side.patches if isinstance(p, Circle)]
+    r0 = model.parameters["r0"].value
+    assert len(circles) == 4 and all(c.radius == pytest.approx(r0) for c in circles)
+    body = next(b for b in geometry.bodies if b.id == "CB")
+    assert body.outline is not None and 15 < body.outline[0] < 30  # a car body's length [m]
+
+
+@pytest.mark.parametrize("path", ["examples/conventional.toml", "examples/forced-steering.toml",
+                                  "examples/manchester.toml", "tests/data/coach-series-dampers.toml"])
+def test_no_two_labels_overlap(path):
+    """Measured with the Agg renderer on the laid-out figure: every visible label's box
+    is free of every other's, in every view (those without room are listed below)."""
+    model = load_model(path)
+    values = model.values()
+    geometry = model_geometry(model, lambda e: expression_value(e, values), classify_bodies(model).role)
+    figure = figure_model(geometry)
+    for axis, boxes in label_boxes(figure).items():
+        assert boxes, axis.get_title()
+        for k, (text, box) in enumerate(boxes):
+            for other, second in boxes[k + 1:]:
+                assert not box.overlaps(second), (axis.get_title(), text.get_text(), other.get_text())
 
 
 def test_mode_shape_matches_the_eigen_analysis():

@@ -20,20 +20,34 @@ import numpy as np
 from express.base.diagnostics import ModelError, Problem
 from express.model.records import Model
 
-__all__ = ["DrawnBody", "DrawnElement", "ModelGeometry", "displaced_geometry", "model_geometry", "point_displacement"]
+__all__ = [
+    "DrawnBody", "DrawnElement", "ModelGeometry", "displaced_geometry", "estimated_outline", "model_geometry",
+    "point_displacement",
+]
 
 Vector = tuple[float, float, float]
 
 
 @dataclass(frozen=True)
 class DrawnBody:
-    """A body to draw: its centre and the box spanned by its centre and points [m]."""
+    """A body to draw: its centre and the box spanned by its centre and points [m].
+
+    ``outline`` (length, width, height) [m] is the box the body is drawn as, centred on
+    its centre (:func:`estimated_outline`), None to draw the box of its points; a
+    wheelset has its rolling ``radius`` and half distance ``gauge_half`` between the
+    contact points [m] (its wheels are drawn as circles); ``turn`` its small rotation
+    (rx, ry, rz) [rad] in a displaced drawing.
+    """
 
     id: str
     role: str
     centre: Vector
     low: Vector
     high: Vector
+    outline: Vector | None = None
+    radius: float | None = None
+    gauge_half: float | None = None
+    turn: Vector = (0.0, 0.0, 0.0)
 
 
 @dataclass(frozen=True)
@@ -73,6 +87,43 @@ class ModelGeometry:
         """The largest extent of the drawing along ``axes`` [m] (at least 1 mm)."""
         coordinates = np.array(list(self.points.values()) + [b.centre for b in self.bodies] or [(0.0, 0.0, 0.0)])
         return float(max(np.ptp(coordinates[:, list(axes)], axis=0).max(), 1e-3))
+
+
+def estimated_outline(mass: float, inertia: tuple[float, float, float]) -> Vector | None:
+    """The uniform box of the body's mass and principal inertias [m], or None.
+
+    A box of length ``l``, width ``w`` and height ``h`` has ``Ix = m (w^2 + h^2) / 12``
+    and the like, so ``l^2 = 6 (Iy + Iz - Ix) / m``, ``w^2 = 6 (Ix + Iz - Iy) / m``,
+    ``h^2 = 6 (Ix + Iy - Iz) / m``. None when the mass or an inertia is not positive or
+    a side comes out imaginary (the inertias of no box).
+
+    Examples
+    --------
+    The Manchester coach's car body (32 t; 56.8, 1970, 1970 t m^2): 27 m long, 3.3 m
+    wide and high.
+
+    >>> [round(side, 2) for side in estimated_outline(32000.0, (56800.0, 1.97e6, 1.97e6))]
+    [26.98, 3.26, 3.26]
+    """
+    ix, iy, iz = inertia
+    if not (mass > 0 and ix > 0 and iy > 0 and iz > 0):
+        return None
+    squares = (6.0 * (iy + iz - ix) / mass, 6.0 * (ix + iz - iy) / mass, 6.0 * (ix + iy - iz) / mass)
+    if min(squares) <= 0:
+        return None
+    return tuple(float(np.sqrt(x)) for x in squares)  # type: ignore[return-value]
+
+
+def _body_shape(body, value, wheelset) -> tuple[Vector | None, float | None, float | None]:
+    """``(outline, radius, gauge_half)`` of a body: a wheelset's wheels, else the
+    estimated outline (None where the values are missing)."""
+    try:
+        if wheelset is not None:
+            return None, float(value(wheelset.r0)), float(value(wheelset.b))
+        ix, iy, iz = (float(value(i)) for i in body.inertia)
+        return estimated_outline(float(value(body.mass)), (ix, iy, iz)), None, None
+    except (KeyError, ValueError, TypeError, ModelError):
+        return None, None, None
 
 
 def _kind(stiffness_zero: bool, damping_zero: bool, series: bool) -> str:
@@ -127,10 +178,12 @@ def model_geometry(model: Model, value: Callable[[object], float], roles: Mappin
     if problems:
         raise ModelError(problems)
     bodies = []
+    wheelsets = {w.body: w for w in model.rail.wheelsets} if model.rail is not None else {}
     for body in model.bodies:
         own = np.array([centres[body.id]] + [points[p] for p, host in hosts.items() if host == body.id])
+        outline, radius, gauge_half = _body_shape(body, value, wheelsets.get(body.id))
         bodies.append(DrawnBody(body.id, (roles or {}).get(body.id, "body"), centres[body.id],
-                                tuple(own.min(axis=0)), tuple(own.max(axis=0))))
+                                tuple(own.min(axis=0)), tuple(own.max(axis=0)), outline, radius, gauge_half))
     elements = tuple(
         DrawnElement(
             element.id, element.s_end, element.t_end, int(element.direction),
@@ -186,5 +239,8 @@ def displaced_geometry(geometry: ModelGeometry, dofs: Mapping[str, float]) -> Mo
     for body in geometry.bodies:
         moved = np.asarray(body.centre) + point_displacement((0.0, 0.0, 0.0), dofs, body.id)
         own = np.array([moved] + [points[p] for p, host in geometry.hosts.items() if host == body.id])
-        bodies.append(replace(body, centre=tuple(moved), low=tuple(own.min(axis=0)), high=tuple(own.max(axis=0))))
+        turn: Vector = (float(dofs.get(f"{body.id}.rx", 0.0)), float(dofs.get(f"{body.id}.ry", 0.0)),
+                        float(dofs.get(f"{body.id}.rz", 0.0)))
+        bodies.append(replace(body, centre=tuple(moved), low=tuple(own.min(axis=0)), high=tuple(own.max(axis=0)),
+                              turn=turn))
     return replace(geometry, bodies=tuple(bodies), points=points)

@@ -2,7 +2,12 @@
 
 Springs are zigzags, dampers dashpots, parallel spring-dampers both side by side, series
 (Maxwell) elements a spring followed by a dashpot, pinned joints small open circles,
-levers thick bars, grounds dark triangles; bodies are boxes around their points, labelled with their ids.  An
+levers thick bars, grounds dark triangles.  A body is drawn by its outline (the uniform box
+of its mass and inertias, :func:`express.drawing.geometry.estimated_outline`), else as the
+box around its points; a wheelset as its wheels: circles of the rolling radius in the side
+view, discs seen edge-on at the contact points in the plan and end views, on the axle.
+Labels are placed where they overlap no other label (:func:`place_labels`); those with no
+free place are listed under the figure instead.  An
 element whose two points coincide in a view is drawn as a short symbol along its
 direction at that point, or as a ring when its direction points out of the view; a
 rotational element is a small arc.
@@ -16,7 +21,10 @@ import numpy as np
 
 from express.drawing.geometry import DrawnElement, ModelGeometry
 
-__all__ = ["VIEWS", "draw_view", "figure_model"]
+__all__ = ["VIEWS", "draw_view", "figure_model", "label_boxes", "place_labels"]
+
+#: Width of a wheel drawn edge-on [m].
+WHEEL_WIDTH = 0.14
 
 #: View name -> (horizontal axis, vertical axis, title).
 VIEWS = {
@@ -97,7 +105,124 @@ def _element(axis, lines: list, rings: list, geometry: ModelGeometry, element: D
     if label:
         middle = 0.5 * (a + b)
         axis.annotate(element.id, middle, fontsize=4, color="#555555", alpha=alpha,
-                      xytext=(2, 2), textcoords="offset points")
+                      xytext=(2, 2), textcoords="offset points", gid=f"label:{element.id}")
+
+
+def _corners(body, size: tuple[float, float, float]) -> np.ndarray:
+    """The 8 corners of a box of ``size`` on the body's centre, turned by its small
+    rotation (``u = theta x r``), shape (8, 3)."""
+    half = 0.5 * np.asarray(size)
+    signs = np.array([[i, j, k] for i in (-1, 1) for j in (-1, 1) for k in (-1, 1)], dtype=float)
+    offsets = signs * half
+    return np.asarray(body.centre) + offsets + np.cross(np.asarray(body.turn), offsets)
+
+
+def _hull(points: np.ndarray) -> np.ndarray:
+    """Convex hull of 2-D points, closed (monotone chain)."""
+    ordered = sorted({(round(float(x), 9), round(float(y), 9)) for x, y in points})
+    if len(ordered) < 3:
+        return np.array(ordered + ordered[:1])
+
+    def half(seq):
+        out: list = []
+        for p in seq:
+            while len(out) >= 2 and ((out[-1][0] - out[-2][0]) * (p[1] - out[-2][1])
+                                     - (out[-1][1] - out[-2][1]) * (p[0] - out[-2][0])) <= 0:
+                out.pop()
+            out.append(p)
+        return out
+
+    lower, upper = half(ordered), half(ordered[::-1])
+    loop = lower[:-1] + upper[:-1]
+    return np.array(loop + loop[:1])
+
+
+def _draw_body(axis, geometry: ModelGeometry, body, view: tuple[int, int], pad: float, colour: str, alpha: float) -> None:
+    from matplotlib.patches import Circle, Polygon, Rectangle
+
+    h, v = view
+    if body.role == "lever":
+        own = np.array([geometry.points[p] for p, host in geometry.hosts.items() if host == body.id] or [body.centre])
+        bar = own[:, [h, v]]
+        order = np.lexsort((bar[:, 1], bar[:, 0]))
+        axis.plot(bar[order, 0], bar[order, 1], color=colour, lw=2.5, alpha=alpha, solid_capstyle="round")
+    elif body.radius is not None and body.radius > 0:  # a wheelset: its wheels on the axle
+        centre = np.asarray(body.centre)
+        if (h, v) == (0, 2):
+            axis.add_patch(Circle((centre[0], centre[2]), body.radius, fill=False, ec=colour, lw=1.2, alpha=alpha))
+        else:
+            half = body.gauge_half or 0.75
+            ends = []
+            for side in (-1.0, 1.0):
+                wheel = np.array([centre[0], centre[1] + side * half, centre[2]])
+                wheel = wheel + np.cross(np.asarray(body.turn), wheel - centre)
+                x, y = wheel[[h, v]]
+                length = 2 * body.radius if h == 0 else WHEEL_WIDTH
+                height = WHEEL_WIDTH if h == 0 else 2 * body.radius
+                axis.add_patch(Rectangle((x - 0.5 * length, y - 0.5 * height), length, height, fill=False,
+                                         ec=colour, lw=1.2, alpha=alpha))
+                ends.append((x, y))
+            axis.plot(*np.array(ends).T, color=colour, lw=1.0, alpha=alpha)
+    elif body.outline is not None:
+        corners = _corners(body, body.outline)[:, [h, v]]
+        axis.add_patch(Polygon(_hull(corners), closed=True, fill=False, ec=colour, lw=1.2, alpha=alpha))
+    else:
+        low, high = np.asarray(body.low)[[h, v]] - pad, np.asarray(body.high)[[h, v]] + pad
+        axis.add_patch(Rectangle(tuple(low), *(high - low), fill=False, ec=colour, lw=1.2, alpha=alpha))
+
+
+def label_boxes(figure) -> dict:
+    """Axis -> the window extents of its visible labels (body and element ids), drawn
+    with the Agg renderer."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    canvas = figure.canvas if isinstance(figure.canvas, FigureCanvasAgg) else FigureCanvasAgg(figure)
+    renderer = canvas.get_renderer()
+    return {axis: [(text, text.get_window_extent(renderer)) for text in axis.texts
+                   if text.get_visible() and str(text.get_gid() or "").startswith("label:")]
+            for axis in figure.axes}
+
+
+#: Offsets [points] a label may take from its anchor, tried in order.
+_CANDIDATES = ((2, 2), (2, -8), (-14, 2), (-14, -8), (2, 9), (2, -15), (-22, 9), (-22, -15), (10, 16), (10, -22))
+
+
+#: The same for a body's id (centred on the body's centre).
+_BODY_CANDIDATES = ((0, 0), (0, 9), (0, -9), (12, 0), (-12, 0), (0, 18), (0, -18))
+
+
+def place_labels(figure) -> list[str]:
+    """Move every label to the first offset (:data:`_CANDIDATES`) where it overlaps no
+    label placed before it (body labels first), in each axis; hide those with no free
+    place. Returns the hidden labels' names, for a list under the figure."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    if not isinstance(figure.canvas, FigureCanvasAgg):
+        FigureCanvasAgg(figure)
+    figure.canvas.draw()
+    figure.set_layout_engine("none")  # keep the laid-out axes: the boxes measured stay true
+    renderer = figure.canvas.get_renderer()
+    hidden: list[str] = []
+    for axis in figure.axes:
+        placed: list = []
+        texts = [t for t in axis.texts if str(t.get_gid() or "").startswith("label:")]
+        texts.sort(key=lambda t: t.get_fontsize(), reverse=True)  # body ids (larger) first
+        for text in texts:
+            frame = axis.get_window_extent(renderer)
+            offsets = (_BODY_CANDIDATES if text.get_fontsize() >= 6 else _CANDIDATES)
+            for offset in offsets:
+                text.xyann = offset
+                box = text.get_window_extent(renderer)
+                inside = frame.x0 <= box.x0 and box.x1 <= frame.x1 and frame.y0 <= box.y0 and box.y1 <= frame.y1
+                if inside and not any(box.overlaps(other) for other in placed):
+                    placed.append(box)
+                    break
+            else:
+                text.set_visible(False)
+                name = str(text.get_gid())[6:]
+                if name not in hidden:
+                    hidden.append(name)
+    return hidden
 
 
 def draw_view(axis, geometry: ModelGeometry, view: str, *, alpha: float = 1.0, labels: bool = True,
@@ -108,21 +233,14 @@ def draw_view(axis, geometry: ModelGeometry, view: str, *, alpha: float = 1.0, l
     span = geometry.span((h, v))
     size = 0.025 * span
     pad = 0.008 * span
-    from matplotlib.patches import Rectangle
 
     for body in geometry.bodies:
         colour = _COLOURS.get(body.role, _COLOURS["body"])
-        low, high = np.asarray(body.low)[[h, v]] - pad, np.asarray(body.high)[[h, v]] + pad
-        if body.role == "lever":
-            own = np.array([geometry.points[p] for p, host in geometry.hosts.items() if host == body.id] or [body.centre])
-            bar = own[:, [h, v]]
-            order = np.lexsort((bar[:, 1], bar[:, 0]))
-            axis.plot(bar[order, 0], bar[order, 1], color=colour, lw=2.5, alpha=alpha, solid_capstyle="round")
-        else:
-            axis.add_patch(Rectangle(tuple(low), *(high - low), fill=False, ec=colour, lw=1.2, alpha=alpha))
+        _draw_body(axis, geometry, body, (h, v), pad, colour, alpha)
         if labels:
             centre = np.asarray(body.centre)[[h, v]]
-            axis.annotate(body.id, centre, fontsize=6, color=colour, weight="bold", ha="center", va="center", alpha=alpha)
+            axis.annotate(body.id, centre, fontsize=6, color=colour, weight="bold", ha="center", va="center",
+                          alpha=alpha, gid=f"label:{body.id}", xytext=(0, 0), textcoords="offset points")
     from matplotlib.collections import LineCollection
 
     lines: list = []
@@ -170,4 +288,17 @@ def figure_model(geometry: ModelGeometry, *, title: str | None = None, deformed:
             draw_view(axis, geometry, view, alpha=0.25, labels=False)
             draw_view(axis, deformed, view)
     figure.suptitle(title or geometry.name, fontsize=10)
+    engine = figure.get_layout_engine()
+    if engine is not None:  # room for the list of labels left out
+        engine.set(rect=(0, 0.035, 1, 0.965))  # type: ignore[call-arg]
+    hidden = place_labels(figure)
+    if hidden:
+        figure.text(0.01, 0.005, _wrap("not labelled for lack of space: " + ", ".join(hidden)), fontsize=5,
+                    color="#555555", va="bottom")
     return figure
+
+
+def _wrap(text: str, width: int = 260) -> str:
+    import textwrap
+
+    return "\n".join(textwrap.wrap(text, width))
