@@ -107,20 +107,21 @@ def size_bound() -> int:
 
 
 def _package_fingerprint() -> str:
-    """Package version and the name, size and modification time of its files."""
+    """Package version and the name, size and modification time of its files (compiled
+    files and Numba's kernels left out)."""
     import express
 
-    digest = hashlib.sha256(express.__version__.encode())
     root = Path(express.__file__).resolve().parent
-    for directory, folders, files in sorted(os.walk(root)):
-        folders[:] = sorted(f for f in folders if f != "__pycache__")
-        for name in sorted(files):
-            if name.endswith((".pyc", ".nbi", ".nbc")):
-                continue
-            with contextlib.suppress(OSError):
-                status = os.stat(os.path.join(directory, name))
-                digest.update(f"{os.path.relpath(os.path.join(directory, name), root)}:{status.st_size}:{status.st_mtime_ns}\n".encode())
-    return digest.hexdigest()
+    found = []
+    for directory, folders, files in os.walk(root):
+        folders[:] = [folder for folder in folders if folder != "__pycache__"]
+        for name in files:
+            if not name.endswith((".pyc", ".nbi", ".nbc")):
+                path = os.path.join(directory, name)
+                with contextlib.suppress(OSError):
+                    status = os.stat(path)
+                    found.append(f"{os.path.relpath(path, root)}:{status.st_size}:{status.st_mtime_ns}")
+    return hashlib.sha256("\n".join([express.__version__, *sorted(found)]).encode()).hexdigest()
 
 
 _FINGERPRINT: list[str] = []

@@ -21,6 +21,7 @@ rebuilds the entry.
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any
@@ -30,6 +31,7 @@ import sympy as sp
 
 from express.assembly.equations import ClearanceTerm, EquationsOfMotion, Matrices
 from express.assembly.generator import GenerationResult, symbolic_matrix
+from express.base.diagnostics import InputError
 from express.model.records import Model
 from express.numeric.compiled import CompiledExpressions, CompiledMatrices
 from express.numeric.program import ExpressionProgram, ProgramError
@@ -116,6 +118,23 @@ def vehicle_entry(
     }
 
 
+def _checked(read: Callable) -> Callable:
+    """Any failure of ``read`` on damaged data as a :class:`ProgramError` (an error in the
+    model itself, an ``InputError``, passes: the derivation will report it)."""
+
+    @functools.wraps(read)
+    def checked(payload: Any, model: Model) -> Any:
+        try:
+            return read(payload, model)
+        except InputError:
+            raise
+        except (ValueError, TypeError, KeyError, IndexError, OverflowError, RecursionError, SyntaxError) as error:
+            raise ProgramError(f"{type(error).__name__}: {error}") from None
+
+    return checked
+
+
+@_checked
 def read_vehicle_entry(payload: Any, model: Model) -> CachedVehicle:
     """The vehicle of :func:`vehicle_entry`'s data, every field checked; the name, values,
     units and derivation steps come from ``model`` (the model the entry was derived from).
@@ -295,6 +314,7 @@ def generation_entry(result: GenerationResult) -> dict[str, Any]:
     }
 
 
+@_checked
 def read_generation_entry(payload: Any, model: Model) -> GenerationResult:
     """The generation of :func:`generation_entry`'s data, every field checked; names,
     values, units, derivation steps and the warnings' file come from ``model``.
