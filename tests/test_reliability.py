@@ -341,3 +341,21 @@ def test_writing_over_a_bundled_example_is_refused_as_documented(capsys, tmp_pat
     for target in (conventional, link):
         assert_input_error(capsys, "convert", LEVER, "-o", target, mentions="refusing to overwrite the bundled example")
     assert conventional.read_bytes() == before
+
+
+def test_a_non_finite_contact_result_is_no_result() -> None:
+    """No NaN is written or printed: a table with a missing contact is status 1 (AnalysisError)."""
+    from types import SimpleNamespace
+
+    import numpy as np
+
+    from express.base.diagnostics import AnalysisError
+    from express.cli.contact_geometry import require_finite
+
+    y = np.array([-0.002, 0.0, 0.002])
+    good = SimpleNamespace(y=y, roll=np.zeros(3), height=np.zeros(3), delta_r=np.zeros(3),
+                           radius=np.full((2, 3), 0.46), contact_angle=np.zeros((2, 3)))
+    require_finite(good, "S1002 on 60E1")
+    bad = SimpleNamespace(**{**vars(good), "delta_r": np.array([0.0, math.nan, math.nan])})
+    with pytest.raises(AnalysisError, match=r"at 2 of 3 lateral displacements, the first at y = 0 mm"):
+        require_finite(bad, "w on r")

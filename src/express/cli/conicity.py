@@ -73,6 +73,12 @@ def run(
             tan_gamma, _ = conicity_from_profiles(wheel, rail, amplitude, setup)  # ArgumentError: no contact
             label = f"{wheel.name} on {rail.name}, rails 1:{'inf' if inclination == 0 else f'{1 / inclination:g}'}, " \
                     f"gauge {gauge * 1e3:g} mm"
+        if not np.all(np.isfinite(tan_gamma)):
+            from express.base.diagnostics import AnalysisError
+
+            first = float(amplitude[np.flatnonzero(~np.isfinite(tan_gamma))[0]])
+            raise AnalysisError(f"{label}: no equivalent conicity at {int((~np.isfinite(tan_gamma)).sum())} "
+                                f"amplitudes, the first {first * 1e3:.4g} mm (no contact there); nothing written")
         columns = {"amplitude": amplitude, "tan_gamma_e": tan_gamma}
         column_units = {"amplitude": "m", "tan_gamma_e": ""}
         wavelength = None

@@ -160,6 +160,7 @@ def run(
             transaction.declare(plot, binary=True)
         wheel, rail = load_profiles(profiles, units)
         table = contact_geometry(wheel, rail, y, setup)
+        require_finite(table, f"{wheel.name} on {rail.name}")
         if output is not None:
             columns, column_units = table_columns(table)
             write_csv(output, columns, column_units)
@@ -175,6 +176,25 @@ def run(
     else:
         _print_summary(summary, sys.stderr if output == "-" else sys.stdout)
     return 0
+
+
+def require_finite(table, label: str) -> None:
+    """No NaN or inf is ever written or printed as a result: a contact table with a
+    non-finite roll, height, delta r, radius or contact angle is no result (status 1,
+    nothing written), naming the first lateral displacement where it happens."""
+    import numpy as np
+
+    from express.base.diagnostics import AnalysisError
+
+    bad = ~np.isfinite(table.roll) | ~np.isfinite(table.height) | ~np.isfinite(table.delta_r)
+    bad |= ~np.all(np.isfinite(table.radius), axis=0) | ~np.all(np.isfinite(table.contact_angle), axis=0)
+    if bad.any():
+        first = int(np.flatnonzero(bad)[0])
+        raise AnalysisError(
+            f"{label}: no contact solution at {int(bad.sum())} of {bad.size} lateral displacements, the first at "
+            f"y = {table.y[first] * 1e3:.4g} mm (the profiles do not meet there: check their roles, sides and "
+            "units); nothing written"
+        )
 
 
 def table_columns(table) -> tuple[dict[str, Any], dict[str, str]]:
