@@ -61,12 +61,12 @@ def _median(function, runs: int) -> float:
 def _with_stops(model, gap: float):
     import sympy as sp
 
-    from express.model.records import Element, Parameter
+    from express.model.records import Element, ElementKind, Parameter
 
     dampers = {e.id: e for e in model.elements}
     stops = tuple(
         Element(f"T{t}_stop", sp.Symbol("kstop"), sp.S.Zero, dampers[f"T{t}_dy"].s_end, dampers[f"T{t}_dy"].t_end, 1,
-                gap=sp.Symbol("ystop"), progressive=sp.Symbol("kstop3"))
+                kind=ElementKind.CLEARANCE, gap=sp.Symbol("ystop"), progressive=sp.Symbol("kstop3"))
         for t in (1, 2)
     )
     parameters = {**model.parameters, "kstop": Parameter("kstop", 1e6), "kstop3": Parameter("kstop3", 1e10),

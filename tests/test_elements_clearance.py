@@ -14,7 +14,7 @@ from express.assembly.clearance import clearance_force, clearances_of
 from express.assembly.generator import generate
 from express.base.diagnostics import ModelError
 from express.io import load_model, parse_toml_model
-from express.model.records import Element, Parameter
+from express.model.records import Element, ElementKind, Parameter
 from express.numeric.statespace import vehicle_model
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -118,7 +118,8 @@ def with_lateral_bump_stops(model, gap: float):
     dampers = {e.id: e for e in model.elements}
     stops = [
         Element(f"T{t}_stop", sp.Symbol("kstop"), sp.S.Zero, dampers[f"T{t}_dy"].s_end, dampers[f"T{t}_dy"].t_end, 1,
-                "lateral bump stop", None, gap=sp.Symbol("ystop"), progressive=sp.Symbol("kstop3"))
+                "lateral bump stop", None, kind=ElementKind.CLEARANCE, gap=sp.Symbol("ystop"),
+                progressive=sp.Symbol("kstop3"))
         for t in (1, 2)
     ]
     parameters = {

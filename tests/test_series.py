@@ -23,7 +23,7 @@ from express.assembly.first_order import state_form
 from express.assembly.generator import generate
 from express.base.diagnostics import ModelError
 from express.io import load_model, parse_toml_model
-from express.model.records import Element, Parameter
+from express.model.records import Element, ElementKind, Parameter
 from express.numeric.statespace import vehicle_model
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -209,7 +209,8 @@ def with_series_yaw_dampers(model, bush: float):
         if element.id.endswith(("_sxL", "_sxR")):
             elements.append(dataclasses.replace(element, damping=sp.S.Zero))
             elements.append(Element(f"{element.id}_yaw", sp.Symbol("kbush"), element.damping, element.s_end,
-                                    element.t_end, element.direction, "yaw damper with bush", element.line, series=True))
+                                    element.t_end, element.direction, "yaw damper with bush", element.line,
+                                    kind=ElementKind.SERIES))
         else:
             elements.append(element)
     parameters = {**model.parameters, "kbush": Parameter("kbush", bush, "N/m")}

@@ -395,7 +395,7 @@ def _assemble(model: Model, added: AddedTerms, domain: ExactDomain, deflections:
         g = reduce(deflections.gradients[element.id])
         h = {in_index[u]: v for u, v in deflections.input_gradients[element.id].items()}
         k, c = conv(element.stiffness), conv(element.damping)
-        if element.gap is not None:
+        if element.clearance:
             parts.clearances.append(_clearance(element, g, h, reduced, deflections.inputs, domain.readable))
             continue
         if element.series:
@@ -435,7 +435,7 @@ def _generation_warnings(model: Model, reduced: list[str], mass_matrix, clearanc
     by_id = {body.id: body for body in model.bodies}
     if clearances:
         names = ", ".join(term.element for term in clearances)
-        first = next(e for e in model.elements if e.gap is not None)
+        first = next(e for e in model.elements if e.clearance)
         warnings.append(
             Problem(
                 model.source,

@@ -37,7 +37,7 @@ import sympy as sp
 from express.assembly.equations import GenerationResult
 from express.assembly.kinematics import point_motion
 from express.base.diagnostics import ModelError, Problem
-from express.model.records import AXES, DOF_NAMES, Model
+from express.model.records import AXES, DOF_NAMES, ElementKind, Model
 
 __all__ = ["element_length", "gravity_stiffness", "static_model", "static_preloads"]
 
@@ -54,7 +54,7 @@ def static_model(model: Model) -> Model:
     bodies = tuple(
         replace(b, dofs=tuple(d for d in DOF_NAMES if not (b.id in held and d in ("z", "rx")))) for b in model.bodies
     )
-    elements = tuple(e for e in model.elements if not e.series and e.gap is None)
+    elements = tuple(e for e in model.elements if e.kind is ElementKind.PARALLEL)
     return replace(model, bodies=bodies, elements=elements, gravity=None, rail=None)
 
 

@@ -187,7 +187,7 @@ def model_geometry(model: Model, value: Callable[[object], float], roles: Mappin
     elements = tuple(
         DrawnElement(
             element.id, element.s_end, element.t_end, int(element.direction),
-            _kind(element.stiffness == 0, element.damping == 0, bool(getattr(element, "series", False))),
+            _kind(element.stiffness == 0, element.damping == 0, bool(element.series)),
         )
         for element in model.elements
         if element.s_end in points and element.t_end in points

@@ -20,6 +20,7 @@ from express.model.parameter_ranges import check_ranges
 from express.model.records import (
     AXES,
     DOF_NAMES,
+    Axis,
     Body,
     ConnectionPoint,
     Element,
@@ -283,7 +284,7 @@ def _records(rows: dict[str, list], source: str, problems: list[Problem]) -> tup
         s_end = row.identifier(fields[3], "S_End")
         t_end = row.identifier(fields[4], "T_End")
         direction = row.direction(fields[5])
-        elements.append(Element(fields[0], stiffness, damping, s_end, t_end, direction, line=number))
+        elements.append(Element(fields[0], stiffness, damping, s_end, t_end, Axis(direction), line=number))
     for number, fields in rows["Pinned Joint"]:
         row = _RowReader(source, number, f"pin {fields[0]}", problems)
         virtual, non_virtual = row.identifier(fields[1], "virtual CP"), row.identifier(fields[2], "non-virtual CP")

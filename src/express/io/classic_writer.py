@@ -10,7 +10,7 @@ from __future__ import annotations
 from typing import Any
 
 from express.io.toml_writer import value_text
-from express.model.records import DOF_NAMES, Model
+from express.model.records import DOF_NAMES, ElementKind, Model
 
 __all__ = ["model_to_classic"]
 
@@ -18,7 +18,7 @@ __all__ = ["model_to_classic"]
 def model_to_classic(model: Model) -> tuple[str, dict[str, str]]:
     """Classic-format text of ``model`` and the renaming of its bodies and grounds
     ``{old id: classic id}`` (CPs, elements and pins are renumbered too; see the header)."""
-    special = [e.id for e in model.elements if e.rotational or e.series or e.gap is not None]
+    special = [e.id for e in model.elements if e.rotational or e.kind is not ElementKind.PARALLEL]
     if special or model.gravity is not None:
         raise ValueError(
             f"{model.source}: the classic format has no rotational, series or clearance elements "

@@ -11,7 +11,17 @@ import sympy as sp
 from express.base.diagnostics import Problem
 from express.base.expressions import ExpressionError, parse_expression
 from express.io.toml_lines import line_index
-from express.model.records import DOF_NAMES, Body, ConnectionPoint, Element, Ground, PinnedJoint
+from express.model.records import (
+    DOF_NAMES,
+    Axis,
+    Body,
+    ConnectionPoint,
+    Element,
+    ElementKind,
+    Ground,
+    Motion,
+    PinnedJoint,
+)
 
 __all__ = ["TomlReader", "check_id", "cut_text", "entries", "read_items", "show_value", "value_kind"]
 
@@ -194,20 +204,24 @@ def read_element(reader: TomlReader, element_id: str, path: tuple[str, ...], ite
     if not isinstance(series, bool):
         reader.problem(path + ("series",), item, f"series must be true or false, got {show_value(series)}")
         series = False
-    gap = None
+    kind = ElementKind.SERIES if series else ElementKind.PARALLEL
+    gap = sp.S.Zero
     if "gap" in spec:
         gap = reader.expression(spec["gap"], path + ("gap",), item, "gap")  # >= 0: check_model
+        if series:
+            reader.problem(path, item, "a clearance element cannot be a series element")
+        kind = ElementKind.CLEARANCE
     return Element(
         element_id,
         reader.expression(spec.get("stiffness", 0), path + ("stiffness",), item, "stiffness"),
         reader.expression(spec.get("damping", 0), path + ("damping",), item, "damping"),
         reader.name(spec.get("from"), path + ("from",), item, "from"),
         reader.name(spec.get("to"), path + ("to",), item, "to"),
-        axis,
+        Axis(axis),
         str(spec.get("label", "")),
         reader.line(*path),
-        rotational=rotational,
-        series=series,
+        motion=Motion.ROTATION if rotational else Motion.TRANSLATION,
+        kind=kind,
         gap=gap,
         progressive=reader.expression(spec.get("progressive", 0), path + ("progressive",), item, "progressive"),
     )

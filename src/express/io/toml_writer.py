@@ -151,7 +151,7 @@ def model_to_toml(model: Model) -> str:
         ]
         if element.series:
             lines.append("series = true")
-        if element.gap is not None:
+        if element.clearance:
             lines.append(f"gap = {value_to_toml(element.gap)}")
         if element.progressive != 0:
             lines.append(f"progressive = {value_to_toml(element.progressive)}")

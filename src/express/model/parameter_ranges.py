@@ -287,7 +287,7 @@ def range_problems(model: Model, overridden: Mapping[str, object] | None = None)
     checks = _checks(model)
     values = model.values()
     problems, notes, reported = [], [], set()
-    locked = {f"TSD {element.id}" for element in model.elements if getattr(element, "series", False)}
+    locked = {f"TSD {element.id}" for element in model.elements if element.series}
     for check in checks.checks:
         value = _value(check.expression, values)
         if value is None:

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from enum import Enum, IntEnum
 
 import sympy as sp
 
@@ -25,12 +26,15 @@ from express.base.units import Dimension
 __all__ = [
     "AXES",
     "DOF_NAMES",
+    "Axis",
     "Body",
     "ConnectionPoint",
     "Derivation",
     "Element",
+    "ElementKind",
     "Ground",
     "Model",
+    "Motion",
     "OutputPoint",
     "Parameter",
     "PinnedJoint",
@@ -109,20 +113,68 @@ class ConnectionPoint:
     line: int | None = None
 
 
+class Axis(IntEnum):
+    """A direction of the vehicle's axes (0 = x along the track, 1 = y lateral, 2 = z up)."""
+
+    X = 0
+    Y = 1
+    Z = 2
+
+
+class Motion(Enum):
+    """What an element's deflection measures: the relative translation of its ends along
+    its axis, or the relative rotation of their bodies about it."""
+
+    TRANSLATION = "translation"
+    ROTATION = "rotation"
+
+
+class ElementKind(Enum):
+    """How an element's force follows its deflection."""
+
+    #: Spring and damper side by side (Kelvin-Voigt): ``k delta + c delta'``.
+    PARALLEL = "parallel"
+    #: Spring and damper in series (Maxwell), with the damper stroke as a coordinate.
+    SERIES = "series"
+    #: A bump stop: ``k e + k3 e^3`` beyond the gap only (the nonlinear simulation).
+    CLEARANCE = "clearance"
+
+
 @dataclass(frozen=True)
 class Element:
     """A spring/damper element (TSD) between CPs ``s_end`` and ``t_end``.
 
-    Its deflection is ``u_S[d] - u_T[d]`` along axis ``direction`` (0 = x, 1 = y, 2 = z).
+    Its deflection is ``u_S[d] - u_T[d]`` along axis ``direction`` (0 = x, 1 = y, 2 = z);
+    with ``motion`` :attr:`Motion.ROTATION` the relative rotation ``theta_S[d] - theta_T[d]``
+    of its two ends' bodies about axis ``d`` (stiffness [N m/rad], damping [N m s/rad]).
     ``stiffness`` [N/m] and ``damping`` [N s/m] may be zero (not both, usefully).
+    ``kind``: :class:`ElementKind` -- parallel, series (a Maxwell element, with an
+    internal coordinate, the damper stroke) or clearance (a bump stop that pushes back
+    only beyond ``|deflection| > gap`` with ``stiffness * e + progressive * e**3``, ``e``
+    the penetration; used by the nonlinear simulation only, ``docs/model-format.md``).
 
-    ``rotational``: the element acts on the relative rotation ``theta_S[d] - theta_T[d]``
-    of its two ends' bodies about axis ``d`` (stiffness [N m/rad], damping
-    [N m s/rad]). ``series``: stiffness and damping in series (a Maxwell element, with
-    an internal coordinate, the damper stroke). ``gap`` (not None): a clearance element
-    (bump stop) that pushes back only beyond ``|deflection| > gap`` with
-    ``stiffness * e + progressive * e**3`` (``e`` the penetration); used by the
-    nonlinear simulation only (``docs/model-format.md``).
+    Attributes
+    ----------
+    id : str
+        The element's name.
+    stiffness, damping : sympy.Expr
+        [N/m], [N s/m] (rotational: [N m/rad], [N m s/rad]).
+    s_end, t_end : str
+        The connection points at its S and T ends.
+    direction : Axis
+        The axis of the deflection (an int 0, 1, 2 is taken as the :class:`Axis`).
+    label : str
+        A free description.
+    line : int or None
+        Line in the source file.
+    motion : Motion
+        Translation (default) or rotation.
+    kind : ElementKind
+        Parallel (default), series or clearance.
+    gap : sympy.Expr
+        The clearance [m] (clearance elements only).
+    progressive : sympy.Expr
+        The cubic stiffness ``k3`` [N/m^3] beyond the gap (clearance elements only).
     """
 
     id: str
@@ -130,13 +182,31 @@ class Element:
     damping: sp.Expr
     s_end: str
     t_end: str
-    direction: int
+    direction: Axis
     label: str = ""
     line: int | None = None
-    rotational: bool = False
-    series: bool = False
-    gap: sp.Expr | None = None
+    motion: Motion = Motion.TRANSLATION
+    kind: ElementKind = ElementKind.PARALLEL
+    gap: sp.Expr = sp.S.Zero
     progressive: sp.Expr = sp.S.Zero
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "direction", Axis(self.direction))
+
+    @property
+    def rotational(self) -> bool:
+        """The element acts on the relative rotation of its ends' bodies."""
+        return self.motion is Motion.ROTATION
+
+    @property
+    def series(self) -> bool:
+        """A series (Maxwell) element."""
+        return self.kind is ElementKind.SERIES
+
+    @property
+    def clearance(self) -> bool:
+        """A clearance element (bump stop)."""
+        return self.kind is ElementKind.CLEARANCE
 
     @property
     def axis_name(self) -> str:
@@ -503,9 +573,7 @@ def _check_element_kinds(model: Model, hosts: dict[str, str], bodies: dict[str, 
                         model.source, element.line, item,
                         f"a series (Maxwell) element needs a nonzero {what}",
                     ))
-        if element.gap is not None:
-            if element.series:
-                problems.append(Problem(model.source, element.line, item, "a clearance element cannot be a series element"))
+        if element.clearance:
             gap = _numeric_value(element.gap, model.parameters)
             if gap is not None and not gap >= 0:
                 problems.append(Problem(model.source, element.line, item, f"gap must be >= 0, got {gap:g}"))
@@ -514,7 +582,7 @@ def _check_element_kinds(model: Model, hosts: dict[str, str], bodies: dict[str, 
                 model.source, element.line, item, "progressive stiffness needs a gap (a clearance element)"
             ))
         if frozenset((element.s_end, element.t_end)) in pinned and (
-            element.rotational or element.series or element.gap is not None
+            element.rotational or element.kind is not ElementKind.PARALLEL
         ):
             problems.append(Problem(
                 model.source, element.line, item,

@@ -209,7 +209,7 @@ def instantiate(sub: Substructure, instance: Instance, source: str = "<substruct
     elements = tuple(
         replace(
             e, id=rename(e.id), s_end=rename(e.s_end), t_end=rename(e.t_end), stiffness=value(e.stiffness),
-            damping=value(e.damping), gap=None if e.gap is None else value(e.gap), progressive=value(e.progressive),
+            damping=value(e.damping), gap=value(e.gap), progressive=value(e.progressive),
         )
         for e in sub.elements
     )

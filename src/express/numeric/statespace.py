@@ -459,7 +459,7 @@ def _locked_dampers(model: Model, equations: EquationsOfMotion, values: dict[str
     for element in model.elements:
         name = f"{element.id}.{STROKE}"
         symbols: set[sp.Symbol] = getattr(element.damping, "free_symbols", set())
-        if getattr(element, "series", False) and name in equations.dofs and {s.name for s in symbols} & set(infinite):
+        if element.series and name in equations.dofs and {s.name for s in symbols} & set(infinite):
             locked.append(equations.dofs.index(name))
     return {**values, **dict.fromkeys(infinite, 1.0)}, locked
 

@@ -23,7 +23,7 @@ import numpy as np
 
 from express.assembly.kinematics import point_motion
 from express.model.parameters import expression_value
-from express.model.records import Model
+from express.model.records import ElementKind, Model
 
 __all__ = ["VerticalContact", "vertical_contacts"]
 
@@ -63,7 +63,7 @@ def vertical_contacts(model: Model, values: Mapping[str, float], wheelsets: Sequ
     grounds = {g.id for g in model.grounds}
     found: dict[tuple[str, int], VerticalContact] = {}
     for element in model.elements:
-        if element.rotational or element.direction != 2 or element.gap is not None or element.series:
+        if element.rotational or element.direction != 2 or element.kind is not ElementKind.PARALLEL:
             continue
         hosts = (model.point(element.s_end).host, model.point(element.t_end).host)
         if not (hosts[0] in wheelsets and hosts[1] in grounds) and not (hosts[1] in wheelsets and hosts[0] in grounds):

@@ -74,7 +74,7 @@ from express.assembly.kinematics import end_motion
 from express.base.diagnostics import AnalysisError, InputError
 from express.base.names import did_you_mean
 from express.model.parameters import expression_value
-from express.model.records import Model
+from express.model.records import ElementKind, Model
 from express.numeric.statespace import VehicleModel
 from express.rail.track.spectra import AAR_CLASSES, COMPONENTS, ERRI_LEVELS, FRA_CLASSES, TrackSpectrum
 
@@ -318,7 +318,7 @@ def _wheel_load_rows(vehicle: VehicleModel, inputs: RailInputs, rows: _Rows) -> 
         if on_ground[0] == on_ground[1] or element.rotational or element.direction != 2:
             continue
         what = f"element {element.id} (to a rail ground)"
-        if element.series or element.gap is not None:
+        if element.kind is not ElementKind.PARALLEL:
             raise InputError(f"{what}: a series or clearance element cannot carry the wheel load in a ride analysis")
         body, side = inputs.rail_grounds[hosts[element.s_end if on_ground[0] else element.t_end]]
         if not side:  # one ground under both wheels: the side of the element's wheel end (+y left)
