@@ -218,17 +218,8 @@ def _summary(model: Path, track: str, response: Any, comfort: dict, wheels: dict
         "model": str(model), "track": track, "speed": response.speed, "speed_kmh": response.speed / common.KMH,
         "frequency_band_hz": [float(f[0]), float(f[-1])], "points": int(f.size),
         "components": list(response.components), "notes": list(response.notes),
-        "output_points": {
-            name: {"directions": list(c.directions), "rms": c.rms, "weighted_rms": c.weighted_rms, "wz": c.wz,
-                   "n_mv": c.n_mv, "a_p95": c.a_p95, "method": c.method}
-            for name, c in comfort.items()
-        },
-        "wheelsets": {
-            name: {"wheel_load": w.wheel_load, "y_rms": w.y_rms, "dq_rms": w.dq_rms, "dynamic_q": w.dynamic_q,
-                   "yq_rms": w.yq_rms, "yq_level": w.yq_level, "yq_sigmas": w.z, "y_rel_rms": w.y_rel_rms,
-                   "flange_clearance": w.flange_clearance}
-            for name, w in wheels.items()
-        },
+        "output_points": {name: c.as_dict() for name, c in comfort.items()},
+        "wheelsets": {name: w.as_dict() for name, w in wheels.items()},
         "units": {"rms": "m/s^2", "weighted_rms": "m/s^2", "a_p95": "m/s^2", "wheel_load": "N", "y_rms": "N",
                   "dq_rms": "N", "y_rel_rms": "m", "flange_clearance": "m", "speed": "m/s"},
     }

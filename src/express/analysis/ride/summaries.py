@@ -69,6 +69,11 @@ class PointComfort:
     a_p95: dict[str, float]
     method: str
 
+    def as_dict(self) -> dict:
+        """The indices as plain data (accelerations in m/s^2)."""
+        return {"directions": list(self.directions), "rms": self.rms, "weighted_rms": self.weighted_rms,
+                "wz": self.wz, "n_mv": self.n_mv, "a_p95": self.a_p95, "method": self.method}
+
 
 _WEIGHTING = {"x": WD, "y": WD, "z": WB}
 _SPERLING = {"y": "lateral", "z": "vertical"}
@@ -182,6 +187,12 @@ class WheelForces:
     y_rel_rms: float
     flange_clearance: float
     dynamic_q: bool
+
+    def as_dict(self) -> dict:
+        """The forces as plain data (SI: N, m); ``yq_sigmas`` is :attr:`z`."""
+        return {"wheel_load": self.wheel_load, "y_rms": self.y_rms, "dq_rms": self.dq_rms, "dynamic_q": self.dynamic_q,
+                "yq_rms": self.yq_rms, "yq_level": self.yq_level, "yq_sigmas": self.z, "y_rel_rms": self.y_rel_rms,
+                "flange_clearance": self.flange_clearance}
 
 
 def wheel_forces(response: RideResponse, vehicle: VehicleModel, z: float = 3.0) -> dict[str, WheelForces]:
