@@ -95,9 +95,9 @@ def test_views_draw_every_element_and_body(conventional):
 
 def test_outline_from_mass_and_inertia_is_the_uniform_box():
     """A box of 20 x 3 x 2.5 m and 30 t has Ix = m (w^2 + h^2) / 12 ...: back to its sides."""
-    m, (l, w, h) = 30000.0, (20.0, 3.0, 2.5)
-    inertia = (m * (w**2 + h**2) / 12, m * (l**2 + h**2) / 12, m * (l**2 + w**2) / 12)
-    assert estimated_outline(m, inertia) == pytest.approx((l, w, h), rel=1e-12)
+    m, (length, w, h) = 30000.0, (20.0, 3.0, 2.5)
+    inertia = (m * (w**2 + h**2) / 12, m * (length**2 + h**2) / 12, m * (length**2 + w**2) / 12)
+    assert estimated_outline(m, inertia) == pytest.approx((length, w, h), rel=1e-12)
     assert estimated_outline(m, (1.0, 0.0, 1.0)) is None  # a wheelset's zero pitch inertia
     assert estimated_outline(m, (1.0, 1.0, 5.0)) is None  # no box has these
 
@@ -154,3 +154,17 @@ def test_mode_figure_and_animations(conventional):
     assert gif[:4] == b"GIF8"
     html = animate_mode_shape(geometry, mode, ".html", frames=4).decode()
     assert html.startswith("<!DOCTYPE html>") and html.count("data:image/png;base64,") == 5 and "http" not in html
+
+
+def test_svg_drawing_carries_each_elements_name_and_values_as_a_tooltip(tmp_path):
+    from express.cli import main
+
+    out = tmp_path / "coach.svg"
+    assert main(["draw", "tests/data/coach-series-dampers.toml", "-o", str(out)]) == 0
+    text = out.read_text(encoding="utf-8")
+    assert ("<title>T1_yawL (yaw damper with bushes, left): stiffness kyaw = 1e+07, damping cyaw = 3e+05, "
+            "in series (SI)</title>") in text
+    assert "<title>CB: car body, outline 26.98 x 3.26 x 3.26 m (from its mass and inertias)</title>" in text
+    again = tmp_path / "again.svg"
+    assert main(["draw", "tests/data/coach-series-dampers.toml", "-o", str(again)]) == 0
+    assert again.read_bytes() == out.read_bytes()  # deterministic

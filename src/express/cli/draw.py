@@ -31,7 +31,13 @@ def run(model: Path, overrides: dict[str, str], *, output: Path) -> int:
     with output_transaction(inputs=[model]) as outputs:
         outputs.declare(output, binary=True)
         geometry = model_geometry_of(common.load_model_with(model, overrides))
-        save_figure(figure_model(geometry), output)
+        if Path(output).suffix.lower() == ".svg":  # with each element's name and values as a tooltip
+            from express.drawing.views import svg_with_tooltips
+            from express.io.output import write_text
+
+            write_text(output, svg_with_tooltips(figure_model(geometry), geometry))
+        else:
+            save_figure(figure_model(geometry), output)
     common.note(f"wrote {output}")
     return 0
 

@@ -54,13 +54,14 @@ class DrawnBody:
 class DrawnElement:
     """An element between the points ``s_point`` and ``t_point``; ``axis`` 0-2 for x, y,
     z (3-5 rotations); ``kind`` is ``"spring"``, ``"damper"``, ``"spring-damper"``
-    (parallel) or ``"series"``."""
+    (parallel) or ``"series"``; ``description`` its label and values, for a tooltip."""
 
     id: str
     s_point: str
     t_point: str
     axis: int
     kind: str
+    description: str = ""
 
 
 @dataclass(frozen=True)
@@ -126,6 +127,24 @@ def _body_shape(body, value, wheelset) -> tuple[Vector | None, float | None, flo
         return None, None, None
 
 
+def _describe(element, value) -> str:
+    """``"T1_yawL (yaw damper ...): stiffness kyaw = 1e+07, damping cyaw = 3e+05 (SI)"``."""
+    parts = []
+    for what in ("stiffness", "damping"):
+        expression = getattr(element, what)
+        if expression == 0:
+            continue
+        try:
+            number = f" = {float(value(expression)):.4g}"
+        except (KeyError, ValueError, TypeError, ModelError):
+            number = ""
+        shown = str(expression)
+        parts.append(f"{what} {shown}{number if number.strip('= ') != shown else ''}")
+    label = f" ({element.label})" if getattr(element, "label", "") else ""
+    series = ", in series" if getattr(element, "series", False) else ""
+    return f"{element.id}{label}: {', '.join(parts) or 'no stiffness nor damping'}{series} (SI)"
+
+
 def _kind(stiffness_zero: bool, damping_zero: bool, series: bool) -> str:
     if series:
         return "series"
@@ -188,6 +207,7 @@ def model_geometry(model: Model, value: Callable[[object], float], roles: Mappin
         DrawnElement(
             element.id, element.s_end, element.t_end, int(element.direction),
             _kind(element.stiffness == 0, element.damping == 0, bool(element.series)),
+            _describe(element, value),
         )
         for element in model.elements
         if element.s_end in points and element.t_end in points

@@ -21,7 +21,7 @@ import numpy as np
 
 from express.drawing.geometry import DrawnElement, ModelGeometry
 
-__all__ = ["VIEWS", "draw_view", "figure_model", "label_boxes", "place_labels"]
+__all__ = ["VIEWS", "draw_view", "figure_model", "label_boxes", "place_labels", "svg_with_tooltips"]
 
 #: Width of a wheel drawn edge-on [m].
 WHEEL_WIDTH = 0.14
@@ -302,3 +302,29 @@ def _wrap(text: str, width: int = 260) -> str:
     import textwrap
 
     return "\n".join(textwrap.wrap(text, width))
+
+
+def svg_with_tooltips(figure, geometry: ModelGeometry) -> str:
+    """The figure as SVG text in which every drawn label carries its element's name and
+    values (or its body's) as a tooltip (an SVG ``<title>``), deterministic."""
+    import html
+    import io
+    import re
+
+    import matplotlib
+
+    tips = {element.id: element.description for element in geometry.elements}
+    roles = {"body": "car body", "bogie": "bogie frame", "wheelset": "wheelset", "lever": "steering lever"}
+    tips.update({body.id: f"{body.id}: {roles.get(body.role, body.role)}" + (
+        f", outline {' x '.join(f'{side:.2f}' for side in body.outline)} m (from its mass and inertias)"
+        if body.outline else "") for body in geometry.bodies})
+    buffer = io.StringIO()
+    with matplotlib.rc_context({"svg.hashsalt": "express-drawing", "svg.fonttype": "none"}):
+        figure.savefig(buffer, format="svg", metadata={"Date": None})
+
+    def titled(match) -> str:
+        name = html.unescape(match.group(1))
+        tip = tips.get(name)
+        return match.group(0) + (f"\n   <title>{html.escape(tip)}</title>" if tip else "")
+
+    return re.sub(r'<g id="label:([^"]*)">', titled, buffer.getvalue())
