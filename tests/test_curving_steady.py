@@ -164,3 +164,18 @@ def test_demo_fig9_steady_state_matches_its_runs():
         # 6e-5 (conventional) relative, the run's remaining settling
         assert state["psi_TW1"] == pytest.approx(run_mean, rel=3e-4)
         assert state["passed"] == 1.0
+
+
+@pytest.mark.slow
+def test_a_contact_jump_is_settled_by_the_march():
+    # S1002/60E1 at R = 357 m: the iteration stalls at a jump of the contact (residual 2e-4); the time march
+    # from there settles to the equilibrium, whose residual is then at rounding level
+    vehicle = load_vehicle("examples/manchester-s1002.toml")
+    curve = SteadyCurve(357.143, 0.150, "right")
+    speed = curve.speed_for(0.5, 1.5, 9.81)
+    steady = SteadyCurvingSolver(vehicle, speed).solve(curve)
+    assert steady.residual < 1e-12  # achieved 1.7e-14
+    track = Track((Straight(20.0), Transition(60.0), Curve(900.0, 357.143, "right", 0.150)))
+    run = simulate(vehicle, track, speed=speed, end=950.0, progress=False)
+    # achieved 1e-11 m: the run and the steady state are the same fixed point
+    np.testing.assert_allclose(steady.q, run.q[-1], rtol=0, atol=1e-9)

@@ -57,6 +57,8 @@ MAX_UNBALANCED_ACCELERATION = 2.0
 #: (profiles with two-point contact) the equations are discontinuous and the iteration
 #: may end between 1e-11 and this.
 _TOLERANCE = 1e-6
+#: Relative residual below which the iteration's result is not polished by a time march.
+_SETTLED = 1e-9
 
 
 class CurveError(InputError):
@@ -222,6 +224,7 @@ class SteadyCurvingSolver:
         self.vehicle = vehicle
         self.speed = float(vehicle.speed if speed is None else speed)
         self.flange, self.saturation = flange, saturation
+        self.contact_option, self.creep_law = contact, creep_law
         nonlinear_run = flange or saturation
         self.tables = contact_tables_of(vehicle, contact, creep_law) if nonlinear_run else None
         self.contact = (f"tables ({creep_law})" if self.tables is not None
@@ -370,11 +373,38 @@ class SteadyCurvingSolver:
         if not residual < _TOLERANCE and start is not None:  # a neighbour's state can lie in another regime
             x, more, residual = _pseudo_transient(equations, linear, scale)
             evaluations += more
+        if not residual < _SETTLED:  # stalled at a jump of the contact: let the time march settle it
+            settled = self._settle(curve, x)
+            settled_residual = float(np.linalg.norm(equations(settled)[0])) / scale
+            if settled_residual < residual:
+                x, residual = settled, settled_residual
         if not residual < _TOLERANCE:
             raise CurveError(f"no steady state in R = {curve.radius:g} m with {curve.cant * 1e3:g} mm cant at "
                              f"{self.speed * 3.6:.1f} km/h: the vehicle cannot follow this curve (relative residual "
                              f"{residual:.1e} after {evaluations} steps; an unstable vehicle has no steady state)")
         return self._result(curve, x, inputs, evaluations, residual)
+
+    def _settle(self, curve: SteadyCurve, x: np.ndarray, seconds: float = 10.0, rounds: int = 3) -> np.ndarray:
+        """The time march (:func:`express.analysis.simulate.simulate`, the same equations)
+        from ``x`` in a long constant curve until the state stops moving; its fixed point
+        is the equilibrium (the exact discretisation's fixed point solves ``A x + e = 0``)."""
+        from express.analysis.simulate import simulate
+        from express.rail.track import Curve, Track
+
+        stations = [w.station for w in self.vehicle.wheelsets] + list(self.vehicle.station_positions)
+        start = max(stations) - min(stations) + 1.0
+        travel = self.speed * seconds
+        track = Track((Curve(start + rounds * travel + 1.0, curve.radius, curve.direction, curve.cant),))
+        for k in range(rounds):
+            run = simulate(self.vehicle, track, speed=self.speed, start=start + k * travel,
+                           end=start + (k + 1) * travel, initial_state=x, progress=False,
+                           contact=self.contact_option, creep_law=self.creep_law, flange=self.flange,
+                           saturation=self.saturation)
+            moved = float(np.max(np.abs(run.q[-1] - run.q[-min(run.q.shape[0], 200)])))
+            x = np.concatenate([run.q[-1], run.q_dot[-1][self.vehicle.form.massive]])  # the state [q; q_D']
+            if moved < 1e-12:
+                break
+        return x
 
     def _result(self, curve: SteadyCurve, x: np.ndarray, inputs: TrackInputs, iterations: int,
                 residual: float) -> SteadyCurving:
@@ -439,6 +469,7 @@ def _pseudo_transient(equations, start: np.ndarray, scale: float, steps: int = 1
     identity = np.eye(x.size)
     step, largest = 1e-3, 1e6  # [s] of pseudo-time
     residual = best = float(np.linalg.norm(f))
+    best_x = x.copy()
     stalled = 0
     for count in range(1, steps + 1):
         x = x + np.linalg.solve(identity / step - jacobian, f)
@@ -451,13 +482,15 @@ def _pseudo_transient(equations, start: np.ndarray, scale: float, steps: int = 1
         if residual / scale < 1e-11:
             break
         if residual < 0.9 * best:
-            best, stalled = residual, 0
+            best, stalled, best_x = residual, 0, x.copy()
         else:
             stalled += 1
             if stalled >= 8:
-                largest = step = step / 10.0
+                largest = step = max(step / 10.0, 1e-5)
                 stalled = 0
-    return x, count, residual / scale
+    if residual <= best:
+        return x, count, residual / scale
+    return best_x, count, best / scale
 
 
 def steady_curving(vehicle: VehicleModel, curves: SteadyCurve | Iterable[SteadyCurve], *,
