@@ -150,3 +150,16 @@ def test_fuzzed_destinations_are_all_or_nothing(tmp_path_factory, destinations, 
         for target in destinations:
             if target not in ("-", "/dev/null"):
                 assert (folder / target).stat().st_size > 100
+
+
+@FUZZ
+@given(hertz=st.floats(1e-3, 999.0), unit=st.sampled_from(["rad/s", "rpm", "deg/s", "Hz", "1/min", "krad/s"]))
+def test_angular_frequencies_convert_with_their_two_pi(hertz, unit):
+    """Angles are a dimension (issue 26): a frequency option given in any of these units
+    is the same number of hertz."""
+    import math
+
+    from express.cli.common import FMAX
+
+    per_hertz = {"rad/s": 2 * math.pi, "rpm": 60.0, "deg/s": 360.0, "Hz": 1.0, "1/min": 60.0, "krad/s": 2e-3 * math.pi}
+    assert FMAX(f"{hertz * per_hertz[unit]!r} {unit}") == pytest.approx(hertz, rel=1e-12)

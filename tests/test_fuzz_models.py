@@ -193,3 +193,18 @@ def _toml_string(text: str) -> str:
     escaped = text.replace("\\", "\\\\").replace('"', '\\"')
     return '"' + "".join(c if c.isprintable() or c == " " else f"\\u{ord(c):04x}" if ord(c) < 0x10000
                          else f"\\U{ord(c):08x}" for c in escaped) + '"'
+
+
+@fuzz(30)
+@given(data=st.data())
+def test_a_classic_file_written_by_express_cut_at_any_line_is_refused(tmp_path_factory, data):
+    """Truncation (issue 26): ``forced-steering.exp`` (written by convert: its header lists
+    every id) cut after any of its lines but the last is refused, saying where it stops."""
+    lines = (EXAMPLES / "forced-steering.exp").read_text(encoding="utf-8").splitlines(keepends=True)
+    kept = data.draw(st.integers(1, len(lines) - 1), label="lines kept")
+    folder = tmp_path_factory.mktemp("cut")
+    model = folder / "cut.exp"
+    model.write_text("".join(lines[:kept]), encoding="utf-8")
+    status, _, err = check(["generate", model, "-o", folder / "out.txt"])
+    assert status == 2 and "stops early" in err, (kept, err)
+    assert sorted(p.name for p in folder.iterdir()) == ["cut.exp"]

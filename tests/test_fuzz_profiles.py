@@ -103,3 +103,28 @@ def test_mutated_rail_profiles_end_cleanly(tmp_path_factory, data):
     path = folder / "rail.csv"
     path.write_text(text, encoding="utf-8")
     _run(folder, ["contact-geometry", "S1002", path, "--y-range=-8:8:0.5"], folder / "out.csv")
+
+
+@fuzz(12)
+@given(data=st.data())
+def test_profiles_in_a_wrong_role_are_refused_and_never_give_nan(tmp_path_factory, data):
+    """Wrong roles (issue 26): a wheel and a rail, possibly mirrored, given in any order
+    and either role: unless they are the wheel and the rail as they are, status 2 naming
+    the role, nothing written, no nan."""
+    folder = tmp_path_factory.mktemp("roles")
+    files = {}
+    for name, text in (("wheel", WHEEL), ("rail", RAIL)):
+        rows = [line.split(",") for line in text.splitlines() if line[:1] in "-0123456789"]
+        mirrored = data.draw(st.booleans(), label=f"{name} mirrored")
+        if mirrored:
+            rows = [[f"{-float(y):.6f}", z] for y, z in reversed(rows)]
+        path = folder / f"{name}{'-mirrored' if mirrored else ''}.csv"
+        path.write_text("y_mm,z_mm\n" + "".join(f"{y},{z}\n" for y, z in rows), encoding="utf-8")
+        files[name] = (path, mirrored)
+    order = data.draw(st.sampled_from([("wheel", "rail"), ("rail", "wheel"), ("wheel", "wheel"), ("rail", "rail")]))
+    command = data.draw(st.sampled_from(["conicity", "contact-geometry"]))
+    (first, first_mirrored), (second, second_mirrored) = files[order[0]], files[order[1]]
+    target = folder / "out.csv"
+    status = _run(folder, [command, first, second], target)
+    proper = order == ("wheel", "rail") and not first_mirrored
+    assert (status == 0) == proper, (order, first_mirrored, second_mirrored, status)

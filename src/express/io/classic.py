@@ -191,7 +191,8 @@ def _scan(text: str, source: str, problems: list[Problem]) -> dict[str, list]:
             ))
             continue
         rows[section].append((number, fields))
-    if not seen_sections and not problems and _RENAMING.search(text):  # EXPRESS's header, then nothing
+    written = text.lstrip().startswith("# EXPRESS classic model") or _RENAMING.search(text)
+    if not seen_sections and not problems and written:  # EXPRESS's header, then nothing
         last = len(text.splitlines())
         problems.append(Problem(source, last, "", f"the file stops early, at line {last}, before its first section"))
     elif not seen_sections and not problems:
