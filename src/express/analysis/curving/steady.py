@@ -13,8 +13,11 @@ the time march integrates, with the time derivative zero.  They are solved by
 pseudo-transient continuation (:func:`_pseudo_transient`: implicit Euler steps of growing
 size, Newton's method in the limit) from the linear steady state ``-A^-1 B u``, with the
 Jacobian ``A + S dz/dx``: ``A`` exact (from the symbolic M, C, K), ``dz/dx`` by
-differences in the few wheelset and bump-stop coordinates ``z`` depends on.  Everything but ``u`` is built once per vehicle and speed
-(:class:`SteadyCurvingSolver`), so a sweep costs a few milliseconds per curve.
+differences in the few wheelset and bump-stop coordinates ``z`` depends on.  Where the
+iteration stalls at a jump of the contact, the time march itself settles the state
+(:meth:`SteadyCurvingSolver._settle`; its fixed point solves the same equations).
+Everything but ``u`` is built once per vehicle and speed (:class:`SteadyCurvingSolver`),
+so a sweep costs some tens of milliseconds per curve.
 """
 
 from __future__ import annotations
