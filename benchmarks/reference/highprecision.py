@@ -103,8 +103,12 @@ def _lateral_row(model, dofs: Sequence[str], point) -> dict:
     return row
 
 
-def _mp(text: str | float) -> mpmath.mpf:
-    return mpmath.mpf(str(text)) if not isinstance(text, str) else mpmath.mpf(text)
+def _mp(value) -> mpmath.mpf:
+    """An mpf at the current precision: a decimal text or a float read as its shortest
+    decimal (``repr``), an mpf kept as it is."""
+    if isinstance(value, mpmath.mpf):
+        return value
+    return mpmath.mpf(value if isinstance(value, str) else repr(float(value)))
 
 
 def evaluate(exact: ExactVehicle, values: Mapping[str, str], speed=None) -> dict[str, mpmath.matrix]:
