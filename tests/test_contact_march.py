@@ -236,3 +236,20 @@ def test_dynamic_wheel_loads_in_a_canted_curve(manchester, speed):
     loads = run.wheel_rail.vertical_load[-1]
     np.testing.assert_allclose(loads.sum(axis=1), 2 * run.wheel_rail.static_load * a_n / g, rtol=1e-9)
     assert np.all((loads[:, 1] > loads[:, 0]) == (speed == 30.0))
+
+
+def test_the_contact_rolls_a_3d_wheelset(manchester):
+    """On straight track, a leading wheelset pushed onto its left flange: the flange force
+    at rail level rolls the wheelset onto the flanging wheel (its roll moment ``r Y`` is fed
+    back on the roll coordinate), so the left wheel's load rises above the right's; with no
+    roll feedback both would stay at Q0 (the track is level)."""
+    vehicle = manchester
+    state = np.zeros(vehicle.form.size)
+    state[vehicle.wheelsets[0].y] = 8e-3
+    run = simulate(vehicle, TRACK, speed=30.0, dt=0.001, end=3.0, initial_state=state, progress=False)
+    out = run.wheel_rail
+    assert out.flange_contact[1, 0, 0]  # on the left flange
+    record = run.outputs
+    assert record["Y1L"][1] < -10e3
+    # achieved: 10.5 kN and 27.7 kN more on the left wheel 1 and 2 ms in, while on the flange
+    assert np.all(record["Q1L"][1:3] - record["Q1R"][1:3] > 5e3)

@@ -55,7 +55,7 @@ from express.rail.wheelrail import irregularity_input, wheelset_terms
 
 __all__ = [
     "LINEAR_TERMS", "ContactFeedback", "WheelLoadModel", "contact_arrays", "contact_force_history", "contact_rhs",
-    "contact_wheel_outputs", "dynamic_wheel_loads", "linear_coefficients", "linear_wheel_rail", "march_contact",
+    "contact_wheel_outputs", "dynamic_wheel_loads", "linear_coefficients", "linear_wheel_rail", "march_contact", "roll_coordinates",
     "static_wheel_loads", "wheel_loads_at", "wheel_loads_history",
 ]
 
@@ -239,12 +239,20 @@ class ContactFeedback(NamedTuple):
         :func:`linear_coefficients`.
     loads : WheelLoadModel
         The vertical wheel loads.
+    roll : numpy.ndarray of int, shape (n_wheelsets,) or (0,)
+        The wheelsets' roll coordinates in the state when the contact's roll moment is
+        fed back (a model whose wheels stand on vertical springs, :func:`roll_coordinates`);
+        empty otherwise.
+    arm : numpy.ndarray, shape like ``roll``
+        Lateral distance of each wheelset's vertical springs from its centre [m].
     """
 
     wheelsets: WheelsetCoordinates
     contacts: ContactSet
     linear: np.ndarray
     loads: WheelLoadModel
+    roll: np.ndarray
+    arm: np.ndarray
 
 
 @njit(cache=True)
@@ -278,9 +286,29 @@ def contact_feedback(x, k, feedback, z, record):
         lateral, yaw = linear_wheel_rail(feedback.linear[j], y, psi, y_dot, psi_dot, y_rail, rho)
         z[j] = out[_OUT_Y] - lateral
         z[count + j] = out[_OUT_M] - yaw
+        if feedback.roll.size > 0:
+            # the contact's roll moment less that of the model's vertical springs, which
+            # carry the load changes at +-arm: b (Q_L - Q_R)
+            z[2 * count + j] = out[_OUT_ROLL] - feedback.arm[j] * (left - right)
 
 
-_OUT_Y, _OUT_M = OUTPUTS.index("Y"), OUTPUTS.index("M")
+_OUT_Y, _OUT_M, _OUT_ROLL = OUTPUTS.index("Y"), OUTPUTS.index("M"), OUTPUTS.index("Mx")
+NO_ROLL = (np.zeros(0, dtype=np.int64), np.zeros(0))
+
+
+def roll_coordinates(vehicle) -> tuple[np.ndarray, np.ndarray]:
+    """The wheelsets' roll coordinates (``<wheelset>.rx``) and the lateral arm of their
+    vertical contact springs [m], for feeding the contact's roll moment back; empty
+    arrays unless every wheel stands on a vertical spring and every wheelset rolls."""
+    if vehicle.model is None or any(f"{w.name}.rx" not in vehicle.dofs for w in vehicle.wheelsets):
+        return NO_ROLL
+    springs = vertical_contacts(vehicle.model, vehicle.values, [w.name for w in vehicle.wheelsets], vehicle.dofs,
+                                vehicle.inputs)
+    if any(spring is None for pair in springs for spring in pair):
+        return NO_ROLL
+    arms = [0.5 * sum(spring.arm for spring in pair if spring is not None) for pair in springs]
+    return (np.array([vehicle.dof_index(f"{w.name}.rx") for w in vehicle.wheelsets], dtype=np.int64),
+            np.array(arms, dtype=float))
 
 
 @overload(wheel_rail_feedback)
@@ -291,7 +319,7 @@ def _contact_law(x, k, feedback, z, record):
 
 
 def march_contact(phi, drive, g0, g1, x0, wheel_rail: dict, contact: ContactSet, linear: np.ndarray, *,
-                  loads: WheelLoadModel | None = None, progress=None):
+                  loads: WheelLoadModel | None = None, roll: tuple[np.ndarray, np.ndarray] = NO_ROLL, progress=None):
     """March with the contact feedback (arguments as :func:`express.analysis.integrator.
     march`; ``contact`` from :func:`contact_arrays`, ``linear`` from
     :func:`linear_coefficients`, ``loads`` the wheel loads, the static ones by default);
@@ -299,7 +327,8 @@ def march_contact(phi, drive, g0, g1, x0, wheel_rail: dict, contact: ContactSet,
     (:func:`contact_force_history`)."""
     steps = drive.shape[0]
     loads = static_wheel_loads(contact.wheel_load, steps) if loads is None else loads
-    feedback = ContactFeedback(wheelset_coordinates(wheel_rail, x0.size), contact, np.ascontiguousarray(linear), loads)
+    feedback = ContactFeedback(wheelset_coordinates(wheel_rail, x0.size), contact, np.ascontiguousarray(linear), loads,
+                               *roll)
     history = np.zeros((steps + 1, len(wheel_rail["iy"]), len(OUTPUTS)))
     states = run_march(phi, drive, g0, g1, x0, feedback, bump_stop_arrays(wheel_rail, x0.size, steps), history,
                        progress)

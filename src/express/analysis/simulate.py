@@ -282,7 +282,14 @@ def simulate(
     )
     n = vehicle.n
     stops = _stops(vehicle, inputs, flange or saturation if clearances is None else clearances)
-    selector = _feedback_selector(vehicle, stops)
+    tables = contact_tables_of(vehicle, contact, creep_law) if (flange or saturation) else None
+    if tables is not None:  # the contact from the profiles' tables: its loads, its roll moment
+        from express.analysis.contact_march import linear_coefficients, march_contact, roll_coordinates
+        from express.analysis.curving.measure import march_wheel_loads
+
+        wheel_loads, load_kind = march_wheel_loads(vehicle, inputs, v, tables.wheel_load)
+        roll = roll_coordinates(vehicle)
+    selector = _feedback_selector(vehicle, stops, roll[0] if tables is not None else ())
     g0, g1 = gamma0 @ selector, gamma1 @ selector
     wheel_rail = _wheel_rail_arrays(vehicle, inputs, v)
     wheel_rail.update(stops)
@@ -291,16 +298,11 @@ def simulate(
     if x0.shape != (size,):
         raise ArgumentError(f"initial_state must have shape ({size},), got {x0.shape}")
     show = _terminal_progress() if progress is None else (_terminal_progress() if progress else None)
-    tables = contact_tables_of(vehicle, contact, creep_law) if (flange or saturation) else None
-    if tables is not None:  # the contact from the profiles' tables
-        from express.analysis.contact_march import linear_coefficients, march_contact
-        from express.analysis.curving.measure import march_wheel_loads
-
-        wheel_loads, load_kind = march_wheel_loads(vehicle, inputs, v, tables.wheel_load)
+    if tables is not None:
         states, history = march_contact(
             np.ascontiguousarray(phi), np.ascontiguousarray(drive), np.ascontiguousarray(g0),
             np.ascontiguousarray(g1), x0, wheel_rail, tables, linear_coefficients(vehicle, v),
-            loads=wheel_loads, progress=show,
+            loads=wheel_loads, roll=roll, progress=show,
         )
     else:
         states = march(
@@ -350,10 +352,12 @@ def contact_tables_of(vehicle: VehicleModel, contact: ContactModel | None, creep
     return contact_arrays([c for c in contacts if c is not None], creep_law)
 
 
-def _feedback_selector(vehicle: VehicleModel, stops: dict) -> np.ndarray:
-    """``G`` columns of the feedback forces: wheelset lateral, wheelset yaw, bump stops."""
+def _feedback_selector(vehicle: VehicleModel, stops: dict, roll=()) -> np.ndarray:
+    """``G`` columns of the feedback forces: wheelset lateral, wheelset yaw, wheelset roll
+    (the coordinates ``roll``, with the contact tables on vertical springs), bump stops."""
     force = vehicle.form.force
     columns = [force[:, w.y] for w in vehicle.wheelsets] + [force[:, w.psi] for w in vehicle.wheelsets]
+    columns += [force[:, int(index)] for index in roll]
     columns += [force[:, : vehicle.n] @ row[: vehicle.n] for row in stops["stop_rows"]]
     return np.column_stack(columns) if columns else np.zeros((vehicle.form.size, 0))
 

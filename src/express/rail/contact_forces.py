@@ -84,7 +84,7 @@ __all__ = [
 
 #: Entries of the output vector of :func:`profile_wheelset_forces`.
 OUTPUTS = ("Y", "M", "N_left", "N_right", "Y_left", "Y_right", "Fx_left", "Fx_right", "u_left", "u_right",
-           "angle_left", "angle_right", "beyond", "Q_left", "Q_right")
+           "angle_left", "angle_right", "beyond", "Q_left", "Q_right", "Mx")
 #: Creep laws of :func:`profile_wheelset_forces`, by named constant and by name.
 POLACH, FASTSIM = 0, 1
 LAWS = {"polach": POLACH, "fastsim": FASTSIM}
@@ -97,7 +97,7 @@ def _sides(name: str) -> tuple[int, int]:
     return OUTPUTS.index(f"{name}_left"), OUTPUTS.index(f"{name}_right")
 
 
-_OUT_Y, _OUT_M, _OUT_BEYOND = (OUTPUTS.index(name) for name in ("Y", "M", "beyond"))
+_OUT_Y, _OUT_M, _OUT_BEYOND, _OUT_ROLL = (OUTPUTS.index(name) for name in ("Y", "M", "beyond", "Mx"))
 _OUT_NORMAL, _OUT_LATERAL, _OUT_FX, _OUT_U, _OUT_ANGLE, _OUT_LOAD = (
     _sides(name) for name in ("N", "Y", "Fx", "u", "angle", "Q"))
 #: Smallest wheel load the contact carries [N]: a lifted wheel (Q <= 0) transmits no
@@ -250,8 +250,9 @@ def profile_wheelset_forces(contacts, j, load_left, load_right, y, psi, y_dot, p
     """Forces of the rails on wheelset ``j`` of ``contacts`` (see the module docstring)
     into ``out`` (:data:`OUTPUTS`): lateral force ``Y`` [N] and yaw moment ``M`` [N m] on
     the wheelset, each wheel's normal force, lateral force, longitudinal force, contact
-    position ``u``, contact angle, the overshoot beyond the tables [m] and its vertical
-    load ``Q``.
+    position ``u``, contact angle, the overshoot beyond the tables [m], its vertical
+    load ``Q``, and the roll moment ``Mx`` [N m] of the rails' forces about the wheelset
+    centre, ``sum(sigma l Q + r Y_wheel)`` (roll positive lifting the left wheel).
 
     ``contacts`` is a :class:`ContactSet`; ``load_left``, ``load_right`` [N] the vertical
     wheel loads Q (``contacts.wheel_load[j]`` each for the static ones; a wheel with
@@ -337,6 +338,7 @@ def profile_wheelset_forces(contacts, j, load_left, load_right, y, psi, y_dot, p
             rate -= residual / slope
     total_y = 0.0
     total_m = 0.0
+    total_roll = 0.0
     for side in range(2):
         sigma = 1.0 - 2.0 * side
         arm = work[side, ARM]
@@ -345,6 +347,8 @@ def profile_wheelset_forces(contacts, j, load_left, load_right, y, psi, y_dot, p
         lead = sigma * psi * (work[side, RADIUS] * work[side, TAN_AXLE] - arm)
         total_y += force_y
         total_m += -sigma * arm * work[side, _FX] + lead * force_y
+        # roll moment about the wheelset centre of the rail's force at the contact (z up)
+        total_roll += sigma * arm * (load_left if side == 0 else load_right) + work[side, RADIUS] * force_y
         out[_OUT_LATERAL[side]] = force_y
         out[_OUT_NORMAL[side]] = normal
         out[_OUT_FX[side]] = work[side, _FX]
@@ -353,6 +357,7 @@ def profile_wheelset_forces(contacts, j, load_left, load_right, y, psi, y_dot, p
         out[_OUT_LOAD[side]] = load_left if side == 0 else load_right
     out[_OUT_Y] = total_y - contacts.wall[j] * extra
     out[_OUT_M] = total_m
+    out[_OUT_ROLL] = total_roll
     out[_OUT_BEYOND] = extra
 
 

@@ -42,12 +42,15 @@ class VerticalContact:
         The deflection ``u_wheel,z - u_rail,z`` over the coordinates [m per unit].
     inputs : numpy.ndarray, shape (m,)
         Its part over the inputs (a driven ground) [m per unit].
+    arm : float
+        Lateral distance of the wheel's end from the wheelset centre [m].
     """
 
     element: str
     stiffness: float
     dofs: np.ndarray
     inputs: np.ndarray
+    arm: float
 
 
 def _side(model: Model, point_id: str, values: Mapping[str, float]) -> int:
@@ -79,5 +82,6 @@ def vertical_contacts(model: Model, values: Mapping[str, float], wheelsets: Sequ
                 if name in inputs:
                     drive[list(inputs).index(name)] += scale * expression_value(value, values)
         key = (model.point(wheel_end).host, _side(model, wheel_end, values))
-        found[key] = VerticalContact(element.id, expression_value(element.stiffness, values), row, drive)
+        arm = abs(expression_value(model.point(wheel_end).offset[1], values))
+        found[key] = VerticalContact(element.id, expression_value(element.stiffness, values), row, drive, arm)
     return [tuple(found.get((body, side)) for side in (0, 1)) for body in wheelsets]

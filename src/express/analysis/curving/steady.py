@@ -245,13 +245,16 @@ class SteadyCurvingSolver:
         self.stops = clearances_of(vehicle.equations, vehicle.values) if nonlinear_run else None
         stop_rows = self.stops.gradient if self.stops is not None and self.stops.count else np.zeros((0, vehicle.n))
         force = vehicle.form.force
-        columns = [force[:, w.y] for w in ws] + [force[:, w.psi] for w in ws] + [force[:, : vehicle.n] @ r for r in stop_rows]
-        self.selector = np.column_stack(columns)
-        self.stop_rows = stop_rows
+        self.roll = (np.zeros(0, dtype=np.int64), np.zeros(0))
         if self.tables is not None:
-            from express.analysis.contact_march import linear_coefficients
+            from express.analysis.contact_march import linear_coefficients, roll_coordinates
 
             self.linear = linear_coefficients(vehicle, v)
+            self.roll = roll_coordinates(vehicle)  # the contact's roll moment on a 3-D wheelset
+        columns = [force[:, w.y] for w in ws] + [force[:, w.psi] for w in ws] + [force[:, int(i)] for i in self.roll[0]]
+        columns += [force[:, : vehicle.n] @ r for r in stop_rows]
+        self.selector = np.column_stack(columns)
+        self.stop_rows = stop_rows
 
     def inputs(self, curve: SteadyCurve) -> TrackInputs:
         """The track inputs of ``curve`` at every station (one instant)."""
@@ -279,7 +282,7 @@ class SteadyCurvingSolver:
             from express.analysis.contact_march import OUTPUTS, contact_feedback
 
             count = self.iy.size
-            wheel_rail = np.zeros(2 * count)
+            wheel_rail = np.zeros((2 + (self.roll[0].size > 0)) * count)
             contact_feedback(np.ascontiguousarray(x, dtype=float), 0, self._contact_feedback(inputs), wheel_rail,
                              np.zeros((count, len(OUTPUTS))))
             return wheel_rail
@@ -309,12 +312,16 @@ class SteadyCurvingSolver:
         slopes = np.zeros((contact.size + self.stop_rows.shape[0], x.size))
         rows = np.arange(count)
         if self.flange or self.saturation:
-            for columns in (self.iy, self.ipsi, self.ivy, self.ivpsi):
+            # with the roll coordinates (3-D wheelsets on vertical springs) the loads, and so
+            # the forces, depend on each wheelset's vertical and roll coordinates too
+            extra = [np.array([self.vehicle.dof_index(f"{w.name}.{c}") for w in self.vehicle.wheelsets])
+                     for c in ("z", "rx") if self.roll[0].size]
+            for columns in (self.iy, self.ipsi, self.ivy, self.ivpsi, *extra):
                 moved = x.copy()
                 moved[columns] += step
                 change = (self._contact(moved, inputs) - contact) / step
-                slopes[rows, columns] = change[:count]
-                slopes[count + rows, columns] = change[count:]
+                for block in range(contact.size // count):
+                    slopes[block * count + rows, columns] = change[block * count:(block + 1) * count]
         if self.stop_rows.shape[0]:
             delta = self._stop_deflection(x, inputs)
             rate = (self._stop_force(delta + step) - self._stop_force(delta)) / step
@@ -335,7 +342,8 @@ class SteadyCurvingSolver:
         coordinates = WheelsetCoordinates(iy, ipsi, ivy, ivpsi, np.ascontiguousarray(inputs.y_rail, dtype=float),
                                           np.ascontiguousarray(inputs.rho_wheelsets, dtype=float), float(self.speed))
         feedback = ContactFeedback(coordinates, self.tables, np.ascontiguousarray(self.linear),
-                                   march_wheel_loads(self.vehicle, inputs, self.speed, self.tables.wheel_load)[0])
+                                   march_wheel_loads(self.vehicle, inputs, self.speed, self.tables.wheel_load)[0],
+                                   *self.roll)
         self._held_feedback = (inputs, feedback)
         return feedback
 
