@@ -230,7 +230,11 @@ class PointOutputs:
             from express.rail.track import load_track, paper_curve
 
             self._track = load_track(self.settings.track) if self.settings.track is not None else paper_curve()
-        result = simulate(vehicle, self._track, speed=self._speed(vehicle), dt=self.settings.dt, progress=False)
+        # the study's speed, else a track file's own (never silently ignored), else the model's (the
+        # default paper's curve runs at the model's speed, as `express simulate` without --track)
+        own = self._track.speed if self.settings.speed is None and self.settings.track is not None else None
+        speed = own if own is not None else self._speed(vehicle)
+        result = simulate(vehicle, self._track, speed=speed, dt=self.settings.dt, progress=False)
         maxima = result.max_abs()
 
         def largest(pattern: str) -> float:
