@@ -49,9 +49,16 @@ def _document(case: str) -> dict:
     return json.loads((REFERENCE / f"{case}.json").read_text())
 
 
+#: The stated agreement is this machine's LAPACK; another CPU takes other kernels and rounds
+#: differently, so the agreement counted is at least 1e-14 (about 45 ulp).
+MACHINE_FLOOR = 1e-14
+
+
 def _tolerance(case: str, quantity: str) -> float:
-    """Three times the stated agreement of the library, plus the printed rounding."""
-    return 3 * float(_document(case)["precision"]["max_error_double_precision_library"][quantity]) + PRINTED
+    """Three times the stated agreement of the library (at least the machine floor), plus the
+    printed rounding."""
+    stated = float(_document(case)["precision"]["max_error_double_precision_library"][quantity])
+    return 3 * max(stated, MACHINE_FLOOR) + PRINTED
 
 
 @pytest.fixture(scope="module")
