@@ -26,6 +26,7 @@ LAYERS = [
     ("express.analysis", 6),
     ("express.export", 7), ("express.drawing", 7), ("express.report", 7),
     ("express.paper", 8),  # the paper's demo runs every stage, the exports and report included
+    ("express.notebook", 8),  # Jupyter displays: the drawing of a vehicle
     ("express.cli", 9), ("express.__main__", 9),
     ("express", 0),  # the package's __init__ only
 ]

@@ -218,6 +218,27 @@ class EigenResult:
             for mode in self.modes
         ]
 
+    def to_pandas(self):
+        """The modes as a :class:`pandas.DataFrame`, units in the column names, mode
+        numbers (1 = least stable) as the index."""
+        import pandas as pd
+
+        frame = pd.DataFrame(
+            [{"Re [1/s]": m.real, "Im [rad/s]": m.imag, "f [Hz]": m.frequency_hz, "damping ratio [-]": m.damping_ratio,
+              "mode": m.kind, "dominant DOFs": ", ".join(f"{d} {s:.0%}" for d, s in m.dominant[:3])}
+             for m in self.modes],
+            index=pd.RangeIndex(1, len(self.modes) + 1, name="mode number"),
+        )
+        where = (f"at {self.speed:.3f} m/s ({self.speed_kmh:.1f} km/h)" if self.speed == self.speed
+                 else "(no rail data: independent of the speed)")
+        frame.attrs["title"] = f"eigenvalues {where}"
+        return frame
+
+    def _repr_html_(self) -> str:
+        """The table in a notebook (:meth:`to_pandas`)."""
+        frame = self.to_pandas()
+        return f"<p>{frame.attrs['title']}</p>" + frame.to_html(float_format=lambda x: f"{x:.4g}")
+
     def table(self) -> str:
         """The rows as aligned text (one line per mode)."""
         where = (f"at {self.speed:.3f} m/s ({self.speed_kmh:.1f} km/h)" if self.speed == self.speed

@@ -76,6 +76,28 @@ class TrackFrequencyResponse:
             raise ArgumentError(f"component {component!r} not computed{did_you_mean(component, self.components)}")
         return self.values[:, self.names.index(name), self.components.index(component)]
 
+    def to_xarray(self):
+        """The amplitudes as an :class:`xarray.DataArray` (frequency [Hz] x output x
+        input), each output's unit in the ``units`` coordinate."""
+        import xarray as xr
+
+        return xr.DataArray(
+            self.values, dims=("frequency", "output", "input"),
+            coords={"frequency": ("frequency", self.frequencies, {"units": "Hz"}), "output": list(self.names),
+                    "input": list(self.components), "units": ("output", list(self.units))},
+            name="amplitude", attrs={"speed_m_per_s": self.speed, "irregularity_amplitude_m": self.amplitude},
+        )
+
+    def _repr_html_(self) -> str:
+        """Peak amplitudes in a notebook (output x input, with units)."""
+        import pandas as pd
+
+        peaks = np.abs(self.values).max(axis=0)
+        frame = pd.DataFrame(peaks, index=pd.Index([f"{n} [{u}]" for n, u in zip(self.names, self.units, strict=True)],
+                                                   name="output"), columns=list(self.components))
+        return (f"<p>peak amplitudes for Y = {self.amplitude * 1e3:g} mm at {self.speed * 3.6:.1f} km/h, "
+                f"{self.frequencies[0]:g}-{self.frequencies[-1]:g} Hz</p>" + frame.to_html(float_format=lambda x: f"{x:.4g}"))
+
     def displacement_of(self, name: str, component: str) -> np.ndarray:
         """Displacement amplitude [m] of an output point's acceleration output
         (``floor_front.az`` -> the floor's vertical displacement), ``a / (-w^2)``."""

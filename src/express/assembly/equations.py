@@ -256,6 +256,22 @@ class EquationsOfMotion:
     def K(self) -> sp.ImmutableMatrix:
         return self.matrices.K
 
+    #: Largest number of DOFs whose matrices a notebook shows in full.
+    LATEX_DOFS = 8
+
+    def _repr_latex_(self) -> str:
+        """The equations in a notebook: ``M q'' + C q' + K q = P u + Pd u'`` with the
+        DOFs and, up to :attr:`LATEX_DOFS` of them, M, C and K in full."""
+        q = sp.Matrix([sp.Symbol(dof.replace("_", r"\_")) for dof in self.dofs])
+        text = (r"\begin{gathered}M \ddot{q} + C \dot{q} + K q = P u + P_d \dot{u},\quad q = "
+                + sp.latex(q.T) + r"^{T}")
+        if len(self.dofs) <= self.LATEX_DOFS:
+            for name in ("M", "C", "K"):
+                text += rf"\\ {name} = " + sp.latex(sp.Matrix(self.matrices[name]))
+        else:
+            text += rf"\\ \text{{{len(self.dofs)} DOFs: the matrices are shown up to {self.LATEX_DOFS}}}"
+        return f"$${text}\\end{{gathered}}$$".replace("\\end", "\\end")
+
 
 @dataclass(frozen=True)
 class GenerationResult:
