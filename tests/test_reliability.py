@@ -359,3 +359,21 @@ def test_a_non_finite_contact_result_is_no_result() -> None:
     bad = SimpleNamespace(**{**vars(good), "delta_r": np.array([0.0, math.nan, math.nan])})
     with pytest.raises(AnalysisError, match=r"at 2 of 3 lateral displacements, the first at y = 0 mm"):
         require_finite(bad, "w on r")
+
+
+@pytest.mark.parametrize("argv", [
+    ["study", "{special}", "-o", "{tmp}/out.csv"],
+    ["ride", CONVENTIONAL, "--track", "{special}"],
+])
+@pytest.mark.parametrize(("special", "words"), [
+    ("/dev/zero", "not a regular file but a character device"),
+    ("fifo", "a FIFO (named pipe) that nobody writes into"),
+])
+def test_study_files_and_psd_tables_are_refused_by_their_kind_too(capsys, tmp_path: Path, argv, special, words) -> None:
+    import os
+
+    if special == "fifo":
+        special = str(tmp_path / "input.csv")
+        os.mkfifo(special)
+    arguments = [a.format(special=special, tmp=tmp_path) for a in argv]
+    assert_input_error(capsys, *arguments, mentions=words)

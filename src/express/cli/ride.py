@@ -102,7 +102,7 @@ def run(
 
 
 def _is_table(track: str) -> bool:
-    return track.lower().endswith(".csv") or Path(track).is_file()
+    return track.lower().endswith(".csv") or Path(track).exists()  # a device or directory: refused by its kind
 
 
 def _spectra(track: str, table: bool) -> tuple[dict, str]:
@@ -144,10 +144,9 @@ def read_psd_table(path: Path) -> dict:
     from express.rail.track.spectra import COMPONENTS, TabulatedSpectrum
 
     source = str(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as error:
-        raise UsageError(f"--track {path}: cannot read the PSD table ({error.__class__.__name__}: {error})") from None
+    from express.base.limits import read_input_text
+
+    text = read_input_text(path, "PSD table", what="the PSD table")  # bounded, UTF-8, refused by its kind
     rows = [(number, cells) for number, cells in enumerate(csv.reader(text.splitlines()), 1)
             if cells and "".join(cells).strip() and not cells[0].lstrip().startswith("#")]
     problems: list[Problem] = []

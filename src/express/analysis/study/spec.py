@@ -159,13 +159,11 @@ def read_study(path: str | Path) -> StudySpec:
     ModelError
         Every problem of the study file (and of its model), each with file and line.
     """
+    from express.base.limits import read_input_text
+
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as error:
-        reason = getattr(error, "strerror", None) or str(error)
-        raise ModelError([Problem(str(path), None, "", f"cannot read the study file ({reason})")]) from None
-    return parse_study(text, path)
+    # bounded, UTF-8, and refused by its kind (a directory, a device, a FIFO nobody writes into)
+    return parse_study(read_input_text(path, what="the study file"), path)
 
 
 def parse_study(text: str, path: str | Path) -> StudySpec:
