@@ -756,6 +756,7 @@ C2, G1, 0, 0, 0
 (4) TSD
 T1, k, 0, C1, C2, 1
 T2, k, 0, C1, C2, 2
+(5) Pinned Joint
 """
     result = generate(parse_classic(text, "z.exp"))
     assert [w for w in result.warnings if "B1.rz" in w.message]
