@@ -168,3 +168,16 @@ def test_svg_drawing_carries_each_elements_name_and_values_as_a_tooltip(tmp_path
     again = tmp_path / "again.svg"
     assert main(["draw", "tests/data/coach-series-dampers.toml", "-o", str(again)]) == 0
     assert again.read_bytes() == out.read_bytes()  # deterministic
+
+
+def test_bump_stops_have_their_own_symbol():
+    from express.drawing.views import _symbol
+
+    model = load_model("examples/manchester.toml")
+    values = model.values()
+    geometry = model_geometry(model, lambda e: expression_value(e, values), classify_bodies(model).role)
+    kinds = {element.id: element.kind for element in geometry.elements}
+    assert kinds["T1_bump_stop"] == "stop" and kinds["T1_FL_pz"] == "spring-damper"
+    lines: list = []
+    _symbol(lines, "stop", np.zeros(2), np.array([1.0, 0.0]), 0.05)
+    assert len(lines) == 4  # the spring, its end plate, the stop across the gap, the stop's stem

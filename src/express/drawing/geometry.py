@@ -18,7 +18,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from express.base.diagnostics import ModelError, Problem
-from express.model.records import Model
+from express.model.records import ElementKind, Model
 
 __all__ = [
     "DrawnBody", "DrawnElement", "ModelGeometry", "displaced_geometry", "estimated_outline", "model_geometry",
@@ -54,7 +54,7 @@ class DrawnBody:
 class DrawnElement:
     """An element between the points ``s_point`` and ``t_point``; ``axis`` 0-2 for x, y,
     z (3-5 rotations); ``kind`` is ``"spring"``, ``"damper"``, ``"spring-damper"``
-    (parallel) or ``"series"``; ``description`` its label and values, for a tooltip."""
+    (parallel), ``"series"`` or ``"stop"`` (a clearance element: a bump stop); ``description`` its label and values, for a tooltip."""
 
     id: str
     s_point: str
@@ -206,7 +206,8 @@ def model_geometry(model: Model, value: Callable[[object], float], roles: Mappin
     elements = tuple(
         DrawnElement(
             element.id, element.s_end, element.t_end, int(element.direction),
-            _kind(element.stiffness == 0, element.damping == 0, bool(element.series)),
+            "stop" if element.kind == ElementKind.CLEARANCE
+            else _kind(element.stiffness == 0, element.damping == 0, bool(element.series)),
             _describe(element, value),
         )
         for element in model.elements

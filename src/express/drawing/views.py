@@ -1,7 +1,8 @@
 """Plan, side and end views of a model with the usual symbols.
 
 Springs are zigzags, dampers dashpots, parallel spring-dampers both side by side, series
-(Maxwell) elements a spring followed by a dashpot, pinned joints small open circles,
+(Maxwell) elements a spring followed by a dashpot, bump stops (clearance elements) a
+spring facing its stop across a gap, pinned joints small open circles,
 levers thick bars, grounds dark triangles.  A body is drawn by its outline (the uniform box
 of its mass and inertias, :func:`express.drawing.geometry.estimated_outline`), else as the
 box around its points; a wheelset as its wheels: circles of the rolling radius in the side
@@ -73,6 +74,12 @@ def _symbol(lines: list, kind: str, a: np.ndarray, b: np.ndarray, width: float) 
         lines.append(_zigzag(a, b, width))
     elif kind == "damper":
         _dashpot(lines, a, b, width)
+    elif kind == "stop":  # a bump stop: a spring that meets its stop across a gap
+        along = (b - a) / max(np.linalg.norm(b - a), 1e-12)
+        normal = np.array([-along[1], along[0]]) * 1.5 * width
+        spring_end, stop = a + 0.55 * (b - a), a + 0.7 * (b - a)
+        lines.append(_zigzag(a, spring_end, width, turns=3))
+        lines += [[spring_end + normal, spring_end - normal], [stop + normal, stop - normal], [stop, b]]
     elif kind == "series":
         middle = 0.5 * (a + b)
         lines.append(_zigzag(a, middle, width, turns=3))
