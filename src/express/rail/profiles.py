@@ -269,8 +269,8 @@ def role_problems(y_mm: np.ndarray, z_mm: np.ndarray, file: str, kind: ProfileKi
     Examples
     --------
     >>> y = np.linspace(-36.0, 36.0, 73)
-    >>> [p.message[:40] for p in role_problems(y, -y**2 / 50, "r.csv", "wheel")]
-    ['given as the wheel, but it has no flange']
+    >>> [p.message[:44] for p in role_problems(y, -y**2 / 50, "r.csv", "wheel")]
+    ['given as the wheel, but it has a convex head']
     """
     seen = _shape(y_mm, z_mm)
     if kind == "wheel":
