@@ -258,6 +258,32 @@ def test_a_study_estimated_to_take_too_long_is_refused_before_it_starts(capsys, 
     assert len(output.read_text().splitlines()) == 7
 
 
+@pytest.mark.parametrize(("method", "evaluations", "workers"), [
+    ("differential-evolution", 18, "2 workers"),  # population 3 x 2 parameters x (2 + 1)
+    ("cobyla", 6, "1 worker"),  # iterations 2 x population 3, one at a time
+])
+def test_an_optimisation_estimated_to_take_too_long_is_refused_before_it_starts(
+    capsys, tmp_path: Path, monkeypatch, method: str, evaluations: int, workers: str,
+) -> None:
+    """An optimisation is bounded by its maximum number of evaluations times the time of a
+    calibration evaluation; the bound is lowered here so that a small one stands for a huge one."""
+    from express.analysis.study import run as study_run
+
+    monkeypatch.setattr(study_run, "CALIBRATE_ABOVE", 4)
+    study = _study_file(tmp_path, 'kind = "optimise"\n[study.parameters]\nGamma = { from = 0.05, to = 0.4 }\n'
+                        'kx1 = { from = "1 MN/m", to = "4 MN/m" }\n[study.objective]\nmaximise = "critical_speed"\n'
+                        f'[study.optimiser]\nmethod = "{method}"\npopulation = 3\niterations = 2\n')
+    output = tmp_path / "out.csv"
+    err = assert_input_error(capsys, "study", study, "-o", output, "--workers", "2", "--max-hours", "1e-9",
+                             mentions="the study would take about")
+    assert f"{evaluations} evaluations at most at" in err and f"(measured) on {workers}" in err
+    assert "give --max-hours" in err and "--scheduler" in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["study.toml"]  # no checkpoint, no output
+    status, _, err = run(capsys, "study", study, "-o", output, "--workers", "2", "--max-hours", "1")
+    assert status == 0, err
+    assert 2 <= len(output.read_text().splitlines()) - 1 <= evaluations
+
+
 # ------------------------------------------------------------------ profiles know their role
 
 

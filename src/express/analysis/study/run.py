@@ -27,7 +27,7 @@ from express.analysis.study import runner
 from express.analysis.study.outputs import OUTPUTS
 from express.analysis.study.results import FORMATS, Checkpoint, ResultTable, checkpoint_path, result_bytes
 from express.analysis.study.runner import Engine, blocked, make_task
-from express.analysis.study.sampling import study_points
+from express.analysis.study.sampling import study_points, to_ranges
 from express.analysis.study.spec import StudySpec
 from express.base.diagnostics import UsageError
 
@@ -141,12 +141,16 @@ class CostEstimate:
     seconds_per_point : float
         Median of the calibration points, in this process.
     workers : int
-        Workers at hand (local processes, or the cluster's threads).
+        Workers at hand (local processes, or the cluster's threads); 1 for an optimiser
+        that evaluates one point at a time (COBYLA).
+    what : str
+        What :attr:`points` counts, for the message.
     """
 
     points: int
     seconds_per_point: float
     workers: int
+    what: str = "points"
 
     @property
     def hours(self) -> float:
@@ -157,12 +161,40 @@ def estimate_cost(engine: Engine, indices: np.ndarray, points: np.ndarray) -> Co
     """Time a few points (:data:`CALIBRATION_POINTS`) in this process and scale to the
     study's ``indices`` on the engine's workers."""
     picks = sorted({0, len(indices) // 2, len(indices) - 1})[:CALIBRATION_POINTS]
+    return CostEstimate(len(indices), _seconds_per_point(engine, [int(indices[k]) for k in picks],
+                                                         points[picks]), engine.parallel)
+
+
+def _seconds_per_point(engine: Engine, indices: list[int], points: np.ndarray) -> float:
+    """Median time of evaluating ``points`` one by one in this process (s)."""
     times = []
-    for k in picks:
+    for index, point in zip(indices, points, strict=True):
         started = time.perf_counter()
-        runner.evaluate_points(engine.task, [int(indices[k])], [points[k].tolist()])
+        runner.evaluate_points(engine.task, [index], [np.asarray(point).tolist()])
         times.append(time.perf_counter() - started)
-    return CostEstimate(len(indices), float(np.median(times)), engine.parallel)
+    return float(np.median(times))
+
+
+def optimisation_evaluations(spec: StudySpec) -> int:
+    """The most evaluations the optimiser of ``spec`` may ask for: ``population x
+    parameters x (iterations + 1)`` for differential evolution (the first population and
+    one per generation), ``iterations x population`` for COBYLA."""
+    settings = spec.optimiser
+    if settings["method"] == "cobyla":
+        return int(settings["iterations"] * settings["population"])
+    return int(settings["population"] * len(spec.parameters) * (settings["iterations"] + 1))
+
+
+def estimate_optimisation_cost(engine: Engine, spec: StudySpec, done: int) -> CostEstimate:
+    """Time :data:`CALIBRATION_POINTS` points of the bounds (a quarter, the middle and
+    three quarters of every range) and scale to the optimiser's remaining maximum number
+    of evaluations; differential evolution evaluates a population at once on the
+    engine's workers, COBYLA one point at a time."""
+    fractions = np.linspace(0.25, 0.75, CALIBRATION_POINTS)
+    points = to_ranges(np.repeat(fractions[:, None], len(spec.parameters), axis=1), spec.parameters)
+    seconds = _seconds_per_point(engine, list(range(CALIBRATION_POINTS)), points)
+    workers = 1 if spec.optimiser["method"] == "cobyla" else engine.parallel
+    return CostEstimate(max(0, optimisation_evaluations(spec) - done), seconds, workers, "evaluations at most")
 
 
 def check_cost(estimate: CostEstimate, max_hours: float | None) -> None:
@@ -177,7 +209,7 @@ def check_cost(estimate: CostEstimate, max_hours: float | None) -> None:
     if estimate.hours <= bound:
         return
     raise UsageError(
-        f"the study would take about {estimate.hours:.3g} h: {estimate.points} points at "
+        f"the study would take about {estimate.hours:.3g} h: {estimate.points} {estimate.what} at "
         f"{estimate.seconds_per_point:.3g} s each (measured) on {estimate.workers} "
         f"worker{'s' if estimate.workers != 1 else ''}, more than the bound of {bound:g} h; give --max-hours "
         f"{math.ceil(estimate.hours)} to run it anyway, fewer points, or a cluster (--scheduler)"
@@ -228,6 +260,14 @@ def run_study(
         checkpoint = Checkpoint(checkpoint_path(output), identity)
         with engine:
             checkpoint.open(resume)
+            done = sum(1 for _ in checkpoint.records())
+            if optimisation_evaluations(spec) - done > CALIBRATE_ABOVE:
+                try:
+                    check_cost(estimate_optimisation_cost(engine, spec, done), max_hours)
+                except UsageError:  # refused before any point was computed: nothing left behind
+                    if not done:
+                        checkpoint.remove()
+                    raise
             table, computed, extra = run_optimisation(spec, engine, checkpoint, units, progress)
         grid = None
     else:
