@@ -85,7 +85,7 @@ def test_formats_hold_the_same_numbers(tmp_path: Path) -> None:
 
     metadata = pq.read_schema(tmp_path / "r.parquet").metadata
     assert metadata[b"express.study"].decode() == spec.text
-    assert json.loads(metadata[b"express.base.units"])["kx1"] == "N/m"
+    assert json.loads(metadata[b"express.units"])["kx1"] == "N/m"
     with xr.open_dataset(tmp_path / "r.nc", engine="scipy") as data:
         assert data["critical_speed"].dims == ("Gamma", "kx1")
         assert data["critical_speed"].attrs["units"] == "m/s" and data["kx1"].attrs["units"] == "N/m"

@@ -240,7 +240,7 @@ def parquet_bytes(table: ResultTable, metadata: dict[str, str]) -> bytes:
     columns = {name: pa.array(table.column(name), type=pa.float64()) for name in (*table.names, *table.outputs)}
     columns["error"] = pa.array(table.error_column(), type=pa.string())
     meta = {f"express.{k}": v for k, v in metadata.items()}
-    meta["express.base.units"] = json.dumps({n: table.units.get(n, "") for n in (*table.names, *table.outputs)})
+    meta["express.units"] = json.dumps({n: table.units.get(n, "") for n in (*table.names, *table.outputs)})
     arrow = pa.table(columns).replace_schema_metadata(meta)
     sink = io.BytesIO()
     pq.write_table(arrow, sink)
