@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 import sympy as sp
@@ -14,6 +16,9 @@ from express.io import load_model
 from express.model.parameters import expression_value
 from express.model.topology import classify_bodies
 from express.numeric.statespace import load_vehicle
+
+
+ROOT_EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
 
 def _evaluator(values):
@@ -181,3 +186,18 @@ def test_bump_stops_have_their_own_symbol():
     lines: list = []
     _symbol(lines, "stop", np.zeros(2), np.array([1.0, 0.0]), 0.05)
     assert len(lines) == 4  # the spring, its end plate, the stop across the gap, the stop's stem
+
+
+def test_an_outline_in_the_model_file_is_drawn_and_written_back(tmp_path):
+    from express.io import parse_toml_model
+    from express.io.toml_writer import model_to_toml
+
+    text = (ROOT_EXAMPLES / "manchester.toml").read_text(encoding="utf-8").replace(
+        'position = [0, 0, "hc"]', 'position = [0, 0, "hc"]\noutline = [23.0, 2.8, 3.1]', 1)
+    model = parse_toml_model(text, "coach.toml")
+    values = model.values()
+    geometry = model_geometry(model, lambda e: expression_value(e, values), classify_bodies(model).role)
+    body = next(b for b in geometry.bodies if b.id == "CB")
+    assert body.outline == pytest.approx((23.0, 2.8, 3.1))
+    again = parse_toml_model(model_to_toml(model), "again.toml")
+    assert again.body("CB").outline == model.body("CB").outline

@@ -121,6 +121,9 @@ def _body_shape(body, value, wheelset) -> tuple[Vector | None, float | None, flo
     try:
         if wheelset is not None:
             return None, float(value(wheelset.r0)), float(value(wheelset.b))
+        if getattr(body, "outline", None) is not None:
+            length, width, height = (float(value(side)) for side in body.outline)
+            return (length, width, height), None, None
         ix, iy, iz = (float(value(i)) for i in body.inertia)
         return estimated_outline(float(value(body.mass)), (ix, iy, iz)), None, None
     except (KeyError, ValueError, TypeError, ModelError):

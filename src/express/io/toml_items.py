@@ -25,7 +25,7 @@ from express.model.records import (
 
 __all__ = ["TomlReader", "check_id", "cut_text", "entries", "read_items", "show_value", "value_kind"]
 
-BODY_KEYS = ("mass", "inertia", "dofs", "position", "label")
+BODY_KEYS = ("mass", "inertia", "dofs", "position", "label", "outline")
 POINT_KEYS = ("body", "offset")
 ELEMENT_KEYS = ("from", "to", "direction", "stiffness", "damping", "label", "series", "gap", "progressive")
 PIN_KEYS = ("virtual", "non_virtual")
@@ -155,6 +155,8 @@ def read_items(reader: TomlReader, data: dict, base: tuple[str, ...] = ()):
                 reader.vector(spec.get("position", [0, 0, 0]), path + ("position",), item, "position"),
                 str(spec.get("label", "")),
                 reader.line(*path),
+                outline=(reader.vector(spec["outline"], path + ("outline",), item, "outline")
+                         if "outline" in spec else None),
             )
         )
     grounds_raw = data.get("grounds", {})

@@ -132,6 +132,8 @@ def model_to_toml(model: Model) -> str:
         lines.append("dofs = [" + ", ".join(_string(d) for d in body.dofs) + "]")
         if any(v != 0 for v in body.position):
             lines.append(f"position = {_vector(body.position)}")
+        if body.outline is not None:
+            lines.append(f"outline = {_vector(body.outline)}  # length, width, height drawn")
     for ground in model.grounds:
         lines += ["", f"[grounds.{_key(ground.id)}]"]
         if ground.label:

@@ -73,6 +73,9 @@ class Body:
         Human description.
     line : int or None
         Line in the source file.
+    outline : tuple of 3 sympy.Expr or None
+        Length, width and height [m] the body is drawn as (``express draw``); None:
+        estimated from its mass and inertias (``docs/drawings-and-interfaces.md``).
     """
 
     id: str
@@ -82,6 +85,7 @@ class Body:
     position: Vector = ZERO3
     label: str = ""
     line: int | None = None
+    outline: Vector | None = None
 
     def dof_names(self) -> list[str]:
         """Generalized-coordinate names ``<id>.<dof>`` of this body, in order."""

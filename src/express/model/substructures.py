@@ -199,7 +199,8 @@ def instantiate(sub: Substructure, instance: Instance, source: str = "<substruct
 
     grounds = {g.id for g in sub.grounds}
     bodies = tuple(
-        replace(b, id=rename(b.id), mass=value(b.mass), inertia=vector(b.inertia), position=vector(b.position, station))
+        replace(b, id=rename(b.id), mass=value(b.mass), inertia=vector(b.inertia), position=vector(b.position, station),
+                outline=vector(b.outline) if b.outline is not None else None)
         for b in sub.bodies
     )
     points = tuple(
