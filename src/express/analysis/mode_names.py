@@ -36,9 +36,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from express.assembly.equations import STROKE  # a series element's stroke: <element>.stroke
 from express.model.topology import Topology
 
-__all__ = ["ModeEnergy", "generic_name", "kinematic_frequency", "mode_energy", "mode_name"]
+__all__ = ["STROKE", "ModeEnergy", "generic_name", "kinematic_frequency", "mode_energy", "mode_name"]
 
 #: A direction names the motion when it holds at least this share of the subject's
 #: kinetic energy (at most two directions are named).
@@ -52,8 +53,6 @@ HUNTING_WHEELSET_SHARE = 0.2
 HUNTING_LATERAL_YAW = 0.8
 #: Hunting is at most this factor times Klingel's kinematic frequency.
 HUNTING_FREQUENCY_FACTOR = 1.5
-#: Suffix of a series element's stroke coordinate (``<element>.stroke``).
-STROKE = "stroke"
 
 _WORDS = {"x": "longitudinal", "y": "lateral", "z": "bounce", "rx": "roll", "ry": "pitch", "rz": "yaw"}
 _WHEELSET_WORDS = {**_WORDS, "z": "vertical"}
