@@ -42,20 +42,15 @@ class _Unit:
 
 @dataclass(frozen=True)
 class TrackFrequencyResponse:
-    """Complex amplitudes of the ride outputs for each track component alone.
+    """Complex amplitudes of the ride outputs for each track component alone: the
+    ride analysis's ``transfer`` (:class:`express.analysis.ride.vehicle.RideResponse`,
+    same ``frequencies`` [Hz], ``speed`` [m/s], ``names`` and ``units``) times the
+    irregularity ``amplitude`` ``Y`` [m].
 
     Attributes
     ----------
-    frequencies : numpy.ndarray, shape (F,)
-        [Hz].
-    speed : float
-        [m/s].
-    amplitude : float
-        ``Y`` [m] of each component.
     components : tuple of str
         The components computed (of :data:`express.rail.track.spectra.COMPONENTS`).
-    names, units : tuple of str
-        Outputs (``floor_front.az``, ``W1.Y``, ...) and their SI units.
     values : numpy.ndarray, complex, shape (F, len(names), len(components))
         Response amplitudes for ``Y``.
     """
