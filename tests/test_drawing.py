@@ -201,3 +201,28 @@ def test_an_outline_in_the_model_file_is_drawn_and_written_back(tmp_path):
     assert body.outline == pytest.approx((23.0, 2.8, 3.1))
     again = parse_toml_model(model_to_toml(model), "again.toml")
     assert again.body("CB").outline == model.body("CB").outline
+
+
+def _gids(figure) -> set[str]:
+    return {str(line.get_gid()) for axis in figure.axes for line in axis.lines if line.get_gid()}
+
+
+def test_anti_roll_bars_and_pins_have_their_own_symbols():
+    model = load_model("examples/manchester.toml")
+    values = model.values()
+    geometry = model_geometry(model, lambda e: expression_value(e, values), classify_bodies(model).role)
+    bars = [e.id for e in geometry.elements if "anti-roll" in e.description]
+    assert bars  # the coach has one per bogie
+    gids = _gids(figure_model(geometry))
+    for bar in bars:  # the U-shaped bar and its two drop links, in each of the three views
+        assert f"anti-roll-bar:{bar}" in gids and f"anti-roll-bar:{bar}:drop-link" in gids
+    assert not any(g.startswith("pin:") for g in gids)
+
+    steering = load_model("examples/forced-steering.toml")
+    values = steering.values()
+    geometry = model_geometry(steering, lambda e: expression_value(e, values), classify_bodies(steering).role)
+    assert geometry.pins
+    gids = _gids(figure_model(geometry))
+    assert not any(g.startswith("anti-roll-bar:") for g in gids)  # no roll springs in this car
+    for pin, _ in geometry.pins:  # a ring with a filled dot, unlike a connection point's open ring
+        assert {f"pin:{pin}", f"pin:{pin}:dot"} <= gids

@@ -208,7 +208,7 @@ def model_geometry(model: Model, value: Callable[[object], float], roles: Mappin
                                 tuple(own.min(axis=0)), tuple(own.max(axis=0)), outline, radius, gauge_half))
     elements = tuple(
         DrawnElement(
-            element.id, element.s_end, element.t_end, int(element.direction),
+            element.id, element.s_end, element.t_end, int(element.direction) + (3 if element.rotational else 0),
             "stop" if element.kind == ElementKind.CLEARANCE
             else _kind(element.stiffness == 0, element.damping == 0, bool(element.series)),
             _describe(element, value),

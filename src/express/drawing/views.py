@@ -2,7 +2,9 @@
 
 Springs are zigzags, dampers dashpots, parallel spring-dampers both side by side, series
 (Maxwell) elements a spring followed by a dashpot, bump stops (clearance elements) a
-spring facing its stop across a gap, pinned joints small open circles,
+spring facing its stop across a gap, pinned joints a filled dot in a ring (the paper's
+hinge, Fig. 2), anti-roll bars (roll springs between two bodies) a torsion bar: a U-shaped
+bar with a drop link at each end,
 levers thick bars, grounds dark triangles.  A body is drawn by its outline (the uniform box
 of its mass and inertias, :func:`express.drawing.geometry.estimated_outline`), else as the
 box around its points; a wheelset as its wheels: circles of the rolling radius in the side
@@ -10,8 +12,9 @@ view, discs seen edge-on at the contact points in the plan and end views, on the
 Labels are placed where they overlap no other label (:func:`place_labels`); those with no
 free place are listed under the figure instead.  An
 element whose two points coincide in a view is drawn as a short symbol along its
-direction at that point, or as a ring when its direction points out of the view; a
-rotational element is a small arc.
+direction at that point, or as a ring when its direction points out of the view; any other
+rotational element is a small arc.  Anti-roll bars and pins are artists of their own whose
+``gid`` names their kind and id (``"anti-roll-bar:T1_roll_bar"``, ``"pin:P1"``).
 
 The functions build a :class:`matplotlib.figure.Figure` without touching pyplot's state.
 """
@@ -92,12 +95,31 @@ def _symbol(lines: list, kind: str, a: np.ndarray, b: np.ndarray, width: float) 
         _dashpot(lines, a - normal, b - normal, 0.6 * width)
 
 
+def _anti_roll_bar(axis, centre: np.ndarray, size: float, name: str, alpha: float) -> None:
+    """Draw a torsion bar of half width ``size`` at ``centre``: a U-shaped bar (the tube
+    and its two arms) with a thin drop link on each arm, jointed by small circles."""
+    x, y = centre
+    bar = np.array([[-size, 0.5 * size], [-size, -0.3 * size], [size, -0.3 * size], [size, 0.5 * size]])
+    axis.plot(x + bar[:, 0], y + bar[:, 1], color=_ELEMENT_COLOUR, lw=1.4, alpha=alpha, gid=f"anti-roll-bar:{name}")
+    for side in (-size, size):
+        axis.plot([x + side, x + side], [y + 0.5 * size, y + 1.1 * size], color=_ELEMENT_COLOUR, lw=0.6,
+                  marker="o", ms=1.5, mfc="white", alpha=alpha, gid=f"anti-roll-bar:{name}:drop-link")
+
+
+def _is_anti_roll_bar(geometry: ModelGeometry, element: DrawnElement) -> bool:
+    """A roll spring (stiffness only, about x) between two bodies, neither of them ground."""
+    return (element.axis == 3 and element.kind == "spring"
+            and not {element.s_point, element.t_point} & set(geometry.ground_points))
+
+
 def _element(axis, lines: list, rings: list, geometry: ModelGeometry, element: DrawnElement,
              view: tuple[int, int], size: float, alpha: float, label: bool) -> None:
     h, v = view
     start, end = (np.asarray(p, dtype=float) for p in geometry.ends(element))
     a, b = start[[h, v]], end[[h, v]]
-    if element.axis >= 3:  # rotational: an arc about the element's axis
+    if _is_anti_roll_bar(geometry, element):
+        _anti_roll_bar(axis, 0.5 * (a + b), size, element.id, alpha)
+    elif element.axis >= 3:  # rotational: an arc about the element's axis
         angle = np.linspace(0.3, 1.7 * np.pi, 30)
         lines.append(0.5 * (a + b) + 0.5 * size * np.column_stack([np.cos(angle), np.sin(angle)]))
     elif np.linalg.norm(b - a) > 0.5 * size:
@@ -262,9 +284,12 @@ def draw_view(axis, geometry: ModelGeometry, view: str, *, alpha: float = 1.0, l
     if geometry.ground_points:
         anchors = np.array([geometry.points[p] for p in geometry.ground_points])[:, [h, v]]
         axis.plot(anchors[:, 0], anchors[:, 1], ls="none", marker="v", ms=6, color="#444444", alpha=alpha)
-    for _, point in geometry.pins:
+    for pin, point in geometry.pins:  # a hinge: a filled dot in a ring
         position = np.asarray(geometry.points[point])[[h, v]]
-        axis.plot(*position, marker="o", ms=4, mfc="white", mec="black", mew=0.8, alpha=alpha, zorder=5)
+        axis.plot(*position, marker="o", ms=6, mfc="white", mec="black", mew=0.8, alpha=alpha, zorder=5,
+                  gid=f"pin:{pin}")
+        axis.plot(*position, marker="o", ms=2.4, mfc="black", mec="black", mew=0, alpha=alpha, zorder=6,
+                  gid=f"pin:{pin}:dot")
     axis.set_title(title, fontsize=8)
     axis.grid(False)  # whatever the global style: a drawing has no grid
     if limits is None:
