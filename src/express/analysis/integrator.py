@@ -216,7 +216,7 @@ def _all_feedback(x, k, feedback, stops, z, record):
         bump_stops(x, k, stops, z.size - stops.gap.size, z)
 
 
-@njit(cache=True, fastmath=True)
+@njit(cache=True)
 def heun_march(phi, drive, g0, g1, x0, first, last, states, feedback, stops, history):
     """Steps ``first .. last`` of ``x[k+1] = phi x[k] + drive[k] + g0 z[k] + g1 (z[k+1] - z[k])``
     with the end value ``z[k+1]`` of the feedback from a predictor (Heun's scheme on the
