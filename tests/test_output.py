@@ -8,6 +8,7 @@ import io
 import json
 import multiprocessing
 import os
+import re
 import stat
 import threading
 from pathlib import Path
@@ -15,7 +16,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from express.base.diagnostics import InputError, OutputError
+from express.base.diagnostics import AnalysisError, InputError, OutputError
 from express.io import output
 from express.io.output import (
     check_destination,
@@ -38,11 +39,43 @@ def listing(folder: Path) -> list[str]:
 # --------------------------------------------------------------------------- JSON
 
 
-def test_json_safe_converts_numpy_and_non_finite_values():
-    data = {"a": np.float64(1.5), "b": np.array([1.0, np.nan]), 3: (np.int64(2), np.bool_(True), float("inf"))}
+def test_json_safe_converts_numpy_values_and_keeps_none_as_null():
+    data = {"a": np.float64(1.5), "b": np.array([1.0, 2.0]), 3: (np.int64(2), np.bool_(True), None)}
     safe = json_safe(data)
-    assert safe == {"a": 1.5, "b": [1.0, None], "3": [2, True, None]}
+    assert safe == {"a": 1.5, "b": [1.0, 2.0], "3": [2, True, None]}
     json.dumps(safe, allow_nan=False)
+
+
+@pytest.mark.parametrize(("data", "message"), [
+    ({"b": np.array([1.0, np.nan])}, "result.b: not a finite number (nan) at index 1: the analysis gave no valid result"),
+    ({"s": [{"v": 1.0}, {"v": float("inf")}]}, "result.s[1].v: not a finite number (inf): the analysis gave no"),
+    ({"x": np.float32("-inf")}, "result.x: not a finite number (-inf)"),
+])
+def test_json_safe_refuses_nan_and_inf_naming_the_place(data, message):
+    with pytest.raises(AnalysisError, match=re.escape(message)):
+        json_safe(data)
+
+
+@pytest.mark.parametrize(("columns", "message"), [
+    ({"t": [0.0, 0.5, 1.0], "Q1": [1.0, np.nan, np.inf]},
+     "Q1_N: not a finite number (nan) at row 2 (t_s = 0.5) (2 of 3 values): the analysis gave no valid result there; "
+     "nothing written"),
+    ({"t": [np.inf, 0.5], "Q1": [1.0, 2.0]}, "t_s: not a finite number (inf) at row 1: the analysis"),
+])
+def test_csv_text_refuses_nan_and_inf_naming_column_and_row(columns, message):
+    with pytest.raises(AnalysisError, match=re.escape(message)):
+        csv_text(columns, {"t": "s", "Q1": "N"})
+
+
+def test_csv_text_writes_a_documented_marker_as_an_empty_cell():
+    text = csv_text({"g": [0.1, 0.2], "v": [30.0, np.nan], "name": ["a", None]}, {"v": "m/s"}, markers=["v"])
+    assert text == "g,v_m_s,name\n0.1,30,a\n0.2,,\n"
+
+
+@pytest.mark.parametrize("writer", [npz_bytes, mat_bytes])
+def test_npz_and_mat_refuse_nan_and_inf(writer):
+    with pytest.raises(AnalysisError, match=re.escape("K: not a finite number (nan) at index [1, 0]")):
+        writer({"dofs": np.array(["a", "b"]), "K": np.array([[1.0, 2.0], [np.nan, 1.0]])})
 
 
 # --------------------------------------------------------------------------- one file

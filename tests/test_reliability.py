@@ -403,3 +403,131 @@ def test_study_files_and_psd_tables_are_refused_by_their_kind_too(capsys, tmp_pa
         os.mkfifo(special)
     arguments = [a.format(special=special, tmp=tmp_path) for a in argv]
     assert_input_error(capsys, *arguments, mentions=words)
+
+
+# ------------------------------------------------------------------ no NaN or inf as a result
+
+
+def _poisoned(value, bad: float, field: str = ""):
+    """``(copy of value with its first float number set to bad, done)``: the first float
+    array entry or float found in dataclasses, dicts, lists and tuples, depth first
+    (within the dataclass ``field`` of ``value`` when given)."""
+    import copy
+    import dataclasses
+
+    import numpy as np
+
+    if field:
+        twin = copy.copy(value)
+        new, done = _poisoned(getattr(value, field), bad)
+        object.__setattr__(twin, field, new)
+        return twin, done
+    if isinstance(value, np.ndarray) and value.dtype.kind in "fc" and value.size:
+        array = value.copy()
+        array.flat[0] = bad
+        return array, True
+    if isinstance(value, float):
+        return bad, True
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        for item in dataclasses.fields(value):
+            new, done = _poisoned(getattr(value, item.name), bad)
+            if done:
+                twin = copy.copy(value)
+                object.__setattr__(twin, item.name, new)
+                return twin, True
+    if isinstance(value, dict):
+        for key, item in value.items():
+            new, done = _poisoned(item, bad)
+            if done:
+                return {**value, key: new}, True
+    if isinstance(value, (list, tuple)):
+        for k, item in enumerate(value):
+            new, done = _poisoned(item, bad)
+            if done:
+                items = list(value)
+                items[k] = new
+                return (type(value)(items) if isinstance(value, tuple) and type(value) is tuple else
+                        items if isinstance(value, list) else value._make(items)), True
+    return value, False
+
+
+#: command line (``{out}``: the output file), the analysis function whose result is
+#: poisoned (module, name, and the field of the result when not its first number), the
+#: bad value, and what the message names.
+NON_FINITE_CASES = [
+    (["eigen", CONVENTIONAL], "express.analysis.stability", "eigen_analysis:modes", math.nan, "eigen: a result"),
+    (["eigen", CONVENTIONAL, "--json"], "express.analysis.stability", "eigen_analysis:modes", math.inf,
+     "result.modes"),
+    (["critical-speed", STEERED], "express.analysis.stability", "critical_speed", math.inf, "critical-speed: a result"),
+    (["critical-speed", STEERED, "--json"], "express.analysis.stability", "critical_speed", math.nan, "result."),
+    (["critical-speed", STEERED, "--conicities", "0.1,0.2", "-o", "{out}"], "express.analysis.stability",
+     "critical_speed_vs_conicity", math.inf, "critical_speed_m_s: not a finite number (inf) at row 1"),
+    (["frf", CONVENTIONAL, "--points", "20", "-o", "{out}"], "express.analysis.frequency", "frequency_response",
+     math.nan, "is not finite at some frequency"),  # frf's own check, before the writer's
+    (["ride", CONVENTIONAL, "--track", "ERRI-low", "--points", "20", "-o", "{out}"], "express.analysis.ride.vehicle",
+     "ride_response:psd", math.inf, "not a finite number (inf)"),
+    (["curving", STEERED, "--radius", "600", "-o", "{out}"], "express.analysis.curving.steady", "steady_curving",
+     math.nan, "not a finite number (nan)"),
+    (["export", CONVENTIONAL, "-o", "{out}.npz"], "express.export.linear_system", "numeric_matrices", math.nan,
+     "not a finite number (nan) at index"),
+    (["export", CONVENTIONAL, "-o", "{out}.mat"], "express.export.linear_system", "numeric_matrices", math.inf,
+     "not a finite number (inf) at index"),
+    (["report", CONVENTIONAL, "-o", "{out}.html"], "express.analysis.stability", "eigen_analysis:modes", math.nan,
+     "report: a result is not a finite number (nan)"),
+]
+
+
+@pytest.mark.parametrize(("argv", "module", "function", "bad", "mentions"), NON_FINITE_CASES,
+                         ids=[f"{case[0][0]}-{k}" for k, case in enumerate(NON_FINITE_CASES)])
+def test_a_non_finite_result_is_exit_1_naming_it_and_nothing_is_written(
+    capsys, tmp_path: Path, monkeypatch, argv: list, module: str, function: str, bad: float, mentions: str,
+) -> None:
+    """The analysis is made to return a nan or inf (its first number); the command
+    refuses to write or print it: status 1, the quantity and its place named, no file."""
+    import importlib
+
+    function, _, field = function.partition(":")
+    target = importlib.import_module(module)
+    real = getattr(target, function)
+
+    def poisoned(*args, **kwargs):
+        value, done = _poisoned(real(*args, **kwargs), bad, field)
+        assert done, f"{function} returned no number to poison"
+        return value
+
+    monkeypatch.setattr(target, function, poisoned)
+    out = tmp_path / "out"
+    status, stdout, err = run(capsys, *[str(a).replace("{out}", str(out)) for a in argv])
+    assert status == 1, (status, err)
+    assert mentions in err and "finite" in err, err
+    assert "nan" not in stdout.lower().split() and "inf" not in stdout.lower().split()
+    assert sorted(p.name for p in tmp_path.iterdir()) == []  # nothing written, no temporary left
+
+
+def test_a_failed_study_point_is_nan_with_its_reason(tmp_path: Path, monkeypatch) -> None:
+    """A study's documented failure marker (docs/studies.md): nan, never without its reason."""
+    from express.analysis.study import outputs
+    from express.analysis.study.results import read_table
+    from express.analysis.study.run import run_study
+    from express.analysis.study.spec import read_study
+
+    real = outputs.PointOutputs.__call__
+
+    def no_value(self, vehicle):
+        values, _ = real(self, vehicle)
+        return dict.fromkeys(values, math.inf), []
+
+    monkeypatch.setattr(outputs.PointOutputs, "__call__", no_value)
+    study = _study_file(tmp_path, 'kind = "grid"\n[study.parameters]\nGamma = { from = 0.05, to = 0.4, count = 2 }\n')
+    run_study(read_study(study), tmp_path / "out.csv", workers=1)
+    text = (tmp_path / "out.csv").read_text()
+    assert "inf" not in text.lower().replace("info", "")
+    table = read_table(tmp_path / "out.csv")
+    assert np_all_nan(table["critical_speed"])
+    assert list(table["error"]) == ["no finite value of critical_speed"] * 2
+
+
+def np_all_nan(values) -> bool:
+    import numpy as np
+
+    return bool(np.all(np.isnan(np.asarray(values, dtype=float))))

@@ -203,12 +203,27 @@ def _run(parser: argparse.ArgumentParser, argv: Sequence[str] | None) -> int:
     values: dict[str, Any] = vars(args)
     handler = values["handler"]
     numeric = bool(values.get("numeric", False))
+    command = str(values.get("command"))
     no_cache = bool(values.get("no_cache", False))
     for key in _META:
         values.pop(key, None)
-    with _one_blas_thread(numeric), _cache_switch(no_cache), warnings.catch_warnings():
+    with _one_blas_thread(numeric), _cache_switch(no_cache), warnings.catch_warnings(), _finite_stdout(command):
         warnings.showwarning = _show_warning
         return int(handler(**values))
+
+
+@contextlib.contextmanager
+def _finite_stdout(command: str) -> Iterator[None]:
+    """What the command prints on standard output passes :class:`~express.io.finite.FiniteText`:
+    a nan or inf printed as a result is status 1 (``docs/reliability.md``)."""
+    from express.io.finite import FiniteText
+
+    stdout = sys.stdout
+    sys.stdout = FiniteText(stdout, command)
+    try:
+        yield
+    finally:
+        sys.stdout = stdout
 
 
 def main(argv: Sequence[str] | None = None) -> int:

@@ -161,7 +161,8 @@ def _write_sweep(output: str, parameter: str, conicities: list[float], sweep: li
     speeds = _speeds(sweep)
     columns = {parameter: conicities, "critical_speed": speeds, "critical_speed_kmh": speeds / common.KMH,
                "unstable_at_min": [int(c is not None and c.unstable_at_min) for c in sweep]}
-    write_csv(output, columns, {"critical_speed": "m/s"})
+    # a conicity stable up to --vmax has no critical speed: an empty cell (docs/analyses.md)
+    write_csv(output, columns, {"critical_speed": "m/s"}, markers=("critical_speed", "critical_speed_kmh"))
 
 
 def _fields(result: Any) -> dict:

@@ -29,6 +29,7 @@ def add_parser(subparsers) -> None:
 def run(model: Path, overrides: dict[str, str], *, output: str, speed: float | None = None,
         track: str | None = None) -> int:
     """Write the report; returns the exit status."""
+    from express.io.finite import require_finite_text
     from express.io.output import output_transaction, write_text
     from express.numeric.generation import load_generation
     from express.numeric.statespace import load_vehicle
@@ -47,7 +48,9 @@ def run(model: Path, overrides: dict[str, str], *, output: str, speed: float | N
             if problems:
                 raise UsageError("\n".join(f"report: {problem}" for problem in problems))
         readable = load_generation(model, overrides).equations  # factored for people (docs/cache.md)
-        write_text(output, report_html(vehicle, speed=speed, track=road if track is not None else None, track_name=where,
-                                       equations=readable))
+        html = report_html(vehicle, speed=speed, track=road if track is not None else None, track_name=where,
+                           equations=readable)
+        require_finite_text("report", html)  # no nan or inf printed as a result (docs/reliability.md)
+        write_text(output, html)
     common.note(f"wrote {output}")
     return 0

@@ -64,6 +64,7 @@ def run(
 
     from express.analysis.ride.summaries import point_comfort, wheel_forces
     from express.analysis.ride.vehicle import ride_response
+    from express.io.finite import require_finite
     from express.io.output import output_transaction
 
     if not fmax > fmin:
@@ -80,6 +81,7 @@ def run(
         vehicle = common.load_rail_vehicle(model, overrides, "ride")
         v = common.running_speed(vehicle, speed)
         response = ride_response(vehicle, spectra, v, np.geomspace(fmin, fmax, points))
+        require_finite("ride: the response PSD (output x frequency)", response.psd)  # before the comfort sums
         comfort = point_comfort(response)
         wheels = wheel_forces(response, vehicle)
         if output is not None:

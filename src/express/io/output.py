@@ -46,6 +46,7 @@ from typing import Any
 
 from express.base.diagnostics import OutputError
 from express.base.interrupts import release, temporary_file
+from express.io.finite import first_non_finite, non_finite_error, require_finite
 
 __all__ = [
     "STDOUT",
@@ -516,27 +517,50 @@ def column_name(name: str, unit: str | None) -> str:
     return f"{name}_{token}"
 
 
-def csv_text(columns: Mapping[str, Any], units: Mapping[str, str | None] | None = None) -> str:
+def csv_text(columns: Mapping[str, Any], units: Mapping[str, str | None] | None = None, *,
+             markers: Iterable[str] = ()) -> str:
     """CSV text of equally long ``columns`` (name -> values, SI); the header carries each
-    column's unit (:func:`column_name`).  Numbers are written with 9 significant digits,
-    non-finite ones as ``nan``/``inf``; text values as they are.
+    column's unit (:func:`column_name`).  Numbers are written with 9 significant digits;
+    text values as they are; None as an empty cell.
+
+    A nan or inf is no result (:mod:`express.io.finite`): :class:`AnalysisError` naming
+    the column, the row and the first column's value there, unless the column is one of
+    ``markers``, whose documented "no value", nan, is written as an empty cell (an inf
+    is never a marker).
 
     Examples
     --------
-    >>> print(csv_text({"t": [0.0, 0.5], "Q1": [1.0, float("nan")]}, {"t": "s", "Q1": "N"}), end="")
-    t_s,Q1_N
+    >>> print(csv_text({"t": [0.0, 0.5], "v": [1.0, float("nan")]}, {"t": "s"}, markers=["v"]), end="")
+    t_s,v
     0,1
-    0.5,nan
+    0.5,
+    >>> csv_text({"t": [0.0, 0.5], "Q1": [1.0, float("inf")]}, {"t": "s", "Q1": "N"})
+    Traceback (most recent call last):
+    ...
+    express.base.diagnostics.AnalysisError: Q1_N: not a finite number (inf) at row 2 (t_s = 0.5): the analysis gave no valid result there; nothing written
     """
+    import numpy as np
+
     units = units or {}
     names = list(columns)
+    headers = [column_name(name, units.get(name)) for name in names]
+    marked = set(markers)
+    for name, header in zip(names, headers, strict=True):
+        values = columns[name]
+        if name in marked:  # nan is the marker; inf never is
+            values = np.where(np.isnan(values), 0.0, values) if np.asarray(values).dtype.kind == "f" else values
+        found = first_non_finite(values)
+        if found is not None:
+            row = found[0][0]
+            first = "" if name == names[0] else f" ({headers[0]} = {_cells(columns[names[0]])[row]})"
+            raise non_finite_error(header, found[1], f"row {row + 1}{first}", found[2], len(columns[name]))
     cells = [_cells(columns[name]) for name in names]
     lengths = {len(column) for column in cells}
     if len(lengths) > 1:
         raise ValueError(f"columns of different lengths: {dict(zip(names, map(len, cells), strict=True))}")
     buffer = io.StringIO()
     writer = csv.writer(buffer, lineterminator="\n")
-    writer.writerow([column_name(name, units.get(name)) for name in names])
+    writer.writerow(headers)
     writer.writerows(zip(*cells, strict=True))
     return buffer.getvalue()
 
@@ -546,7 +570,7 @@ def _cells(values: Any) -> list[str]:
 
     array = np.asarray(values)
     if array.dtype.kind in "biuf":
-        return [f"{float(value):.9g}" for value in array.astype(float).ravel()]
+        return [f"{float(value):.9g}" if math.isfinite(value) else "" for value in array.astype(float).ravel()]
     return ["" if value is None else str(value) for value in array.ravel()]
 
 
@@ -556,25 +580,37 @@ def write_csv(
     units: Mapping[str, str | None] | None = None,
     *,
     inputs: Iterable[str | os.PathLike] = (),
+    markers: Iterable[str] = (),
 ) -> None:
     """Write :func:`csv_text` of ``columns`` to ``path`` (``"-"``: standard output)."""
-    write_text(path, csv_text(columns, units), inputs=inputs)
+    write_text(path, csv_text(columns, units, markers=markers), inputs=inputs)
 
 
-def json_safe(value: Any) -> Any:
+def json_safe(value: Any, where: str = "result") -> Any:
     """A copy of ``value`` that :func:`json.dumps` accepts with ``allow_nan=False``:
-    NumPy arrays and scalars become lists and Python numbers, nan/inf become None."""
+    NumPy arrays and scalars become lists and Python numbers; None stays ``null`` (the
+    documented "no value").
+
+    Raises
+    ------
+    AnalysisError
+        A nan or inf (:mod:`express.io.finite`), named by its path in ``value``
+        (``where``, keys and indices: ``result.sweep[2].critical_speed``).
+    """
     import numpy as np
 
     if isinstance(value, dict):
-        return {str(k): json_safe(v) for k, v in value.items()}
+        return {str(k): json_safe(v, f"{where}.{k}") for k, v in value.items()}
     if isinstance(value, (list, tuple)):
-        return [json_safe(v) for v in value]
+        return [json_safe(v, f"{where}[{i}]") for i, v in enumerate(value)]
     if isinstance(value, np.ndarray):
-        return json_safe(value.tolist())
+        require_finite(where, value)
+        return json_safe(value.tolist(), where)
     if isinstance(value, (float, np.floating)):
         number = float(value)
-        return number if math.isfinite(number) else None
+        if not math.isfinite(number):
+            raise non_finite_error(where, number, "", 1, 1)
+        return number
     if isinstance(value, np.bool_):
         return bool(value)
     if isinstance(value, np.integer):
@@ -592,7 +628,8 @@ def json_text(value: Any) -> str:
 def npz_bytes(arrays: Mapping[str, Any], *, compress: bool = False) -> bytes:
     """A NumPy ``.npz`` archive of ``arrays`` (name -> array), byte-identical run to run
     (fixed zip dates), readable by ``numpy.load`` without pickles; ``compress`` deflates
-    the members (as :func:`numpy.savez_compressed`)."""
+    the members (as :func:`numpy.savez_compressed`); a nan or inf is refused
+    (:func:`express.io.finite.require_finite`)."""
     import numpy as np
 
     buffer = io.BytesIO()
@@ -600,6 +637,7 @@ def npz_bytes(arrays: Mapping[str, Any], *, compress: bool = False) -> bytes:
     with zipfile.ZipFile(buffer, "w", compression=method) as archive:
         for name, value in arrays.items():
             array = np.asarray(value)
+            require_finite(name, array)
             if array.dtype == object:
                 raise TypeError(f"{name}: object arrays are not exported")
             member = io.BytesIO()
@@ -612,10 +650,13 @@ def npz_bytes(arrays: Mapping[str, Any], *, compress: bool = False) -> bytes:
 
 def mat_bytes(arrays: Mapping[str, Any], *, compress: bool = False) -> bytes:
     """A MATLAB 5 ``.mat`` file of ``arrays`` (vectors as columns), byte-identical run
-    to run (the creation date in the header is replaced by :data:`MAT_HEADER`)."""
+    to run (the creation date in the header is replaced by :data:`MAT_HEADER`); a nan
+    or inf is refused (:func:`express.io.finite.require_finite`)."""
     import numpy as np
     from scipy.io import savemat
 
+    for name, value in arrays.items():
+        require_finite(name, value)
     buffer = io.BytesIO()
     savemat(buffer, {name: np.asarray(value) for name, value in arrays.items()}, oned_as="column",
             do_compression=compress)

@@ -182,6 +182,9 @@ class _Worker:
         except Exception as exception:  # a point never stops the study; the message says what broke
             values, error = {}, f"internal error: {type(exception).__name__}: {_message(exception)}"
         outputs = [values.get(name, math.nan) for name in self.output_names]
+        missing = [name for name, x in zip(self.output_names, outputs, strict=True) if not math.isfinite(x)]
+        if missing and not error:  # nan is the documented marker of a failed output: never without its reason
+            error = f"no finite value of {', '.join(missing)}"
         return {
             "point": int(index),
             "values": [float(x) for x in vector],
