@@ -472,6 +472,12 @@ NON_FINITE_CASES = [
      "not a finite number (nan) at index"),
     (["export", CONVENTIONAL, "-o", "{out}.mat"], "express.export.linear_system", "numeric_matrices", math.inf,
      "not a finite number (inf) at index"),
+    (["sensitivity", CONVENTIONAL, "--output", "eigenvalue", "--parameter", "ky1"], "express.analysis.study.sensitivity",
+     "eigenvalue_derivatives", math.nan, "sensitivity: a result is not a finite number (nan)"),
+    (["sensitivity", CONVENTIONAL, "--output", "eigenvalue", "--parameter", "ky1", "--json"],
+     "express.analysis.study.sensitivity", "eigenvalue_derivatives", math.inf, "result.eigenvalue"),
+    (["simulate", CONVENTIONAL, "--dt", "0.01", "-o", "{out}.csv"], "express.analysis.simulate", "simulate:q",
+     math.nan, "a state or output is not finite"),  # diverged at t = 0: no valid step to keep as .diverged.csv
     (["report", CONVENTIONAL, "-o", "{out}.html"], "express.analysis.stability", "eigen_analysis:modes", math.nan,
      "report: a result is not a finite number (nan)"),
 ]
@@ -531,3 +537,21 @@ def np_all_nan(values) -> bool:
     import numpy as np
 
     return bool(np.all(np.isnan(np.asarray(values, dtype=float))))
+
+
+def test_a_demo_with_a_non_finite_number_writes_nothing(capsys, tmp_path: Path, monkeypatch) -> None:
+    """The demo's files go through the same writers: a nan in its summary is status 1
+    and the files it wrote before are not kept (one transaction)."""
+    import express.paper.demo as library
+    from express.io.output import csv_text, json_text, write_text
+
+    def run_demo(outdir, *, examples=None, log=print):
+        outdir.mkdir(parents=True, exist_ok=True)
+        write_text(outdir / "fig.csv", csv_text({"speed": [1.0, 2.0]}))
+        write_text(outdir / "summary.json", json_text({"critical_speed_kmh": math.nan}))
+        return outdir / "summary.json"
+
+    monkeypatch.setattr(library, "run_demo", run_demo)
+    status, out, err = run(capsys, "demo", tmp_path / "out", "--examples", Path(STEERED).parent)
+    assert status == 1 and "result.critical_speed_kmh: not a finite number (nan)" in err, err
+    assert sorted(p.name for p in (tmp_path / "out").iterdir()) == []

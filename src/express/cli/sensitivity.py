@@ -128,7 +128,8 @@ def _eigenvalue(vehicle, names: list[str], speed: float) -> dict:
     }
 
 
-def _print(name: str, summary: dict, stream=sys.stdout) -> None:
+def _print(name: str, summary: dict, stream=None) -> None:
+    stream = stream or sys.stdout  # looked up now: the command line's checked standard output
     if summary["output"] == "critical_speed":
         print(f"{name}: critical speed {summary['critical_speed_kmh']:.2f} km/h "
               f"({summary['critical_speed']:.4f} m/s, {summary['frequency_hz']:.3f} Hz); largest elasticity first",
