@@ -552,6 +552,6 @@ def test_a_demo_with_a_non_finite_number_writes_nothing(capsys, tmp_path: Path, 
         return outdir / "summary.json"
 
     monkeypatch.setattr(library, "run_demo", run_demo)
-    status, out, err = run(capsys, "demo", tmp_path / "out", "--examples", Path(STEERED).parent)
+    status, _, err = run(capsys, "demo", tmp_path / "out", "--examples", Path(STEERED).parent)
     assert status == 1 and "result.critical_speed_kmh: not a finite number (nan)" in err, err
     assert sorted(p.name for p in (tmp_path / "out").iterdir()) == []

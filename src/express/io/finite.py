@@ -15,11 +15,15 @@ column named as a marker, from nan (``docs/reliability.md``).
 from __future__ import annotations
 
 import re
+from collections.abc import Sequence
 from typing import Any
 
 from express.base.diagnostics import AnalysisError
 
-__all__ = ["FiniteText", "first_non_finite", "non_finite_error", "require_finite", "require_finite_text"]
+__all__ = [
+    "FiniteText", "first_non_finite", "non_finite_error", "require_finite", "require_finite_columns",
+    "require_finite_text",
+]
 
 #: A nan or inf printed as a number (``nan``, ``-inf``, ``+Inf``, ``NaN``), not part of a word.
 _NON_FINITE = re.compile(r"(?<![\w.])[-+]?(?:nan|inf|infinity)(?![\w(])", re.IGNORECASE)
@@ -105,6 +109,32 @@ def require_finite_text(quantity: str, text: str) -> None:
     line = text[:match.start()].rsplit("\n", 1)[-1] + text[match.start():].split("\n", 1)[0]
     raise AnalysisError(f"{quantity}: a result is not a finite number ({match.group(0).strip()}) in the line "
                         f"{line.strip()[:120]!r}: the analysis gave no valid result there")
+
+
+def require_finite_columns(columns: Sequence[Any], headers: Sequence[str], markers: Sequence[bool],
+                           labels: Sequence[str]) -> None:
+    """Refuse a CSV table with a nan or inf: the column's header, the row (from 1) and
+    ``labels`` (the first column's cells) there. A column marked in ``markers`` may
+    hold nan, its documented "no value"; inf never is one.
+
+    Examples
+    --------
+    >>> require_finite_columns([[0.0, 0.5], [1.0, float("inf")]], ["t_s", "Q1_N"], [False, False], ["0", "0.5"])
+    Traceback (most recent call last):
+    ...
+    express.base.diagnostics.AnalysisError: Q1_N: not a finite number (inf) at row 2 (t_s = 0.5): the analysis gave no valid result there; nothing written
+    """
+    import numpy as np
+
+    for k, (values, header, marker) in enumerate(zip(columns, headers, markers, strict=True)):
+        array = np.asarray(values)
+        if marker and array.dtype.kind == "f":
+            array = np.where(np.isnan(array), 0.0, array)
+        found = first_non_finite(array)
+        if found is not None:
+            row = found[0][0]
+            first = "" if k == 0 else f" ({headers[0]} = {labels[row]})"
+            raise non_finite_error(header, found[1], f"row {row + 1}{first}", found[2], array.size)
 
 
 class FiniteText:

@@ -46,7 +46,7 @@ from typing import Any
 
 from express.base.diagnostics import OutputError
 from express.base.interrupts import release, temporary_file
-from express.io.finite import first_non_finite, non_finite_error, require_finite
+from express.io.finite import non_finite_error, require_finite, require_finite_columns
 
 __all__ = [
     "STDOUT",
@@ -523,10 +523,8 @@ def csv_text(columns: Mapping[str, Any], units: Mapping[str, str | None] | None 
     column's unit (:func:`column_name`).  Numbers are written with 9 significant digits;
     text values as they are; None as an empty cell.
 
-    A nan or inf is no result (:mod:`express.io.finite`): :class:`AnalysisError` naming
-    the column, the row and the first column's value there, unless the column is one of
-    ``markers``, whose documented "no value", nan, is written as an empty cell (an inf
-    is never a marker).
+    A nan or inf is no result: :class:`AnalysisError` (:func:`~express.io.finite.require_finite_columns`)
+    unless it is the nan of a column in ``markers``, a documented "no value": an empty cell.
 
     Examples
     --------
@@ -534,27 +532,13 @@ def csv_text(columns: Mapping[str, Any], units: Mapping[str, str | None] | None 
     t_s,v
     0,1
     0.5,
-    >>> csv_text({"t": [0.0, 0.5], "Q1": [1.0, float("inf")]}, {"t": "s", "Q1": "N"})
-    Traceback (most recent call last):
-    ...
-    express.base.diagnostics.AnalysisError: Q1_N: not a finite number (inf) at row 2 (t_s = 0.5): the analysis gave no valid result there; nothing written
     """
-    import numpy as np
-
     units = units or {}
     names = list(columns)
     headers = [column_name(name, units.get(name)) for name in names]
-    marked = set(markers)
-    for name, header in zip(names, headers, strict=True):
-        values = columns[name]
-        if name in marked:  # nan is the marker; inf never is
-            values = np.where(np.isnan(values), 0.0, values) if np.asarray(values).dtype.kind == "f" else values
-        found = first_non_finite(values)
-        if found is not None:
-            row = found[0][0]
-            first = "" if name == names[0] else f" ({headers[0]} = {_cells(columns[names[0]])[row]})"
-            raise non_finite_error(header, found[1], f"row {row + 1}{first}", found[2], len(columns[name]))
     cells = [_cells(columns[name]) for name in names]
+    require_finite_columns([columns[name] for name in names], headers, [name in set(markers) for name in names],
+                           cells[0] if cells else [])
     lengths = {len(column) for column in cells}
     if len(lengths) > 1:
         raise ValueError(f"columns of different lengths: {dict(zip(names, map(len, cells), strict=True))}")
