@@ -174,14 +174,36 @@ def test_substructure_points_must_be_on_its_own_bodies():
     text = AXLES_TOML.replace('box = { body = "W" }', 'box = { body = "F" }')
     with pytest.raises(ModelError) as error:
         parse_toml_model(text, "axles.toml")
-    assert any('its point box is on "F"' in str(p) for p in error.value.problems)
+    assert any('(box of substructure' in p.item and 'is on "F"' in p.message for p in error.value.problems)
+
+
+def test_problems_in_a_substructure_name_each_item_by_its_full_name():
+    """A bad template element, instantiated twice: every problem names it as the model does
+    (``A_contact``), with its local name after, never by its local name alone."""
+    text = (AXLES_TOML.replace('direction = "y", stiffness = "kc"', 'direction = "q", stiffness = "kc +"')
+            .replace('to = "box", direction = "y"', 'to = "bx", direction = "y"'))
+    with pytest.raises(ModelError) as error:
+        parse_toml_model(text, "axles.toml")
+    items = sorted({(p.line, p.item) for p in error.value.problems})
+    assert items == [
+        (25, "TSD A_spring"),
+        (25, "TSD A_spring (spring of substructure axle)"),
+        (25, "TSD B_spring"),
+        (25, "TSD B_spring (spring of substructure axle)"),
+        (26, "TSD A_contact, B_contact (contact of substructure axle)"),
+    ]
+    assert all(p.item.split()[1].startswith(("A_", "B_")) for p in error.value.problems)  # no local name alone
+    assert sum("got 'q'" in p.message for p in error.value.problems) == 1  # the template's problem, once
+    assert sum('T_End "bx"' in p.message for p in error.value.problems) == 4  # per instance
 
 
 def test_instantiate_reports_unknown_element_ends():
     bad = Substructure("s", elements=(Element("e", sp.S.One, sp.S.Zero, "nowhere", "nothing", 0),))
-    _, problems = instantiate(bad, Instance("i", "s"), "m.toml")
-    assert [p.message for p in problems] == ['element e: "nowhere" is neither one of its points nor a connector',
-                                             'element e: "nothing" is neither one of its points nor a connector']
+    _, problems = instantiate(bad, Instance("i", "s", prefix="I_"), "m.toml")
+    assert [str(p) for p in problems] == [
+        'm.toml: TSD I_e (e of substructure s): S_End "nowhere" is neither one of its substructure\'s points nor a connector',
+        'm.toml: TSD I_e (e of substructure s): T_End "nothing" is neither one of its substructure\'s points nor a connector',
+    ]
 
 
 def test_a_bad_substructure_exits_2_without_output(tmp_path, capsys):

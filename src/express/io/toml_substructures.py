@@ -22,16 +22,21 @@ elements attach to).  An instance names the substructure, a ``prefix`` for the i
     connect = { seat_L = "CB_T1L", seat_R = "CB_T1R" }
     rename = { T = "T1" }
 
-The expansion itself is :mod:`express.model.substructures`.
+The expansion itself is :mod:`express.model.substructures`.  A problem found while
+reading a substructure's own item is reported once, naming the item by its full name in
+every instance and by its local name: ``TSD T1_FL_pz, T2_FL_pz (FL_pz of substructure
+bogie)``, as the expansion's problems name it.
 """
 
 from __future__ import annotations
 
 import re
+from dataclasses import replace
 from typing import Any
 
+from express.base.diagnostics import Problem
 from express.io.toml_items import check_id, read_items
-from express.model.substructures import Instance, Items, Substructure, expand
+from express.model.substructures import Instance, Items, Substructure, expand, full_name
 
 __all__ = ["read_substructures"]
 
@@ -49,6 +54,21 @@ def _names(reader, value: Any, path: tuple[str, ...], item: str, what: str) -> t
 def _string_table(reader, value: Any, path: tuple[str, ...], item: str, what: str) -> dict[str, str]:
     table = reader.table(value, path, item)
     return {key: reader.name(v, (*path, key), item, f"{what}.{key}") for key, v in table.items()}
+
+
+def _named_in_the_model(problems: list[Problem], spans: dict[str, tuple[int, int]], instances: list[Instance]) -> None:
+    """Rename, in place, the item (``"TSD FL_pz"``) of each problem found in a
+    substructure's own items (``spans``: substructure -> its range of ``problems``) to
+    ``"TSD T1_FL_pz, T2_FL_pz (FL_pz of substructure bogie)"``."""
+    for name, (start, stop) in spans.items():
+        users = [instance for instance in instances if instance.substructure == name]
+        for index in range(start, stop):
+            kind, _, local = problems[index].item.partition(" ")
+            if not re.fullmatch(r"[A-Za-z][A-Za-z0-9_]*", local):
+                continue
+            names = ", ".join(dict.fromkeys(full_name(instance, {local}, local) for instance in users))
+            item = f"{kind} {names} ({local} of substructure {name})" if names else f"{kind} {local} of substructure {name}"
+            problems[index] = replace(problems[index], item=item)
 
 
 def read_substructures(reader, data: dict) -> tuple[Items, list]:
@@ -70,6 +90,7 @@ def read_substructures(reader, data: dict) -> tuple[Items, list]:
         the file's syntax go to ``reader``.
     """
     substructures: dict[str, Substructure] = {}
+    spans: dict[str, tuple[int, int]] = {}  # substructure -> its items' problems in reader.problems
     table = reader.table(data.get("substructures", {}), ("substructures",), "substructures")
     for name, raw in table.items():
         path = ("substructures", name)
@@ -77,7 +98,9 @@ def read_substructures(reader, data: dict) -> tuple[Items, list]:
         check_id(reader, name, path, item)
         spec = reader.table(raw, path, item)
         reader.unknown_keys(spec, _SUBSTRUCTURE_KEYS, path, item)
+        start = len(reader.problems)
         bodies, grounds, points, elements, pins = read_items(reader, spec, path)
+        spans[name] = (start, len(reader.problems))
         substructures[name] = Substructure(
             name,
             parameters=_names(reader, spec.get("parameters", []), (*path, "parameters"), item, "parameters"),
@@ -112,4 +135,5 @@ def read_substructures(reader, data: dict) -> tuple[Items, list]:
             rename=_string_table(reader, spec.get("rename", {}), (*path, "rename"), item, "rename"),
             line=reader.line(*path),
         ))
+    _named_in_the_model(reader.problems, spans, instances)
     return expand(substructures, instances, reader.source)

@@ -36,7 +36,7 @@ import sympy as sp
 from express.base.diagnostics import Problem
 from express.model.records import Body, ConnectionPoint, Element, Ground, Model, PinnedJoint
 
-__all__ = ["Instance", "Items", "Substructure", "expand", "instantiate", "with_instances"]
+__all__ = ["Instance", "Items", "Substructure", "expand", "full_name", "instantiate", "with_instances"]
 
 
 @dataclass(frozen=True)
@@ -121,6 +121,17 @@ def _local_ids(sub: Substructure) -> set[str]:
     return {item.id for group in (sub.bodies, sub.grounds, sub.points, sub.elements, sub.pins) for item in group}
 
 
+def full_name(instance: Instance, local: set[str], identifier: str) -> str:
+    """The model's name for ``identifier`` of the substructure ``instance`` expands: the
+    model point a connector connects to, ``rename``'s name or ``prefix + identifier`` for
+    the substructure's own items (``local``), else ``identifier`` unchanged."""
+    if identifier in instance.connect:
+        return instance.connect[identifier]
+    if identifier in local:
+        return instance.rename.get(identifier, instance.prefix + identifier)
+    return identifier
+
+
 def _check(sub: Substructure, instance: Instance, source: str) -> list[Problem]:
     """Everything wrong with an instance of ``sub`` (and with ``sub`` itself)."""
     item = f"instance {instance.id}"
@@ -149,15 +160,19 @@ def _check(sub: Substructure, instance: Instance, source: str) -> list[Problem]:
             problem(f'rename: substructure {sub.name} has no item "{name}"')
     hosts = {b.id for b in sub.bodies} | {g.id for g in sub.grounds}
     points = {p.id for p in sub.points}
+
+    def named(kind: str, identifier: str) -> str:  # the one full name, and where it comes from
+        return f"{kind} {full_name(instance, local, identifier)} ({identifier} of substructure {sub.name})"
+
     for point in sub.points:
         if point.host not in hosts:
-            problem(f'its point {point.id} is on "{point.host}", not on one of its own bodies or grounds',
-                    point.line, f"substructure {sub.name}")
+            problem(f'is on "{point.host}", not on one of its substructure\'s own bodies or grounds',
+                    point.line, named("CP", point.id))
     for element in sub.elements:
-        for end in (element.s_end, element.t_end):
+        for end_name, end in (("S_End", element.s_end), ("T_End", element.t_end)):
             if end not in points and end not in sub.connectors:
-                problem(f'element {element.id}: "{end}" is neither one of its points nor a connector',
-                        element.line, f"substructure {sub.name}")
+                problem(f'{end_name} "{end}" is neither one of its substructure\'s points nor a connector',
+                        element.line, named("TSD", element.id))
     return problems
 
 
@@ -184,11 +199,7 @@ def instantiate(sub: Substructure, instance: Instance, source: str = "<substruct
     station = sp.sympify(instance.station)
 
     def rename(identifier: str) -> str:
-        if identifier in instance.connect:
-            return instance.connect[identifier]
-        if identifier in local:
-            return instance.rename.get(identifier, instance.prefix + identifier)
-        return identifier
+        return full_name(instance, local, identifier)
 
     def value(expression):
         return sp.sympify(expression).xreplace(substitution) if substitution else sp.sympify(expression)
