@@ -163,7 +163,7 @@ def run(
         require_finite(table, f"{wheel.name} on {rail.name}")
         if output is not None:
             columns, column_units = table_columns(table)
-            write_csv(output, columns, column_units)
+            write_csv(output, columns, column_units, markers=MARKERS)
         if plot is not None:
             from express.analysis.plots import save_figure
 
@@ -199,6 +199,8 @@ def require_finite(table, label: str) -> None:
 
 def table_columns(table) -> tuple[dict[str, Any], dict[str, str]]:
     """CSV columns (name -> values) and units of a contact table, left before right."""
+    import numpy as np
+
     columns: dict[str, Any] = {"y": table.y, "roll": table.roll, "height": table.height, "delta_r": table.delta_r}
     units = {"y": "m", "roll": "rad", "height": "m", "delta_r": "m"}
     per_side = (("r", "radius", "m"), ("contact_angle", "contact_angle", "rad"),
@@ -214,7 +216,14 @@ def table_columns(table) -> tuple[dict[str, Any], dict[str, str]]:
             column = f"{name}_{side}"
             columns[column] = values[row].astype(int) if field == "two_point" else values[row]
             units[column] = unit
+    for side in ("left", "right"):  # no second contact (an infinite gap): an empty cell, docs/contact.md
+        gap = columns[f"secondary_gap_{side}"]
+        columns[f"secondary_gap_{side}"] = np.where(np.isposinf(gap), np.nan, gap)
     return columns, units
+
+
+#: Columns whose empty cell is documented: no second contact.
+MARKERS = ("secondary_gap_left", "secondary_gap_right")
 
 
 def _summary(wheel: str, rail: str, table) -> dict[str, Any]:
