@@ -35,6 +35,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -191,15 +192,25 @@ class NonlinearCriticalSpeed:
 
     def as_dict(self) -> dict:
         """The result as plain data (SI, speeds also in km/h): the speed, bracket, contact,
-        wheelset, time step and its check, and the bifurcation diagram's points."""
-        return {"critical_speed": self.speed, "critical_speed_kmh": self.speed_kmh,
+        wheelset, time step and its check, and the bifurcation diagram's points; a value
+        not known (nan here: a bracket's end below ``v_min``, no step check) is None."""
+        return _known({"critical_speed": self.speed, "critical_speed_kmh": self.speed_kmh,
                 "bracket": list(self.bracket), "contact": self.contact, "wheelset": self.wheelset,
                 "dt": self.dt, "uncertainty": self.uncertainty, "step_change": self.step_change,
                 "converged_in_dt": self.converged,
                 "step_checks": [{"dt": c.dt, "critical_speed": c.speed, "bracket": list(c.bracket), "runs": c.runs}
                                 for c in self.step_checks],
                 "speeds": [p.speed for p in self.points], "amplitudes": [p.amplitude for p in self.points],
-                "limit_cycle": [bool(p.alive) for p in self.points]}
+                "limit_cycle": [bool(p.alive) for p in self.points]})
+
+
+def _known(value: Any) -> Any:
+    """``value`` with every nan float (in dicts and lists) replaced by None."""
+    if isinstance(value, dict):
+        return {key: _known(item) for key, item in value.items()}
+    if isinstance(value, list):
+        return [_known(item) for item in value]
+    return None if isinstance(value, float) and math.isnan(value) else value
 
 
 def _state(vehicle: VehicleModel, result) -> np.ndarray:

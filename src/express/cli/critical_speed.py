@@ -274,7 +274,8 @@ def _write_bifurcation(output: str, result: Any) -> None:
     columns = {"speed": [p.speed for p in points], "speed_kmh": [p.speed_kmh for p in points],
                "amplitude": [p.amplitude for p in points], "limit_cycle": [int(p.alive) for p in points],
                "flange_force": [p.flange_force for p in points]}
-    write_csv(output, columns, {"speed": "m/s", "amplitude": "m", "flange_force": "N"})
+    # no contact tables, no flange force: an empty cell (docs/cli.md)
+    write_csv(output, columns, {"speed": "m/s", "amplitude": "m", "flange_force": "N"}, markers=("flange_force",))
 
 
 def _bifurcation_figure(vehicle: Any, plot: Path, result: Any) -> None:

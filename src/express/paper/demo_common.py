@@ -53,8 +53,11 @@ def write_figure(figure: Any, stem: Path) -> list[Path]:
 
 
 def write_table(path: Path, columns: Mapping[str, Any]) -> Path:
-    """Write ``columns`` (names carry their units, values SI) as CSV; returns ``path``."""
+    """Write ``columns`` (names carry their units, values SI) as CSV; returns ``path``.
+    A figure's data may have no value at a point (no critical speed below the scan's
+    top, a range not checked): nan is written as an empty cell; an inf is refused
+    (``docs/reliability.md``)."""
     from express.io.output import csv_text, write_text
 
-    write_text(path, csv_text(columns))
+    write_text(path, csv_text(columns, markers=list(columns)))
     return path

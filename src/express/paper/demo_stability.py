@@ -181,7 +181,9 @@ def write_stability(outdir: Path, sweep: StabilitySweep, cars: Cars, log: Callab
         speeds, unstable = sweep.speeds_kmh[name], sweep.unstable_at_min[name]
         columns[f"Vcr_{name}_kmh"] = speeds
         columns[f"unstable_at_lowest_speed_{name}"] = unstable.astype(int)
-        columns[f"stable_again_{name}_kmh"] = sweep.window_end_kmh[name]
+        ends = np.asarray(sweep.window_end_kmh[name], dtype=float)
+        columns[f"stable_again_{name}_kmh"] = np.where(np.isinf(ends), np.nan, ends)  # no inf written
+        columns[f"unstable_to_top_{name}"] = np.isinf(ends).astype(int)
         columns[f"mode_{name}"] = ["" if m is None else m for m in sweep.modes[name]]
         curves.append({"label": "forced steering" if name == "steered" else "conventional bogies",
                        "conicity": sweep.conicities, "speed_kmh": speeds, "style": name, "unstable_at_min": unstable,
