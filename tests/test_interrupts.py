@@ -11,6 +11,7 @@ from __future__ import annotations
 import contextlib
 import os
 import signal
+import socket
 import subprocess
 import sys
 import time
@@ -195,3 +196,61 @@ def test_command_interrupted_twice_ends_at_once_and_leaves_nothing(
     status, err, ended = _interrupt_twice(process, signum, gap)
     _assert_ended(status, err, ended, signum, tmp_path)
     assert not any(p.is_file() for p in tmp_path.rglob("*")), sorted(map(str, tmp_path.rglob("*")))
+
+
+@contextlib.contextmanager
+def _local_dask_cluster(folder: Path):
+    """A ``dask scheduler`` and a ``dask worker`` of 2 processes on localhost (the cluster
+    of docs/studies.md); yields the scheduler's address."""
+    from distributed import Client
+
+    with socket.socket() as probe:
+        probe.bind(("127.0.0.1", 0))
+        port = probe.getsockname()[1]
+    address = f"tcp://127.0.0.1:{port}"
+    environment = dict(os.environ, PYTHONPATH=str(ROOT / "src") + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    quiet = {"env": environment, "stdout": subprocess.DEVNULL, "stderr": subprocess.DEVNULL}
+    cluster = [subprocess.Popen([sys.executable, "-m", "distributed.cli.dask_scheduler", "--host", "127.0.0.1",
+                                 "--port", str(port), "--dashboard-address", ":0"], **quiet)]
+    try:
+        cluster.append(subprocess.Popen([sys.executable, "-m", "distributed.cli.dask_worker", address,
+                                         "--nworkers", "2", "--nthreads", "1", "--dashboard-address", ":0",
+                                         "--local-directory", str(folder)], **quiet))
+        with Client(address, timeout="60s") as client:
+            client.wait_for_workers(2, timeout=120)
+        yield address
+    finally:
+        for process in reversed(cluster):
+            process.terminate()
+            try:
+                process.wait(timeout=30)
+            except subprocess.TimeoutExpired:
+                process.kill()
+
+
+@pytest.mark.slow
+def test_a_study_on_a_dask_cluster_interrupted_twice_cancels_its_tasks(tmp_path: Path, study_reference) -> None:
+    """Two SIGINTs 0.3 s apart to a study running on a Dask cluster: the command ends at
+    once, the scheduler is left with no task of it, the cluster stays up, and the study
+    resumes on it to the identical file."""
+    from distributed import Client
+
+    study, reference = study_reference
+    output = tmp_path / "map.csv"
+    with _local_dask_cluster(tmp_path) as address:
+        arguments = ["study", str(study), "-o", str(output), "--scheduler", address]
+        process = _express(arguments, tmp_path)
+        checkpoint = checkpoint_path(output)
+        _wait(lambda: checkpoint.exists() and checkpoint.read_text().count("\n") >= 6, process)
+        status, err, ended = _interrupt_twice(process, signal.SIGINT, 0.3)
+        _assert_ended(status, err, ended, signal.SIGINT, tmp_path)
+        with Client(address, timeout="60s") as client:
+            deadline = time.monotonic() + END_WITHIN
+            while any(client.processing().values()) and time.monotonic() < deadline:
+                time.sleep(0.1)
+            assert not any(client.processing().values()), client.processing()
+            assert len(client.scheduler_info()["workers"]) == 2  # the cluster is not the command's to stop
+        resumed = _express([*arguments, "--resume"], tmp_path)
+        _out, err = resumed.communicate(timeout=600)
+        assert resumed.returncode == 0, err
+    assert output.read_bytes() == reference
