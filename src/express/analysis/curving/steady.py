@@ -38,6 +38,7 @@ from express.model.parameters import expression_value
 from express.numeric.statespace import VehicleModel
 from express.rail import nonlinear
 from express.rail.options import ContactModel, CreepLaw
+from express.rail.track.geometry import turn_sign
 
 __all__ = [
     "MAX_UNBALANCED_ACCELERATION",
@@ -90,12 +91,12 @@ class SteadyCurve:
     @property
     def curvature(self) -> float:
         """Signed curvature rho [1/m] (positive to the left)."""
-        return (1.0 if self.direction == "left" else -1.0) / self.radius
+        return turn_sign(self.direction) / self.radius
 
     @property
     def signed_cant(self) -> float:
         """Signed cant S [m] (``docs/track.md``)."""
-        return self.cant if self.direction == "left" else -self.cant
+        return turn_sign(self.direction) * self.cant
 
     def unbalanced_acceleration(self, speed: float, cant_base: float, gravity: float) -> float:
         """Cant deficiency as an acceleration in the track plane toward the outside of

@@ -47,6 +47,7 @@ __all__ = [
     "Track",
     "Transition",
     "paper_curve",
+    "turn_sign",
 ]
 
 #: Transition shapes: ``"linear"`` (clothoid: curvature and cant linear in s) and
@@ -131,6 +132,16 @@ class Transition:
         raise_if(self.field_problems(self.length, self.shape), "Transition")
 
 
+def turn_sign(direction: str) -> float:
+    """``+1.0`` for a curve to the left, ``-1.0`` to the right (the sign of its curvature
+    and of its cant in the track frame, ``docs/track.md``).
+
+    >>> turn_sign("left"), turn_sign("right")
+    (1.0, -1.0)
+    """
+    return 1.0 if direction == "left" else -1.0
+
+
 @dataclass(frozen=True)
 class Curve:
     """Circular curve of constant radius and cant.
@@ -177,12 +188,12 @@ class Curve:
     @property
     def curvature(self) -> float:
         """Signed curvature rho [1/m]: ``+1/radius`` to the left, ``-1/radius`` right."""
-        return (1.0 if self.direction == "left" else -1.0) / self.radius
+        return turn_sign(self.direction) / self.radius
 
     @property
     def signed_cant(self) -> float:
         """Signed cant S [m]: ``+cant`` in a left curve, ``-cant`` in a right curve."""
-        return self.cant if self.direction == "left" else -self.cant
+        return turn_sign(self.direction) * self.cant
 
 
 #: Any segment of a track.
