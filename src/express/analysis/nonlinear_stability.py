@@ -39,14 +39,13 @@ from typing import Any
 
 import numpy as np
 
-from express.analysis.simulate import simulate
+from express.analysis.limit_cycles import CycleCheck, limit_cycle, settle_cycle
 from express.analysis.stability import CriticalSpeed, critical_speed
 from express.base.diagnostics import ArgumentError
 from express.base.threads import limited_blas
 from express.base.units import KMH
 from express.numeric.statespace import VehicleModel
 from express.rail.options import ContactModel, CreepLaw
-from express.rail.track import Straight, Track
 
 __all__ = ["BifurcationPoint", "NonlinearCriticalSpeed", "StepCheck", "limit_cycle", "nonlinear_critical_speed"]
 
@@ -94,13 +93,16 @@ class StepCheck:
     bracket : tuple of float
         ``(dead, alive)`` [m/s] at this step.
     runs : int
-        Simulations run at this step.
+        Speeds run at this step (ramp points and settled runs).
+    simulated : float
+        Time simulated at this step [s].
     """
 
     dt: float
     speed: float | None
     bracket: tuple[float, float]
     runs: int
+    simulated: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -198,8 +200,8 @@ class NonlinearCriticalSpeed:
                 "bracket": list(self.bracket), "contact": self.contact, "wheelset": self.wheelset,
                 "dt": self.dt, "uncertainty": self.uncertainty, "step_change": self.step_change,
                 "converged_in_dt": self.converged,
-                "step_checks": [{"dt": c.dt, "critical_speed": c.speed, "bracket": list(c.bracket), "runs": c.runs}
-                                for c in self.step_checks],
+                "step_checks": [{"dt": c.dt, "critical_speed": c.speed, "bracket": list(c.bracket), "runs": c.runs,
+                                 "simulated": c.simulated} for c in self.step_checks],
                 "speeds": [p.speed for p in self.points], "amplitudes": [p.amplitude for p in self.points],
                 "limit_cycle": [bool(p.alive) for p in self.points]})
 
@@ -213,35 +215,9 @@ def _known(value: Any) -> Any:
     return None if isinstance(value, float) and math.isnan(value) else value
 
 
-def _state(vehicle: VehicleModel, result) -> np.ndarray:
-    """The last state ``[q; q_D']`` of a run."""
-    massive = vehicle.form.massive
-    return np.concatenate([result.q[-1], result.q_dot[-1][massive]])
-
-
-def limit_cycle(vehicle: VehicleModel, speed: float, state: np.ndarray, *, duration: float, dt: float,
-                wheelset: int = 0, creep_law: CreepLaw = "fastsim", contact: ContactModel | None = None):
-    """Run ``duration`` [s] at ``speed`` from ``state`` on straight track; returns the
-    amplitudes of the wheelset's lateral motion over the last and the middle third [m],
-    the largest flange force of the last third [N], the final state and the
-    simulation's contact option."""
-    track = Track((Straight(speed * duration + 100.0),))
-    result = simulate(vehicle, track, speed=speed, dt=dt, end=speed * duration, initial_state=state,
-                      progress=False, creep_law=creep_law, contact=contact)
-    y = result.q[:, vehicle.wheelsets[wheelset].y]
-    third = max(1, len(y) // 3)
-    if result.wheel_rail is not None:  # the contact tables: the larger lateral force of the two wheels
-        force = float(np.max(np.abs(result.wheel_rail.lateral_force[-third:, wheelset])))
-    else:
-        q_name = f"Q{wheelset + 1}"
-        force = float(np.max(np.abs(result.outputs[q_name][-third:]))) if q_name in result.outputs else math.nan
-    return (float(np.max(np.abs(y[-third:]))), float(np.max(np.abs(y[-2 * third: -third]))), force,
-            _state(vehicle, result), result.options.get("contact", "deadband"))
-
-
 @dataclass(frozen=True)
 class _Settings:
-    """The ramp's fixed options (see :func:`nonlinear_critical_speed`)."""
+    """The search's fixed options (see :func:`nonlinear_critical_speed`)."""
 
     v_min: float
     step: float
@@ -250,29 +226,36 @@ class _Settings:
     threshold: float
     persistence: float
     extensions: int
+    window: float
+    longest: float
+    spread: float
     creep_law: CreepLaw
     contact: ContactModel | None
 
 
 @dataclass
 class _Search:
-    """One ramp-down and bisection at one ``dt``."""
+    """The runs at one ``dt``: the ramp's (first step only) and the fold search's."""
 
     alive: float | None = None
     dead: float = math.nan
     state: np.ndarray | None = None
     points: list[BifurcationPoint] = field(default_factory=list)
     used: str = "deadband"
+    runs: int = 0
+    simulated: float = 0.0
 
 
-def _run(vehicle: VehicleModel, speed: float, start: np.ndarray, dt: float, settings: _Settings,
-         search: _Search) -> tuple[BifurcationPoint, np.ndarray]:
+def _ramp_point(vehicle: VehicleModel, speed: float, start: np.ndarray, dt: float, settings: _Settings,
+                search: _Search) -> tuple[BifurcationPoint, np.ndarray]:
     """One point of the ramp (continued while its motion still decays)."""
     final = start
     for _ in range(1 + settings.extensions):  # a motion still decaying may settle on another cycle
         amplitude, previous, force, final, search.used = limit_cycle(
             vehicle, speed, final, duration=settings.duration, dt=dt, creep_law=settings.creep_law,
             contact=settings.contact)
+        search.simulated += settings.duration
+        search.runs += 1
         alive = amplitude > settings.threshold and amplitude >= settings.persistence * previous
         if alive or amplitude <= settings.threshold:
             break
@@ -281,38 +264,75 @@ def _run(vehicle: VehicleModel, speed: float, start: np.ndarray, dt: float, sett
     return point, final
 
 
-def _ramp_down(vehicle: VehicleModel, v_start: float, state: np.ndarray, dt: float, settings: _Settings) -> _Search:
-    """From ``v_start`` down in ``step`` until the cycle dies, then bisect to ``tolerance``."""
-    search = _Search()
-    point, final = _run(vehicle, v_start, state, dt, settings, search)
-    if not point.alive:
-        search.dead = v_start
-        return search
-    alive_speed, alive_state = v_start, final
-    dead = math.nan
-    while True:  # ramp down until the cycle dies
-        speed = alive_speed - settings.step
-        if speed < settings.v_min:
-            break
-        point, final = _run(vehicle, speed, alive_state, dt, settings, search)
+def _ramp_down(vehicle: VehicleModel, v_start: float, state: np.ndarray, dt: float, settings: _Settings,
+               search: _Search) -> tuple[list[tuple[float, np.ndarray]], float]:
+    """From ``v_start`` down in ``step`` until the cycle dies: the live points ``(speed,
+    state)``, lowest first, and the first dead speed (``nan``: alive down to ``v_min``)."""
+    live: list[tuple[float, np.ndarray]] = []
+    speed = v_start
+    while speed >= settings.v_min:
+        point, final = _ramp_point(vehicle, speed, live[-1][1] if live else state, dt, settings, search)
         if not point.alive:
-            dead = speed
+            return live[::-1], speed
+        live.append((speed, final))
+        speed -= settings.step
+    return live[::-1], math.nan
+
+
+def _settle(vehicle: VehicleModel, speed: float, state: np.ndarray, dt: float, settings: _Settings,
+            search: _Search, record: bool) -> CycleCheck:
+    """:func:`express.analysis.limit_cycles.settle_cycle` with the search's options."""
+    check = settle_cycle(vehicle, speed, state, dt=dt, window=settings.window, longest=settings.longest,
+                         spread=settings.spread, threshold=settings.threshold, creep_law=settings.creep_law,
+                         contact=settings.contact)
+    search.simulated += check.duration
+    search.runs += 1
+    search.used = check.contact
+    if record:
+        watched = check.watched
+        search.points.append(BifurcationPoint(speed, watched[-1], watched[-2] if len(watched) > 1 else watched[-1],
+                                              check.alive, check.flange_force))
+    return check
+
+
+def _fold(vehicle: VehicleModel, dt: float, anchors: list[tuple[float, np.ndarray]], dead: float,
+          settings: _Settings, search: _Search, record: bool) -> _Search:
+    """The end of the cycle at ``dt`` by runs that must survive ``longest``: the lowest
+    anchor (a live point of the ramp) whose motion survives is the upper end, ``dead``
+    (checked, and lowered by ``step`` while the motion survives there) the lower end, then
+    the bracket is halved to ``tolerance``.  Every try starts from the state the anchor's
+    run ended in.  The speeds tried lie on the grid ``anchor - k step / 2**n``, the same at
+    every ``dt``."""
+    upper = None
+    for speed, state in anchors:
+        check = _settle(vehicle, speed, state, dt, settings, search, record)
+        if check.alive:
+            upper = check
             break
-        alive_speed, alive_state = speed, final
-    while math.isfinite(dead) and alive_speed - dead > settings.tolerance:  # halve the bracket
-        speed = 0.5 * (alive_speed + dead)
-        point, final = _run(vehicle, speed, alive_state, dt, settings, search)
-        if point.alive:
-            alive_speed, alive_state = speed, final
+        dead = speed  # re-checked below from a state on a settled cycle
+    if upper is None:
+        search.dead = dead
+        return search
+    start = upper.state  # every try starts here: whether it lives does not depend on the tries before
+    while math.isfinite(dead):  # the lower end: no cycle settles there
+        check = _settle(vehicle, dead, start, dt, settings, search, record)
+        if not check.alive:
+            break
+        upper = check
+        dead = dead - settings.step if dead - settings.step >= settings.v_min else math.nan
+    while math.isfinite(dead) and upper.speed - dead > settings.tolerance:
+        check = _settle(vehicle, 0.5 * (upper.speed + dead), start, dt, settings, search, record)
+        if check.alive:
+            upper = check
         else:
-            dead = speed
-    search.alive, search.dead, search.state = alive_speed, dead, alive_state
+            dead = check.speed
+    search.alive, search.dead, search.state = upper.speed, dead, upper.state
     return search
 
 
 def _check(dt: float, search: _Search) -> StepCheck:
     return StepCheck(dt, search.alive, (search.dead, search.alive if search.alive is not None else math.nan),
-                     len(search.points))
+                     search.runs, search.simulated)
 
 
 @limited_blas
@@ -333,9 +353,14 @@ def nonlinear_critical_speed(
     linear: CriticalSpeed | None = None,
     v_max: float = 150.0,
     extensions: int = 4,
-    refinements: int = 3,
+    refinements: int = 4,
+    window: float = 2.0,
+    longest: float = 40.0,
+    spread: float = 2e-3,
+    initial_state: np.ndarray | None = None,
 ) -> NonlinearCriticalSpeed:
-    """The ramp-down, repeated with ``dt`` halved until converged (see the module docstring).
+    """The ramp-down, then the end of the cycle by settled runs, repeated with ``dt``
+    halved until converged (see the module docstring).
 
     Parameters
     ----------
@@ -349,17 +374,18 @@ def nonlinear_critical_speed(
     step : float
         Speed decrement of the ramp [m/s] (5 km/h).
     tolerance : float
-        Width of the final bracket [m/s] (0.5 km/h), and the largest change a halving of
-        ``dt`` may make for the result to count as converged.
+        Largest width of the final bracket [m/s] (0.5 km/h), and the largest change a
+        halving of ``dt`` may make for the result to count as converged.
     duration : float
-        Length of each run [s]; the amplitudes are read in its last two thirds.
+        Length of each run of the ramp [s]; the amplitudes are read in its last two thirds.
     dt : float
         First time step [s].
     disturbance : float
-        Initial lateral displacement of every wheelset [m].
+        Initial lateral displacement of every wheelset [m] (without ``initial_state``).
     threshold, persistence : float
-        A run has a limit cycle when its last-third amplitude is above ``threshold`` [m]
-        and at least ``persistence`` times the middle third's.
+        A run of the ramp has a limit cycle when its last-third amplitude is above
+        ``threshold`` [m] and at least ``persistence`` times the middle third's; a
+        settled run is dead at or below ``threshold``.
     creep_law, contact :
         As :func:`express.analysis.simulate.simulate`.
     linear : CriticalSpeed, optional
@@ -367,11 +393,17 @@ def nonlinear_critical_speed(
     v_max : float
         Upper end of the linear critical speed's search [m/s].
     extensions : int
-        A run whose motion still decays (above ``threshold``) is continued up to this many
-        times: it may settle on a smaller cycle of another branch.
+        A ramp run whose motion still decays (above ``threshold``) is continued up to this
+        many times: it may settle on a smaller cycle of another branch.
     refinements : int
-        Largest number of halvings of ``dt`` (0: no step-size check).  Each repeats the
-        search from one ``step`` above the last result, starting on its cycle.
+        Largest number of halvings of ``dt`` (0: no step-size check).
+    window, longest, spread : float
+        The settled runs of :func:`express.analysis.limit_cycles.settle_cycle`: window
+        length [s], most time simulated [s], largest relative change of a settled
+        cycle's amplitude [-].
+    initial_state : numpy.ndarray, optional
+        The state ``[q; q_D']`` the ramp starts from, e.g. :attr:`NonlinearCriticalSpeed.state`
+        of an earlier search (then ``v_start`` a little above its speed).
 
     Raises
     ------
@@ -382,11 +414,14 @@ def nonlinear_critical_speed(
     if vehicle.layout is None or not vehicle.wheelsets:
         raise ArgumentError("the model has no rail data (wheelsets): no hunting to follow")
     for name, value in (("step", step), ("tolerance", tolerance), ("duration", duration), ("dt", dt),
-                        ("disturbance", disturbance), ("threshold", threshold), ("v_min", v_min)):
+                        ("disturbance", disturbance), ("threshold", threshold), ("v_min", v_min),
+                        ("window", window), ("longest", longest), ("spread", spread)):
         if not (math.isfinite(value) and value > 0):
             raise ArgumentError(f"{name} must be positive, got {value!r}")
     if refinements < 0:
         raise ArgumentError(f"refinements must be 0 or more, got {refinements!r}")
+    if initial_state is not None and np.shape(initial_state) != (vehicle.form.size,):
+        raise ArgumentError(f"initial_state must have shape ({vehicle.form.size},), got {np.shape(initial_state)}")
     if linear is None:
         linear = critical_speed(vehicle, v_max=v_max)
     if v_start is None:
@@ -395,22 +430,27 @@ def nonlinear_critical_speed(
         v_start = 1.2 * linear.speed
     if not v_start > v_min:
         raise ArgumentError(f"v_start ({v_start / KMH:.1f} km/h) must be above v_min ({v_min / KMH:.1f} km/h)")
-    state = np.zeros(vehicle.form.size)
-    for wheelset in vehicle.wheelsets:
-        state[wheelset.y] = disturbance
+    if initial_state is None:
+        state = np.zeros(vehicle.form.size)
+        for wheelset in vehicle.wheelsets:
+            state[wheelset.y] = disturbance
+    else:
+        state = np.array(initial_state, dtype=float)
     options = {"v_start": v_start, "v_min": v_min, "step": step, "tolerance": tolerance, "duration": duration,
                "dt": dt, "disturbance": disturbance, "threshold": threshold, "persistence": persistence,
-               "extensions": extensions, "refinements": refinements}
-    settings = _Settings(v_min, step, tolerance, duration, threshold, persistence, extensions, creep_law, contact)
-    first = search = _ramp_down(vehicle, v_start, state, dt, settings)
+               "extensions": extensions, "refinements": refinements, "window": window, "longest": longest,
+               "spread": spread}
+    settings = _Settings(v_min, step, tolerance, duration, threshold, persistence, extensions, window, longest,
+                         spread, creep_law, contact)
+    first = _Search()
+    anchors, ramp_dead = _ramp_down(vehicle, v_start, state, dt, settings, first)
+    search = _fold(vehicle, dt, anchors, ramp_dead, settings, first, record=True)
     checks = [_check(dt, search)]
     for _ in range(refinements):
-        if search.alive is None or search.state is None:
+        if search.alive is None:
             break
         finer = dt / 2 ** len(checks)
-        again = _ramp_down(vehicle, min(search.alive + step, v_start), search.state, finer, settings)
-        if again.alive is None and search.alive + step < v_start:  # no cycle just above: the whole ramp
-            again = _ramp_down(vehicle, v_start, state, finer, settings)
+        again = _fold(vehicle, finer, anchors, ramp_dead, settings, _Search(), record=False)
         moved = abs(again.alive - search.alive) if again.alive is not None else math.inf
         search = again
         checks.append(_check(finer, search))
