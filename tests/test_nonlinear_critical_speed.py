@@ -4,7 +4,8 @@
 The smallest rail vehicle (a wheelset on springs, tests/test_profile_contact.py) on
 S1002/60E1 at 1:40: its hunting is subcritical, a limit cycle lives far below the linear
 critical speed.  The result is checked against its definition with longer runs than
-the ramp's: at the reported speed the cycle persists, just below the bracket it dies.
+the ramp's: at the reported speed the cycle persists, just below the bracket it dies; and
+in the time step: the search at half the reported step lands within the bracket.
 """
 
 from __future__ import annotations
@@ -50,23 +51,28 @@ def test_ramp_down_brackets_the_end_of_the_limit_cycle(result):
 
 
 def test_step_size_refined_until_halving_moves_it_less_than_the_bracket(result):
-    """5 ms is too coarse here (238.3 km/h); 2.5 ms moves it by about 0.95 km/h, 1.25 ms
-    not at all: the result is the 1.25 ms one."""
+    """5 ms is too coarse here (238.6 km/h); 2.5 ms moves it by two grid cells (0.625 km/h),
+    1.25 ms not at all: the result is the 1.25 ms one (239.25 km/h)."""
     dts = [check.dt for check in result.step_checks]
     assert dts == [0.005, 0.0025, 0.00125] and result.dt == 0.00125
     coarse, *_, fine = [check.speed / KMH for check in result.step_checks]
-    assert fine - coarse == pytest.approx(0.94, abs=0.05)  # issue 23: 238.3 against 239.25 km/h
+    cell = result.options["step"] / 16 / KMH  # 5 km/h halved to below the 0.5 km/h tolerance
+    assert fine - coarse == pytest.approx(2 * cell, abs=1e-9)
     assert result.converged and result.step_change <= result.options["tolerance"]
     width = result.bracket[1] - result.bracket[0]
     assert result.uncertainty == pytest.approx(width + result.step_change)
     assert "dt 1.25 ms" in result.describe() and "uncertainty" in result.describe()
 
 
-def test_halving_the_reported_step_stays_within_the_uncertainty(vehicle, result):
-    """The whole search once more at half the result's step, without refinement."""
-    half = nonlinear_critical_speed(vehicle, v_max=300.0, dt=result.dt / 2, refinements=0)
+def test_halving_the_reported_step_stays_within_the_bracket(vehicle, result):
+    """The search once more at half the result's step, from the same anchor, without
+    refinement: the end of the cycle stays within the bracket (here the same bracket)."""
+    speed, state = result.anchor
+    half = nonlinear_critical_speed(vehicle, v_max=300.0, v_start=speed, initial_state=state, dt=result.dt / 2,
+                                    refinements=0)
     assert half.step_checks[0].dt == result.dt / 2 and len(half.step_checks) == 1
-    assert abs(half.speed - result.speed) <= result.uncertainty
+    assert abs(half.speed - result.speed) <= result.options["tolerance"] + 1e-9
+    assert half.bracket == pytest.approx(result.bracket, abs=1e-9)
 
 
 def test_result_meets_the_definition(vehicle, result):
@@ -83,7 +89,9 @@ def test_describe_and_options(result):
     text = result.describe()
     assert f"{result.speed_kmh:.1f} km/h" in text and "linear" in text
     assert result.options["duration"] == 6.0 and result.state.shape == (4,)
-    assert result.options["refinements"] == 3
+    assert result.options["refinements"] == 4 and result.options["longest"] == 40.0
+    anchor, _ = result.anchor
+    assert result.speed < anchor <= result.speed + result.options["step"]
 
 
 def test_deadband_contact_without_profiles():
@@ -105,6 +113,10 @@ def test_bad_options(vehicle):
         nonlinear_critical_speed(vehicle, v_max=50.0)
     with pytest.raises(ValueError, match="refinements"):
         nonlinear_critical_speed(vehicle, refinements=-1)
+    with pytest.raises(ValueError, match="longest"):
+        nonlinear_critical_speed(vehicle, longest=0.0)
+    with pytest.raises(ValueError, match="initial_state"):
+        nonlinear_critical_speed(vehicle, v_start=300 * KMH, initial_state=[0.0, 1.0])
 
 
 def test_no_cycle_at_the_start(vehicle):

@@ -7,28 +7,40 @@ nonlinear contact the hunting bifurcation is usually subcritical: a limit cycle 
 well below it, and a large enough disturbance (a track fault) starts hunting there.  The
 **nonlinear critical speed** is the lowest speed at which a limit cycle persists.
 
-Method (the "ramp-down" of the literature, in speed steps): start above the linear
-critical speed with every wheelset displaced by ``disturbance``, run on straight track
-until the motion has settled, then lower the speed step by step, each run starting from
-the last state of the previous one (the limit cycle is followed down its branch).  At
-each speed the amplitude of the watched wheelset (the leading one) is the largest
-``|y|`` over the last third of the run; the cycle is *alive* when that amplitude is above
-``threshold`` and not smaller than ``persistence`` times the middle third's.  A motion
-that still decays is run on (``extensions`` times at most): leaving a large cycle it may
-settle on a smaller one of another branch (S1002 on 60E1 has a flange-contact branch and
-a tread branch), which then is followed.  When it dies, the interval between the last live speed and
-the first dead one is halved, always restarting from the last live state, until it is
-narrower than ``tolerance``.  Every run is a :func:`express.analysis.simulate.simulate`
-with the contact from the profiles' tables when the model has them (else the dead-band
-flange and creep saturation).
+Method, in two stages.  **Ramp** (the "ramp-down" of the literature, in speed steps):
+start above the linear critical speed with every wheelset displaced by ``disturbance``,
+run on straight track, then lower the speed by ``step``, each run starting from the last
+state of the previous one (the limit cycle is followed down its branch).  At each speed
+the amplitude of the watched wheelset (the leading one) is the largest ``|y|`` over the
+last third of the run; the cycle is *alive* when that amplitude is above ``threshold``
+and not smaller than ``persistence`` times the middle third's.  A motion that still
+decays is run on (``extensions`` times at most): leaving a large cycle it may settle on a
+smaller one of another branch (S1002 on 60E1 has a flange-contact branch and a tread
+branch), which then is followed.  The ramp stops at the first speed where the cycle dies.
 
-**Step-size check.**  The runs use a fixed step ``dt``; the speed at which a cycle dies
-moves with it (the test wheelset of ``tests/test_nonlinear_critical_speed.py``: 238.3 km/h
-at 5 ms, 239.25 km/h at 2.5 ms and below).  So the search is repeated with ``dt`` halved,
-from the last live state just above the found speed, until halving ``dt`` moves the result
-by no more than ``tolerance`` (or ``refinements`` halvings were made).  The result keeps
-every step's speed (:attr:`NonlinearCriticalSpeed.step_checks`), the ``dt`` it used and
-its uncertainty: the final bracket's width plus the change of the last halving.
+**End of the cycle.**  The ramp's few-second test is too coarse near the end of the
+cycle, where the motion creeps and collapses slowly (:mod:`express.analysis.limit_cycles`).
+So the interval between the last live speed of the ramp (the *anchor*) and the dead one
+is halved until narrower than ``tolerance`` with runs that must *survive*: started from
+the state of the anchor's run, alive when the lateral motion of some wheelset stays above
+``threshold`` for ``longest`` seconds (or settles earlier), dead when it collapses
+(:func:`express.analysis.limit_cycles.settle_cycle`).  Every try starts from the same
+state, so whether a speed counts as alive does not depend on the tries before it; the
+speeds tried lie on one grid, ``anchor - k step / 2**n``.  Every run is a
+:func:`express.analysis.simulate.simulate` with the contact from the profiles' tables when
+the model has them (else the dead-band flange and creep saturation).
+
+**Step-size check.**  The runs use a fixed step ``dt``, and the end of the cycle moves
+with it (the Manchester car: 174.1 km/h at 5 ms, 175.4 km/h at 0.625 ms).  So the end of
+the cycle is searched again with ``dt`` halved, from the same anchor and on the same grid,
+until halving ``dt`` moves the result by no more than ``tolerance`` (or ``refinements``
+halvings were made).  The result keeps every step's speed
+(:attr:`NonlinearCriticalSpeed.step_checks`), the ``dt`` it used and its uncertainty: the
+final bracket's width plus the change of the last halving.
+
+A vehicle may have several limit cycles near the end (the Manchester car's two bogies
+hunt phase-locked in more than one way, or one bogie alone; ``docs/contact.md``); the
+result is the end of the one reached from the anchor.
 """
 
 from __future__ import annotations
@@ -134,6 +146,10 @@ class NonlinearCriticalSpeed:
     step_checks : tuple of StepCheck
         The search at each time step, the first ``options["dt"]``, each next one half the
         previous; :attr:`speed` and :attr:`bracket` are the last one's.
+    anchor : tuple or None
+        ``(speed, state)``: the live point of the ramp every try of the last step started
+        from [m/s] and the ramp's state there; ``nonlinear_critical_speed(v_start=speed,
+        initial_state=state, dt=..., refinements=0)`` repeats the search at another step.
     """
 
     speed: float | None
@@ -145,6 +161,7 @@ class NonlinearCriticalSpeed:
     options: dict = field(default_factory=dict)
     state: np.ndarray | None = field(default=None, repr=False, compare=False)
     step_checks: tuple[StepCheck, ...] = ()
+    anchor: tuple[float, np.ndarray] | None = field(default=None, repr=False, compare=False)
 
     @property
     def speed_kmh(self) -> float | None:
@@ -244,6 +261,7 @@ class _Search:
     used: str = "deadband"
     runs: int = 0
     simulated: float = 0.0
+    anchor: tuple[float, np.ndarray] | None = None
 
 
 def _ramp_point(vehicle: VehicleModel, speed: float, start: np.ndarray, dt: float, settings: _Settings,
@@ -307,9 +325,9 @@ def _fold(vehicle: VehicleModel, dt: float, anchors: list[tuple[float, np.ndarra
     for speed, state in anchors:
         check = _settle(vehicle, speed, state, dt, settings, search, record)
         if check.alive:
-            upper = check
+            upper, search.anchor = check, (speed, state)
             break
-        dead = speed  # re-checked below from a state on a settled cycle
+        dead = speed  # re-checked below from the state of a surviving run
     if upper is None:
         search.dead = dead
         return search
@@ -461,4 +479,4 @@ def nonlinear_critical_speed(
         return NonlinearCriticalSpeed(None, (search.dead, math.nan), tuple(first.points), linear, name,
                                       first.used, options, None, tuple(checks))
     return NonlinearCriticalSpeed(search.alive, (search.dead, search.alive), tuple(first.points), linear, name,
-                                  search.used, options, search.state, tuple(checks))
+                                  search.used, options, search.state, tuple(checks), search.anchor)
