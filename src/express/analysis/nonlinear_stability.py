@@ -332,7 +332,7 @@ def _fold(vehicle: VehicleModel, dt: float, anchors: list[tuple[float, np.ndarra
         search.dead = dead
         return search
     start = upper.state  # every try starts here: whether it lives does not depend on the tries before
-    while math.isfinite(dead):  # the lower end: no cycle settles there
+    while math.isfinite(dead):  # the lower end: no motion survives there
         check = _settle(vehicle, dead, start, dt, settings, search, record)
         if not check.alive:
             break
@@ -346,6 +346,25 @@ def _fold(vehicle: VehicleModel, dt: float, anchors: list[tuple[float, np.ndarra
             dead = check.speed
     search.alive, search.dead, search.state = upper.speed, dead, upper.state
     return search
+
+
+def _refined(vehicle: VehicleModel, dt: float, anchors: list[tuple[float, np.ndarray]], dead: float,
+             settings: _Settings, first: _Search, refinements: int) -> tuple[_Search, list[StepCheck]]:
+    """The end of the cycle at ``dt``, then at ``dt`` halved until a halving moves it by no
+    more than ``tolerance`` (``refinements`` halvings at most): the last search and every step's check."""
+    search = _fold(vehicle, dt, anchors, dead, settings, first, record=True)
+    checks = [_check(dt, search)]
+    for _ in range(refinements):
+        if search.alive is None:
+            break
+        finer = dt / 2 ** len(checks)
+        again = _fold(vehicle, finer, anchors, dead, settings, _Search(), record=False)
+        moved = abs(again.alive - search.alive) if again.alive is not None else math.inf
+        search = again
+        checks.append(_check(finer, search))
+        if search.alive is None or moved <= settings.tolerance:
+            break
+    return search, checks
 
 
 def _check(dt: float, search: _Search) -> StepCheck:
@@ -377,8 +396,8 @@ def nonlinear_critical_speed(
     spread: float = 2e-3,
     initial_state: np.ndarray | None = None,
 ) -> NonlinearCriticalSpeed:
-    """The ramp-down, then the end of the cycle by settled runs, repeated with ``dt``
-    halved until converged (see the module docstring).
+    """The ramp-down, then the end of the cycle by runs that must survive, repeated with
+    ``dt`` halved until converged (see the module docstring).
 
     Parameters
     ----------
@@ -402,8 +421,8 @@ def nonlinear_critical_speed(
         Initial lateral displacement of every wheelset [m] (without ``initial_state``).
     threshold, persistence : float
         A run of the ramp has a limit cycle when its last-third amplitude is above
-        ``threshold`` [m] and at least ``persistence`` times the middle third's; a
-        settled run is dead at or below ``threshold``.
+        ``threshold`` [m] and at least ``persistence`` times the middle third's; a run of
+        the end-of-cycle search is dead when its amplitude falls to ``threshold``.
     creep_law, contact :
         As :func:`express.analysis.simulate.simulate`.
     linear : CriticalSpeed, optional
@@ -416,12 +435,12 @@ def nonlinear_critical_speed(
     refinements : int
         Largest number of halvings of ``dt`` (0: no step-size check).
     window, longest, spread : float
-        The settled runs of :func:`express.analysis.limit_cycles.settle_cycle`: window
-        length [s], most time simulated [s], largest relative change of a settled
-        cycle's amplitude [-].
+        The runs of the end-of-cycle search (:func:`express.analysis.limit_cycles.
+        settle_cycle`): window length [s], the time a run must survive [s] (40 s), the
+        largest relative change of a settled cycle's amplitude [-] (a settled run stops early).
     initial_state : numpy.ndarray, optional
-        The state ``[q; q_D']`` the ramp starts from, e.g. :attr:`NonlinearCriticalSpeed.state`
-        of an earlier search (then ``v_start`` a little above its speed).
+        The state ``[q; q_D']`` the ramp starts from instead of the disturbance, e.g. that of
+        :attr:`NonlinearCriticalSpeed.anchor` of an earlier search, with ``v_start`` its speed.
 
     Raises
     ------
@@ -462,18 +481,7 @@ def nonlinear_critical_speed(
                          spread, creep_law, contact)
     first = _Search()
     anchors, ramp_dead = _ramp_down(vehicle, v_start, state, dt, settings, first)
-    search = _fold(vehicle, dt, anchors, ramp_dead, settings, first, record=True)
-    checks = [_check(dt, search)]
-    for _ in range(refinements):
-        if search.alive is None:
-            break
-        finer = dt / 2 ** len(checks)
-        again = _fold(vehicle, finer, anchors, ramp_dead, settings, _Search(), record=False)
-        moved = abs(again.alive - search.alive) if again.alive is not None else math.inf
-        search = again
-        checks.append(_check(finer, search))
-        if search.alive is None or moved <= tolerance:
-            break
+    search, checks = _refined(vehicle, dt, anchors, ramp_dead, settings, first, refinements)
     name = vehicle.wheelsets[0].name
     if search.alive is None:
         return NonlinearCriticalSpeed(None, (search.dead, math.nan), tuple(first.points), linear, name,
