@@ -79,6 +79,17 @@ def test_halving_the_reported_step_stays_within_the_bracket(library_run):
 
 
 @pytest.mark.slow
+def test_another_start_ends_in_an_overlapping_bracket(library_run):
+    """The ramp started at 300 km/h instead of 342.5 (another anchor, another speed grid):
+    converged in dt too, and its bracket overlaps the default one (measured: 175.39-175.47
+    against 175.36-175.44 km/h), so the result does not hang on the start."""
+    other = nonlinear_critical_speed(load_vehicle(MODEL), tolerance=0.1 * KMH, v_start=300 * KMH,
+                                     linear=library_run.linear)
+    assert other.converged and other.dt == library_run.dt
+    assert max(other.bracket[0], library_run.bracket[0]) < min(other.bracket[1], library_run.bracket[1])
+
+
+@pytest.mark.slow
 @pytest.mark.regression
 def test_critical_speeds_regression_guard(cli_run):
     """Regression guard, not validation: both speeds are this code's own earlier results
