@@ -31,7 +31,7 @@ from express.assembly.equations import (
     Matrices,
     derivation_steps,
 )
-from express.assembly.gravity import gravity_stiffness, static_model
+from express.assembly.gravity import gravity_terms, static_model
 from express.assembly.kinematics import end_motion, generalized_coordinates
 from express.base.diagnostics import ModelError, Problem
 from express.model.parameters import display_unit
@@ -271,7 +271,8 @@ def generate(
     added = added or AddedTerms()
     if model.gravity is not None:  # geometric stiffness of the static preloads
         static_equations = generate(static_model(model))  # the 3-D static model has no gravity
-        added = replace(added, stiffness=list(added.stiffness) + gravity_stiffness(model, static_equations))
+        stiffness, forces = gravity_terms(model, static_equations, added.point_inputs)
+        added = replace(added, stiffness=list(added.stiffness) + stiffness, forces=list(added.forces) + forces)
     expressions = list(_model_expressions(model, added))
     symbols = set().union(*(sp.sympify(e).free_symbols for e in expressions)) if expressions else set()
     inverses = inverted_symbols(expressions)

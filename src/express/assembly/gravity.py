@@ -21,7 +21,16 @@ Three steps (``docs/model-format.md``, section Gravity):
      springs below its centre: ``K_rx,rx = 2 k b^2 - m g h``);
    * an element whose ends are a distance ``L`` apart along its axis (from the bodies'
      positions plus the offsets) is a link whose line follows its ends: ``delta`` gains
-     ``|du_perp|^2 / (2 L)`` (a pendulum of length ``L``: lateral stiffness ``m g / L``).
+     ``|du_perp|^2 / (2 L)`` (a pendulum of length ``L``: lateral stiffness ``m g / L``);
+   * an element whose two ends coincide, between two bodies, acts along the axis of the
+     body that carries it (its **support**, the lower of the two: an air spring along
+     the bogie's, a primary spring along the wheelset's), which turns by ``theta_B``:
+     ``delta`` gains ``(theta_B x e) . du`` (``e`` the axis, ``du`` the ends' relative
+     motion, curvature inputs included).  The element's force then has one line of
+     action on both bodies, as an internal force must: a car body shifted by ``d`` on
+     its air springs puts the couple ``N d`` of its weight on the bogie and the wheels.
+     An axis fixed in the track frame left that couple to the track, and a canted
+     curve's wheel loads missed it (``docs/curving.md``, "Statics of a canted curve").
 
    Rotational elements, pins and the wheel/rail contact add no geometric stiffness here
    (the contact's gravitational stiffness belongs to the wheel/rail model).
@@ -29,6 +38,7 @@ Three steps (``docs/model-format.md``, section Gravity):
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import replace
 
 import numpy as np
@@ -39,7 +49,7 @@ from express.assembly.kinematics import point_motion
 from express.base.diagnostics import ModelError, Problem
 from express.model.records import AXES, DOF_NAMES, ElementKind, Model
 
-__all__ = ["element_length", "gravity_stiffness", "static_model", "static_preloads"]
+__all__ = ["element_length", "gravity_stiffness", "gravity_terms", "static_model", "static_preloads"]
 
 #: Relative size of the random perturbation of the parameters used to find which
 #: coordinates move in the static equilibrium (structural zeros stay zero).
@@ -239,7 +249,15 @@ def _rotation_hessian(model: Model, point_id: str, axis: int) -> list[tuple[str,
 
 def gravity_stiffness(model: Model, static_equations: GenerationResult) -> list[tuple[str, str, sp.Expr]]:
     """Geometric stiffness of the preloaded elements: ``(row DOF, column DOF, value)``
-    in the model's full coordinates (before pin elimination), to be added to K.
+    in the model's full coordinates (before pin elimination), to be added to K
+    (:func:`gravity_terms` without curvature inputs)."""
+    return gravity_terms(model, static_equations)[0]
+
+
+def gravity_terms(model: Model, static_equations: GenerationResult,
+                  point_inputs: Mapping[tuple[str, int], Mapping[str, sp.Expr]] | None = None,
+                  ) -> tuple[list[tuple[str, str, sp.Expr]], list[tuple[str, str, sp.Expr]]]:
+    """Geometric stiffness of the preloaded elements and its part over the inputs.
 
     Parameters
     ----------
@@ -247,9 +265,22 @@ def gravity_stiffness(model: Model, static_equations: GenerationResult) -> list[
         The model with its ``[gravity]``.
     static_equations : GenerationResult
         The equations of :func:`static_model` of ``model`` (see :func:`static_preloads`).
+    point_inputs : mapping, optional
+        ``(cp_id, axis) -> {input: coefficient}``, the CPs' motion driven by inputs (the
+        curvature terms of :func:`express.rail.curve.curvature_point_inputs`).
+
+    Returns
+    -------
+    stiffness : list of (str, str, sympy.Expr)
+        ``(row DOF, column DOF, value)`` in the model's full coordinates (before pin
+        elimination), to be added to K [N/m, N, N m/rad].
+    forces : list of (str, str, sympy.Expr)
+        ``(DOF, input, coefficient)`` to be added to P: the turning axes of coincident
+        elements (module docstring) over the inputs' motion of their ends.
     """
     preloads = static_preloads(model, static_equations)
     terms: list[tuple[str, str, sp.Expr]] = []
+    forces: list[tuple[str, str, sp.Expr]] = []
     for element in model.elements:
         force = preloads.get(element.id)
         if force is None:
@@ -262,12 +293,81 @@ def gravity_stiffness(model: Model, static_equations: GenerationResult) -> list[
             for axis in range(3):
                 if axis == element.direction:
                     continue
-                relative: dict[str, sp.Expr] = {}
-                for end, sign in ((element.s_end, 1), (element.t_end, -1)):
-                    for dof, value in point_motion(model, end, axis)[0].items():
-                        relative[dof] = relative.get(dof, 0) + sign * value
+                relative = _relative_motion(model, element, axis, {})[0]
                 for row, a in relative.items():
                     for column, b in relative.items():
                         if a != 0 and b != 0:
                             terms.append((row, column, force * a * b / length))
-    return terms
+        elif _between_bodies(model, element) and _coincident(model, element):
+            stiffness, driven = _turning_axis(model, element, force, point_inputs or {})
+            terms += stiffness
+            forces += driven
+    return terms, forces
+
+
+def _relative_motion(model: Model, element, axis: int,
+                     point_inputs: Mapping[tuple[str, int], Mapping[str, sp.Expr]]
+                     ) -> tuple[dict[str, sp.Expr], dict[str, sp.Expr]]:
+    """First-order motion of the S end relative to the T end along ``axis``: over the
+    coordinates and over the inputs (ground inputs and ``point_inputs``)."""
+    dofs: dict[str, sp.Expr] = {}
+    inputs: dict[str, sp.Expr] = {}
+    for end, sign in ((element.s_end, 1), (element.t_end, -1)):
+        moved, driven = point_motion(model, end, axis)
+        for target, part in ((dofs, moved), (inputs, {**driven}), (inputs, point_inputs.get((end, axis), {}))):
+            for name, value in part.items():
+                target[name] = target.get(name, 0) + sign * value
+    return dofs, inputs
+
+
+def _between_bodies(model: Model, element) -> bool:
+    bodies = {body.id for body in model.bodies}
+    return all(model.point(end).host in bodies for end in (element.s_end, element.t_end))
+
+
+def _coincident(model: Model, element) -> bool:
+    """Whether the element's two ends are the same point (body position plus offset)."""
+    def position(point_id: str) -> list[sp.Expr]:
+        point = model.point(point_id)
+        body = model.body(point.host)
+        return [sp.sympify(body.position[i]) + sp.sympify(point.offset[i]) for i in range(3)]
+
+    start, end = position(element.s_end), position(element.t_end)
+    return all(sp.expand(a - b) == 0 for a, b in zip(start, end, strict=True))
+
+
+def _support(model: Model, element) -> str:
+    """The body that carries a coincident element: the lower of its two bodies (their
+    positions' height at the model's values), the T end's on a tie."""
+    values = model.values()
+    hosts = [model.point(end).host for end in (element.s_end, element.t_end)]
+    heights = [float(sp.sympify(model.body(host).position[2]).subs(values)) for host in hosts]
+    return hosts[0] if heights[0] < heights[1] else hosts[1]
+
+
+def _turning_axis(model: Model, element, force: sp.Expr,
+                  point_inputs: Mapping[tuple[str, int], Mapping[str, sp.Expr]]
+                  ) -> tuple[list[tuple[str, str, sp.Expr]], list[tuple[str, str, sp.Expr]]]:
+    """K and P terms of ``N (theta_B x e) . du``: the axis ``e`` of a coincident element
+    turning with its support ``B`` (:func:`_support`, module docstring).
+
+    ``(theta_B x e) . du = sum_i theta_B,i eps(i, a, k) du_k`` (``a`` the element's axis,
+    ``k`` the third axis); the potential ``N eps theta_B,i du_k`` is bilinear, so K gains
+    ``N eps`` on (rotation, relative motion) both ways and P gains ``-N eps`` times the
+    inputs' part of ``du_k``."""
+    axis = element.direction
+    support = model.body(_support(model, element))
+    stiffness: list[tuple[str, str, sp.Expr]] = []
+    driven: list[tuple[str, str, sp.Expr]] = []
+    for i in range(3):
+        if i == axis or f"r{AXES[i]}" not in support.dofs:
+            continue
+        rotation = f"{support.id}.r{AXES[i]}"
+        k = 3 - i - axis
+        scale = force * (1 if (i, axis, k) in ((0, 1, 2), (1, 2, 0), (2, 0, 1)) else -1)
+        moved, inputs = _relative_motion(model, element, k, point_inputs)
+        for dof, b in moved.items():
+            if b != 0:
+                stiffness += [(rotation, dof, scale * b), (dof, rotation, scale * b)]
+        driven += [(rotation, name, -scale * b) for name, b in inputs.items() if b != 0]
+    return stiffness, driven
