@@ -169,8 +169,10 @@ def test_wheel_loads_close_the_statics_of_a_canted_curve(lateral_car, speed):
     loads carry the normal load and the roll moment of the vehicle as rigid masses on
     their wheelsets (load_transfer's statics written out here):
     ``Q_L + Q_R = 2 Q0 + (a_n - g) sum s m``, ``Q_L - Q_R = sum s m (a_y h + a_n y) / b0``
-    (y the bodies' lateral displacements, the wheelsets' own excepted); cant deficiency
-    (30 m/s) loads the outer (right) wheel, cant excess (10 m/s) the inner one."""
+    (y the bodies' lateral displacements from the track centre line under their wheelsets,
+    the coordinate less the chord ``rho / 2 sum s (x_j - x)**2``, the wheelsets' own
+    excepted); cant deficiency (30 m/s) loads the outer (right) wheel, cant excess
+    (10 m/s) the inner one."""
     from express.model.parameters import expression_value
     from express.rail.load_transfer import body_loads
 
@@ -187,6 +189,10 @@ def test_wheel_loads_close_the_statics_of_a_canted_curve(lateral_car, speed):
     wheelsets = {w.name for w in vehicle.wheelsets}
     y = np.array([run.q[-1, vehicle.dof_index(f"{b}.y")] if f"{b}.y" in vehicle.dofs and b not in wheelsets else 0.0
                   for b in body.bodies])
+    station = np.array([expression_value(vehicle.model.body(b).position[0], vehicle.values) for b in body.bodies])
+    under = station[[body.bodies.index(w.name) for w in vehicle.wheelsets]]
+    y -= np.array([sum(s * (x - xi) ** 2 for s, x in zip(row, under, strict=True)) for row, xi in
+                   zip(body.shares, station, strict=True)]) / (2 * 600.0)  # the chord in R 600 m
     weights = body.mass[:, None] * body.shares
     total = 2 * np.array([w.wheel_load for w in vehicle.wheelsets]) + (a_n - g) * weights.sum(axis=0)
     difference = ((a_y * body.height + a_n * y) @ weights) / body.half_base

@@ -163,7 +163,10 @@ def test_demo_fig9_steady_state_matches_its_runs():
         # the run's mean over the car's stay in the 170 m circular curve: achieved 8e-5 (steered) and
         # 6e-5 (conventional) relative, the run's remaining settling
         assert state["psi_TW1"] == pytest.approx(run_mean, rel=3e-4)
-        assert state["passed"] == 1.0
+        # the paper's curve at 120 km/h (1.9 m/s^2 of cant deficiency): the car bodies shift
+        # outward on their suspension (the conventional one 131 mm from the chord, 34 mrad of
+        # roll), unloading the inner wheels by 61 % of Q0, beyond EN 14363's 0.6
+        assert state["dQQ0"] > 0.6 and state["passed"] == 0.0
 
 
 @pytest.mark.slow

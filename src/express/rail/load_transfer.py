@@ -22,7 +22,11 @@ apart::
 
 so with no offsets each wheel of wheelset j changes by ``m a h / (2 b0)`` (``a`` the
 cant deficiency), toward the outer rail; cant excess (``a_y > 0`` in a left curve)
-moves load to the inner rail.  Neglected: the heights of the lateral contact forces
+moves load to the inner rail.  The offset ``y_i`` is measured from the track centre line
+under the body's wheelsets: in a curve a body's coordinate is its displacement from the
+track centre at its own station, and a car body on an undeflected suspension lies on the
+chord between its bogies, ``rho (lT**2 + a**2) / 2`` inside it
+(:func:`support_line_offsets`; ``docs/curving.md``, "Statics of a canted curve").  Neglected: the heights of the lateral contact forces
 above rail level (contact angle), the roll of the wheelset itself, dynamic load changes,
 track twist.  Only the static part of the load is exact; the difference is an estimate.
 """
@@ -46,6 +50,7 @@ __all__ = [
     "WheelLoads",
     "body_loads",
     "load_shares",
+    "support_line_offsets",
     "track_plane_accelerations",
     "wheel_loads",
 ]
@@ -160,8 +165,9 @@ def wheel_loads(loads: BodyLoads, lateral: ArrayLike, normal: ArrayLike,
         or one per body at its station (``(N, n_bodies)`` for a time history; a value
         per instant is ``a[:, None]``).
     offsets : array_like, shape (..., n_bodies), optional
-        Lateral displacement of each body's centre from the track centreline [m]
-        (zero by default: the rigid-vehicle estimate).
+        Lateral displacement of each body's centre from the track centre line under its
+        wheelsets [m] (:func:`support_line_offsets`; zero by default: the rigid-vehicle
+        estimate).
 
     Returns
     -------
@@ -188,6 +194,46 @@ def wheel_loads(loads: BodyLoads, lateral: ArrayLike, normal: ArrayLike,
         moment = moment + (a_n * np.asarray(offsets, dtype=float)) @ weights
     difference = moment / loads.half_base
     return WheelLoads(0.5 * (total + difference), 0.5 * (total - difference))
+
+
+def support_line_offsets(shares: ArrayLike, stations: ArrayLike, wheelset_stations: ArrayLike,
+                         curvature: ArrayLike) -> FloatArray:
+    """Lateral offset of the track centre line under each body's wheelsets from the track
+    centre at the body's own station [m], +y (to the inside of a left curve).
+
+    The track centre at station ``x`` lies ``rho (x - x_i)**2 / 2`` to the inside of the
+    tangent at the body's station ``x_i``; weighted with the body's lever-rule shares
+    (whose moment about ``x_i`` vanishes) that is the chord::
+
+        e_i = rho_i / 2 sum_j s_ij (x_j - x_i)**2
+
+    Parameters
+    ----------
+    shares : array_like, shape (n_bodies, n_wheelsets)
+        :func:`load_shares`.
+    stations : array_like, shape (n_bodies,)
+        Each body's station x [m].
+    wheelset_stations : array_like, shape (n_wheelsets,)
+        Each wheelset's station [m].
+    curvature : array_like, broadcastable to (..., n_bodies)
+        Signed curvature at each body's station [1/m].
+
+    Returns
+    -------
+    numpy.ndarray, shape (..., n_bodies)
+
+    Examples
+    --------
+    A car body between two bogies 19 m apart (wheelbase 2.56 m) in R 600 m: its centre on
+    an undeflected suspension lies ``(9.5**2 + 1.28**2) / 1200`` = 76.6 mm inside:
+
+    >>> x = np.array([-10.78, -8.22, 8.22, 10.78])
+    >>> round(float(support_line_offsets(np.full((1, 4), 0.25), [0.0], x, 1 / 600)[0]), 4)
+    0.0766
+    """
+    spread = np.asarray(shares, dtype=float) * (np.asarray(wheelset_stations, dtype=float)[None, :]
+                                                - np.asarray(stations, dtype=float)[:, None]) ** 2
+    return 0.5 * np.asarray(curvature, dtype=float) * spread.sum(axis=1)
 
 
 def _lever_shares(station: float, supports: Sequence[float]) -> FloatArray:

@@ -17,7 +17,8 @@ Two contact models give the per-wheel forces:
 
 The vertical loads of a lateral-only model are the quasi-static estimate of
 :mod:`express.rail.load_transfer`, each body feeling the curvature and cant at its
-station and displaced by its lateral coordinate (the suspension's roll).
+station and displaced by its lateral coordinate less the track's chord under its
+wheelsets (the suspension's roll).
 """
 
 from __future__ import annotations
@@ -32,7 +33,13 @@ from express.analysis.curving.outputs import WheelRailOutputs
 from express.base.diagnostics import ArgumentError
 from express.numeric.statespace import VehicleModel
 from express.rail.contact_forces import ContactSet
-from express.rail.load_transfer import BodyLoads, body_loads, track_plane_accelerations, wheel_loads
+from express.rail.load_transfer import (
+    BodyLoads,
+    body_loads,
+    support_line_offsets,
+    track_plane_accelerations,
+    wheel_loads,
+)
 from express.rail.nonlinear import linear_creepages, wheelset_forces
 
 if TYPE_CHECKING:
@@ -79,10 +86,13 @@ def estimated_loads(vehicle: VehicleModel, q: np.ndarray, inputs, speed: float, 
     cant = inputs.u[:, [names.index(layout.cant[k]) for k in stations]]
     curvature = inputs.rho_stations[:, stations]
     a_y, a_n = track_plane_accelerations(speed, curvature, cant, _value(vehicle, "cant_base"), _value(vehicle, "gravity"))
-    offsets = np.zeros((q.shape[0], loads.mass.size))
+    # each body's displacement from the track centre line under its wheelsets (the chord)
+    position = vehicle.station_positions[stations]
+    under = position[[loads.bodies.index(w.name) for w in vehicle.wheelsets]]
+    offsets = -support_line_offsets(loads.shares, position, under, curvature)
     for i, body in enumerate(vehicle.model.bodies):
         if f"{body.id}.y" in vehicle.dofs:
-            offsets[:, i] = q[:, vehicle.dof_index(f"{body.id}.y")]
+            offsets[:, i] += q[:, vehicle.dof_index(f"{body.id}.y")]
     return wheel_loads(loads, a_y, a_n, offsets)
 
 
