@@ -314,7 +314,7 @@ def _relative_motion(model: Model, element, axis: int,
     inputs: dict[str, sp.Expr] = {}
     for end, sign in ((element.s_end, 1), (element.t_end, -1)):
         moved, driven = point_motion(model, end, axis)
-        for target, part in ((dofs, moved), (inputs, {**driven}), (inputs, point_inputs.get((end, axis), {}))):
+        for target, part in ((dofs, moved), (inputs, driven), (inputs, point_inputs.get((end, axis), {}))):
             for name, value in part.items():
                 target[name] = target.get(name, 0) + sign * value
     return dofs, inputs
@@ -354,7 +354,8 @@ def _turning_axis(model: Model, element, force: sp.Expr,
     ``(theta_B x e) . du = sum_i theta_B,i eps(i, a, k) du_k`` (``a`` the element's axis,
     ``k`` the third axis); the potential ``N eps theta_B,i du_k`` is bilinear, so K gains
     ``N eps`` on (rotation, relative motion) both ways and P gains ``-N eps`` times the
-    inputs' part of ``du_k``."""
+    inputs' part of ``du_k``.  A rotation the support does not have adds nothing (a
+    lateral-only model's wheelsets under their primary springs)."""
     axis = element.direction
     support = model.body(_support(model, element))
     stiffness: list[tuple[str, str, sp.Expr]] = []
