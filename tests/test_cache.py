@@ -20,6 +20,7 @@ from express.cli import main
 from express.io import cache
 from express.numeric import statespace
 from express.numeric.statespace import load_vehicle
+from express.rail import build
 
 MODEL = """
 [model]
@@ -79,13 +80,13 @@ def fresh(tmp_path, monkeypatch):
 def derivations(monkeypatch):
     """Counts the symbolic derivations (calls of generate_vehicle)."""
     calls: list[int] = []
-    original = statespace.generate_vehicle
+    original = build.generate_vehicle
 
     def counting(*args, **kwargs):
         calls.append(1)
         return original(*args, **kwargs)
 
-    monkeypatch.setattr(statespace, "generate_vehicle", counting)
+    monkeypatch.setattr(build, "generate_vehicle", counting)
     return calls
 
 
@@ -96,7 +97,8 @@ def _load_anew(path, **options):
 
 
 def _entries() -> list[Path]:
-    return sorted(cache.cache_directory().glob("*.json"))
+    """The derivation entries (not the warm entries beside them, express.numeric.warm)."""
+    return sorted(path for path in cache.cache_directory().glob("*.json") if b'"kind":"vehicle warm"' not in path.read_bytes())
 
 
 def _same(first, second) -> None:
@@ -129,8 +131,10 @@ def test_in_process_reuse_reads_nothing(fresh, derivations, monkeypatch):
 def test_overrides_are_applied_after_the_cache(fresh, derivations):
     _load_anew(fresh)
     warm = _load_anew(fresh, overrides={"k": "2 MN/m"})
+    from express.model.parameters import with_values
+
     fresh_derived = statespace.vehicle_model(
-        statespace.with_values(__import__("express.io", fromlist=["load_model"]).load_model(fresh), {"k": "2 MN/m"})
+        with_values(__import__("express.io", fromlist=["load_model"]).load_model(fresh), {"k": "2 MN/m"})
     )
     assert len(derivations) == 2  # the vehicle_model above; the warm load derived nothing
     _same(warm, fresh_derived)
@@ -295,9 +299,10 @@ def test_cache_info_and_clear_on_the_command_line(fresh, capsys):
     _load_anew(fresh)
     assert main(["cache", "info"]) == 0
     out = capsys.readouterr().out
-    assert str(cache.cache_directory()) in out and "1 entry" in out and "wheelset" in out
+    # the derivation and the warm entry (express.numeric.warm), both of the model "wheelset"
+    assert str(cache.cache_directory()) in out and "2 entries" in out and "wheelset" in out
     assert main(["cache", "clear"]) == 0
-    assert "removed 1 entry" in capsys.readouterr().out
+    assert "removed 2 entries" in capsys.readouterr().out
     assert not _entries()
 
 

@@ -34,7 +34,6 @@ def runs(tmp_path, monkeypatch, capsys):
         return original(*args, **kwargs)
 
     monkeypatch.setattr(build, "generate_vehicle", counting)
-    monkeypatch.setattr(statespace, "generate_vehicle", counting)
 
     def run(argv: list[str]) -> tuple[list[str], list[int]]:
         outputs, derivations = [], []

@@ -26,7 +26,7 @@ Output points
 -------------
 The model's ``[rail.outputs]`` (e.g. ``floor_front``, ``floor_rear``: the car-body
 floor above the bogie centres) are points on bodies; their lateral displacement is
-``u_y = y + rz lx - rx lz`` (:func:`express.numeric.statespace.point_lateral_row`) and their
+``u_y = y + rz lx - rx lz`` (:func:`express.numeric.model_numbers.point_lateral_row`) and their
 lateral acceleration amplitude is ``-w^2 u_y``.
 
 Examples
@@ -52,7 +52,7 @@ import numpy as np
 from express.base.diagnostics import ArgumentError
 from express.base.names import did_you_mean
 from express.base.threads import limited_blas
-from express.numeric.statespace import VehicleModel, point_lateral_row
+from express.numeric.statespace import VehicleModel
 
 __all__ = [
     "FrequencyResponse", "TransferFunctions", "dynamic_stiffness", "frequency_response", "ground_response",
@@ -341,11 +341,8 @@ def frequency_response(
     irregularity = amplitude * np.exp(-1j * w[:, None] * delays[None, :])  # (F, nw)
     X = steady_response(vehicle, f, v, columns, irregularity[:, :, None])[..., 0]
     outputs: dict[str, np.ndarray] = {}
-    model = vehicle.model
-    if model is not None and model.rail is not None:
-        for point in model.rail.outputs:
-            row = point_lateral_row(model, vehicle.dofs, point.body, point.offset)
-            outputs[point.name] = X @ row
+    for point in vehicle.facts.outputs:
+        outputs[point.name] = X @ np.array(point.row(vehicle.dofs))
     return FrequencyResponse(
         frequencies=f,
         speed=v,

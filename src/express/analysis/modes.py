@@ -17,8 +17,7 @@ import numpy as np
 
 from express.analysis.mode_names import STROKE, generic_name, kinematic_frequency, mode_energy, mode_name
 from express.base.units import KMH
-from express.model.parameters import expression_value
-from express.model.topology import Topology, classify_bodies
+from express.model.topology import Topology
 from express.numeric.statespace import VehicleModel
 
 __all__ = ["DOMINANT_COUNT", "STABILITY_RTOL", "EigenResult", "Mode", "modes_of", "stability_threshold"]
@@ -258,49 +257,19 @@ class EigenResult:
 
 
 def _roles(vehicle: VehicleModel) -> Topology:
-    """The role of every body (:func:`express.model.topology.classify_bodies`); without a
-    model, the wheelsets are known from the rail data and every other body is a car body."""
-    model = vehicle.model
-    if model is None:
-        wheelsets = {w.name for w in vehicle.wheelsets}
-        role: dict[str, str] = {}
-        for dof in vehicle.dofs:
-            body = dof.split(".")[0]
-            role.setdefault(body, "wheelset" if body in wheelsets else "body")
-        return Topology(role, {}, {}, ())
-    return classify_bodies(model, lambda body: _station(model, body))
-
-
-def _station(model, body_id: str) -> float:
-    try:
-        return expression_value(model.body(body_id).position[0], model.values())
-    except (KeyError, TypeError, ValueError):
-        return 0.0
+    """The role of every body (:func:`express.model.topology.classify_bodies`, through
+    :attr:`VehicleModel.facts <express.numeric.statespace.VehicleModel.facts>`)."""
+    return vehicle.facts.topology
 
 
 def _dof_lengths(vehicle: VehicleModel) -> np.ndarray:
     """``l_i`` of :attr:`Mode.dominant`: 1 for translations, the radius of gyration
-    ``sqrt(I / m)`` [m] for rotations."""
-    model = vehicle.model
-    values = model.values() if model is not None else {}
-    bodies = {body.id: body for body in model.bodies} if model is not None else {}
-    axis = {"rx": 0, "ry": 1, "rz": 2}
+    ``sqrt(I / m)`` [m] for rotations (:data:`REFERENCE_LENGTH` where unknown)."""
+    gyration = vehicle.facts.gyration
     lengths = np.ones(vehicle.n)
     for i, dof in enumerate(vehicle.dofs):
-        name, _, motion = dof.partition(".")
-        if motion not in axis:
-            continue
-        lengths[i] = REFERENCE_LENGTH
-        body = bodies.get(name)
-        if body is None:
-            continue
-        try:
-            mass = expression_value(body.mass, values)
-            inertia = expression_value(body.inertia[axis[motion]], values)
-        except (KeyError, TypeError, ValueError):
-            continue
-        if mass > 0 and inertia > 0:
-            lengths[i] = np.sqrt(inertia / mass)
+        if dof.partition(".")[2] in ("rx", "ry", "rz"):
+            lengths[i] = gyration.get(dof, REFERENCE_LENGTH)
     return lengths
 
 

@@ -432,8 +432,8 @@ def critical_speed_vs_conicity(
     >>> [round(c.speed_kmh) for c in critical_speed_vs_conicity(car, [0.1, 0.2])]
     [421, 361]
     """
-    if vehicle.model is None or parameter not in vehicle.model.parameters:
-        known = ", ".join(sorted(vehicle.model.parameters)) if vehicle.model is not None else "none"
+    if parameter not in vehicle.facts.parameters:
+        known = ", ".join(vehicle.facts.parameters) or "none"
         raise ArgumentError(f"the model has no parameter {parameter!r} (parameters: {known})")
     return [critical_speed(vehicle.with_values({parameter: float(g)}), options, **keywords) for g in conicities]
 

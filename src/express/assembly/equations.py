@@ -20,12 +20,14 @@ from __future__ import annotations
 
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
-from typing import Any, Generic, TypeVar
-
-import sympy as sp
+from typing import TYPE_CHECKING, Any, Generic, TypeVar
 
 from express.base.diagnostics import Problem
-from express.model.records import Derivation, Model
+
+if TYPE_CHECKING:  # SymPy is imported where it is used: a warm numerical command never needs it
+    import sympy as sp
+
+    from express.model.records import Model
 
 #: Order in which matrices are exported when present.
 MATRIX_ORDER = ("M", "C", "K", "P", "Pd")
@@ -34,6 +36,12 @@ MATRIX_ORDER = ("M", "C", "K", "P", "Pd")
 STROKE = "stroke"
 
 _T = TypeVar("_T")
+
+
+def _sympy() -> Any:
+    import sympy
+
+    return sympy
 
 
 @dataclass(frozen=True)
@@ -110,7 +118,7 @@ class ClearanceTerm:
     inputs: dict[str, sp.Expr]
     gap: sp.Expr
     stiffness: sp.Expr
-    progressive: sp.Expr = sp.S.Zero
+    progressive: sp.Expr = field(default_factory=lambda: _sympy().S.Zero)
 
 
 @dataclass(frozen=True)
@@ -180,7 +188,9 @@ def derivation_steps(model: Model) -> tuple[DerivationStep, ...]:
         For a cycle or an undefined name in the graph.
     """
     from express.model.parameters import evaluation_order
+    from express.model.records import Derivation
 
+    sp = _sympy()
     steps: list[DerivationStep] = []
     for node in evaluation_order(model):
         if isinstance(node, Derivation):
@@ -262,6 +272,7 @@ class EquationsOfMotion:
     def _repr_latex_(self) -> str:
         """The equations in a notebook: ``M q'' + C q' + K q = P u + Pd u'`` with the
         DOFs and, up to :attr:`LATEX_DOFS` of them, M, C and K in full."""
+        sp = _sympy()
         q = sp.Matrix([sp.Symbol(dof.replace("_", r"\_")) for dof in self.dofs])
         text = (r"\begin{gathered}M \ddot{q} + C \dot{q} + K q = P u + P_d \dot{u},\quad q = "
                 + sp.latex(q.T) + r"^{T}")

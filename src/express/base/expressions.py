@@ -40,6 +40,7 @@ from fractions import Fraction
 import sympy as sp
 
 from express.base.limits import MAX_EXPONENT, MAX_NESTING, limit
+from express.base.names import is_valid_name
 
 __all__ = ["ExpressionError", "expression_value", "is_valid_name", "parse_expression", "parse_number"]
 
@@ -48,7 +49,6 @@ _TOKEN = re.compile(
     r"|(?P<name>[A-Za-z_][A-Za-z0-9_]*)"
     r"|(?P<op>\*\*|[-+*/^()]))"
 )
-_NAME = re.compile(r"[A-Za-z][A-Za-z0-9_]*\Z")
 _MAX_TERMS = 200
 #: Largest finite double, exactly, and its bit length (constants must stay below it).
 _DOUBLE_MAX = Fraction(sys.float_info.max)
@@ -57,11 +57,6 @@ _DOUBLE_MIN = Fraction(5e-324)  # the smallest positive (subnormal) double
 
 class ExpressionError(ValueError):
     """An expression that does not follow the grammar; the message says where."""
-
-
-def is_valid_name(name: str) -> bool:
-    """Whether ``name`` can be a parameter name (letter first, then letters, digits, ``_``)."""
-    return bool(_NAME.match(name))
 
 
 def parse_number(text: str) -> sp.Rational:

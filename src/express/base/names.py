@@ -8,9 +8,10 @@ Every option and key that takes a name (``--set``, ``--parameter``, ``--dof``,
 from __future__ import annotations
 
 import difflib
+import re
 from collections.abc import Iterable
 
-__all__ = ["closest_name", "did_you_mean"]
+__all__ = ["closest_name", "did_you_mean", "is_valid_name"]
 
 #: Similarity (difflib ratio) below which no name is suggested.
 CUTOFF = 0.6
@@ -60,3 +61,11 @@ def did_you_mean(name: str, known: Iterable[str]) -> str:
     """
     close = closest_name(name, known)
     return f"; did you mean {close}?" if close else ""
+
+
+_NAME = re.compile(r"[A-Za-z][A-Za-z0-9_]*\Z")
+
+
+def is_valid_name(name: str) -> bool:
+    """Whether ``name`` can be a parameter name (letter first, then letters, digits, ``_``)."""
+    return bool(_NAME.match(name))

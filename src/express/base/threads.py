@@ -6,8 +6,9 @@ with OpenBLAS's default threads a curving ``simulate()`` took 4-5x longer than w
 one thread, and a 120 x 120 inverse 70 ms instead of 1 ms.  So the numerical entry
 points (``simulate``, eigenvalue sweeps, critical speed, ``frf``, re-evaluation of a
 vehicle) run inside :func:`blas_threads`, which sets the BLAS libraries already
-loaded (NumPy's and SciPy's) to :func:`blas_limit` threads and restores what they
-had when the outermost numerical call returns.
+loaded (NumPy's, and SciPy's when it is imported) to :func:`blas_limit` threads and
+restores what they had when the outermost numerical call returns; a library first
+loaded inside (SciPy imported by the work) starts with the limit too.
 
 The limit is 1 unless the environment variable ``EXPRESS_BLAS_THREADS`` says otherwise:
 a positive integer is the limit, ``0`` or ``none`` leaves BLAS alone (for very large
@@ -31,6 +32,7 @@ import contextlib
 import functools
 import importlib
 import os
+import sys
 import threading
 from collections.abc import Callable, Iterator
 from typing import Any, TypeVar
@@ -47,6 +49,7 @@ _Function = TypeVar("_Function", bound=Callable[..., Any])
 _lock = threading.RLock()
 _depth = 0
 _controller: Any = None
+_with_scipy = False
 
 
 def blas_limit() -> int | None:
@@ -78,16 +81,46 @@ def blas_limit() -> int | None:
 
 
 def _blas_controller() -> Any:
-    """One ``threadpoolctl`` controller over NumPy's and SciPy's BLAS (built once:
-    building one walks the loaded libraries, about a millisecond)."""
-    global _controller
-    if _controller is None:
-        for module in ("numpy", "scipy.linalg"):  # each loads its own BLAS
-            importlib.import_module(module)
+    """One ``threadpoolctl`` controller over the BLAS libraries loaded: NumPy's, and
+    SciPy's once ``scipy.linalg`` is imported (built again then: building one walks the
+    loaded libraries, about a millisecond).  SciPy is not imported for it: a command
+    that does not use SciPy does not pay its import (0.2 s)."""
+    global _controller, _with_scipy
+    with_scipy = "scipy.linalg" in sys.modules
+    if _controller is None or with_scipy != _with_scipy:
+        importlib.import_module("numpy")
         from threadpoolctl import ThreadpoolController
 
         _controller = ThreadpoolController().select(user_api="blas")
+        _with_scipy = with_scipy
     return _controller
+
+
+#: The variables OpenBLAS, MKL and OpenMP read when their library is loaded.
+_LOAD_VARIABLES = ("OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "OMP_NUM_THREADS")
+
+
+@contextlib.contextmanager
+def _loaded_inside(limit: int) -> Iterator[None]:
+    """A BLAS library first loaded inside the block (SciPy's, imported by the work) starts
+    with ``limit`` threads (the variables its loader reads); afterwards it is given the
+    threads NumPy's had before the block, the caller's setting."""
+    before = {name: os.environ.get(name) for name in _LOAD_VARIABLES}
+    known = {library.filepath for library in _blas_controller().lib_controllers}
+    original = [library.num_threads for library in _blas_controller().lib_controllers]
+    for name in _LOAD_VARIABLES:
+        os.environ[name] = str(limit)
+    try:
+        yield
+    finally:
+        for name, value in before.items():
+            if value is None:
+                os.environ.pop(name, None)
+            else:
+                os.environ[name] = value
+        for library in _blas_controller().lib_controllers:
+            if library.filepath not in known and original:
+                library.set_num_threads(original[0])
 
 
 @contextlib.contextmanager
@@ -115,7 +148,8 @@ def blas_threads(limit: int | str | None = "default") -> Iterator[None]:
         try:
             for library in libraries:
                 library.set_num_threads(int(limit))
-            yield
+            with _loaded_inside(int(limit)):
+                yield
         finally:
             for library, threads in zip(libraries, original, strict=True):
                 library.set_num_threads(threads)

@@ -117,7 +117,7 @@ def run(
         if plot is not None:
             transaction.declare(plot, binary=True)
         vehicle = common.load_rail_vehicle(model, overrides, "critical-speed")
-        if conicities is not None and (vehicle.model is None or parameter not in vehicle.model.parameters):
+        if conicities is not None and parameter not in vehicle.facts.parameters:
             raise UsageError(f"--parameter {parameter}: the model has no such parameter")
         result, sweep = _compute(vehicle, options, conicities, parameter)
         if output is not None and conicities is not None and sweep is not None:
@@ -134,7 +134,7 @@ def run(
     if as_json:
         common.print_json(summary)
     else:
-        _print(vehicle.equations.name, result, vmax, conicities, parameter, sweep, sys.stderr if output == "-" else sys.stdout)
+        _print(vehicle.name, result, vmax, conicities, parameter, sweep, sys.stderr if output == "-" else sys.stdout)
     return 0
 
 
@@ -179,7 +179,7 @@ def _figure(vehicle: Any, plot: Path, vmin: float, vmax: float, result: Any, con
     from express.analysis import plots
     from express.analysis.stability import root_locus, unstable_windows
 
-    name = vehicle.equations.name
+    name = vehicle.name
     if conicities is not None and sweep is not None:
         speeds_kmh = _speeds(sweep) / common.KMH
         at_min = np.array([bool(c is not None and c.unstable_at_min) for c in sweep])
@@ -255,7 +255,7 @@ def _run_nonlinear(model: Path, overrides: dict[str, str], vmin: float, vmax: fl
             _bifurcation_figure(vehicle, plot, result)
     for path in [p for p in (output, plot) if p is not None and str(p) != "-"]:
         common.note(f"wrote {path}")
-    name = vehicle.equations.name
+    name = vehicle.name
     summary = {"model": str(model), **_fields(linear), "nonlinear": result.as_dict()}
     if as_json:
         common.print_json(summary)
@@ -286,7 +286,7 @@ def _bifurcation_figure(vehicle: Any, plot: Path, result: Any) -> None:
     linear = result.linear
     figure = figure_bifurcation(
         [p.speed_kmh for p in points], [p.amplitude * 1e3 for p in points], [p.alive for p in points],
-        title=f"{vehicle.equations.name}: hunting limit cycles, contact {result.contact}",
+        title=f"{vehicle.name}: hunting limit cycles, contact {result.contact}",
         nonlinear_kmh=result.speed_kmh,
         linear_kmh=linear.speed_kmh if linear is not None and not linear.unstable_at_min else None,
     )

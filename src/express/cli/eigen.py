@@ -88,7 +88,7 @@ def _table(model: Path, overrides: dict[str, str], speed: float | None, as_json:
     result = eigen_analysis(vehicle, v)
     eigenvalues = np.linalg.eigvals(state_matrix)
     eigenvalues = eigenvalues[np.lexsort((-eigenvalues.imag, -eigenvalues.real))]
-    name = vehicle.equations.name
+    name = vehicle.name
     if as_json:
         common.print_json({
             "model": str(model), "speed": v, "speed_kmh": v / common.KMH if v is not None else None,

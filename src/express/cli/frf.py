@@ -113,7 +113,7 @@ def run(
     kind = " and ".join(components) if components else "lateral alignment"
     where = f"sinusoidal {kind} Y = {amplitude * 1e3:g} mm at {v / common.KMH:.1f} km/h" if v == v else (
         f"each ground input alone, amplitude {amplitude * 1e3:g} mm (DOF/input)")
-    print(f"{vehicle.equations.name}: {where}, {fmin:g}-{fmax:g} Hz ({points} points)", file=stream)
+    print(f"{vehicle.name}: {where}, {fmin:g}-{fmax:g} Hz ({points} points)", file=stream)
     width = max([14, *(len(name) for name in peaks)])
     print(f"  {'output':<{width}} {'peak amplitude':>18} {'at f [Hz]':>10}", file=stream)
     for name, peak in peaks.items():
@@ -132,8 +132,7 @@ def _series(vehicle: Any, dofs: list[str], frequencies: Any, amplitude: float, s
     for dof in dofs:
         if dof not in vehicle.dofs:
             raise UsageError(f"--dof {dof}: unknown DOF{did_you_mean(dof, vehicle.dofs)} (DOFs: {', '.join(vehicle.dofs)})")
-    model = vehicle.model
-    points = [p.name for p in model.rail.outputs] if model is not None and model.rail is not None else []
+    points = [point.name for point in vehicle.facts.outputs]
     if not points and not dofs:
         raise UsageError("frf: the model has no output points ([rail.outputs]); name a DOF with --dof W1.y")
     response = frequency_response(vehicle, frequencies, amplitude=amplitude, speed=speed)
@@ -219,6 +218,6 @@ def _figure(vehicle: Any, frequencies: Any, series: dict, amplitude: float, spee
     for name, (values, unit) in series.items():
         label = _LABELS.get(name, name)
         panels.setdefault(unit, []).append({"label": label, "values": np.abs(values)})
-    title = (f"{vehicle.equations.name}: response to Y = {amplitude * 1e3:g} mm at {speed / common.KMH:.0f} km/h"
-             if speed == speed else f"{vehicle.equations.name}: response to each ground input ({amplitude * 1e3:g} mm)")
+    title = (f"{vehicle.name}: response to Y = {amplitude * 1e3:g} mm at {speed / common.KMH:.0f} km/h"
+             if speed == speed else f"{vehicle.name}: response to each ground input ({amplitude * 1e3:g} mm)")
     save_figure(figure_frequency_responses(frequencies, panels, title=title, log=log), plot)

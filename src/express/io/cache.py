@@ -51,6 +51,7 @@ __all__ = [
     "clear_cache",
     "disabled",
     "entry_key",
+    "has_entry",
     "memoized_values",
     "read_entry",
     "write_entry",
@@ -173,6 +174,11 @@ def read_entry(key: str) -> Any:
     with contextlib.suppress(OSError):
         os.utime(path)  # least recently used = oldest modification time
     return payload
+
+
+def has_entry(key: str) -> bool:
+    """Whether an entry is stored under ``key`` (not read: it may still turn out damaged)."""
+    return cache_enabled() and _entry_path(key).is_file()
 
 
 def entry_damaged(key: str) -> None:

@@ -28,8 +28,10 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
-from express.model.records import Model
+if TYPE_CHECKING:
+    from express.model.records import Model
 
 __all__ = ["Topology", "classify_bodies"]
 

@@ -43,14 +43,16 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-import sympy as sp
 
 from express.assembly.equations import EquationsOfMotion, Matrices
 from express.base.diagnostics import ArgumentError
 from express.numeric.program import ExpressionProgram, UnsupportedExpressionError
+
+if TYPE_CHECKING:  # imported where used: matrices read from the derivation cache need no SymPy
+    import sympy as sp
 
 __all__ = ["CompiledMatrices", "EigenBlocks", "SpeedSplit", "compile_matrices", "diagonal_blocks", "strong_components"]
 
@@ -92,6 +94,8 @@ class _Entries:
         try:
             self.program = ExpressionProgram.from_expressions(expressions, [symbol.name for symbol in symbols])
         except UnsupportedExpressionError:  # a function (sin, Abs): compiled by SymPy, not cacheable
+            import sympy as sp
+
             exact = [e.xreplace({f: sp.Rational(f) for f in e.atoms(sp.Float)}) for e in expressions]
             self.function = sp.lambdify(list(symbols), exact, modules="math", cse=True)
             return
@@ -136,6 +140,8 @@ class CompiledMatrices:
         self.parameters = tuple(equations.parameters)
         self.speed = speed if speed in self.parameters else None
         self.shapes = {key: tuple(matrix.shape) for key, matrix in equations.matrices.items()}
+        import sympy as sp
+
         symbols = [sp.Symbol(name) for name in self.parameters]
         speed_symbol = sp.Symbol(self.speed) if self.speed else None
         distinct: dict[sp.Expr, tuple[bool, int]] = {}  # expression -> (with speed, index)
@@ -362,6 +368,7 @@ class CompiledExpressions:
 
     Examples
     --------
+    >>> import sympy as sp
     >>> a, b = sp.symbols("a b")
     >>> compiled = CompiledExpressions([a + b, (a + b) * 2, sp.Integer(3)])
     >>> compiled({"a": 1.0, "b": 0.5}).tolist()
@@ -369,6 +376,8 @@ class CompiledExpressions:
     """
 
     def __init__(self, expressions: Sequence[sp.Expr]):
+        import sympy as sp
+
         expressions = [sp.sympify(e) for e in expressions]
         self.size = len(expressions)
         self.names = tuple(sorted({s.name for e in expressions for s in e.free_symbols}))

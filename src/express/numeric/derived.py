@@ -24,22 +24,27 @@ from __future__ import annotations
 import functools
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-import sympy as sp
 
 from express.assembly.equations import ClearanceTerm, EquationsOfMotion, Matrices
-from express.assembly.generator import GenerationResult, symbolic_matrix
 from express.base.diagnostics import InputError
-from express.model.records import Model
 from express.numeric.compiled import CompiledExpressions, CompiledMatrices
 from express.numeric.program import ExpressionProgram, ProgramError
 
+if TYPE_CHECKING:  # the symbolic side is imported where used: a warm load reads the programs only
+    import sympy as sp
+
+    from express.assembly.generator import GenerationResult
+    from express.model.records import Model
+
 __all__ = [
     "CachedVehicle",
+    "CompiledVehicle",
     "LazyMatrices",
     "generation_entry",
+    "read_compiled_entry",
     "read_generation_entry",
     "read_vehicle_entry",
     "vehicle_entry",
@@ -134,16 +139,42 @@ def _checked(read: Callable) -> Callable:
     return checked
 
 
-@_checked
-def read_vehicle_entry(payload: Any, model: Model) -> CachedVehicle:
-    """The vehicle of :func:`vehicle_entry`'s data, every field checked; the name, values,
-    units and derivation steps come from ``model`` (the model the entry was derived from).
+@dataclass(frozen=True)
+class CompiledVehicle:
+    """The compiled part of a vehicle entry: what a warm load evaluates, no SymPy.
+
+    Attributes
+    ----------
+    compiled : CompiledMatrices
+    rail_numbers : CompiledExpressions or None
+    dofs, inputs : tuple of str
+        The equations' coordinates and inputs (the rows and columns of the matrices).
+    """
+
+    compiled: CompiledMatrices
+    rail_numbers: CompiledExpressions | None
+    dofs: tuple[str, ...]
+    inputs: tuple[str, ...]
+
+
+def read_compiled_entry(payload: Any) -> CompiledVehicle:
+    """The compiled matrices and rail numbers of :func:`vehicle_entry`'s data, every
+    field checked (no symbolic work).
 
     Raises
     ------
     ProgramError
         For data that is not a vehicle entry.
     """
+    try:
+        return _compiled_entry(payload)
+    except ProgramError:
+        raise
+    except (ValueError, TypeError, KeyError, IndexError, OverflowError, RecursionError, SyntaxError) as error:
+        raise ProgramError(f"{type(error).__name__}: {error}") from None
+
+
+def _compiled_entry(payload: Any) -> CompiledVehicle:
     data = _mapping(payload)
     if data.get("kind") != "vehicle":
         raise ProgramError("not a vehicle entry")
@@ -163,10 +194,26 @@ def read_vehicle_entry(payload: Any, model: Model) -> CachedVehicle:
     compiled = CompiledMatrices.from_programs(parameters, speed, shapes, scatter, constant, speed_dependent)
     rail = data.get("rail_numbers")
     rail_numbers = None if rail is None else CompiledExpressions.from_program(ExpressionProgram.from_data(rail))
-    equations = _equations(data, model, LazyMatrices(lambda: _matrices(compiled)))
-    if shapes["M"] != (len(equations.dofs), len(equations.dofs)):
+    dofs, inputs = tuple(_strings(data.get("dofs"))), tuple(_strings(data.get("inputs")))
+    if shapes["M"] != (len(dofs), len(dofs)):
         raise ProgramError("bad matrix shape")
-    return CachedVehicle(equations, compiled, rail_numbers)
+    return CompiledVehicle(compiled, rail_numbers, dofs, inputs)
+
+
+@_checked
+def read_vehicle_entry(payload: Any, model: Model) -> CachedVehicle:
+    """The vehicle of :func:`vehicle_entry`'s data, every field checked; the name, values,
+    units and derivation steps come from ``model`` (the model the entry was derived from).
+
+    Raises
+    ------
+    ProgramError
+        For data that is not a vehicle entry.
+    """
+    part = _compiled_entry(payload)
+    compiled = part.compiled
+    equations = _equations(payload, model, LazyMatrices(lambda: _matrices(compiled)))
+    return CachedVehicle(equations, compiled, part.rail_numbers)
 
 
 def _equations(data: dict, model: Model, matrices: Mapping[str, Any]) -> EquationsOfMotion:
@@ -192,6 +239,8 @@ def _equations(data: dict, model: Model, matrices: Mapping[str, Any]) -> Equatio
 
 def _matrices(compiled: CompiledMatrices) -> dict[str, Any]:
     """The symbolic matrices of the compiled ones (their programs' expressions put back)."""
+    from express.assembly.generator import symbolic_matrix
+
     constant, speed_dependent, scatter = compiled.programs()
     expressions = (constant.expressions(), speed_dependent.expressions())
     result = {}
@@ -206,6 +255,8 @@ def _matrices(compiled: CompiledMatrices) -> dict[str, Any]:
 
 
 def _clearance_data(clearances: tuple[ClearanceTerm, ...]) -> tuple[list, ExpressionProgram]:
+    import sympy as sp
+
     records, expressions = [], []
     for term in clearances:
         records.append({"element": term.element, "gradient": list(term.gradient), "inputs": list(term.inputs)})
@@ -324,6 +375,7 @@ def read_generation_entry(payload: Any, model: Model) -> GenerationResult:
     ProgramError
         For data that is not a generation entry.
     """
+    from express.assembly.generator import GenerationResult
     from express.base.diagnostics import Problem
 
     data = _mapping(payload)
@@ -351,6 +403,8 @@ _TRANSFORMATION = "transformation T"
 
 
 def _read_matrix(value: Any, expressions: list[sp.Expr]) -> Any:
+    from express.assembly.generator import symbolic_matrix
+
     data = _mapping(value)
     rows, columns = _shape(data.get("shape"))
     entries: dict[tuple[int, int], sp.Expr] = {}

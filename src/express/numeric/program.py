@@ -21,6 +21,7 @@ so their numbers agree bit for bit.
 
 Examples
 --------
+>>> import sympy as sp
 >>> a, b = sp.symbols("a b")
 >>> program = ExpressionProgram.from_expressions([a + b, 2 * (a + b) ** 2], ["a", "b"])
 >>> program.function()(1.0, 0.5)
@@ -35,9 +36,10 @@ import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from fractions import Fraction
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-import sympy as sp
+if TYPE_CHECKING:  # imported where used: reading and running a program needs no SymPy
+    import sympy as sp
 
 __all__ = ["ExpressionProgram", "ProgramError", "UnsupportedExpressionError"]
 
@@ -92,6 +94,8 @@ class ExpressionProgram:
             For a function (``sin``, ``Abs``), a symbol not in ``parameters``, a
             constant beyond the range of a double.
         """
+        import sympy as sp
+
         exact = [_exact(sp.sympify(expression)) for expression in expressions]
         replacements, reduced = sp.cse(exact, symbols=sp.numbered_symbols("_cse")) if exact else ([], [])
         builder = _Builder(tuple(parameters))
@@ -119,7 +123,7 @@ class ExpressionProgram:
             defined, a non-integer, a zero denominator, a constant beyond the range of a
             double, a bad parameter name.
         """
-        from express.base.expressions import is_valid_name
+        from express.base.names import is_valid_name
 
         if not isinstance(data, dict) or set(data) != {"parameters", "operations", "outputs"}:
             raise ProgramError("not a program")
@@ -174,6 +178,8 @@ class ExpressionProgram:
         return lines
 
     def expressions(self) -> list[sp.Expr]:
+        import sympy as sp
+
         """The SymPy expressions (shared subexpressions substituted back)."""
         values: list[sp.Expr] = [sp.Symbol(name) for name in self.parameters]
         for name, *operands in self.operations:
@@ -233,6 +239,8 @@ class _Builder:
 
 def _exact(expression: sp.Expr) -> sp.Expr:
     """Floats as exact fractions (a printed float would be rounded to 15 digits)."""
+    import sympy as sp
+
     floats = expression.atoms(sp.Float)
     return expression.xreplace({f: sp.Rational(f) for f in floats}) if floats else expression
 

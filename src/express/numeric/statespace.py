@@ -16,25 +16,37 @@ Examples
 
 from __future__ import annotations
 
-from collections.abc import Mapping
-from dataclasses import dataclass, field
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field, replace
 from functools import cached_property
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-import sympy as sp
 
-from express.assembly.equations import STROKE, EquationsOfMotion, Matrices
+from express.assembly.equations import STROKE, Matrices
 from express.assembly.first_order import FirstOrderError, IndefiniteMassError, StateForm, series_limits, state_form
 from express.base.diagnostics import ArgumentError, ModelError, Problem
 from express.base.names import did_you_mean
 from express.base.threads import limited_blas
 from express.base.units import KMH
-from express.model.parameters import expression_value, override_values, undefined_name_problems, with_values
-from express.model.records import Model
-from express.numeric.compiled import CompiledExpressions, CompiledMatrices, EigenBlocks, compile_matrices
-from express.rail.build import RailLayout, generate_vehicle, rail_layout
+from express.numeric.compiled import CompiledMatrices, EigenBlocks, compile_matrices
+from express.numeric.facts import VehicleFacts, facts_of
+from express.numeric.model_numbers import RailNumbers, WheelsetData, missing_problems, point_lateral_row
+from express.numeric.warm import (
+    VehicleOrigin,
+    WarmVehicle,
+    find_warm,
+    read_warm_vehicle,
+    reemit,
+    warm_entry,
+    write_warm_entry,
+)
+from express.rail.layout import RailLayout
+
+if TYPE_CHECKING:  # the symbolic side (and SymPy) is imported where used: a warm load needs none of it
+    from express.assembly.equations import EquationsOfMotion
+    from express.model.records import Model
 
 __all__ = [
     "Evaluation",
@@ -43,35 +55,13 @@ __all__ = [
     "WheelsetData",
     "evaluate_matrices",
     "load_vehicle",
+    "point_lateral_row",
     "vehicle_model",
 ]
 
 
 class SingularMassError(ModelError):
     """M cannot be inverted (a DOF without mass or inertia)."""
-
-
-@dataclass(frozen=True)
-class WheelsetData:
-    """Numerical wheel/rail data of one wheelset.
-
-    ``y`` and ``psi`` are the indices of its lateral and yaw DOFs in ``q``;
-    ``station`` its position along the vehicle [m] (x of its body).
-    """
-
-    name: str
-    y: int
-    psi: int
-    station: float
-    f1: float
-    f2: float
-    conicity: float
-    r0: float
-    b: float
-    flange_clearance: float
-    rail_stiffness: float
-    friction: float
-    wheel_load: float
 
 
 @dataclass(frozen=True)
@@ -84,7 +74,7 @@ class Evaluation:
         The matrices compiled once for the model.
     speed_name : str or None
         The speed parameter kept apart (``rail.speed``), when the model has one.
-    rail_numbers : _RailNumbers or None
+    rail_numbers : RailNumbers or None
         The wheelsets' numbers at given values, when the model has rail data.
     """
 
@@ -99,8 +89,9 @@ class VehicleModel:
 
     Attributes
     ----------
-    equations : EquationsOfMotion
-        The symbolic equations it was evaluated from.
+    origin : VehicleOrigin
+        The symbolic equations and model it was evaluated from (built on first use
+        for a vehicle read from the derivation cache): :attr:`equations`, :attr:`model`.
     values : dict of str to float
         Parameter values used (SI).
     speed : float
@@ -120,8 +111,6 @@ class VehicleModel:
     wheelsets : tuple of WheelsetData
     station_positions : numpy.ndarray
         x position of every station of ``layout`` [m], shape (len(layout.stations),).
-    model : Model or None
-        The model it was evaluated from (needed by :meth:`with_values`).
     inactive : tuple of str
         Strokes of series elements at a limit, removed from the coordinates.
     evaluation : Evaluation or None
@@ -132,7 +121,7 @@ class VehicleModel:
         ``M^-1`` of the coordinates with mass (derived).
     """
 
-    equations: EquationsOfMotion
+    origin: VehicleOrigin = field(repr=False, compare=False)
     values: dict[str, float]
     speed: float
     mass: np.ndarray
@@ -145,7 +134,6 @@ class VehicleModel:
     layout: RailLayout | None = None
     wheelsets: tuple[WheelsetData, ...] = ()
     station_positions: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    model: Model | None = None
     #: strokes of series elements at a limit, removed from the coordinates
     #: (:func:`express.assembly.first_order.series_limits`)
     inactive: tuple[str, ...] = ()
@@ -161,15 +149,35 @@ class VehicleModel:
         object.__setattr__(self, "mass_inverse", form.mass_inverse)
 
     @property
+    def equations(self) -> EquationsOfMotion:
+        """The symbolic equations it was evaluated from."""
+        return self.origin.equations
+
+    @property
+    def model(self) -> Model:
+        """The model it was evaluated from (needed by :meth:`with_values`)."""
+        return self.origin.model
+
+    @property
+    def name(self) -> str:
+        """The model's name."""
+        return self.origin.name
+
+    @cached_property
+    def facts(self) -> VehicleFacts:
+        """What the analyses read of the model, as numbers (:mod:`express.numeric.facts`)."""
+        return self.origin.facts if self.origin.facts is not None else facts_of(self.model, self.values)
+
+    @property
     def dofs(self) -> tuple[str, ...]:
         """The coordinates: the equations' DOFs without the :attr:`inactive` strokes."""
         if not self.inactive:
-            return self.equations.dofs
-        return tuple(dof for dof in self.equations.dofs if dof not in self.inactive)
+            return self.origin.dofs
+        return tuple(dof for dof in self.origin.dofs if dof not in self.inactive)
 
     @property
     def inputs(self) -> tuple[str, ...]:
-        return self.equations.inputs
+        return self.origin.inputs
 
     @property
     def n(self) -> int:
@@ -231,8 +239,12 @@ class VehicleModel:
         >>> vehicle.with_values({"Gamma": 0.2}).wheelsets[0].conicity
         0.2
         """
-        if self.model is None or self.evaluation is None:
+        if self.origin.cached:  # read from the cache: through the symbolic model
+            return self.origin.twin().with_values(changes)
+        if self.evaluation is None:
             raise ArgumentError("this VehicleModel has no model to re-evaluate")
+        from express.model.parameters import with_values
+
         model = with_values(self.model, changes)
         return _evaluate_vehicle(
             model, self.equations, self.evaluation.evaluator, self.evaluation.speed_name, self.layout is not None,
@@ -242,7 +254,7 @@ class VehicleModel:
     def __repr__(self) -> str:
         speed = f", v = {self.speed / KMH:.6g} km/h" if self.speed == self.speed else ""
         return (
-            f"<VehicleModel {self.equations.name!r}: {self.n} DOFs, {len(self.inputs)} inputs, "
+            f"<VehicleModel {self.name!r}: {self.n} DOFs, {len(self.inputs)} inputs, "
             f"{len(self.wheelsets)} wheelsets{speed}>"
         )
 
@@ -262,7 +274,7 @@ class VehicleModel:
 
 def _state_form(vehicle: VehicleModel) -> StateForm:
     if not vehicle.dofs:  # an empty file, or bodies without DOFs
-        source = vehicle.model.source if vehicle.model is not None else vehicle.equations.name
+        source = vehicle.origin.source
         raise ModelError([Problem(source, None, "model", "no DOFs: no body has a DOF, there is nothing to analyse")])
     # only a series element's damper stroke may be massless (a first-order coordinate);
     # a body DOF without mass (mc = 0) would silently become one (issue 17)
@@ -270,7 +282,7 @@ def _state_form(vehicle: VehicleModel) -> StateForm:
     massless = [dof for dof, m in zip(vehicle.dofs, diagonal, strict=True)
                 if not m > 0 and not dof.endswith(f".{STROKE}")]
     if massless:
-        source = vehicle.model.source if vehicle.model is not None else vehicle.equations.name
+        source = vehicle.origin.source
         plural = len(massless) > 1
         raise SingularMassError([Problem(
             source, None, "mass matrix",
@@ -284,21 +296,20 @@ def _state_form(vehicle: VehicleModel) -> StateForm:
         )
     except FirstOrderError as error:
         if isinstance(error, IndefiniteMassError):
-            _invert_mass(vehicle.mass, vehicle.equations, vehicle.model)
-        source = vehicle.model.source if vehicle.model is not None else vehicle.equations.name
+            _invert_mass(vehicle.mass, vehicle.dofs, vehicle.origin.source)
+        source = vehicle.origin.source
         dofs = ", ".join(vehicle.dofs[i] for i in error.bad)
         raise SingularMassError(
             [Problem(source, None, "mass matrix", f"M cannot be inverted: {error} ({dofs}); give it a mass or a damper")]
         ) from None
 
 
-def _invert_mass(mass: np.ndarray, equations: EquationsOfMotion, model: Model | None) -> np.ndarray:
-    source = model.source if model is not None else equations.name
+def _invert_mass(mass: np.ndarray, dofs: tuple[str, ...], source: str) -> np.ndarray:
     try:
         np.linalg.cholesky(mass)
     except np.linalg.LinAlgError:
         diagonal = np.diag(mass)
-        bad = [equations.dofs[i] for i in range(len(diagonal)) if not diagonal[i] > 0]
+        bad = [dofs[i] for i in range(len(diagonal)) if not diagonal[i] > 0]
         what = (
             f"DOF{'s' if len(bad) > 1 else ''} {', '.join(bad)} ha{'ve' if len(bad) > 1 else 's'} "
             "zero (or negative) mass or inertia"
@@ -360,9 +371,12 @@ def _derivation(model: Model, with_rail: bool, key: str | None = None) -> tuple:
     read from the derivation cache under ``key`` when there is an entry, else derived
     (entries expanded, not factored: :func:`express.assembly.generator.generate`) and
     stored under ``key``."""
+    import sympy as sp
+
     from express.io.cache import entry_damaged, read_entry, write_entry
     from express.numeric.derived import read_vehicle_entry, vehicle_entry
     from express.numeric.program import ProgramError, UnsupportedExpressionError
+    from express.rail.build import generate_vehicle, rail_layout
 
     speed_name = None
     if with_rail and model.rail is not None and isinstance(model.rail.speed, sp.Symbol):
@@ -385,7 +399,7 @@ def _derivation(model: Model, with_rail: bool, key: str | None = None) -> tuple:
     layout, rail_numbers = None, None
     if with_rail and model.rail is not None and equations.inputs:
         layout = rail_layout(model)
-        rail_numbers = _RailNumbers(model, equations, layout, cached.rail_numbers if cached else None)
+        rail_numbers = RailNumbers(model, equations, layout, cached.rail_numbers if cached else None)
     if key and cached is None:
         try:
             entry = vehicle_entry(equations, evaluator, rail_numbers.compiled if rail_numbers else None)
@@ -401,35 +415,56 @@ def _evaluate_vehicle(
 ) -> VehicleModel:
     """The numerical vehicle at ``model``'s values (``layout``: the rail layout, which
     does not depend on the values, when known already)."""
+    from express.model.parameters import undefined_name_problems
+
     values = model.values()
     missing = [name for name in equations.parameters if name not in values]
     if missing:
-        raise ModelError(undefined_name_problems(model, missing) or _missing(model, missing))
+        raise ModelError(undefined_name_problems(model, missing) or missing_problems(model, missing))
     finite, locked = _locked_dampers(model, equations, values)
-    try:
-        base, c1, p2 = _speed_split(evaluator, finite)
-    except ArgumentError as error:
-        raise ModelError([Problem(model.source, None, "parameters", str(error))]) from None
-    for i in locked:
-        base["C"][i, i] = np.inf
-    n, m = len(equations.dofs), len(equations.inputs)
+    matrices = _matrices_at(evaluator, finite, locked, model.source)
     wheelsets: tuple[WheelsetData, ...] = ()
     stations = np.zeros(0)
     speed = float("nan")
     rail_numbers = None
     if with_rail and model.rail is not None and equations.inputs:
+        from express.rail.build import rail_layout
+
         layout = layout or rail_layout(model)
-        rail_numbers = rail_numbers_of or _RailNumbers(model, equations, layout)
+        rail_numbers = rail_numbers_of or RailNumbers(model, equations, layout)
         speed, wheelsets, stations = rail_numbers(model, values)
     else:
         layout = None
+    origin = VehicleOrigin(model.name, model.source, equations.dofs, equations.inputs, equations=equations, model=model)
+    return _assembled(origin, values, matrices, (speed, wheelsets, stations, layout),
+                      Evaluation(evaluator, speed_name, rail_numbers))
+
+
+def _matrices_at(evaluator: CompiledMatrices, values: Mapping[str, float], locked: list[int], source: str) -> tuple:
+    """``(matrices with C0 and P0, C1, P2)`` at ``values``, the locked dampers' ``C`` infinite."""
+    try:
+        base, c1, p2 = _speed_split(evaluator, values)
+    except ArgumentError as error:
+        raise ModelError([Problem(source, None, "parameters", str(error))]) from None
+    for i in locked:
+        base["C"][i, i] = np.inf
+    return base, c1, p2
+
+
+def _assembled(origin: VehicleOrigin, values: dict[str, float], matrices: tuple, rail: tuple,
+               evaluation: Evaluation) -> VehicleModel:
+    """The vehicle of evaluated ``matrices`` (:func:`_matrices_at`) and ``rail`` numbers
+    ``(speed, wheelsets, station positions, layout)``, series elements at a limit removed."""
+    base, c1, p2 = matrices
+    speed, wheelsets, stations, layout = rail
+    n, m = len(origin.dofs), len(origin.inputs)
     limits = series_limits(
-        equations.dofs, base["M"], base["C"], c1, base["K"], base.get("P", np.zeros((n, m))), p2,
+        origin.dofs, base["M"], base["C"], c1, base["K"], base.get("P", np.zeros((n, m))), p2,
         base.get("Pd", np.zeros((n, m))), STROKE,
     )
     mass, damping, creep, stiffness, forcing, forcing2, forcing_rate = limits.matrices
     return VehicleModel(
-        equations=equations,
+        origin=origin,
         values=values,
         speed=speed,
         mass=mass,
@@ -443,9 +478,23 @@ def _evaluate_vehicle(
         layout=layout,
         wheelsets=wheelsets,
         station_positions=stations,
-        model=model,
-        evaluation=Evaluation(evaluator, speed_name, rail_numbers),
+        evaluation=evaluation,
     )
+
+
+def _warm_vehicle(warm: WarmVehicle, source: str, twin: Callable[[], VehicleModel]) -> VehicleModel:
+    """The vehicle of a warm entry (:mod:`express.numeric.warm`): the same numbers as
+    :func:`_evaluate_vehicle` at the file's values, from the same programs."""
+    matrices = _matrices_at(warm.compiled, warm.values, [], source)
+    speed, stations, rail_numbers = float("nan"), np.zeros(0), None
+    wheelsets: tuple[WheelsetData, ...] = ()
+    if warm.layout is not None and warm.rail_numbers is not None:
+        rail_numbers = RailNumbers.of_wheelsets(warm.wheelsets, warm.rail_numbers)
+        speed, wheelsets, stations = rail_numbers(None, warm.values)
+    origin = VehicleOrigin(warm.name, source, warm.dofs, warm.inputs, twin=twin,
+                           facts=replace(warm.facts, source=source))
+    return _assembled(origin, dict(warm.values), matrices, (speed, wheelsets, stations, warm.layout),
+                      Evaluation(warm.compiled, warm.speed_name, rail_numbers))
 
 
 def _locked_dampers(model: Model, equations: EquationsOfMotion, values: dict[str, float]) -> tuple[dict[str, float], list[int]]:
@@ -458,93 +507,10 @@ def _locked_dampers(model: Model, equations: EquationsOfMotion, values: dict[str
     locked = []
     for element in model.elements:
         name = f"{element.id}.{STROKE}"
-        symbols: set[sp.Symbol] = getattr(element.damping, "free_symbols", set())
+        symbols: set = getattr(element.damping, "free_symbols", set())
         if element.series and name in equations.dofs and {s.name for s in symbols} & set(infinite):
             locked.append(equations.dofs.index(name))
     return {**values, **dict.fromkeys(infinite, 1.0)}, locked
-
-
-class _RailNumbers:
-    """The speed, the wheelsets' data and the station positions of a model, compiled
-    once into one function of the parameter values (the layout does not depend on them)."""
-
-    KEYS = ("f1", "f2", "conicity", "r0", "b", "flange_clearance", "rail_stiffness", "friction", "wheel_load")
-
-    def __init__(
-        self, model: Model, equations: EquationsOfMotion, layout: RailLayout, compiled: CompiledExpressions | None = None
-    ):
-        rail = model.rail
-        assert rail is not None
-        # (expression, item, what) of every number, for the compiled function and the errors
-        self.uses = [(rail.speed, "rail", "speed")]
-        self.wheelsets = []
-        for wheelset in rail.wheelsets:
-            name = wheelset.body
-            self.wheelsets.append((name, equations.dofs.index(f"{name}.y"), equations.dofs.index(f"{name}.rz")))
-            self.uses.append((model.body(name).position[0], f"body {name}", "position"))
-            self.uses += [(getattr(wheelset, key), f"wheelset {name}", key) for key in self.KEYS]
-        self.uses += [(station.position, "station", "position") for station in layout.stations]
-        if compiled is None or compiled.size != len(self.uses):  # compiled: read from the derivation cache
-            compiled = CompiledExpressions([expression for expression, _, _ in self.uses])
-        self.compiled = compiled
-
-    def __call__(self, model: Model, values: Mapping[str, float]) -> tuple[float, tuple[WheelsetData, ...], np.ndarray]:
-        """``(speed, wheelsets, station positions)`` at ``values``; a ModelError naming
-        the item (file and line) and the missing name or the division by zero."""
-        try:
-            numbers = self.compiled(values).tolist()
-        except (KeyError, ValueError):  # evaluated one by one for the precise error
-            numeric = _numeric(model, values)
-            numbers = [numeric(expression, item, what) for expression, item, what in self.uses]
-        per = 1 + len(self.KEYS)
-        wheelsets = tuple(
-            WheelsetData(name, y, psi, numbers[1 + k * per], *numbers[2 + k * per : 1 + (k + 1) * per])
-            for k, (name, y, psi) in enumerate(self.wheelsets)
-        )
-        return numbers[0], wheelsets, np.array(numbers[1 + len(wheelsets) * per :], dtype=float)
-
-
-def _missing(model: Model, names: list[str]) -> list[Problem]:
-    plural = "s" if len(names) > 1 else ""
-    return [Problem(model.source, None, "parameters", f"no value for parameter{plural} {', '.join(names)}")]
-
-
-def _numeric(model: Model, values: Mapping[str, float]):
-    """``numeric(expression, item, what)``: the float value of a use of parameters,
-    or a ModelError naming the item (with its file and line) and the missing name."""
-
-    def evaluate(expression, item: str = "", what: str = "") -> float:
-        try:
-            return expression_value(expression, values)
-        except KeyError as error:
-            name = error.args[0]
-            raise ModelError(undefined_name_problems(model, [name]) or _missing(model, [name])) from None
-        except ValueError as error:
-            raise ModelError([Problem(model.source, None, f"{item} {what}".strip(), str(error))]) from None
-
-    return evaluate
-
-
-def point_lateral_row(model: Model, dofs: EquationsOfMotion | tuple[str, ...], body_id: str, offset) -> np.ndarray:
-    """Row vector giving the lateral displacement of a point on a body from ``q``.
-
-    ``u_y = y + rz lx - rx lz`` in the body's track frame (shape (n,)); ``dofs`` are the
-    coordinates (a vehicle's :attr:`VehicleModel.dofs`, or equations for theirs).
-    """
-    if isinstance(dofs, EquationsOfMotion):
-        dofs = dofs.dofs
-    numeric = _numeric(model, model.values())
-    body = model.body(body_id)
-    lx = numeric(offset[0], f"body {body_id}", "offset")
-    lz = numeric(offset[2], f"body {body_id}", "offset")
-    row = np.zeros(len(dofs))
-    for dof, coefficient in (("y", 1.0), ("rz", lx), ("rx", -lz)):
-        name = f"{body.id}.{dof}"
-        if dof in body.dofs and name in dofs:
-            row[dofs.index(name)] += coefficient
-    return row
-
-
 
 
 #: Derived vehicles by derivation-cache key (the bytes of every file read, the options):
@@ -587,12 +553,18 @@ def load_vehicle(
     >>> vehicle.wheelsets[0].conicity
     0.2
     """
-    from express.base.reads import recorded_reads
-    from express.io import load_model
+    found = find_warm(path, with_rail)  # no symbolic work, no SymPy (express.numeric.warm)
+    base = _GENERATED.get(found.vehicle_key) if found is not None else None
+    if base is None and found is not None:
+        warm = read_warm_vehicle(found)
+        if warm is not None:
+            base = _remember(found.vehicle_key, _warm_vehicle(warm, str(path), lambda: _symbolic_twin(path, with_rail)))
+    if base is not None and found is not None and reemit(found, str(path)):
+        return base.with_values(overrides) if overrides else base
     from express.io.cache import entry_key
+    from express.model.parameters import override_values, with_values
 
-    with recorded_reads() as reads:
-        model = load_model(Path(path))
+    model, reads, caught = _read_model(path)
     values = override_values(model, overrides or {})
     key = entry_key("vehicle", reads, {"with_rail": with_rail})
     base = _GENERATED.get(key)
@@ -605,7 +577,55 @@ def load_vehicle(
                 raise
             # e.g. a singular M at the file's values that the overrides cure
             return _evaluate_vehicle(with_values(model, values), *derivation)
-        if len(_GENERATED) >= _GENERATED_CACHE_SIZE:
-            _GENERATED.pop(next(iter(_GENERATED)))
-        _GENERATED[key] = base
+        _remember(key, base)  # and the warm entry, new or replacing a stale or damaged one:
+        write_warm_entry(path, with_rail, key, _warm_data(base, reads, caught))
     return base.with_values(values) if values else base
+
+
+def _remember(key: str, vehicle: VehicleModel) -> VehicleModel:
+    if len(_GENERATED) >= _GENERATED_CACHE_SIZE:
+        _GENERATED.pop(next(iter(_GENERATED)))
+    _GENERATED[key] = vehicle
+    return vehicle
+
+
+def _read_model(path: str | Path, repeat_warnings: bool = True) -> tuple[Model, list[tuple[str, str]], list]:
+    """The model of ``path``, the files its reading read (:mod:`express.base.reads`) and
+    the warnings it gave (given again here unless ``repeat_warnings`` is false: a warm
+    load gave them already)."""
+    import warnings
+
+    from express.base.reads import recorded_reads
+    from express.io import load_model
+
+    with recorded_reads() as reads, warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        model = load_model(Path(path))
+    if repeat_warnings:
+        for warning in caught:
+            warnings.warn_explicit(warning.message, warning.category, warning.filename, warning.lineno,
+                                   source=warning.source)
+    return model, reads, caught
+
+
+def _symbolic_twin(path: str | Path, with_rail: bool) -> VehicleModel:
+    """The vehicle of ``path`` through its symbolic model (the derivation from the cache):
+    what a warm vehicle builds when something asks for its model or equations."""
+    from express.io.cache import entry_key
+
+    model, reads, _ = _read_model(path, repeat_warnings=False)
+    derivation = _derivation(model, with_rail, entry_key("vehicle", reads, {"with_rail": with_rail}))
+    return _evaluate_vehicle(model, *derivation)
+
+
+def _warm_data(vehicle: VehicleModel, reads: list[tuple[str, str]], caught: list) -> dict[str, Any] | None:
+    """The warm entry of a vehicle evaluated from its symbolic model (:func:`express.numeric.warm.warm_entry`)."""
+    evaluation = vehicle.evaluation
+    if evaluation is None:
+        return None
+    rail_numbers = evaluation.rail_numbers
+    return warm_entry(
+        vehicle.name, reads, vehicle.values, evaluation.speed_name,
+        [tuple(item) for item in rail_numbers.wheelsets] if rail_numbers is not None else [],
+        vehicle.layout, vehicle.station_positions.tolist(), vehicle.facts, caught,
+    )

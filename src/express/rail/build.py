@@ -14,7 +14,6 @@ ground inputs of the core model, if any, come first.
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass
 from typing import Any
 
 from express.assembly.generator import AddedTerms, GenerationResult, generate
@@ -22,7 +21,8 @@ from express.base.diagnostics import ArgumentError
 from express.base.reads import recording
 from express.model.parameters import register_derivation
 from express.model.records import Derivation, Model
-from express.rail.curve import Station, cant_deficiency_forces, curvature_point_inputs, station_of, stations
+from express.rail.curve import cant_deficiency_forces, curvature_point_inputs, station_of, stations
+from express.rail.layout import RailLayout
 from express.rail.wheelrail import flange_input, irregularity_input, wheelset_terms
 
 __all__ = ["RailLayout", "generate_vehicle", "rail_layout", "rail_terms"]
@@ -31,33 +31,6 @@ __all__ = ["RailLayout", "generate_vehicle", "rail_layout", "rail_terms"]
 #: here so that a model without profiles never imports that module: it brings Numba and
 #: the contact tables, some 0.2 s of start-up, issue 16).
 PROFILES = "profiles"
-
-
-@dataclass(frozen=True)
-class RailLayout:
-    """Where the rail inputs are and what they mean.
-
-    Attributes
-    ----------
-    wheelsets : tuple of str
-        Wheelset body ids, front to back as listed in the model.
-    stations : tuple of Station
-        Stations that carry curvature and cant inputs.
-    irregularity, flange, curvature, cant : tuple of str
-        Input names of each group, in order.
-    """
-
-    wheelsets: tuple[str, ...]
-    stations: tuple[Station, ...]
-    irregularity: tuple[str, ...]
-    flange: tuple[str, ...]
-    curvature: tuple[str, ...]
-    cant: tuple[str, ...]
-
-    @property
-    def inputs(self) -> tuple[str, ...]:
-        """All rail inputs in the paper's order."""
-        return self.irregularity + self.flange + self.curvature + self.cant
 
 
 def rail_layout(model: Model) -> RailLayout:

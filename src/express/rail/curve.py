@@ -22,40 +22,12 @@ The cant-deficiency force on every body with a lateral DOF is
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import sympy as sp
 
 from express.model.records import Model
+from express.rail.layout import Station
 
 __all__ = ["Station", "cant_deficiency_forces", "curvature_point_inputs", "stations"]
-
-
-@dataclass(frozen=True)
-class Station:
-    """A station along the vehicle where curvature and cant are sampled.
-
-    Attributes
-    ----------
-    name : str
-        The first body at this station; inputs are ``<name>.rho`` and ``<name>.S``.
-    position : sympy.Expr
-        Distance ahead of the vehicle origin [m].
-    bodies : tuple of str
-        Every body at this station.
-    """
-
-    name: str
-    position: sp.Expr
-    bodies: tuple[str, ...]
-
-    @property
-    def curvature_input(self) -> str:
-        return f"{self.name}.rho"
-
-    @property
-    def cant_input(self) -> str:
-        return f"{self.name}.S"
 
 
 def stations(model: Model) -> list[Station]:

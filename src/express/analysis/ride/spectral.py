@@ -44,7 +44,6 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.integrate import trapezoid
 
 from express.base.diagnostics import InputError
 
@@ -281,6 +280,8 @@ def spectral_variance(
         edges = np.array([[np.interp(x, f, col) for col in flat.T] for x in (lo, hi)])
         f = np.concatenate([[lo], f[inside], [hi]])
         g = np.concatenate([edges[:1], flat[inside], edges[1:]]).reshape(f.size, *g.shape[1:])
+    from scipy.integrate import trapezoid  # imported here: the solvers above need no SciPy
+
     out = trapezoid(g, f, axis=0)
     return float(out) if np.ndim(out) == 0 else out
 
