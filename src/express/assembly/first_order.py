@@ -42,6 +42,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from express.assembly.mass_blocks import MassInverse, mass_inverse
 from express.base.diagnostics import InputError
 
 __all__ = ["FirstOrderError", "IndefiniteMassError", "SeriesLimits", "StateForm", "series_limits", "state_form"]
@@ -230,12 +231,11 @@ def state_form(
     massive = _others(n, first)
     m_dd = mass[np.ix_(massive, massive)]
     try:
-        np.linalg.cholesky(m_dd)
+        minv = mass_inverse(m_dd)  # by blocks for a long train
     except np.linalg.LinAlgError:
         diagonal = np.diag(mass)
         bad = tuple(int(i) for i in range(n) if not diagonal[i] > 0)
         raise IndefiniteMassError("M is not positive definite", bad) from None
-    minv = np.linalg.inv(m_dd)
     n_d, n_f, m = massive.size, first.size, forcing_base.shape[1]
     size = n + n_d
     if n_f == 0:  # the usual second-order form, in the operations used before
@@ -260,17 +260,17 @@ def state_form(
     a0[massive, n + np.arange(n_d)] = 1.0
     a0[np.ix_(first, np.arange(n))] = -z @ stiffness[first]
     a0[np.ix_(first, n + np.arange(n_d))] = -z @ c_fd
-    a0[n:, :n] = -(minv @ tilde(stiffness))
-    a0[n:, n:] = -(minv @ (damping_base[np.ix_(massive, massive)] - coupling @ c_fd))
-    a1[n:, n:] = -(minv @ damping_creep[np.ix_(massive, massive)])
+    a0[n:, :n] = -minv.times(tilde(stiffness))
+    a0[n:, n:] = -minv.times(damping_base[np.ix_(massive, massive)] - coupling @ c_fd)
+    a1[n:, n:] = -minv.times(damping_creep[np.ix_(massive, massive)])
     b0, b2, bd = (np.zeros((size, m)) for _ in range(3))
     for target, matrix in ((b0, forcing_base), (b2, forcing_speed2), (bd, forcing_rate)):
         target[first] = z @ matrix[first]
-        target[n:] = minv @ tilde(matrix)
+        target[n:] = minv.times(tilde(matrix))
     force = np.zeros((size, n))
     force[np.ix_(first, first)] = z
     identity = np.eye(n)
-    force[n:] = minv @ tilde(identity)
+    force[n:] = minv.times(tilde(identity))
     velocity = np.zeros((n, size))
     velocity[massive, n + np.arange(n_d)] = 1.0
     velocity[first] = a0[first]
@@ -281,22 +281,23 @@ def state_form(
     if np.any(forcing_speed2[first] != 0):
         raise FirstOrderError("speed-dependent forcing on a coordinate without mass", tuple(int(i) for i in first))
     inverse = np.zeros((n, n))
-    inverse[np.ix_(massive, massive)] = minv
+    inverse[np.ix_(massive, massive)] = minv.dense()
     return StateForm(n, massive, first, a0, a1, b0, b2, bd, force, inverse, velocity, velocity_input, velocity_rate)
 
 
-def _second_order_form(n, massive, first, minv, c0, c1, k, p0, p2, pd) -> StateForm:
+def _second_order_form(n, massive, first, inverse: MassInverse, c0, c1, k, p0, p2, pd) -> StateForm:
     m = p0.shape[1]
+    minv = inverse.dense()
     a0 = np.zeros((2 * n, 2 * n))
     a0[:n, n:] = np.eye(n)
-    a0[n:, :n] = -(minv @ k)
-    a0[n:, n:] = -(minv @ c0)
+    a0[n:, :n] = -inverse.times(k)
+    a0[n:, n:] = -inverse.times(c0)
     a1 = np.zeros((2 * n, 2 * n))
-    a1[n:, n:] = -(minv @ c1)
+    a1[n:, n:] = -inverse.times(c1)
     b0, b2, bd = (np.zeros((2 * n, m)) for _ in range(3))
-    b0[n:] = minv @ p0
-    b2[n:] = minv @ p2
-    bd[n:] = minv @ pd
+    b0[n:] = inverse.times(p0)
+    b2[n:] = inverse.times(p2)
+    bd[n:] = inverse.times(pd)
     force = np.zeros((2 * n, n))
     force[n:] = minv
     velocity = np.zeros((n, 2 * n))
