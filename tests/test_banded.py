@@ -2,10 +2,14 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
 from express.analysis.banded import band_layout, band_storage, choose_route, solve_banded_stiffness
+
+ROOT = Path(__file__).resolve().parents[1]
 
 
 def _banded_random(n: int, lower: int, upper: int, seed: int) -> np.ndarray:
@@ -73,3 +77,29 @@ def test_routes_follow_the_cost():
     assert choose_route(24, 48, 96, wide) == "schur"
     narrow = band_layout(_banded_random(480, 26, 26, 0))
     assert choose_route(480, 960, 2000, narrow) == "banded"  # a Schur form of 960 states costs ~9 s
+
+
+def test_the_reverse_cuthill_mckee_order_is_scipys():
+    """The order of express.analysis.banded.reverse_cuthill_mckee (written here so that a
+    command does not import SciPy's sparse package) is SciPy's, step for step: random
+    symmetric patterns with and without diagonals, ties included, and a car's M + C + K."""
+    from scipy.sparse import csr_matrix
+    from scipy.sparse.csgraph import reverse_cuthill_mckee as scipys
+
+    from express.analysis.banded import reverse_cuthill_mckee
+    from express.numeric.statespace import load_vehicle
+
+    rng = np.random.default_rng(7)
+    patterns = []
+    for _ in range(400):
+        n = int(rng.integers(1, 50))
+        pattern = rng.random((n, n)) < rng.uniform(0.02, 0.3)
+        if rng.random() < 0.5:
+            np.fill_diagonal(pattern, True)
+        patterns.append(pattern | pattern.T)
+    car = load_vehicle(ROOT / "examples" / "manchester.toml")
+    car_pattern = (car.mass != 0) | (car.damping(30.0) != 0) | (car.stiffness != 0)
+    patterns.append(car_pattern | car_pattern.T)
+    for pattern in patterns:
+        expected = np.asarray(scipys(csr_matrix(pattern), symmetric_mode=True))
+        assert np.array_equal(reverse_cuthill_mckee(pattern), expected)

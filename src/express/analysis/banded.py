@@ -10,8 +10,8 @@ for 5 cars, 30x for 20 (``docs/benchmarks.md``).
 
 The band is found once per call from the non-zero pattern of ``M + C + K``: the DOFs'
 own order or, when narrower, the reverse Cuthill-McKee order
-(:func:`scipy.sparse.csgraph.reverse_cuthill_mckee`, the classical bandwidth-reducing
-permutation).  :func:`choose_route` weighs it against the dense routes of
+(:func:`reverse_cuthill_mckee`, the classical bandwidth-reducing permutation, as
+:func:`scipy.sparse.csgraph.reverse_cuthill_mckee` gives it).  :func:`choose_route` weighs it against the dense routes of
 :func:`express.analysis.frequency.steady_response`.
 
 Examples
@@ -32,7 +32,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["BandLayout", "band_layout", "band_storage", "choose_route", "solve_banded_stiffness"]
+__all__ = ["BandLayout", "band_layout", "band_storage", "choose_route", "reverse_cuthill_mckee", "solve_banded_stiffness"]
 
 
 @dataclass(frozen=True)
@@ -72,21 +72,50 @@ def _bandwidths(pattern: np.ndarray) -> tuple[int, int]:
 def band_layout(*matrices: np.ndarray) -> BandLayout:
     """The narrower of the natural and the reverse Cuthill-McKee order for the union
     of the non-zero patterns of ``matrices`` (each ``(n, n)``)."""
-    from scipy.sparse import csr_matrix
-    from scipy.sparse.csgraph import reverse_cuthill_mckee
-
     n = int(np.shape(matrices[0])[0])
     pattern = np.zeros((n, n), dtype=bool)
     for matrix in matrices:
         pattern |= np.asarray(matrix) != 0
     natural = np.arange(n)
     lower, upper = _bandwidths(pattern)
-    symmetric = pattern | pattern.T
-    permuted = np.asarray(reverse_cuthill_mckee(csr_matrix(symmetric), symmetric_mode=True), dtype=np.intp)
+    permuted = reverse_cuthill_mckee(pattern | pattern.T)
     rcm_lower, rcm_upper = _bandwidths(pattern[np.ix_(permuted, permuted)])
     if rcm_lower + rcm_upper < lower + upper:
         return BandLayout(permuted, rcm_lower, rcm_upper)
     return BandLayout(natural, lower, upper)
+
+
+def reverse_cuthill_mckee(pattern: np.ndarray) -> np.ndarray:
+    """The reverse Cuthill-McKee order of a symmetric non-zero ``pattern`` (n, n): the
+    order of :func:`scipy.sparse.csgraph.reverse_cuthill_mckee` (``symmetric_mode=True``)
+    step for step — seeds by ascending degree (a diagonal entry counted twice, ties as
+    NumPy's default ``argsort`` leaves them), each new level's nodes by ascending degree
+    (stable) — without importing SciPy's sparse package (0.4 s of a command's start).
+    """
+    n = pattern.shape[0]
+    neighbours = [np.flatnonzero(row).tolist() for row in pattern]
+    degree = np.array([len(row) + bool(pattern[i, i]) for i, row in enumerate(neighbours)], dtype=np.int32)
+    seeds = np.argsort(degree).tolist()
+    degrees = degree.tolist()
+    seen = [False] * n
+    order: list[int] = []
+    for seed in seeds:
+        if seen[seed]:
+            continue
+        seen[seed] = True
+        order.append(seed)
+        start = len(order) - 1
+        while start < len(order):
+            end = len(order)
+            for i in order[start:end]:
+                level = [j for j in neighbours[i] if not seen[j]]
+                for j in level:
+                    seen[j] = True
+                order += sorted(level, key=degrees.__getitem__)
+            start = end
+        if len(order) == n:
+            break
+    return np.array(order[::-1], dtype=np.intp)
 
 
 def band_storage(matrix: np.ndarray, layout: BandLayout) -> np.ndarray:
