@@ -3,13 +3,13 @@
 ``express generate`` and the exporters need the factored, readable matrices
 (:func:`express.assembly.generator.generate`); :func:`load_generation` derives them once
 per set of input files and options and reads them back afterwards
-(:mod:`express.io.cache`, ``docs/cache.md``).  ``--set`` overrides are applied after
+(:mod:`express.io.cache`, ``docs/cache.md``); a fresh derivation is read back from its
+entry too, so that every path prints the same form.  ``--set`` overrides are applied after
 the cache: they change the values, units and derivation steps, never the matrices.
 """
 
 from __future__ import annotations
 
-import contextlib
 from collections.abc import Mapping
 from dataclasses import replace
 from pathlib import Path
@@ -48,10 +48,10 @@ def load_generation(
     """
     from express.base.reads import recorded_reads
     from express.io import load_model
-    from express.io.cache import entry_damaged, entry_key, read_entry, write_entry
+    from express.io.cache import entry_damaged, entry_key, read_entry
     from express.model.parameters import with_values
-    from express.numeric.derived import generation_entry, read_generation_entry
-    from express.numeric.program import ProgramError, UnsupportedExpressionError
+    from express.numeric.derived import read_generation_entry
+    from express.numeric.program import ProgramError
     from express.rail.build import generate_vehicle
 
     with recorded_reads() as reads:
@@ -65,12 +65,32 @@ def load_generation(
         except ProgramError:
             entry_damaged(key)
     if result is None:
-        result = generate_vehicle(model, keep_virtual=keep_virtual, with_rail=with_rail)
-        with contextlib.suppress(UnsupportedExpressionError):  # an entry with a function: derived every time
-            write_entry(key, generation_entry(result))
+        result = _through_entry(generate_vehicle(model, keep_virtual=keep_virtual, with_rail=with_rail), model, key)
     if not overrides:
         return result
     return _with_overrides(result, with_values(model, overrides))
+
+
+def _through_entry(derived: GenerationResult, model, key: str) -> GenerationResult:
+    """A fresh derivation stored under ``key`` and read back from its entry, so that a
+    cold cache and ``--no-cache`` give the matrices in the warm cache's form.
+
+    The entry's program (:func:`sympy.cse`) keeps the values but not always the form:
+    it takes the minus sign out of a sum, ``2*c*(-h + k)`` comes back as
+    ``-2*c*(h - k)`` where ``h - k`` also occurs elsewhere.  Reading every path's result
+    from the entry makes the exports byte-identical; an entry with a function (it
+    cannot be stored) is derived every time and used as derived.
+    """
+    from express.io.cache import write_entry
+    from express.numeric.derived import generation_entry, read_generation_entry
+    from express.numeric.program import UnsupportedExpressionError
+
+    try:
+        entry = generation_entry(derived)
+    except UnsupportedExpressionError:
+        return derived
+    write_entry(key, entry)
+    return read_generation_entry(entry, model)
 
 
 def _with_overrides(result: GenerationResult, model) -> GenerationResult:
