@@ -31,7 +31,7 @@ import numpy as np
 from express.assembly.equations import ClearanceTerm, EquationsOfMotion, Matrices
 from express.base.diagnostics import InputError
 from express.numeric.compiled import CompiledExpressions, CompiledMatrices
-from express.numeric.program import ExpressionProgram, ProgramError
+from express.numeric.program import ExpressionProgram, ProgramError, checked_list, checked_strings
 
 if TYPE_CHECKING:  # the symbolic side is imported where used: a warm load reads the programs only
     import sympy as sp
@@ -180,7 +180,7 @@ def _compiled_entry(payload: Any) -> CompiledVehicle:
         raise ProgramError("not a vehicle entry")
     constant = ExpressionProgram.from_data(data.get("constant"))
     speed_dependent = ExpressionProgram.from_data(data.get("speed_dependent"))
-    parameters = _strings(data.get("compiled_parameters"))
+    parameters = checked_strings(data.get("compiled_parameters"))
     speed = data.get("speed")
     if speed is not None and speed not in parameters:
         raise ProgramError("bad speed")
@@ -194,7 +194,7 @@ def _compiled_entry(payload: Any) -> CompiledVehicle:
     compiled = CompiledMatrices.from_programs(parameters, speed, shapes, scatter, constant, speed_dependent)
     rail = data.get("rail_numbers")
     rail_numbers = None if rail is None else CompiledExpressions.from_program(ExpressionProgram.from_data(rail))
-    dofs, inputs = tuple(_strings(data.get("dofs"))), tuple(_strings(data.get("inputs")))
+    dofs, inputs = tuple(checked_strings(data.get("dofs"))), tuple(checked_strings(data.get("inputs")))
     if shapes["M"] != (len(dofs), len(dofs)):
         raise ProgramError("bad matrix shape")
     return CompiledVehicle(compiled, rail_numbers, dofs, inputs)
@@ -221,13 +221,13 @@ def _equations(data: dict, model: Model, matrices: Mapping[str, Any]) -> Equatio
     from express.assembly.equations import derivation_steps
     from express.assembly.generator import equation_values
 
-    parameters = tuple(_strings(data.get("parameters")))
+    parameters = tuple(checked_strings(data.get("parameters")))
     values, units = equation_values(model, parameters)
     return EquationsOfMotion(
         name=model.name,
-        dofs=tuple(_strings(data.get("dofs"))),
-        eliminated=tuple(_strings(data.get("eliminated"))),
-        inputs=tuple(_strings(data.get("inputs"))),
+        dofs=tuple(checked_strings(data.get("dofs"))),
+        eliminated=tuple(checked_strings(data.get("eliminated"))),
+        inputs=tuple(checked_strings(data.get("inputs"))),
         matrices=Matrices.of(matrices),
         parameters=parameters,
         values=values,
@@ -273,7 +273,7 @@ def _read_clearances(data: Any, program: ExpressionProgram) -> tuple[ClearanceTe
     terms = []
     for record in records:
         record = _mapping(record)
-        gradient_names, input_names = _strings(record.get("gradient")), _strings(record.get("inputs"))
+        gradient_names, input_names = checked_strings(record.get("gradient")), checked_strings(record.get("inputs"))
         if program.size < 3:
             raise ProgramError("bad clearances")
         try:
@@ -297,12 +297,6 @@ def _mapping(value: Any) -> dict:
 def _string(value: Any) -> str:
     if not isinstance(value, str):
         raise ProgramError("expected a text")
-    return value
-
-
-def _strings(value: Any) -> list[str]:
-    if not isinstance(value, list) or not all(isinstance(item, str) for item in value):
-        raise ProgramError("expected a list of texts")
     return value
 
 
@@ -387,12 +381,12 @@ def read_generation_entry(payload: Any, model: Model) -> GenerationResult:
     if transformation is None or not {"M", "C", "K"} <= set(matrices):
         raise ProgramError("bad matrices")
     warnings = []
-    for item in _list(data.get("warnings")):
+    for item in checked_list(data.get("warnings")):
         if not (isinstance(item, list) and len(item) == 3 and (item[0] is None or type(item[0]) is int)):
             raise ProgramError("bad warning")
         warnings.append(Problem(model.source, item[0], _string(item[1]), _string(item[2])))
     equations = _equations(data, model, matrices)
-    full_dofs = tuple(_strings(data.get("full_dofs")))
+    full_dofs = tuple(checked_strings(data.get("full_dofs")))
     if matrices["M"].shape != (len(equations.dofs),) * 2 or transformation.shape != (len(full_dofs), len(equations.dofs)):
         raise ProgramError("bad matrix shape")
     return GenerationResult(equations, tuple(warnings), transformation, full_dofs)
@@ -408,7 +402,7 @@ def _read_matrix(value: Any, expressions: list[sp.Expr]) -> Any:
     data = _mapping(value)
     rows, columns = _shape(data.get("shape"))
     entries: dict[tuple[int, int], sp.Expr] = {}
-    for item in _list(data.get("entries")):
+    for item in checked_list(data.get("entries")):
         if not (isinstance(item, list) and len(item) == 2 and all(type(x) is int for x in item)):
             raise ProgramError("bad matrix entry")
         place, source = item
@@ -418,7 +412,3 @@ def _read_matrix(value: Any, expressions: list[sp.Expr]) -> Any:
     return symbolic_matrix(rows, columns, entries)
 
 
-def _list(value: Any) -> list:
-    if not isinstance(value, list):
-        raise ProgramError("expected a list")
-    return value

@@ -28,7 +28,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from express.model.topology import Topology, classify_bodies
-from express.numeric.program import ProgramError
+from express.numeric.program import ProgramError, checked_list, checked_strings
 
 if TYPE_CHECKING:
     from express.model.records import Model
@@ -146,38 +146,28 @@ def read_facts(data: Any) -> VehicleFacts:
     if not isinstance(data, dict):
         raise ProgramError("bad vehicle facts")
     topology = Topology(_texts(data.get("role")), _texts(data.get("bogie_of")), _texts(data.get("lever_partner")),
-                        tuple(_strings(data.get("bogies"))))
+                        tuple(checked_strings(data.get("bogies"))))
     gyration = data.get("gyration")
     if not (isinstance(gyration, dict) and all(_number(v) for v in gyration.values())):
         raise ProgramError("bad vehicle facts")
     outputs = []
-    for item in _list(data.get("outputs")):
+    for item in checked_list(data.get("outputs")):
         if not (isinstance(item, list) and len(item) == 3 and isinstance(item[0], str) and isinstance(item[1], str)):
             raise ProgramError("bad output point")
-        pairs = _list(item[2])
+        pairs = checked_list(item[2])
         if not all(isinstance(p, list) and len(p) == 2 and isinstance(p[0], str) and _number(p[1]) for p in pairs):
             raise ProgramError("bad output point")
         outputs.append(OutputPoint(item[0], item[1], tuple((p[0], float(p[1])) for p in pairs)))
     source = data.get("source")
     if not isinstance(source, str):
         raise ProgramError("bad vehicle facts")
-    return VehicleFacts(source, tuple(_strings(data.get("parameters"))), topology, dict(gyration), tuple(outputs))
+    return VehicleFacts(source, tuple(checked_strings(data.get("parameters"))), topology, dict(gyration), tuple(outputs))
 
 
 def _number(value: Any) -> bool:
     return type(value) in (int, float) and math.isfinite(value)
 
 
-def _list(value: Any) -> list:
-    if not isinstance(value, list):
-        raise ProgramError("expected a list")
-    return value
-
-
-def _strings(value: Any) -> list[str]:
-    if not (isinstance(value, list) and all(isinstance(item, str) for item in value)):
-        raise ProgramError("expected a list of texts")
-    return value
 
 
 def _texts(value: Any) -> dict[str, str]:

@@ -41,7 +41,7 @@ from typing import TYPE_CHECKING, Any
 if TYPE_CHECKING:  # imported where used: reading and running a program needs no SymPy
     import sympy as sp
 
-__all__ = ["ExpressionProgram", "ProgramError", "UnsupportedExpressionError"]
+__all__ = ["ExpressionProgram", "ProgramError", "UnsupportedExpressionError", "checked_list", "checked_strings"]
 
 #: Operations of a program: name -> number of integers after it (None: one or more).
 OPERATIONS: dict[str, int | None] = {"num": 2, "add": None, "mul": None, "pow": 3}
@@ -132,10 +132,10 @@ class ExpressionProgram:
             raise ProgramError("bad parameter names")
         defined = len(parameters)
         operations = []
-        for item in _list(data["operations"]):
+        for item in checked_list(data["operations"]):
             operations.append(_checked_operation(item, defined))
             defined += 1
-        outputs = _list(data["outputs"])
+        outputs = checked_list(data["outputs"])
         if not all(_is_int(x) and 0 <= x < defined for x in outputs):
             raise ProgramError("bad output register")
         return cls(tuple(parameters), tuple(operations), tuple(outputs))
@@ -249,11 +249,6 @@ def _is_int(value: Any) -> bool:
     return type(value) is int
 
 
-def _list(value: Any) -> list:
-    if not isinstance(value, list):
-        raise ProgramError("expected a list")
-    return value
-
 
 def _check_constant(p: int, q: int, error: type[ValueError]) -> None:
     """A constant must be a finite double: ``p/q`` within about 1.8e308."""
@@ -292,3 +287,17 @@ def _power(base: str, p: int, q: int) -> str:
     if (p, q) == (1, 2):
         return f"math.sqrt({base})"
     return f"{base}**({_literal(p, q)})"
+
+
+def checked_list(value: Any) -> list:
+    """``value`` if it is a list (cache data read back), else :class:`ProgramError`."""
+    if not isinstance(value, list):
+        raise ProgramError("expected a list")
+    return value
+
+
+def checked_strings(value: Any) -> list[str]:
+    """``value`` if it is a list of texts (cache data read back), else :class:`ProgramError`."""
+    if not (isinstance(value, list) and all(isinstance(item, str) for item in value)):
+        raise ProgramError("expected a list of texts")
+    return value

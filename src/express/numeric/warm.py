@@ -32,7 +32,7 @@ from express.io.cache import cache_enabled, entry_damaged, entry_key, has_entry,
 from express.numeric.compiled import CompiledExpressions, CompiledMatrices
 from express.numeric.derived import CompiledVehicle, read_compiled_entry
 from express.numeric.facts import VehicleFacts, facts_data, read_facts
-from express.numeric.program import ProgramError
+from express.numeric.program import ProgramError, checked_list, checked_strings
 from express.rail.layout import RailLayout, Station
 
 if TYPE_CHECKING:
@@ -234,7 +234,7 @@ def _warm_vehicle(payload: dict, vehicle_key: str, part: CompiledVehicle) -> War
         raise ProgramError("another speed")
     if any(name not in values for name in part.compiled.parameters):
         raise ProgramError("a parameter without a value")
-    wheelsets = tuple(_wheelset(item, part.dofs) for item in _list(payload.get("wheelsets")))
+    wheelsets = tuple(_wheelset(item, part.dofs) for item in checked_list(payload.get("wheelsets")))
     layout = _layout(payload.get("layout"))
     if (layout is None) != (part.rail_numbers is None):
         raise ProgramError("rail numbers without a layout")
@@ -250,7 +250,7 @@ def reemit(found: WarmRead, source: str) -> bool:
     ``source``, the path this load was given); False (nothing given) for an entry whose
     warnings do not check (damaged: one warning, the caller loads in full)."""
     try:
-        messages = [_warning(item) for item in _list(found.payload.get("warnings"))]
+        messages = [_warning(item) for item in checked_list(found.payload.get("warnings"))]
         recorded = read_facts(found.payload.get("facts")).source
     except ProgramError:
         _READ.pop(found.key, None)
@@ -305,7 +305,7 @@ def write_warm_entry(path: str | Path, with_rail: bool, vehicle_key: str, entry:
 def _reads(payload: Any) -> list[tuple[str, str]]:
     if not isinstance(payload, dict) or payload.get("kind") != "vehicle warm":
         raise ProgramError("not a warm entry")
-    reads = _list(payload.get("reads"))
+    reads = checked_list(payload.get("reads"))
     if not reads or not all(isinstance(r, list) and len(r) == 2 and all(isinstance(x, str) for x in r) for r in reads):
         raise ProgramError("bad reads")
     return [(r[0], r[1]) for r in reads]
@@ -324,11 +324,11 @@ def _layout(data: Any) -> RailLayout | None:
     if not isinstance(data, dict):
         raise ProgramError("bad layout")
     stations = []
-    for item in _list(data.get("stations")):
+    for item in checked_list(data.get("stations")):
         if not (isinstance(item, list) and len(item) == 3 and isinstance(item[0], str) and type(item[1]) is float):
             raise ProgramError("bad station")
-        stations.append(Station(item[0], item[1], tuple(_strings(item[2]))))
-    groups = [tuple(_strings(data.get(name))) for name in ("wheelsets", "irregularity", "flange", "curvature", "cant")]
+        stations.append(Station(item[0], item[1], tuple(checked_strings(item[2]))))
+    groups = [tuple(checked_strings(data.get(name))) for name in ("wheelsets", "irregularity", "flange", "curvature", "cant")]
     return RailLayout(groups[0], tuple(stations), *groups[1:])
 
 
@@ -338,13 +338,4 @@ def _warning(item: Any) -> tuple[str, str]:
     return item[0], item[1]
 
 
-def _list(value: Any) -> list:
-    if not isinstance(value, list):
-        raise ProgramError("expected a list")
-    return value
 
-
-def _strings(value: Any) -> list[str]:
-    if not (isinstance(value, list) and all(isinstance(item, str) for item in value)):
-        raise ProgramError("expected a list of texts")
-    return value
