@@ -224,9 +224,11 @@ def read_warm_vehicle(found: WarmRead) -> WarmVehicle | None:
 
 
 def _warm_vehicle(payload: dict, vehicle_key: str, part: CompiledVehicle) -> WarmVehicle:
-    values = payload.get("values")
-    if not (isinstance(values, dict) and all(type(v) is float and math.isfinite(v) for v in values.values())):
+    pairs = checked_list(payload.get("values"))  # pairs: the model's order (JSON sorts a mapping)
+    if not all(isinstance(p, list) and len(p) == 2 and isinstance(p[0], str) and type(p[1]) is float
+               and math.isfinite(p[1]) for p in pairs):
         raise ProgramError("bad values")
+    values = dict(pairs)
     speed_name = payload.get("speed_name")
     if not (speed_name is None or isinstance(speed_name, str)):
         raise ProgramError("bad speed")
@@ -278,7 +280,7 @@ def warm_entry(
         "name": name,
         "kind": "vehicle warm",
         "reads": [list(read) for read in reads],
-        "values": {key: float(value) for key, value in values.items()},
+        "values": [[key, float(value)] for key, value in values.items()],
         "speed_name": speed_name,
         "wheelsets": [list(item) for item in wheelsets],
         "layout": None if layout is None else {
