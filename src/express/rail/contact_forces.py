@@ -53,6 +53,7 @@ from express.rail.contact_tables import (
     C23,
     COS_ANGLE,
     FIELDS,
+    LEAD_RATE,
     RADIUS,
     ROLL_SLOPE,
     SECANT_CBRT,
@@ -60,7 +61,7 @@ from express.rail.contact_tables import (
     SEMI_B,
     SIN_ANGLE,
     SIN_AXLE,
-    TAN_AXLE,
+    YAW_STEP,
     ContactTables,
     RailMap,
     rail_deflection_map,
@@ -100,6 +101,9 @@ def _sides(name: str) -> tuple[int, int]:
 _OUT_Y, _OUT_M, _OUT_BEYOND, _OUT_ROLL = (OUTPUTS.index(name) for name in ("Y", "M", "beyond", "Mx"))
 _OUT_NORMAL, _OUT_LATERAL, _OUT_FX, _OUT_U, _OUT_ANGLE, _OUT_LOAD = (
     _sides(name) for name in ("N", "Y", "Fx", "u", "angle", "Q"))
+#: Passes of the creep forces: Polach's method converging the wheel's rotation (the
+#: pitch balance, one secant-Newton step each), the last by the chosen law.
+_PASSES = 4
 #: Smallest wheel load the contact carries [N]: a lifted wheel (Q <= 0) transmits no
 #: force; this keeps the ellipse's scale finite.
 _LIFTED = 1.0
@@ -159,14 +163,16 @@ class ContactSet(NamedTuple):
 
     Attributes
     ----------
-    tables : numpy.ndarray, shape (n, 2, rows, len(FIELDS))
+    tables : numpy.ndarray, shape (n, yaw nodes, 2, rows, len(FIELDS))
         Contact tables in the kernel layout (:attr:`~express.rail.contact_tables.
         ContactTables.kernel`), padded to the longest.
+    yaw_count : numpy.ndarray of int, shape (n,)
+        Yaw nodes of each table (``|psi| = YAW_STEP k``).
     table_start, table_step : numpy.ndarray, shape (n,)
         The tables' grids [m].
     table_count : numpy.ndarray of int, shape (n,)
         Nodes of each table.
-    rail_maps : numpy.ndarray, shape (n, 2, nodes)
+    rail_maps : numpy.ndarray, shape (n, yaw nodes, 2, nodes)
         Contact positions ``u`` over the wheelset displacement (:class:`~express.rail.
         contact_tables.RailMap`) [m], padded.
     map_start, map_step : numpy.ndarray, shape (n,)
@@ -182,6 +188,7 @@ class ContactSet(NamedTuple):
     table_start: np.ndarray
     table_step: np.ndarray
     table_count: np.ndarray
+    yaw_count: np.ndarray
     rail_maps: np.ndarray
     map_start: np.ndarray
     map_step: np.ndarray
@@ -200,11 +207,13 @@ def contact_set(contacts: list[WheelsetContact], law: CreepLaw = "fastsim") -> C
     count = len(contacts)
     t_len = max(c.tables.data.shape[2] for c in contacts)
     m_len = max(c.rail_map.contact.shape[1] for c in contacts)
-    tables = np.zeros((count, 2, t_len, len(FIELDS)))
-    maps = np.zeros((count, 2, m_len))
+    yaws = max(len(c.tables.nodes) for c in contacts)
+    tables = np.zeros((count, yaws, 2, t_len, len(FIELDS)))
+    maps = np.zeros((count, yaws, 2, m_len))
     for j, contact in enumerate(contacts):
-        tables[j, :, : contact.tables.data.shape[2]] = contact.tables.kernel
-        maps[j, :, : contact.rail_map.contact.shape[1]] = contact.rail_map.contact
+        nodes = len(contact.tables.nodes)
+        tables[j, :nodes, :, : contact.tables.data.shape[2]] = contact.tables.kernel
+        maps[j, :nodes, :, : contact.rail_map.contact.shape[1]] = contact.rail_map.nodes
 
     def each(value) -> np.ndarray:
         return np.array([value(c) for c in contacts], dtype=float)
@@ -212,7 +221,7 @@ def contact_set(contacts: list[WheelsetContact], law: CreepLaw = "fastsim") -> C
     return ContactSet(
         tables, each(lambda c: c.tables.start), each(lambda c: c.tables.step),
         np.array([c.tables.data.shape[2] for c in contacts], dtype=np.int64),
-        maps, each(lambda c: c.rail_map.start), each(lambda c: c.rail_map.step),
+        np.array([len(c.tables.nodes) for c in contacts], dtype=np.int64), maps, each(lambda c: c.rail_map.start), each(lambda c: c.rail_map.step),
         np.array([c.rail_map.contact.shape[1] for c in contacts], dtype=np.int64),
         each(lambda c: c.wheel_load), each(lambda c: c.friction), each(lambda c: c.tables.shear_modulus),
         each(lambda c: c.wall), LAWS[law],
@@ -220,29 +229,49 @@ def contact_set(contacts: list[WheelsetContact], law: CreepLaw = "fastsim") -> C
 
 
 @njit(cache=True)
-def _interpolate(data, start, step, count, u, side, values):
+def _yaw_node(psi, count):
+    """Yaw node ``k`` below ``|psi|`` and the weight ``t`` of node ``k + 1``, linear in
+    ``psi^2`` (constant beyond the last of ``count`` nodes)."""
+    if count < 2:
+        return 0, 0.0
+    k = min(int(abs(psi) / YAW_STEP), count - 2)
+    low, high = (k * YAW_STEP) ** 2, ((k + 1) * YAW_STEP) ** 2
+    return k, min((psi * psi - low) / (high - low), 1.0)
+
+
+@njit(cache=True)
+def _interpolate(data, start, step, count, node, weight, u, side, values):
     """Fields of ``side`` at ``u`` into ``values[:fields]`` (the first ``count`` nodes of
-    ``data``, kernel layout (2, n, fields)); returns ``u`` clamped to the table."""
+    ``data``, kernel layout (yaw nodes, 2, n, fields)), between yaw nodes ``node`` and
+    ``node + 1`` with ``weight``; returns ``u`` clamped to the table."""
     last = start + step * (count - 1)
     clamped = min(max(u, start), last)
     f = (clamped - start) / step
     k = min(max(math.floor(f), 0), count - 2)
     t = f - k
-    row, following = data[side, k], data[side, k + 1]
+    row, following = data[node, side, k], data[node, side, k + 1]
     for i in range(row.size):
         values[i] = row[i] + t * (following[i] - row[i])
+    if weight > 0.0:
+        row, following = data[node + 1, side, k], data[node + 1, side, k + 1]
+        for i in range(row.size):
+            values[i] += weight * (row[i] + t * (following[i] - row[i]) - values[i])
     return clamped
 
 
 @njit(cache=True)
-def _map(contact, start, step, count, y, side):
-    """``u`` of ``side`` at ``y`` from the rail map (clamped) and the overshoot."""
+def _map(contact, start, step, count, node, weight, y, side):
+    """``u`` of ``side`` at ``y`` from the rail maps (clamped; yaw nodes ``node``,
+    ``node + 1`` with ``weight``) and the overshoot."""
     last = start + step * (count - 1)
     clamped = min(max(y, start), last)
     f = (clamped - start) / step
     k = min(max(math.floor(f), 0), count - 2)
     t = f - k
-    return (1.0 - t) * contact[side, k] + t * contact[side, k + 1], y - clamped
+    u = (1.0 - t) * contact[node, side, k] + t * contact[node, side, k + 1]
+    if weight > 0.0:
+        u += weight * ((1.0 - t) * contact[node + 1, side, k] + t * contact[node + 1, side, k + 1] - u)
+    return u, y - clamped
 
 
 @njit(cache=True)
@@ -266,11 +295,12 @@ def profile_wheelset_forces(contacts, j, load_left, load_right, y, psi, y_dot, p
                                        contacts.table_count[j])
     friction, shear_modulus = contacts.friction[j], contacts.shear_modulus[j]
     lifted_left, lifted_right = max(load_left, _LIFTED), max(load_right, _LIFTED)
+    node, weight = _yaw_node(psi, contacts.yaw_count[j])
     extra = 0.0
     for side in range(2):
         position, over = _map(contacts.rail_maps[j], contacts.map_start[j], contacts.map_step[j],
-                              contacts.map_count[j], y, side)
-        clamped = _interpolate(table, t_start, t_step, t_count, position, side, work[side])
+                              contacts.map_count[j], node, weight, y, side)
+        clamped = _interpolate(table, t_start, t_step, t_count, node, weight, position, side, work[side])
         work[side, _U] = clamped
         over += position - clamped
         if abs(over) > abs(extra):
@@ -295,7 +325,8 @@ def profile_wheelset_forces(contacts, j, load_left, load_right, y, psi, y_dot, p
         bottom += f11 * r * r
         work[side, _F11] = f11
     rate = top / bottom
-    for attempt in range(2):
+    for attempt in range(_PASSES):
+        final = attempt == _PASSES - 1
         residual = 0.0
         slope = 0.0
         for side in range(2):
@@ -307,9 +338,9 @@ def profile_wheelset_forces(contacts, j, load_left, load_right, y, psi, y_dot, p
             semi_a = work[side, SEMI_A] * scale
             semi_b = work[side, SEMI_B] * scale
             xi = 1.0 - rate * r - sigma * work[side, ARM] * q
-            eta = (lateral_slip + r * roll_rate / speed) / cosine
+            eta = (lateral_slip + r * roll_rate / speed + q * psi * work[side, LEAD_RATE]) / cosine
             phi = -sigma * rate * work[side, SIN_AXLE] + q * cosine
-            if contacts.law == FASTSIM and attempt == 1:
+            if contacts.law == FASTSIM and final:
                 fx, fy = fastsim(normal, friction, semi_a, semi_b, shear_modulus,
                                  work[side, C11], work[side, C22], work[side, C23], xi, eta, phi)
             else:
@@ -319,7 +350,7 @@ def profile_wheelset_forces(contacts, j, load_left, load_right, y, psi, y_dot, p
             work[side, _LATERAL] = fy
             # secant stiffness of the longitudinal force, for a Newton step of the pitch balance
             k = -fx / xi if abs(xi) > 1e-12 else work[side, _F11]
-            residual += r * fx
+            residual += r * fx + fy * _lateral_pitch_arm(sigma, psi, r, work[side])
             slope += k * r * r
         for side in range(2):
             # T is nearly proportional to N (exactly so in full slip): with kappa = T / N,
@@ -329,12 +360,12 @@ def profile_wheelset_forces(contacts, j, load_left, load_right, y, psi, y_dot, p
             kappa = work[side, _LATERAL] / old
             new = (lifted_left if side == 0 else lifted_right) / max(work[side, COS_ANGLE] + sigma * kappa * work[side, SIN_ANGLE], 0.05)
             work[side, _NORMAL] = new
-            if attempt == 1:
+            if final:
                 work[side, _FX] *= new / old
                 work[side, _LATERAL] *= new / old
             else:
                 work[side, _SCALE] = new ** (1.0 / 3.0)
-        if slope > 0.0:
+        if slope > 0.0 and not final:
             rate -= residual / slope
     total_y = 0.0
     total_m = 0.0
@@ -344,7 +375,7 @@ def profile_wheelset_forces(contacts, j, load_left, load_right, y, psi, y_dot, p
         arm = work[side, ARM]
         normal = work[side, _NORMAL]
         force_y = -sigma * normal * work[side, SIN_ANGLE] + work[side, _LATERAL] * work[side, COS_ANGLE]
-        lead = sigma * psi * (work[side, RADIUS] * work[side, TAN_AXLE] - arm)
+        lead = psi * work[side, LEAD_RATE]
         total_y += force_y
         total_m += -sigma * arm * work[side, _FX] + lead * force_y
         # roll moment about the wheelset centre of the rail's force at the contact (z up)
@@ -359,6 +390,18 @@ def profile_wheelset_forces(contacts, j, load_left, load_right, y, psi, y_dot, p
     out[_OUT_M] = total_m
     out[_OUT_ROLL] = total_roll
     out[_OUT_BEYOND] = extra
+
+
+@njit(cache=True)
+def _lateral_pitch_arm(sigma, psi, r, values):
+    """Moment about the axle of a unit lateral creep force at the contact of a wheelset
+    yawed by ``psi`` (``docs/contact.md``): the force acts ahead of the wheel's lowest
+    point, ``x_w = lead + psi sigma arm``, and along the contact plane, inclined by the
+    axle angle (whose sine is tabulated with ``cos(psi)``).  The normal force passes
+    through the axle and has none."""
+    ahead = psi * (values[LEAD_RATE] + sigma * values[ARM])
+    sin_axle = values[SIN_AXLE]
+    return sigma * ahead * sin_axle + psi * r * math.sqrt(max(1.0 - sin_axle * sin_axle, 0.0))
 
 
 def quasi_static_forces(contact: WheelsetContact, y: float, psi: float = 0.0, y_dot: float = 0.0,

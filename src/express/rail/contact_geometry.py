@@ -1,11 +1,14 @@
 """Rigid wheelset on track: contact points, rolling radii, contact angles, roll and
 curvatures against the lateral displacement y, from wheel and rail profiles.
 
-The wheelset (no yaw) is shifted by ``y`` (positive to the left, the project's
-convention) and rolled by ``phi`` (positive lifts the left wheel) until both wheels
-touch their rails: the minimum vertical gap is zero on both sides.  For each ``y`` a
+The wheelset is shifted by ``y`` (positive to the left, the project's convention),
+yawed by ``psi`` (a fixed angle of attack, positive turning the left wheel back) and
+rolled by ``phi`` (positive lifts the left wheel) until both wheels touch their rails: the minimum vertical gap is zero on both sides.  For each ``y`` a
 safeguarded Newton iteration on ``phi`` solves ``gap_left(phi) = gap_right(phi)``; the
 gap minimum over the wheel's points is refined by a parabola through its neighbours.
+A yawed wheel is replaced by its effective profile, the contact locus seen in the
+track's cross-section (:mod:`express.rail.wheel_locus`), and each contact gets its lead
+(longitudinal position).
 The result is a :class:`ContactTable` of arrays over ``y``, built to be interpolated
 cheaply (a later dynamic model reads ``y -> delta_r, contact angles, radii, curvatures``).
 A jump of the contact point along the wheel between neighbouring ``y`` (flange contact,
@@ -18,7 +21,7 @@ Frames and signs are in ``docs/contact.md``.  All quantities are SI (m, rad, 1/m
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 from typing import NamedTuple
 
 import numpy as np
@@ -26,6 +29,7 @@ from numba import njit
 
 from express.base.diagnostics import ArgumentError
 from express.rail.profiles import Profile
+from express.rail.wheel_locus import effective_profile
 
 __all__ = ["ContactJump", "ContactSetup", "ContactTable", "contact_geometry", "prepare_surfaces"]
 
@@ -168,6 +172,11 @@ class ContactTable:
     two_point : secondary_gap <= the two-point tolerance.
     jumps : contact jumps found between neighbouring ``y``.
     setup : the :class:`ContactSetup` used.
+    yaw : the wheelset's yaw psi [rad] (0: the contact points lie under the axle).
+    lead : longitudinal position of the contact ahead of the wheelset centre, track
+        frame [m] (zero without yaw).
+    lead_rate : ``lead / yaw``, at ``yaw = 0`` its limit ``sigma (r tan(theta) - Y)``
+        (``theta`` the contact's angle to the axle, ``Y`` its axial distance) [m/rad].
     """
 
     y: np.ndarray
@@ -187,6 +196,9 @@ class ContactTable:
     two_point: np.ndarray
     jumps: tuple[ContactJump, ...]
     setup: ContactSetup
+    yaw: float = 0.0
+    lead: np.ndarray = field(default_factory=lambda: np.zeros((2, 0)))
+    lead_rate: np.ndarray = field(default_factory=lambda: np.zeros((2, 0)))
 
     def at(self, y: float | np.ndarray) -> dict[str, np.ndarray]:
         """Every quantity linearly interpolated at ``y`` (inside the table's range).
@@ -209,7 +221,8 @@ class ContactTable:
 
 _TABLE_FIELDS = (
     "roll", "height", "delta_r", "radius", "wheel_position", "rail_position", "track_position",
-    "contact_angle", "wheel_curvature_lateral", "rail_curvature_lateral", "wheel_curvature_rolling",
+    "contact_angle", "wheel_curvature_lateral", "rail_curvature_lateral", "wheel_curvature_rolling", "lead",
+    "lead_rate",
 )
 
 
@@ -323,8 +336,9 @@ def contact_geometry(
     jump_threshold: float = 2e-3,
     wheel_step: float = 0.1e-3,
     rail_step: float = 0.02e-3,
+    yaw: float = 0.0,
 ) -> ContactTable:
-    """Contact geometry of a rigid wheelset at the lateral displacements ``y``.
+    """Contact geometry of a rigid wheelset at the lateral displacements ``y``, yawed by ``yaw``.
 
     Parameters
     ----------
@@ -341,6 +355,10 @@ def contact_geometry(
     jump_threshold : float
         A move of the contact point along the wheel by more than this [m] between
         neighbouring ``y`` is reported as a jump.
+    yaw : float
+        The wheelset's yaw angle psi [rad] (positive: the left wheel turned back, the
+        project's yaw); the contacts are those of the contact locus
+        (:mod:`express.rail.wheel_locus`), ``lead`` their longitudinal positions.
 
     Returns
     -------
@@ -350,15 +368,46 @@ def contact_geometry(
     y = np.asarray(y, dtype=float)
     if y.ndim != 1 or len(y) < 1 or not np.all(np.isfinite(y)) or np.any(np.diff(y) <= 0):
         raise ArgumentError("y must be a 1-D array of finite, strictly increasing displacements")
+    if not (math.isfinite(yaw) and abs(yaw) < 0.2):
+        raise ArgumentError(f"yaw must be an angle below 0.2 rad, not {yaw!r}")
     surfaces = prepare_surfaces(wheel, rail, setup, wheel_right=wheel_right, rail_right=rail_right,
                                 wheel_step=wheel_step, rail_step=rail_step)
-    return solve_contact(surfaces, y, setup, two_point_tolerance, jump_threshold)
+    return solve_contact(surfaces, y, setup, two_point_tolerance, jump_threshold, yaw=yaw)
 
 
 def solve_contact(surfaces, y: np.ndarray, setup: ContactSetup, two_point_tolerance: float = 10e-6,
-                  jump_threshold: float = 2e-3) -> ContactTable:
+                  jump_threshold: float = 2e-3, *, yaw: float = 0.0) -> ContactTable:
     """:func:`contact_geometry` on surfaces from :func:`prepare_surfaces` (reuse them
-    when the same profiles are solved many times)."""
+    when the same profiles are solved many times).  A yawed wheel is replaced by its
+    effective profile (:func:`express.rail.wheel_locus.effective_profile`); the contact
+    positions are mapped back onto the wheel profiles and the leads added."""
+    wl, rl, wr, rr = surfaces
+    half = setup.tapeline_half_distance
+    if yaw == 0.0:
+        table = _solve_plain(surfaces, y, setup, two_point_tolerance, jump_threshold)
+        sides = np.array([[1.0], [-1.0]])
+        axle = np.tan(table.contact_angle - sides * table.roll)
+        rate = sides * (table.radius * axle - (half + table.wheel_position))
+        return replace(table, lead=np.zeros_like(rate), lead_rate=rate)
+    profiles = [effective_profile(w.start, w.step, w.z, w.dz, setup.wheel_radius, half, abs(yaw)) for w in (wl, wr)]
+    yawed = [Surface(p.start, p.step, p.z, p.dz, p.ddz) for p in profiles]
+    table = _solve_plain((yawed[0], rl, yawed[1], rr), y, setup, two_point_tolerance, jump_threshold)
+    grid = [p.start + p.step * np.arange(len(p.z)) for p in profiles]
+    sign = math.copysign(1.0, yaw)
+    lead = np.array([sigma * sign * np.interp(table.wheel_position[row], grid[row], profiles[row].lead)
+                     for row, sigma in enumerate(_SIDES)])
+    position = np.array([np.interp(table.wheel_position[row], grid[row], profiles[row].position) for row in (0, 1)])
+    secondary = np.array([np.interp(table.secondary_position[row], grid[row], profiles[row].position) for row in (0, 1)])
+    jumps = tuple(replace(jump, position_before=float(np.interp(jump.position_before, grid[row], profiles[row].position)),
+                          position_after=float(np.interp(jump.position_after, grid[row], profiles[row].position)))
+                  for jump in table.jumps for row in (0 if jump.side == "left" else 1,))
+    return replace(table, wheel_position=position, secondary_position=secondary, jumps=jumps, yaw=float(yaw),
+                   lead=lead, lead_rate=lead / yaw)
+
+
+def _solve_plain(surfaces, y: np.ndarray, setup: ContactSetup, two_point_tolerance: float,
+                 jump_threshold: float) -> ContactTable:
+    """The contact of the wheelset without yaw whose wheels are ``surfaces`` (lead not set)."""
     wl, rl, wr, rr = surfaces
     wheelset = np.zeros((len(WHEELSET_RESULTS), len(y)))
     contacts = np.zeros((len(CONTACT_RESULTS), 2, len(y)))

@@ -4,14 +4,19 @@ lateral displacement, ready for compiled look-ups; the quasi-linear contact para
 of the linearised wheelset (Wickens' contact-angle and roll parameters).
 
 A :class:`ContactTables` holds, for the left (row 0) and right (row 1) contact of a
-rigid wheelset without yaw at every ``y`` of the grid (:mod:`express.rail.contact_geometry`):
+rigid wheelset at every ``y`` of the grid and every yaw node ``|psi| = 0, 5, ..., 30 mrad``
+(:mod:`express.rail.contact_geometry`, the yawed wheel's contact locus of
+:mod:`express.rail.wheel_locus`):
 the rolling radius, the contact angle in the track plane ``delta`` (positive when the
 wheel surface rises toward the field side), the angle of the contact to the axle
 ``theta = delta -+ roll`` (what the spin sees), the lateral distance of the contact
 from the wheelset centre, the Hertz semi-axes for a normal force of 1 N (they scale
 with ``N^(1/3)``), Kalker's C11, C22, C23 (they depend on the ellipse's shape only),
-the roll and its slope.  Quantities are interpolated linearly between the nodes; a
-contact jump (tread to flange) is a step between two nodes 10 um apart.
+the roll and its slope, and the contact's lead per unit yaw (``lead / psi``).  Quantities
+are interpolated linearly in ``y`` between the nodes (a contact jump, tread to flange, is
+a step between two nodes 10 um apart) and linearly in ``psi^2`` between the yaw nodes
+(exact for the second-order changes of the geometry with yaw, which is even in ``psi``
+apart from the lead's sign); beyond 30 mrad the last node's geometry holds.
 
 :func:`rail_deflection_map` adds the lateral elasticity of the rails (the model's
 ``rail_stiffness``): each rail is pushed outward by the change of the lateral component
@@ -35,11 +40,13 @@ import numpy as np
 
 from express.base.diagnostics import ArgumentError
 from express.rail.contact import hertz_contact, kalker_coefficients
-from express.rail.contact_geometry import ContactSetup, contact_geometry
+from express.rail.contact_geometry import ContactJump, ContactSetup, ContactTable, prepare_surfaces, solve_contact
 from express.rail.profiles import Profile
 
 __all__ = [
     "FIELDS",
+    "YAW_NODES",
+    "YAW_STEP",
     "ContactTables",
     "LinearContact",
     "RailMap",
@@ -51,9 +58,11 @@ __all__ = [
 
 #: Per-side fields of :attr:`ContactTables.data`, in order.
 FIELDS = ("radius", "angle", "axle_angle", "arm", "semi_a", "semi_b", "c11", "c22", "c23", "roll", "roll_slope",
-          "cos_angle", "sin_angle", "sin_axle_angle", "tan_axle_angle", "secant_cbrt")
+          "cos_angle", "sin_angle", "sin_axle_angle", "lead_rate", "secant_cbrt")
 (RADIUS, ANGLE, AXLE_ANGLE, ARM, SEMI_A, SEMI_B, C11, C22, C23, ROLL, ROLL_SLOPE,
- COS_ANGLE, SIN_ANGLE, SIN_AXLE, TAN_AXLE, SECANT_CBRT) = range(len(FIELDS))
+ COS_ANGLE, SIN_ANGLE, SIN_AXLE, LEAD_RATE, SECANT_CBRT) = range(len(FIELDS))
+#: The yaw nodes of the tables: ``|psi| = YAW_STEP k``, ``k = 0 .. YAW_NODES - 1`` [rad].
+YAW_STEP, YAW_NODES = 5e-3, 7
 #: Smallest lateral relative curvature used for Hertz [1/m]: a conformal contact is
 #: not Hertzian; this bounds the ellipse's width (S1002 on 60E1 never comes below 0.28).
 _MIN_CURVATURE = 0.02
@@ -68,17 +77,21 @@ class ContactTables:
     start, step : float
         ``y[k] = start + step k`` [m].
     data : numpy.ndarray, shape (len(FIELDS), 2, n)
-        ``data[f, side, k]``, fields :data:`FIELDS`: radius [m], angle [rad],
-        axle_angle [rad], arm [m], semi_a and semi_b [m per N^(1/3)], c11, c22, c23 [-],
-        roll [rad] (same on both rows), roll_slope [rad/m], and for the force kernel
-        cos and sin of the angle, sin and tan of the axle angle, cos(angle)^(-1/3).
+        ``data[f, side, k]`` of the wheelset without yaw, fields :data:`FIELDS`: radius
+        (the contact's depth below the axle) [m], angle [rad], axle_angle [rad], arm [m],
+        semi_a and semi_b [m per N^(1/3)], c11, c22, c23 [-], roll [rad] (same on both
+        rows), roll_slope [rad/m], and for the force kernel cos and sin of the angle,
+        ``cos(psi) sin(axle_angle)`` (the spin's share of the rotation), the lead per unit
+        yaw [m/rad] and cos(angle)^(-1/3).
     setup : ContactSetup
     youngs_modulus, poisson : float
         Material of both bodies [Pa, -].
     names : str
         ``"wheel/rail"`` for displays.
     jumps : tuple of ContactJump
-        Contact jumps of the underlying geometry.
+        Contact jumps of the underlying geometry (without yaw).
+    yawed : numpy.ndarray, shape (YAW_NODES, len(FIELDS), 2, n)
+        ``data`` at each yaw node ``|psi| = YAW_STEP k`` (``yawed[0]`` is ``data``).
     """
 
     start: float
@@ -89,6 +102,7 @@ class ContactTables:
     poisson: float
     names: str
     jumps: tuple = ()
+    yawed: np.ndarray | None = None
 
     @property
     def y(self) -> np.ndarray:
@@ -96,11 +110,16 @@ class ContactTables:
         return self.start + self.step * np.arange(self.data.shape[2])
 
     @property
+    def nodes(self) -> np.ndarray:
+        """:attr:`yawed`, or :attr:`data` as the one node when there is no yaw."""
+        return self.data[None] if self.yawed is None else self.yawed
+
+    @property
     def kernel(self) -> np.ndarray:
-        """:attr:`data` in the compiled look-up's layout (2, n, fields), contiguous."""
+        """:attr:`nodes` in the compiled look-up's layout (yaw nodes, 2, n, fields), contiguous."""
         cached = self.__dict__.get("_kernel")
         if cached is None:
-            cached = np.ascontiguousarray(self.data.transpose(1, 2, 0))
+            cached = np.ascontiguousarray(self.nodes.transpose(0, 2, 3, 1))
             object.__setattr__(self, "_kernel", cached)
         return cached
 
@@ -132,11 +151,29 @@ def _tables(wheel: Profile, rail: Profile, setup: ContactSetup, youngs_modulus: 
             reach: float, step: float) -> ContactTables:
     count = math.ceil(reach / step - 1e-9)
     y = step * np.arange(-count, count + 1)
-    geometry = contact_geometry(wheel, rail, y, setup)
-    bad = ~np.all(np.isfinite(geometry.radius) & np.isfinite(geometry.wheel_curvature_lateral), axis=0)
-    if bad.any():
-        raise ArgumentError(f"{wheel.name}/{rail.name}: no contact inside the profiles at y = {y[np.argmax(bad)] * 1e3:g} mm "
-                         f"(the contact runs off the end of a profile within +-{reach * 1e3:g} mm)")
+    surfaces = prepare_surfaces(wheel, rail, setup)
+    hertz: dict[tuple[float, float], tuple[float, ...]] = {}
+    yawed: list[np.ndarray] = []
+    jumps: tuple[ContactJump, ...] = ()
+    for node in range(YAW_NODES):
+        geometry = solve_contact(surfaces, y, setup, yaw=YAW_STEP * node)
+        bad = ~np.all(np.isfinite(geometry.radius) & np.isfinite(geometry.wheel_curvature_lateral), axis=0)
+        if bad.any():
+            raise ArgumentError(f"{wheel.name}/{rail.name}: no contact inside the profiles at y = "
+                                f"{y[np.argmax(bad)] * 1e3:g} mm, yaw {YAW_STEP * node * 1e3:g} mrad "
+                                f"(the contact runs off the end of a profile within +-{reach * 1e3:g} mm)")
+        yawed.append(_node_data(geometry, youngs_modulus, poisson, hertz))
+        jumps = jumps or geometry.jumps
+    stack = np.array(yawed)
+    return ContactTables(float(y[0]), step, stack[0], setup, float(youngs_modulus), float(poisson),
+                         f"{wheel.name}/{rail.name}", jumps, stack)
+
+
+def _node_data(geometry: ContactTable, youngs_modulus: float, poisson: float,
+               hertz: dict[tuple[float, float], tuple[float, ...]]) -> np.ndarray:
+    """The table's fields (:data:`FIELDS`) of one yaw node; ``hertz`` caches ellipses by
+    their rounded curvatures across nodes."""
+    y = geometry.y
     n = len(y)
     data = np.zeros((len(FIELDS), 2, n))
     sign = np.array([[1.0], [-1.0]])
@@ -148,11 +185,12 @@ def _tables(wheel: Profile, rail: Profile, setup: ContactSetup, youngs_modulus: 
     data[ROLL_SLOPE] = np.gradient(geometry.roll, y)
     # the functions of the angles the force kernel needs, tabulated (no trigonometry there)
     data[COS_ANGLE], data[SIN_ANGLE] = np.cos(data[ANGLE]), np.sin(data[ANGLE])
-    data[SIN_AXLE], data[TAN_AXLE] = np.sin(data[AXLE_ANGLE]), np.tan(data[AXLE_ANGLE])
+    data[SIN_AXLE] = math.cos(geometry.yaw) * np.sin(data[AXLE_ANGLE])
+    data[LEAD_RATE] = geometry.lead_rate
     data[SECANT_CBRT] = np.cos(data[ANGLE]) ** (-1.0 / 3.0)
     rolling = 0.5 * geometry.wheel_curvature_rolling
     lateral = np.maximum(0.5 * (geometry.wheel_curvature_lateral + geometry.rail_curvature_lateral), _MIN_CURVATURE)
-    cache: dict[tuple[float, float], tuple[float, ...]] = {}
+    cache = hertz
     for side in (0, 1):
         for k in range(n):
             key = (round(float(rolling[side, k]), 9), round(float(lateral[side, k]), 6))
@@ -161,8 +199,7 @@ def _tables(wheel: Profile, rail: Profile, setup: ContactSetup, youngs_modulus: 
                 ellipse = hertz_contact(1.0, 0.5 / key[0], 0.5 / key[1], youngs_modulus, poisson)
                 cache[key] = (ellipse.a, ellipse.b, *kalker_coefficients(ellipse.a, ellipse.b, poisson)[:3])
             data[SEMI_A:C23 + 1, side, k] = cache[key]
-    return ContactTables(float(y[0]), step, data, setup, float(youngs_modulus), float(poisson),
-                         f"{wheel.name}/{rail.name}", geometry.jumps)
+    return data
 
 
 def contact_tables(
@@ -209,6 +246,13 @@ class RailMap:
     start: float
     step: float
     contact: np.ndarray
+    yawed: np.ndarray | None = None
+
+    @property
+    def nodes(self) -> np.ndarray:
+        """``u`` at every yaw node of the tables, shape (yaw nodes, 2, nodes) [m]
+        (``contact`` is the first)."""
+        return self.contact[None] if self.yawed is None else self.yawed
 
     def at(self, y: float) -> np.ndarray:
         """``u`` of both sides at ``y`` (clamped to the map), shape (2,)."""
@@ -225,23 +269,24 @@ def rail_deflection_map(tables: ContactTables, wheel_load: float, rail_stiffness
     ``y = u + sign (Q / kR)(tan delta(u) - tan delta(0))`` (sign +1 left, -1 right).
     The map follows the branch through the centre; where ``y(u)`` turns back (the
     contact angle falls as the flange climbs) it stops.  ``rail_stiffness = inf``
-    gives ``u = y``.
+    gives ``u = y``.  One map per yaw node of the tables, on one grid.
     """
     grid = tables.y
     centre = int(np.argmin(np.abs(grid)))
     compliance = wheel_load / rail_stiffness if math.isfinite(rail_stiffness) and rail_stiffness > 0 else 0.0
     rows = []
-    for side, sign in ((0, 1.0), (1, -1.0)):
-        tangent = np.tan(tables.data[ANGLE, side])
-        rows.append(grid + sign * compliance * (tangent - tangent[centre]))
+    for node in tables.nodes:
+        tangent = np.tan(node[ANGLE])
+        rows.append([grid + sign * compliance * (tangent[side] - tangent[side, centre])
+                     for side, sign in ((0, 1.0), (1, -1.0))])
     step = tables.step
     # nodes on multiples of the step, so that y = 0 is one (u(y) has a kink there)
-    first = math.ceil(max(float(position[: centre + 1].min()) for position in rows) / step - 1e-9)
-    last = math.floor(min(float(position[centre:].max()) for position in rows) / step + 1e-9)
+    first = math.ceil(max(float(position[: centre + 1].min()) for node in rows for position in node) / step - 1e-9)
+    last = math.floor(min(float(position[centre:].max()) for node in rows for position in node) / step + 1e-9)
     start = first * step
     y = step * np.arange(first, last + 1)
-    contact = np.array([_invert(position, grid, centre, y) for position in rows])
-    return RailMap(float(start), step, contact)
+    yawed = np.array([[_invert(position, grid, centre, y) for position in node] for node in rows])
+    return RailMap(float(start), step, yawed[0], yawed)
 
 
 def _invert(position: np.ndarray, grid: np.ndarray, centre: int, y: np.ndarray) -> np.ndarray:
