@@ -188,23 +188,23 @@ def test_geometry_against_contact(geometry, quantity, regime, achieved, toleranc
 # difference achieved, tolerance; the flanging wheel's FX in flange contact was 32 % with
 # the unyawed tables and the rotation of one secant step of the pitch balance
 FASTSIM = [
-    ("flanging FX", "tread", 0.0377, 0.049),
+    ("flanging FX", "tread", 0.0390, 0.051),
     ("flanging FX", "jump", 0.258, 0.34),
-    ("flanging FX", "flange", 0.0947, 0.123),  # 1.80 kN against 1.99 kN at 6.5 mm
-    ("flanging FY", "tread", 0.0483, 0.063),
+    ("flanging FX", "flange", 0.0818, 0.106),  # 1.82 kN against 1.99 kN at 6.5 mm
+    ("flanging FY", "tread", 0.0489, 0.064),
     ("flanging FY", "jump", 0.144, 0.19),
-    ("flanging FY", "flange", 0.0170, 0.022),  # the headline 12.48 kN at 6.5 mm: 12.28 kN
+    ("flanging FY", "flange", 0.0150, 0.02),  # the headline 12.48 kN at 6.5 mm: 12.29 kN
     ("flanging FN", "tread", 0.0010, 0.0013),
     ("flanging FN", "jump", 0.0004, 0.0006),
-    ("flanging FN", "flange", 0.0112, 0.0146),
-    ("other FX", "tread", 0.0563, 0.073),
+    ("flanging FN", "flange", 0.0102, 0.0133),
+    ("other FX", "tread", 0.0567, 0.074),
     ("other FX", "jump", 0.269, 0.35),
     ("other FX", "root", 0.445, 0.58),  # CONTACT on the flange root, ours on the tread
-    ("other FX", "flange", 0.0287, 0.037),
+    ("other FX", "flange", 0.0409, 0.053),
     ("other |FY|", "tread", 0.0165, 0.022),
     ("other |FY|", "jump", 0.0728, 0.095),
     ("other |FY|", "root", 0.0268, 0.035),
-    ("other |FY|", "flange", 0.0398, 0.052),
+    ("other |FY|", "flange", 0.0561, 0.073),
     ("other FN", "tread", 0.0006, 0.0008),
     ("other FN", "jump", 0.0005, 0.0007),
     ("other FN", "root", 0.0004, 0.0006),
@@ -213,11 +213,11 @@ FASTSIM = [
 # Polach's method loses much of the creep force under the large spin of flange-root and
 # flange contact: only the regimes where it is usable are held
 POLACH = [
-    ("flanging FX", "flange", 0.0931, 0.121),
-    ("flanging FY", "flange", 0.146, 0.19),
+    ("flanging FX", "flange", 0.0798, 0.104),
+    ("flanging FY", "flange", 0.147, 0.19),
     ("flanging FN", "flange", 0.109, 0.14),
     ("other |FY|", "tread", 0.0514, 0.067),
-    ("other |FY|", "flange", 0.0740, 0.096),
+    ("other |FY|", "flange", 0.0900, 0.117),
     ("other FN", "tread", 0.0007, 0.001),
 ]
 

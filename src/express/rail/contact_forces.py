@@ -7,28 +7,32 @@ their rates, track curvature ``rho`` and forward speed ``v``, each contact ``s``
 contact_tables.RailMap`: ``u = y`` on rigid rails) and has, from the tables, the rolling
 radius ``r``, the contact angle ``delta`` in the track plane and ``theta`` to the axle,
 the lateral distance ``l`` from the wheelset centre, the Hertz ellipse and Kalker's
-coefficients.  Then (``docs/contact.md``, "Nonlinear contact in simulation"):
+coefficients, and the contact's lead ``x_s`` ahead of the wheelset centre, all at the
+wheelset's yaw (the tables' yaw nodes, interpolated in ``psi^2``; the contact locus of
+:mod:`express.rail.wheel_locus`).  Then (``docs/contact.md``, "Nonlinear contact in
+simulation"):
 
-* wheel rotation: quasi-static pitch balance ``sum r Fx = 0``, from the linear forces
-  (``omega / v = sum f11 r (1 - sigma l q) / sum f11 r^2``, ``q = psi' / v + rho``) and
-  one Newton step with the secant stiffnesses ``-Fx / xi`` of the first pass;
 * creepages in each contact plane: ``xi = 1 - omega r / v - sigma l q``,
-  ``eta = (y' / v - psi + r roll' / v) / cos(delta)``,
-  ``phi = -sigma (omega / v) sin(theta) + q cos(delta)``;
+  ``eta = (y' / v - psi + r roll' / v + q x_s) / cos(delta)``,
+  ``phi = -sigma (omega / v) cos(psi) sin(theta) + q cos(delta)``, ``q = psi' / v + rho``
+  (``r`` the contact's depth below the axle);
 * normal force from the vertical load ``Q`` of the wheel:
   ``N cos(delta) + sigma T sin(delta) = Q``, ``T`` the lateral creep force; the creep
   forces are nearly proportional to ``N`` (exactly in full slip), so with
   ``kappa = T / N`` of a pass, ``N = Q / (cos(delta) + sigma kappa sin(delta))`` and the
   forces are scaled with ``N``;
+* wheel rotation from the quasi-static pitch balance ``sum(r Fx + m T) = 0`` (``m T`` the
+  moment of the lateral creep force acting ahead of the wheel's lowest point; the normal
+  force passes through the axle): the linear forces' balance
+  ``omega / v = sum f11 r (1 - sigma l q) / sum f11 r^2`` starts Newton's method with
+  Polach's longitudinal force and its tangent stiffness (at most 3 steps);
 * tangential forces: a first pass by Polach's method (:func:`express.rail.creep_law.
-  polach`) at ``N = Q / cos(delta)``, a second by the chosen law (Polach or FASTSIM,
-  :func:`express.rail.creep_law.fastsim`) at the corrected ``N`` and rotation;
+  polach`) at ``N = Q / cos(delta)``, the last by the chosen law (Polach or FASTSIM,
+  :func:`express.rail.creep_law.fastsim`) at the corrected ``N`` and balanced rotation;
 * on the wheelset: ``Y = sum(-sigma N sin(delta) + T cos(delta))`` and
-  ``M = sum(-sigma l Fx) + sum(x_s Y_s)``, ``x_s = sigma psi (r tan(theta) - l)`` the
-  lead of the contact point of the yawed wheel.
+  ``M = sum(-sigma l Fx) + sum(x_s Y_s)``.
 
-The yaw of the wheelset does not enter the table (the contact geometry is that of the
-unyawed wheelset).  The vertical load of each wheel is an argument: the static load
+The vertical load of each wheel is an argument: the static load
 (:func:`quasi_static_forces`' default, as the Manchester benchmark's case A) or the
 march's (:class:`express.analysis.contact_march.WheelLoadModel`).  Beyond the table (or
 the rail map), a wall of the rail's stiffness holds the wheel.
@@ -66,7 +70,7 @@ from express.rail.contact_tables import (
     RailMap,
     rail_deflection_map,
 )
-from express.rail.creep_law import fastsim, polach
+from express.rail.creep_law import fastsim, polach_longitudinal, polach_with_slope
 from express.rail.options import CreepLaw
 
 __all__ = [
@@ -101,9 +105,8 @@ def _sides(name: str) -> tuple[int, int]:
 _OUT_Y, _OUT_M, _OUT_BEYOND, _OUT_ROLL = (OUTPUTS.index(name) for name in ("Y", "M", "beyond", "Mx"))
 _OUT_NORMAL, _OUT_LATERAL, _OUT_FX, _OUT_U, _OUT_ANGLE, _OUT_LOAD = (
     _sides(name) for name in ("N", "Y", "Fx", "u", "angle", "Q"))
-#: Passes of the creep forces: Polach's method converging the wheel's rotation (the
-#: pitch balance, one secant-Newton step each), the last by the chosen law.
-_PASSES = 4
+#: Newton iterations (at most) of the wheel's rotation on the pitch balance.
+_NEWTON = 3
 #: Smallest wheel load the contact carries [N]: a lifted wheel (Q <= 0) transmits no
 #: force; this keeps the ellipse's scale finite.
 _LIFTED = 1.0
@@ -309,7 +312,8 @@ def profile_wheelset_forces(contacts, j, load_left, load_right, y, psi, y_dot, p
     roll_rate = 0.5 * (work[0, ROLL_SLOPE] + work[1, ROLL_SLOPE]) * y_dot
     lateral_slip = y_dot / speed - psi
     # pass 1 (Polach): normal forces Q / cos(delta), wheel rotation from the linear pitch
-    # balance; pass 2 (the chosen law) at the corrected normal forces and rotation
+    # balance; the rotation balanced by Newton's method at the corrected normal forces;
+    # pass 2 (the chosen law) at that rotation
     top = 0.0
     bottom = 0.0
     for side in range(2):
@@ -325,48 +329,10 @@ def profile_wheelset_forces(contacts, j, load_left, load_right, y, psi, y_dot, p
         bottom += f11 * r * r
         work[side, _F11] = f11
     rate = top / bottom
-    for attempt in range(_PASSES):
-        final = attempt == _PASSES - 1
-        residual = 0.0
-        slope = 0.0
-        for side in range(2):
-            sigma = 1.0 - 2.0 * side
-            r = work[side, RADIUS]
-            cosine = work[side, COS_ANGLE]
-            normal = work[side, _NORMAL]
-            scale = work[side, _SCALE]
-            semi_a = work[side, SEMI_A] * scale
-            semi_b = work[side, SEMI_B] * scale
-            xi = 1.0 - rate * r - sigma * work[side, ARM] * q
-            eta = (lateral_slip + r * roll_rate / speed + q * psi * work[side, LEAD_RATE]) / cosine
-            phi = -sigma * rate * work[side, SIN_AXLE] + q * cosine
-            if contacts.law == FASTSIM and final:
-                fx, fy = fastsim(normal, friction, semi_a, semi_b, shear_modulus,
-                                 work[side, C11], work[side, C22], work[side, C23], xi, eta, phi)
-            else:
-                fx, fy = polach(normal, friction, semi_a, semi_b, shear_modulus,
-                                work[side, C11], work[side, C22], work[side, C23], xi, eta, phi)
-            work[side, _FX] = fx
-            work[side, _LATERAL] = fy
-            # secant stiffness of the longitudinal force, for a Newton step of the pitch balance
-            k = -fx / xi if abs(xi) > 1e-12 else work[side, _F11]
-            residual += r * fx + fy * _lateral_pitch_arm(sigma, psi, r, work[side])
-            slope += k * r * r
-        for side in range(2):
-            # T is nearly proportional to N (exactly so in full slip): with kappa = T / N,
-            # N cos(delta) + sigma T sin(delta) = Q gives N; the forces follow it
-            sigma = 1.0 - 2.0 * side
-            old = work[side, _NORMAL]
-            kappa = work[side, _LATERAL] / old
-            new = (lifted_left if side == 0 else lifted_right) / max(work[side, COS_ANGLE] + sigma * kappa * work[side, SIN_ANGLE], 0.05)
-            work[side, _NORMAL] = new
-            if final:
-                work[side, _FX] *= new / old
-                work[side, _LATERAL] *= new / old
-            else:
-                work[side, _SCALE] = new ** (1.0 / 3.0)
-        if slope > 0.0 and not final:
-            rate -= residual / slope
+    loads = (lifted_left, lifted_right)
+    _creep_pass(work, POLACH, rate, psi, q, lateral_slip, roll_rate, speed, friction, shear_modulus, loads, False)
+    rate = _balanced_rate(work, rate, psi, q, lateral_slip, roll_rate, speed, friction, shear_modulus)
+    _creep_pass(work, contacts.law, rate, psi, q, lateral_slip, roll_rate, speed, friction, shear_modulus, loads, True)
     total_y = 0.0
     total_m = 0.0
     total_roll = 0.0
@@ -390,6 +356,83 @@ def profile_wheelset_forces(contacts, j, load_left, load_right, y, psi, y_dot, p
     out[_OUT_M] = total_m
     out[_OUT_ROLL] = total_roll
     out[_OUT_BEYOND] = extra
+
+
+@njit(cache=True)
+def _creepages(work, side, rate, psi, q, lateral_slip, roll_rate, speed):
+    """``(xi, eta, phi)`` of contact ``side`` for the wheel rotation ``rate = omega / v``."""
+    sigma = 1.0 - 2.0 * side
+    r = work[side, RADIUS]
+    cosine = work[side, COS_ANGLE]
+    xi = 1.0 - rate * r - sigma * work[side, ARM] * q
+    eta = (lateral_slip + r * roll_rate / speed + q * psi * work[side, LEAD_RATE]) / cosine
+    phi = -sigma * rate * work[side, SIN_AXLE] + q * cosine
+    return xi, eta, phi
+
+
+@njit(cache=True)
+def _creep_pass(work, law, rate, psi, q, lateral_slip, roll_rate, speed, friction, shear_modulus, loads, final):
+    """Creep forces of both contacts by ``law`` into ``work``, then the normal forces
+    from the wheel loads: ``N cos(delta) + sigma T sin(delta) = Q``.  T is nearly
+    proportional to N (exactly so in full slip): with ``kappa = T / N`` this gives N; on
+    the ``final`` pass the forces are scaled with it, before it the ellipse."""
+    for side in range(2):
+        xi, eta, phi = _creepages(work, side, rate, psi, q, lateral_slip, roll_rate, speed)
+        scale = work[side, _SCALE]
+        args = (work[side, _NORMAL], friction, work[side, SEMI_A] * scale, work[side, SEMI_B] * scale, shear_modulus,
+                work[side, C11], work[side, C22], work[side, C23], xi, eta, phi)
+        if law == FASTSIM:
+            fx, fy = fastsim(*args)
+        else:
+            fx, fy, work[side, _F11] = polach_with_slope(*args)  # the tangent, for the pitch balance
+        work[side, _FX] = fx
+        work[side, _LATERAL] = fy
+        sigma = 1.0 - 2.0 * side
+        old = work[side, _NORMAL]
+        new = loads[side] / max(work[side, COS_ANGLE] + sigma * fy / old * work[side, SIN_ANGLE], 0.05)
+        work[side, _NORMAL] = new
+        if final:
+            work[side, _FX] *= new / old
+            work[side, _LATERAL] *= new / old
+        else:
+            work[side, _SCALE] = new ** (1.0 / 3.0)
+
+
+@njit(cache=True)
+def _balanced_rate(work, rate, psi, q, lateral_slip, roll_rate, speed, friction, shear_modulus):
+    """The wheel rotation ``omega / v`` that balances the pitch moment of the contacts,
+    ``sum(r Fx + m T) = 0`` (``m`` of :func:`_lateral_pitch_arm`): Newton's method from
+    ``rate``, the first step with the forces and tangent stiffnesses of the Polach pass
+    in ``work``, the next (while a step exceeds 1e-7) with Polach's longitudinal force
+    (:func:`express.rail.creep_law.polach_longitudinal`) at the corrected normal forces,
+    the lateral forces T of the pass held."""
+    residual = 0.0
+    slope = 0.0
+    for side in range(2):
+        r = work[side, RADIUS]
+        residual += r * work[side, _FX] + work[side, _LATERAL] * _lateral_pitch_arm(1.0 - 2.0 * side, psi, r, work[side])
+        slope += work[side, _F11] * r * r
+    for _ in range(_NEWTON):
+        if not slope > 0.0:
+            break
+        step = residual / slope
+        rate -= step
+        if abs(step) < 1e-7:  # the next step would be of its square's order
+            break
+        residual = 0.0
+        slope = 0.0
+        for side in range(2):
+            xi, eta, phi = _creepages(work, side, rate, psi, q, lateral_slip, roll_rate, speed)
+            scale = work[side, _SCALE]
+            semi_a = work[side, SEMI_A] * scale
+            spun = eta + phi * semi_a
+            fx, k = polach_longitudinal(work[side, _NORMAL], friction, semi_a, work[side, SEMI_B] * scale,
+                                        shear_modulus, work[side, C11], work[side, C22], xi, eta,
+                                        spun if abs(spun) > abs(eta) else eta)
+            r = work[side, RADIUS]
+            residual += r * fx + work[side, _LATERAL] * _lateral_pitch_arm(1.0 - 2.0 * side, psi, r, work[side])
+            slope += k * r * r
+    return rate
 
 
 @njit(cache=True)

@@ -47,7 +47,8 @@ import math
 import numpy as np
 from numba import njit
 
-__all__ = ["FASTSIM_GRID", "fastsim", "polach", "polach_forces", "spin_reduction"]
+__all__ = ["FASTSIM_GRID", "fastsim", "polach", "polach_forces", "polach_longitudinal", "polach_with_slope",
+           "spin_reduction"]
 
 
 @njit(cache=True)
@@ -79,29 +80,57 @@ def polach(normal, friction, a, b, shear_modulus, c11, c22, c23, xi, eta, phi):
     phi : float
         Spin creepage [1/m].
     """
+    fx, fy, _ = polach_with_slope(normal, friction, a, b, shear_modulus, c11, c22, c23, xi, eta, phi)
+    return fx, fy
+
+
+@njit(cache=True)
+def polach_with_slope(normal, friction, a, b, shear_modulus, c11, c22, c23, xi, eta, phi):
+    """:func:`polach`'s ``(Fx, Fy)`` [N] and the tangent stiffness ``-dFx/dxi`` [N] of
+    :func:`polach_longitudinal`."""
     if not normal > 0.0:
-        return 0.0, 0.0
+        return 0.0, 0.0, 0.0
     eta_c = eta
     if abs(eta + phi * a) > abs(eta):
         eta_c = eta + phi * a
     s_c = math.sqrt(xi * xi + eta_c * eta_c)
     if s_c == 0.0:
-        return 0.0, 0.0
+        return 0.0, 0.0, shear_modulus * a * b * c11
     limit = friction * normal
-    s = math.sqrt(xi * xi + eta * eta)
-    fx = 0.0
-    fy = 0.0
-    if s > 0.0:
-        c = math.sqrt((c11 * xi / s) ** 2 + (c22 * eta / s) ** 2)
-        e = math.pi * shear_modulus * a * b * c * s_c / (4.0 * limit)
-        force = 2.0 * limit / math.pi * (e / (1.0 + e * e) + math.atan(e))
-        fx = -force * xi / s_c
-        fy = -force * eta / s_c
+    force, gain = _translational(limit, a, b, shear_modulus, c11, c22, xi, eta, s_c)
+    fx = -force * xi / s_c
+    fy = -force * eta / s_c
     if phi != 0.0:
         k_s = 1.0 + 6.3 * (1.0 - math.exp(-a / b))
         e_m = 8.0 / 3.0 * shear_modulus * b * math.sqrt(a * b) * c23 * s_c / (k_s * limit)
         fy += 9.0 / 16.0 * a * limit * spin_reduction(e_m) * k_s * phi / s_c
-    return fx, fy
+    return fx, fy, (gain * xi * xi + force * eta_c * eta_c / s_c) / (s_c * s_c)
+
+
+@njit(cache=True)
+def _translational(limit, a, b, shear_modulus, c11, c22, xi, eta, s_c):
+    """Polach's force of the translational creepages ``F`` [N] and ``dF / ds_C`` [N]
+    (``c`` held) for ``mu N = limit``, ``s_C > 0``."""
+    s = math.sqrt(xi * xi + eta * eta)
+    if not s > 0.0:
+        return 0.0, 0.0
+    c = math.sqrt((c11 * xi / s) ** 2 + (c22 * eta / s) ** 2)
+    gain = math.pi * shear_modulus * a * b * c / (4.0 * limit)
+    e = gain * s_c
+    square = 1.0 + e * e
+    return 2.0 * limit / math.pi * (e / square + math.atan(e)), 4.0 * limit / math.pi * gain / (square * square)
+
+
+@njit(cache=True)
+def polach_longitudinal(normal, friction, a, b, shear_modulus, c11, c22, xi, eta, eta_c):
+    """Polach's longitudinal force ``Fx`` [N] and its tangent stiffness ``-dFx/dxi`` [N]
+    at ``xi`` for a lateral creepage ``eta`` (``eta_c`` with the spin's share, held):
+    ``-dFx/dxi = (F' xi^2 + F eta_C^2 / s_C) / s_C^2`` (the wheel's pitch balance)."""
+    s_c = math.sqrt(xi * xi + eta_c * eta_c)
+    if not (normal > 0.0 and s_c > 0.0):
+        return 0.0, shear_modulus * a * b * c11
+    force, slope = _translational(friction * normal, a, b, shear_modulus, c11, c22, xi, eta, s_c)
+    return -force * xi / s_c, (slope * xi * xi + force * eta_c * eta_c / s_c) / (s_c * s_c)
 
 
 def polach_forces(normal, friction, a, b, shear_modulus, c11, c22, c23, xi, eta, phi):
