@@ -107,13 +107,16 @@ _OUT_NORMAL, _OUT_LATERAL, _OUT_FX, _OUT_U, _OUT_ANGLE, _OUT_LOAD = (
     _sides(name) for name in ("N", "Y", "Fx", "u", "angle", "Q"))
 #: Newton iterations (at most) of the wheel's rotation on the pitch balance.
 _NEWTON = 3
+#: Newton on the pitch balance stops after a step below this (after one on the corrected
+#: normal forces) [-]: the rotation converged to rounding.
+_EXIT = 1e-12
 #: Smallest wheel load the contact carries [N]: a lifted wheel (Q <= 0) transmits no
 #: force; this keeps the ellipse's scale finite.
 _LIFTED = 1.0
 
 #: Columns of the work array of :func:`profile_wheelset_forces`: the table's fields, then the
 #: quantities of each contact the kernel computes.
-WORK_FIELDS = FIELDS + ("normal", "fx", "lateral", "f11", "u", "scale")
+WORK_FIELDS = FIELDS + ("normal", "fx", "lateral", "stiffness", "u", "scale")
 _NORMAL, _FX, _LATERAL, _F11, _U, _SCALE = (WORK_FIELDS.index(name) for name in WORK_FIELDS[len(FIELDS):])
 
 
@@ -333,6 +336,7 @@ def profile_wheelset_forces(contacts, j, load_left, load_right, y, psi, y_dot, p
     _creep_pass(work, POLACH, rate, psi, q, lateral_slip, roll_rate, speed, friction, shear_modulus, loads, False)
     rate = _balanced_rate(work, rate, psi, q, lateral_slip, roll_rate, speed, friction, shear_modulus)
     _creep_pass(work, contacts.law, rate, psi, q, lateral_slip, roll_rate, speed, friction, shear_modulus, loads, True)
+    _close_pitch_balance(work, psi)
     total_y = 0.0
     total_m = 0.0
     total_roll = 0.0
@@ -403,21 +407,24 @@ def _balanced_rate(work, rate, psi, q, lateral_slip, roll_rate, speed, friction,
     """The wheel rotation ``omega / v`` that balances the pitch moment of the contacts,
     ``sum(r Fx + m T) = 0`` (``m`` of :func:`_lateral_pitch_arm`): Newton's method from
     ``rate``, the first step with the forces and tangent stiffnesses of the Polach pass
-    in ``work``, the next (while a step exceeds 1e-7) with Polach's longitudinal force
-    (:func:`express.rail.creep_law.polach_longitudinal`) at the corrected normal forces,
-    the lateral forces T of the pass held."""
+    in ``work``, the next (at least one, at most ``_NEWTON - 1``, until a step is below
+    ``_EXIT``) with Polach's longitudinal force (:func:`express.rail.creep_law.
+    polach_longitudinal`) at the corrected normal forces, the lateral forces T of the pass
+    held.  (Stopping after a small first step, taken on the first pass's normal forces,
+    left the rotation unconverged and moved the Manchester car's nonlinear critical speed
+    by 0.3 km/h.)"""
     residual = 0.0
     slope = 0.0
     for side in range(2):
         r = work[side, RADIUS]
         residual += r * work[side, _FX] + work[side, _LATERAL] * _lateral_pitch_arm(1.0 - 2.0 * side, psi, r, work[side])
         slope += work[side, _F11] * r * r
-    for _ in range(_NEWTON):
+    for iteration in range(_NEWTON):
         if not slope > 0.0:
             break
         step = residual / slope
         rate -= step
-        if abs(step) < 1e-7:  # the next step would be of its square's order
+        if iteration > 0 and abs(step) < _EXIT:  # a step on the corrected normal forces, converged
             break
         residual = 0.0
         slope = 0.0
@@ -432,7 +439,27 @@ def _balanced_rate(work, rate, psi, q, lateral_slip, roll_rate, speed, friction,
             r = work[side, RADIUS]
             residual += r * fx + work[side, _LATERAL] * _lateral_pitch_arm(1.0 - 2.0 * side, psi, r, work[side])
             slope += k * r * r
+            work[side, _F11] = k
     return rate
+
+
+@njit(cache=True)
+def _close_pitch_balance(work, psi):
+    """The last Newton step of the pitch balance applied to the final forces linearly:
+    the chosen law's forces at the corrected normal forces leave a residual pitch moment
+    (another law than the balance's, another N); the rotation's change
+    ``-residual / sum(k r^2)`` moves each wheel's ``Fx`` by ``k r`` times it (``k`` the
+    tangent stiffnesses of the balance)."""
+    residual = 0.0
+    slope = 0.0
+    for side in range(2):
+        r = work[side, RADIUS]
+        residual += r * work[side, _FX] + work[side, _LATERAL] * _lateral_pitch_arm(1.0 - 2.0 * side, psi, r, work[side])
+        slope += work[side, _F11] * r * r
+    if slope > 0.0:
+        change = -residual / slope
+        for side in range(2):
+            work[side, _FX] += work[side, _F11] * work[side, RADIUS] * change
 
 
 @njit(cache=True)
