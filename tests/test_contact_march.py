@@ -94,8 +94,9 @@ def test_outputs_and_options(s1002):
     assert o["Y1L"][0] < -30e3 and o["flanging1L"][0] == 1.0 and o["flanging1R"][0] == 0.0  # the left rail pushes back
     assert o["YQ1L"][0] == pytest.approx(-o["Y1L"][0] / o["Q1L"][0])
     assert o["SY1"][0] == pytest.approx(o["Y1L"][0] + o["Y1R"][0])
-    # the rail gives way under the flange's lateral force (20 MN/m): the contact sits inside the wheelset's displacement
-    assert 0.5 < -o["Y1L"][0] / (20e6 * (run.q[0, 0] - o["u1L"][0])) < 1.0
+    # the contact on the rail, from the centred wheelset's contact point: on the flange of S1002/60E1,
+    # about 30 mm toward the gauge corner (the rail's give under the flange force: tests/test_contact_tables.py)
+    assert -0.036 < o["u1L"][0] < -0.024 and abs(o["u1R"][0]) < 0.01
     units = run.units()
     assert (units["Q1L"], units["Y1L"], units["YQ1L"], units["gamma1L"], units["u1L"], units["SY1"]) == (
         "N", "N", "", "rad", "m", "N")

@@ -266,6 +266,15 @@ def _interpolate(data, start, step, count, node, weight, u, side, values):
 
 
 @njit(cache=True)
+def _centred_arm(data, start, step, side):
+    """``arm`` of ``side`` of the centred wheelset without yaw (``u = 0``, kernel layout)."""
+    f = -start / step
+    k = math.floor(f)
+    t = f - k
+    return (1.0 - t) * data[0, side, k, ARM] + t * data[0, side, k + 1, ARM]
+
+
+@njit(cache=True)
 def _map(contact, start, step, count, node, weight, y, side):
     """``u`` of ``side`` at ``y`` from the rail maps (clamped; yaw nodes ``node``,
     ``node + 1`` with ``weight``) and the overshoot."""
@@ -285,7 +294,8 @@ def profile_wheelset_forces(contacts, j, load_left, load_right, y, psi, y_dot, p
     """Forces of the rails on wheelset ``j`` of ``contacts`` (see the module docstring)
     into ``out`` (:data:`OUTPUTS`): lateral force ``Y`` [N] and yaw moment ``M`` [N m] on
     the wheelset, each wheel's normal force, lateral force, longitudinal force, contact
-    position ``u``, contact angle, the overshoot beyond the tables [m], its vertical
+    position ``u`` on the rail (lateral, from the centred wheelset's contact point, +y left;
+    the rail's own deflection not included), contact angle, the overshoot beyond the tables [m], its vertical
     load ``Q``, and the roll moment ``Mx`` [N m] of the rails' forces about the wheelset
     centre, ``sum(sigma l Q + r Y_wheel)`` (roll positive lifting the left wheel).
 
@@ -353,7 +363,9 @@ def profile_wheelset_forces(contacts, j, load_left, load_right, y, psi, y_dot, p
         out[_OUT_LATERAL[side]] = force_y
         out[_OUT_NORMAL[side]] = normal
         out[_OUT_FX[side]] = work[side, _FX]
-        out[_OUT_U[side]] = work[side, _U]
+        # on the rail: the table's coordinate (the wheelset on the deflected rail) and the
+        # contact's move along the axle from the centred wheelset's contact
+        out[_OUT_U[side]] = work[side, _U] + sigma * (arm - _centred_arm(table, t_start, t_step, side))
         out[_OUT_ANGLE[side]] = work[side, ANGLE]
         out[_OUT_LOAD[side]] = load_left if side == 0 else load_right
     out[_OUT_Y] = total_y - contacts.wall[j] * extra
