@@ -240,3 +240,12 @@ def test_the_readings_warnings_are_given_again(fresh, derivations, monkeypatch):
     statespace._GENERATED.clear()
     with pytest.warns(ModelWarning, match=r"^wheelset\.toml: parameter k: a negative stiffness"):
         assert load_vehicle("wheelset.toml").origin.cached
+
+
+def test_a_pipe_is_not_read_for_the_warm_entry(fresh, tmp_path):
+    """``express eigen <(cat model.toml)``: the model reader reads the pipe, once; the warm
+    load neither reads it (that would empty it) nor keys an entry by it."""
+    fifo = tmp_path / "model.toml"
+    os.mkfifo(fifo)
+    assert warm.find_warm(fifo, True) is None  # returns at once: nothing read
+    assert not list(cache.cache_directory().glob("*.json"))

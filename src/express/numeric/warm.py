@@ -21,6 +21,7 @@ from __future__ import annotations
 import hashlib
 import math
 import os
+import stat
 import warnings
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
@@ -136,16 +137,20 @@ class WarmVehicle:
 
 
 def _model_key(path: str | Path, with_rail: bool) -> str | None:
-    """The warm entry's key: the model file's bytes and the options (None: unreadable)."""
-    try:
-        data = Path(path).read_bytes()
-    except OSError:
+    """The warm entry's key: the model file's bytes and the options (None: not a regular
+    file, or unreadable)."""
+    digest = _digest(os.fspath(path))
+    if digest is None:
         return None
-    return entry_key("vehicle warm", [(os.path.abspath(path), hashlib.sha256(data).hexdigest())], {"with_rail": with_rail})
+    return entry_key("vehicle warm", [(os.path.abspath(path), digest)], {"with_rail": with_rail})
 
 
 def _digest(path: str) -> str | None:
+    """SHA-256 of a regular file's bytes; None for anything else (a pipe is read once, by
+    the model reader: ``express eigen <(cat model.toml)``) or an unreadable file."""
     try:
+        if not stat.S_ISREG(os.stat(path).st_mode):
+            return None
         return hashlib.sha256(Path(path).read_bytes()).hexdigest()
     except OSError:
         return None
