@@ -12,7 +12,7 @@ import pytest
 
 from express.rail.contact_forces import quasi_static_forces, wheelset_contact
 from express.rail.contact_geometry import ContactSetup, contact_geometry
-from express.rail.contact_tables import YAW_STEP, contact_tables
+from express.rail.contact_tables import YAW_NODES, YAW_STEP, contact_tables
 from express.rail.profiles import standard_profile
 
 LOAD, MU = 10e3, 0.3
@@ -25,7 +25,8 @@ def profiles():
 
 @pytest.fixture(scope="module")
 def contact(profiles):
-    return wheelset_contact(contact_tables(*profiles, ContactSetup(), youngs_modulus=2 * 82e9 * 1.28, poisson=0.28),
+    return wheelset_contact(contact_tables(*profiles, ContactSetup(), youngs_modulus=2 * 82e9 * 1.28, poisson=0.28,
+                                           yaw_nodes=YAW_NODES),
                             LOAD, MU)
 
 

@@ -177,7 +177,7 @@ def test_a_contact_jump_is_settled_by_the_march():
     curve = SteadyCurve(357.143, 0.150, "right")
     speed = curve.speed_for(0.5, 1.5, 9.81)
     steady = SteadyCurvingSolver(vehicle, speed).solve(curve)
-    assert steady.residual < 1e-11  # achieved 5.3e-12 (1.7e-14 with the unyawed contact, issue 22)
+    assert steady.residual < 1e-12  # achieved 1.7e-15
     track = Track((Straight(20.0), Transition(60.0), Curve(900.0, 357.143, "right", 0.150)))
     run = simulate(vehicle, track, speed=speed, end=950.0, progress=False)
     # achieved 1e-11 m: the run and the steady state are the same fixed point

@@ -49,7 +49,7 @@ import pytest
 
 from express.rail.contact_forces import quasi_static_forces, wheelset_contact
 from express.rail.contact_geometry import ContactSetup, contact_geometry
-from express.rail.contact_tables import contact_tables
+from express.rail.contact_tables import YAW_NODES, contact_tables
 from express.rail.profiles import standard_profile
 
 G, NU, MU, LOAD = 82e9, 0.28, 0.3, 10e3
@@ -104,7 +104,7 @@ def geometry() -> dict[str, tuple[np.ndarray, np.ndarray]]:
 @pytest.fixture(scope="module")
 def contact():
     tables = contact_tables(standard_profile("S1002"), standard_profile("60E1"), ContactSetup(),
-                            youngs_modulus=2 * G * (1 + NU), poisson=NU)
+                            youngs_modulus=2 * G * (1 + NU), poisson=NU, yaw_nodes=YAW_NODES)
     return wheelset_contact(tables, LOAD, MU)  # rigid rails
 
 

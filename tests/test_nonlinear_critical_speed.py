@@ -51,18 +51,17 @@ def test_ramp_down_brackets_the_end_of_the_limit_cycle(result):
 
 
 def test_step_size_refined_until_halving_moves_it_less_than_the_bracket(result):
-    """5 ms is coarse here (238.9 km/h); 2.5 ms moves it by one grid cell (0.31 km/h),
-    within the tolerance: the result is the 2.5 ms one (239.25 km/h; with the unyawed
-    contact 5 ms gave 238.6 and the search went on to 1.25 ms, same result)."""
+    """5 ms is too coarse here (238.6 km/h); 2.5 ms moves it by two grid cells (0.625 km/h),
+    1.25 ms not at all: the result is the 1.25 ms one (239.25 km/h)."""
     dts = [check.dt for check in result.step_checks]
-    assert dts == [0.005, 0.0025] and result.dt == 0.0025
+    assert dts == [0.005, 0.0025, 0.00125] and result.dt == 0.00125
     coarse, *_, fine = [check.speed / KMH for check in result.step_checks]
     cell = result.options["step"] / 16 / KMH  # 5 km/h halved to below the 0.5 km/h tolerance
-    assert fine - coarse == pytest.approx(cell, abs=1e-9)
+    assert fine - coarse == pytest.approx(2 * cell, abs=1e-9)
     assert result.converged and result.step_change <= result.options["tolerance"]
     width = result.bracket[1] - result.bracket[0]
     assert result.uncertainty == pytest.approx(width + result.step_change)
-    assert "dt 2.5 ms" in result.describe() and "uncertainty" in result.describe()
+    assert "dt 1.25 ms" in result.describe() and "uncertainty" in result.describe()
 
 
 def test_halving_the_reported_step_stays_within_the_bracket(vehicle, result):

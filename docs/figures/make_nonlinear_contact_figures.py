@@ -25,7 +25,7 @@ from express.analysis.plots import STYLE, save_figure
 from express.cli import main
 from express.rail.contact_forces import quasi_static_forces, wheelset_contact
 from express.rail.contact_geometry import ContactSetup
-from express.rail.contact_tables import contact_tables
+from express.rail.contact_tables import YAW_NODES, contact_tables
 from express.rail.profiles import standard_profile
 
 HERE = Path(__file__).resolve().parent
@@ -36,7 +36,7 @@ from test_manchester_contact import G, LOAD, MU, NU, REFERENCE, YAW_PER_MM  # no
 
 def benchmark_figure() -> Figure:
     tables = contact_tables(standard_profile("S1002"), standard_profile("60E1"), ContactSetup(),
-                            youngs_modulus=2 * G * (1 + NU), poisson=NU)
+                            youngs_modulus=2 * G * (1 + NU), poisson=NU, yaw_nodes=YAW_NODES)
     contact = wheelset_contact(tables, LOAD, MU)
     y = np.linspace(0.0, 10.0, 401)
     curves = {}

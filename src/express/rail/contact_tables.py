@@ -61,7 +61,8 @@ FIELDS = ("radius", "angle", "axle_angle", "arm", "semi_a", "semi_b", "c11", "c2
           "cos_angle", "sin_angle", "sin_axle_angle", "lead_rate", "secant_cbrt")
 (RADIUS, ANGLE, AXLE_ANGLE, ARM, SEMI_A, SEMI_B, C11, C22, C23, ROLL, ROLL_SLOPE,
  COS_ANGLE, SIN_ANGLE, SIN_AXLE, LEAD_RATE, SECANT_CBRT) = range(len(FIELDS))
-#: The yaw nodes of the tables: ``|psi| = YAW_STEP k``, ``k = 0 .. YAW_NODES - 1`` [rad].
+#: The yaw nodes of tables over yaw: ``|psi| = YAW_STEP k``, ``k = 0 .. YAW_NODES - 1`` [rad]
+#: (``contact_tables(..., yaw_nodes=YAW_NODES)``; the simulation's default is one node).
 YAW_STEP, YAW_NODES = 5e-3, 7
 #: Smallest lateral relative curvature used for Hertz [1/m]: a conformal contact is
 #: not Hertzian; this bounds the ellipse's width (S1002 on 60E1 never comes below 0.28).
@@ -148,14 +149,14 @@ def _profile_key(profile: Profile) -> tuple:
 
 
 def _tables(wheel: Profile, rail: Profile, setup: ContactSetup, youngs_modulus: float, poisson: float,
-            reach: float, step: float) -> ContactTables:
+            reach: float, step: float, yaw_nodes: int) -> ContactTables:
     count = math.ceil(reach / step - 1e-9)
     y = step * np.arange(-count, count + 1)
     surfaces = prepare_surfaces(wheel, rail, setup)
     hertz: dict[tuple[float, float], tuple[float, ...]] = {}
     yawed: list[np.ndarray] = []
     jumps: tuple[ContactJump, ...] = ()
-    for node in range(YAW_NODES):
+    for node in range(yaw_nodes):
         geometry = solve_contact(surfaces, y, setup, yaw=YAW_STEP * node)
         bad = ~np.all(np.isfinite(geometry.radius) & np.isfinite(geometry.wheel_curvature_lateral), axis=0)
         if bad.any():
@@ -211,6 +212,7 @@ def contact_tables(
     poisson: float = 0.3,
     reach: float = 15e-3,
     step: float = 0.01e-3,
+    yaw_nodes: int = 1,
 ) -> ContactTables:
     """Contact tables of a wheel/rail pair for ``|y| <= reach`` every ``step``.
 
@@ -218,7 +220,15 @@ def contact_tables(
     ellipse (:func:`express.rail.contact.hertz_contact`) uses the relative curvatures
     ``A = cos(theta) / (2 r)`` and ``B = (k_wheel + k_rail) / 2`` of each contact
     (``B`` at least 0.02 1/m).  Tables are cached by their arguments (profiles by
-    identity): building one takes about 2 s for +-15 mm every 0.01 mm.
+    identity): building one takes 0.3-0.6 s for +-15 mm every 0.01 mm, and that again
+    for every further yaw node.
+
+    ``yaw_nodes`` > 1 adds the yawed wheelset's geometry at ``|psi| = 5 k`` mrad
+    (:data:`YAW_NODES` = 7 reaches 30 mrad), interpolated in ``psi^2``; with one node
+    the yaw enters through the contact's lead to first order (``lead_rate`` of the
+    unyawed geometry), the default of the simulation: the flange's two-point zone moves
+    with yaw, and interpolating it between nodes made the march through a 250 m curve
+    hunt around a yaw node instead of settling (``docs/contact.md``).
 
     Raises
     ------
@@ -226,11 +236,15 @@ def contact_tables(
         When the wheels do not reach the rails over the range (reduce ``reach``).
     """
     setup = setup or ContactSetup()
-    key = (_profile_key(wheel), _profile_key(rail), setup, float(youngs_modulus), float(poisson), float(reach), float(step))
+    if not 1 <= yaw_nodes <= 12:
+        raise ArgumentError(f"yaw_nodes must be 1..12, not {yaw_nodes!r}")
+    key = (_profile_key(wheel), _profile_key(rail), setup, float(youngs_modulus), float(poisson), float(reach), float(step),
+           int(yaw_nodes))
     if key not in _CACHE:
         if len(_CACHE) >= _CACHE_SIZE:
             _CACHE.pop(next(iter(_CACHE)))
-        _CACHE[key] = _tables(wheel, rail, setup, float(youngs_modulus), float(poisson), float(reach), float(step))
+        _CACHE[key] = _tables(wheel, rail, setup, float(youngs_modulus), float(poisson), float(reach), float(step),
+                              int(yaw_nodes))
     return _CACHE[key]
 
 
