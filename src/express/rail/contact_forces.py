@@ -7,9 +7,10 @@ their rates, track curvature ``rho`` and forward speed ``v``, each contact ``s``
 contact_tables.RailMap`: ``u = y`` on rigid rails) and has, from the tables, the rolling
 radius ``r``, the contact angle ``delta`` in the track plane and ``theta`` to the axle,
 the lateral distance ``l`` from the wheelset centre, the Hertz ellipse and Kalker's
-coefficients, and the contact's lead ``x_s`` ahead of the wheelset centre, all at the
-wheelset's yaw (the tables' yaw nodes, interpolated in ``psi^2``; the contact locus of
-:mod:`express.rail.wheel_locus`).  Then (``docs/contact.md``, "Nonlinear contact in
+coefficients, and the contact's lead ``x_s = psi lead_rate`` ahead of the wheelset
+centre (tables with yaw nodes, interpolated in ``psi^2``, give all of these at the
+wheelset's yaw, the contact locus of :mod:`express.rail.wheel_locus`; one node, the
+simulation's default, the unyawed geometry with the lead to first order).  Then (``docs/contact.md``, "Nonlinear contact in
 simulation"):
 
 * creepages in each contact plane: ``xi = 1 - omega r / v - sigma l q``,

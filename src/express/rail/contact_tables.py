@@ -4,7 +4,8 @@ lateral displacement, ready for compiled look-ups; the quasi-linear contact para
 of the linearised wheelset (Wickens' contact-angle and roll parameters).
 
 A :class:`ContactTables` holds, for the left (row 0) and right (row 1) contact of a
-rigid wheelset at every ``y`` of the grid and every yaw node ``|psi| = 0, 5, ..., 30 mrad``
+rigid wheelset at every ``y`` of the grid, without yaw and, when asked
+(``yaw_nodes``), at the yaw nodes ``|psi| = 5, 10, ..., 30 mrad``
 (:mod:`express.rail.contact_geometry`, the yawed wheel's contact locus of
 :mod:`express.rail.wheel_locus`):
 the rolling radius, the contact angle in the track plane ``delta`` (positive when the
@@ -16,7 +17,9 @@ the roll and its slope, and the contact's lead per unit yaw (``lead / psi``).  Q
 are interpolated linearly in ``y`` between the nodes (a contact jump, tread to flange, is
 a step between two nodes 10 um apart) and linearly in ``psi^2`` between the yaw nodes
 (exact for the second-order changes of the geometry with yaw, which is even in ``psi``
-apart from the lead's sign); beyond 30 mrad the last node's geometry holds.
+apart from the lead's sign); beyond 30 mrad the last node's geometry holds.  With one
+node (the simulation's default) the yaw enters through the lead, ``psi lead_rate``, exact
+to first order.
 
 :func:`rail_deflection_map` adds the lateral elasticity of the rails (the model's
 ``rail_stiffness``): each rail is pushed outward by the change of the lateral component
