@@ -79,7 +79,7 @@ def test_halving_the_reported_step_stays_within_the_bracket(library_run):
 
 
 @pytest.mark.slow
-def test_another_start_ends_in_an_overlapping_bracket(library_run):
+def test_another_start_reaches_a_cycle_ending_within_0_7_kmh(library_run):
     """The ramp started at 300 km/h instead of 342.5 (another anchor, another speed grid):
     converged in dt too.  Measured with the contact of issue 22 (the converged pitch
     balance, the contact's lead): 174.45 km/h (bracket 174.38-174.45) against the default
