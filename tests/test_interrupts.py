@@ -15,6 +15,7 @@ import socket
 import subprocess
 import sys
 import time
+import types
 from pathlib import Path
 
 import pytest
@@ -82,6 +83,50 @@ def test_first_signal_raises_interrupted_with_its_status(signum) -> None:
         time.sleep(1)
     assert caught.value.status == 128 + signum
     assert signal.getsignal(signum) is before  # restored for the caller (the tests)
+
+
+def _callback_of(module: str):
+    """A function of ``module`` called as compiled code calls a Python callback: an
+    exception it raises is lost (ctypes prints it as "Exception ignored")."""
+    def body() -> None:
+        os.kill(os.getpid(), signal.SIGINT)
+        deadline = time.monotonic() + 0.5
+        while time.monotonic() < deadline:  # the handler runs between these bytecodes
+            pass
+
+    callback = types.FunctionType(body.__code__, {"__name__": module, "os": os, "signal": signal, "time": time})
+    lost: list[BaseException] = []
+
+    def call() -> list[BaseException]:
+        try:
+            callback()
+        except BaseException as error:  # what ctypes does with it
+            lost.append(error)
+        return lost
+
+    return call
+
+
+def test_a_signal_inside_a_callback_of_compiled_code_raises_once_it_returns() -> None:
+    """Numba's first compilation calls llvmlite's Python callbacks from C: the first
+    signal waits until the callback returns, then raises (a CI run lost it there and the
+    second signal printed the lost exception's traceback)."""
+    call = _callback_of("llvmlite.binding.executionengine")
+    alarm = signal.getsignal(signal.SIGALRM)
+    with pytest.raises(interrupts.Interrupted) as caught, interrupts.handling_signals():
+        lost = call()
+        assert lost == []  # nothing raised inside the callback
+        time.sleep(1)
+    assert caught.value.status == 130
+    assert signal.getsignal(signal.SIGALRM) is alarm  # the timer's handler restored
+
+
+def test_outside_a_callback_the_first_signal_raises_where_it_lands() -> None:
+    call = _callback_of("express.some_module")
+    with pytest.raises(interrupts.Interrupted), interrupts.handling_signals():
+        lost = call()
+        assert len(lost) == 1 and isinstance(lost[0], interrupts.Interrupted)  # raised inside
+        raise lost[0]
 
 
 # ------------------------------------------------------------------ whole commands

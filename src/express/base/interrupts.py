@@ -8,7 +8,10 @@ command):
   :class:`KeyboardInterrupt`) in the main thread: the command stops as it does on any
   error, its workers are stopped (``express.analysis.study.runner``), its temporary files
   removed, nothing half-written replaces an output, and the exit status is
-  ``128 + signal`` (130 for Ctrl-C);
+  ``128 + signal`` (130 for Ctrl-C).  Inside a callback from compiled code, where an
+  exception would be printed and lost (llvmlite's object-cache notifications while
+  Numba compiles a kernel on a first run), it waits until the callback has returned
+  (:data:`DEFER_S`, a SIGALRM timer) and raises there;
 - a **second** one ends the process at once, wherever it is (even inside a long
   numerical call that the first one could not interrupt): a watcher thread woken by the
   signal (:func:`signal.set_wakeup_fd`) kills every child process, removes every
@@ -181,16 +184,53 @@ def _stop_now(signum: int) -> None:
     os._exit(128 + signum)
 
 
+#: How long a deferred first signal waits before it looks again whether it can raise [s].
+DEFER_S = 0.02
+
+#: Modules whose Python functions compiled code calls back (ctypes callbacks): an
+#: exception raised there is printed as "Exception ignored" and lost, not propagated.
+_CALLBACK_MODULES = ("llvmlite.",)
+
+
+def _in_callback(frame) -> bool:
+    """Whether the main thread is inside a callback from compiled code (llvmlite's object
+    cache notifications while Numba compiles a kernel), where an exception would be lost."""
+    while frame is not None:
+        if str(frame.f_globals.get("__name__", "")).startswith(_CALLBACK_MODULES):
+            return True
+        frame = frame.f_back
+    return False
+
+
 def _handler(signum: int, frame) -> None:
-    """Python-level handler (main thread): the first signal raises :class:`Interrupted`."""
+    """Python-level handler (main thread): the first signal raises :class:`Interrupted`,
+    at once or, inside a callback from compiled code, as soon as the callback has returned."""
     session = _CURRENT[0] if _CURRENT else None
     if session is None:
         return
     if session.received >= 2:
         _stop_now(signum)
     if not session.raised:
+        if _in_callback(frame) and _defer(signum):
+            return
         session.raised = True
         raise Interrupted(signum)
+
+
+def _defer(signum: int) -> bool:
+    """Look again in :data:`DEFER_S` (a SIGALRM timer, whose handler is restored when it
+    fires); False where there is no interval timer, and the signal raises at once."""
+    if not hasattr(signal, "setitimer"):
+        return False
+    previous = signal.getsignal(signal.SIGALRM)
+
+    def again(_alarm: int, frame) -> None:
+        signal.signal(signal.SIGALRM, previous if previous is not None else signal.SIG_DFL)
+        _handler(signum, frame)
+
+    signal.signal(signal.SIGALRM, again)
+    signal.setitimer(signal.ITIMER_REAL, DEFER_S)
+    return True
 
 
 def _late_handler(signum: int, frame) -> None:
