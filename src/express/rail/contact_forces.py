@@ -117,8 +117,9 @@ _LIFTED = 1.0
 
 #: Columns of the work array of :func:`profile_wheelset_forces`: the table's fields, then the
 #: quantities of each contact the kernel computes.
-WORK_FIELDS = FIELDS + ("normal", "fx", "lateral", "stiffness", "u", "scale")
-_NORMAL, _FX, _LATERAL, _F11, _U, _SCALE = (WORK_FIELDS.index(name) for name in WORK_FIELDS[len(FIELDS):])
+WORK_FIELDS = FIELDS + ("normal", "fx", "lateral", "stiffness", "u", "scale", "eta", "pitch_arm")
+_NORMAL, _FX, _LATERAL, _F11, _U, _SCALE, _ETA, _PITCH_ARM = (WORK_FIELDS.index(name)
+                                                             for name in WORK_FIELDS[len(FIELDS):])
 
 
 @dataclass(frozen=True, eq=False)
@@ -342,12 +343,15 @@ def profile_wheelset_forces(contacts, j, load_left, load_right, y, psi, y_dot, p
         top += f11 * r * (1.0 - sigma * work[side, ARM] * q)
         bottom += f11 * r * r
         work[side, _F11] = f11
+        # constant over the passes and Newton's steps: the lateral creepage, the pitch arm
+        work[side, _ETA] = (lateral_slip + r * roll_rate / speed + q * psi * work[side, LEAD_RATE]) / work[side, COS_ANGLE]
+        work[side, _PITCH_ARM] = _lateral_pitch_arm(sigma, psi, r, work[side])
     rate = top / bottom
     loads = (lifted_left, lifted_right)
-    _creep_pass(work, POLACH, rate, psi, q, lateral_slip, roll_rate, speed, friction, shear_modulus, loads, False)
-    rate = _balanced_rate(work, rate, psi, q, lateral_slip, roll_rate, speed, friction, shear_modulus)
-    _creep_pass(work, contacts.law, rate, psi, q, lateral_slip, roll_rate, speed, friction, shear_modulus, loads, True)
-    _close_pitch_balance(work, psi)
+    _creep_pass(work, POLACH, rate, q, friction, shear_modulus, loads, False)
+    rate = _balanced_rate(work, rate, q, friction, shear_modulus)
+    _creep_pass(work, contacts.law, rate, q, friction, shear_modulus, loads, True)
+    _close_pitch_balance(work)
     total_y = 0.0
     total_m = 0.0
     total_roll = 0.0
@@ -376,25 +380,23 @@ def profile_wheelset_forces(contacts, j, load_left, load_right, y, psi, y_dot, p
 
 
 @njit(cache=True)
-def _creepages(work, side, rate, psi, q, lateral_slip, roll_rate, speed):
-    """``(xi, eta, phi)`` of contact ``side`` for the wheel rotation ``rate = omega / v``."""
+def _creepages(work, side, rate, q):
+    """``(xi, eta, phi)`` of contact ``side`` for the wheel rotation ``rate = omega / v``
+    (``eta`` of the work array, independent of the rotation)."""
     sigma = 1.0 - 2.0 * side
-    r = work[side, RADIUS]
-    cosine = work[side, COS_ANGLE]
-    xi = 1.0 - rate * r - sigma * work[side, ARM] * q
-    eta = (lateral_slip + r * roll_rate / speed + q * psi * work[side, LEAD_RATE]) / cosine
-    phi = -sigma * rate * work[side, SIN_AXLE] + q * cosine
-    return xi, eta, phi
+    xi = 1.0 - rate * work[side, RADIUS] - sigma * work[side, ARM] * q
+    phi = -sigma * rate * work[side, SIN_AXLE] + q * work[side, COS_ANGLE]
+    return xi, work[side, _ETA], phi
 
 
 @njit(cache=True)
-def _creep_pass(work, law, rate, psi, q, lateral_slip, roll_rate, speed, friction, shear_modulus, loads, final):
+def _creep_pass(work, law, rate, q, friction, shear_modulus, loads, final):
     """Creep forces of both contacts by ``law`` into ``work``, then the normal forces
     from the wheel loads: ``N cos(delta) + sigma T sin(delta) = Q``.  T is nearly
     proportional to N (exactly so in full slip): with ``kappa = T / N`` this gives N; on
     the ``final`` pass the forces are scaled with it, before it the ellipse."""
     for side in range(2):
-        xi, eta, phi = _creepages(work, side, rate, psi, q, lateral_slip, roll_rate, speed)
+        xi, eta, phi = _creepages(work, side, rate, q)
         scale = work[side, _SCALE]
         args = (work[side, _NORMAL], friction, work[side, SEMI_A] * scale, work[side, SEMI_B] * scale, shear_modulus,
                 work[side, C11], work[side, C22], work[side, C23], xi, eta, phi)
@@ -416,7 +418,7 @@ def _creep_pass(work, law, rate, psi, q, lateral_slip, roll_rate, speed, frictio
 
 
 @njit(cache=True)
-def _balanced_rate(work, rate, psi, q, lateral_slip, roll_rate, speed, friction, shear_modulus):
+def _balanced_rate(work, rate, q, friction, shear_modulus):
     """The wheel rotation ``omega / v`` that balances the pitch moment of the contacts,
     ``sum(r Fx + m T) = 0`` (``m`` of :func:`_lateral_pitch_arm`): Newton's method from
     ``rate``, the first step with the forces and tangent stiffnesses of the Polach pass
@@ -430,7 +432,7 @@ def _balanced_rate(work, rate, psi, q, lateral_slip, roll_rate, speed, friction,
     slope = 0.0
     for side in range(2):
         r = work[side, RADIUS]
-        residual += r * work[side, _FX] + work[side, _LATERAL] * _lateral_pitch_arm(1.0 - 2.0 * side, psi, r, work[side])
+        residual += r * work[side, _FX] + work[side, _LATERAL] * work[side, _PITCH_ARM]
         slope += work[side, _F11] * r * r
     for iteration in range(_NEWTON):
         if not slope > 0.0:
@@ -442,7 +444,7 @@ def _balanced_rate(work, rate, psi, q, lateral_slip, roll_rate, speed, friction,
         residual = 0.0
         slope = 0.0
         for side in range(2):
-            xi, eta, phi = _creepages(work, side, rate, psi, q, lateral_slip, roll_rate, speed)
+            xi, eta, phi = _creepages(work, side, rate, q)
             scale = work[side, _SCALE]
             semi_a = work[side, SEMI_A] * scale
             spun = eta + phi * semi_a
@@ -450,14 +452,14 @@ def _balanced_rate(work, rate, psi, q, lateral_slip, roll_rate, speed, friction,
                                         shear_modulus, work[side, C11], work[side, C22], xi, eta,
                                         spun if abs(spun) > abs(eta) else eta)
             r = work[side, RADIUS]
-            residual += r * fx + work[side, _LATERAL] * _lateral_pitch_arm(1.0 - 2.0 * side, psi, r, work[side])
+            residual += r * fx + work[side, _LATERAL] * work[side, _PITCH_ARM]
             slope += k * r * r
             work[side, _F11] = k
     return rate
 
 
 @njit(cache=True)
-def _close_pitch_balance(work, psi):
+def _close_pitch_balance(work):
     """The last Newton step of the pitch balance applied to the final forces linearly:
     the chosen law's forces at the corrected normal forces leave a residual pitch moment
     (another law than the balance's, another N); the rotation's change
@@ -467,7 +469,7 @@ def _close_pitch_balance(work, psi):
     slope = 0.0
     for side in range(2):
         r = work[side, RADIUS]
-        residual += r * work[side, _FX] + work[side, _LATERAL] * _lateral_pitch_arm(1.0 - 2.0 * side, psi, r, work[side])
+        residual += r * work[side, _FX] + work[side, _LATERAL] * work[side, _PITCH_ARM]
         slope += work[side, _F11] * r * r
     if slope > 0.0:
         change = -residual / slope
