@@ -217,6 +217,42 @@ def _all_feedback(x, k, feedback, stops, z, record):
 
 
 @njit(cache=True)
+def _row_sums(start, a, u, b, w, out):
+    """``out[i] = start[i] + sum_j (a[i, j] u[j] + b[i, j] w[j])`` (``b``, ``w`` may be
+    empty), each row summed in the order ``j = 0, 1, ...``; four rows at a time, so that
+    their sums proceed side by side (the same rounding as one row after another)."""
+    rows, columns, pairs = a.shape[0], a.shape[1], b.shape[1]
+    i = 0
+    while i < rows:
+        if i + 4 <= rows:
+            t0, t1, t2, t3 = start[i], start[i + 1], start[i + 2], start[i + 3]
+            for j in range(columns):
+                value = u[j]
+                if pairs > 0:
+                    other = w[j]
+                    t0 += a[i, j] * value + b[i, j] * other
+                    t1 += a[i + 1, j] * value + b[i + 1, j] * other
+                    t2 += a[i + 2, j] * value + b[i + 2, j] * other
+                    t3 += a[i + 3, j] * value + b[i + 3, j] * other
+                else:
+                    t0 += a[i, j] * value
+                    t1 += a[i + 1, j] * value
+                    t2 += a[i + 2, j] * value
+                    t3 += a[i + 3, j] * value
+            out[i], out[i + 1], out[i + 2], out[i + 3] = t0, t1, t2, t3
+            i += 4
+        else:
+            total = start[i]
+            for j in range(columns):
+                if pairs > 0:
+                    total += a[i, j] * u[j] + b[i, j] * w[j]
+                else:
+                    total += a[i, j] * u[j]
+            out[i] = total
+            i += 1
+
+
+@njit(cache=True)
 def heun_march(phi, drive, g0, g1, x0, first, last, states, feedback, stops, history):
     """Steps ``first .. last`` of ``x[k+1] = phi x[k] + drive[k] + g0 z[k] + g1 (z[k+1] - z[k])``
     with the end value ``z[k+1]`` of the feedback from a predictor (Heun's scheme on the
@@ -228,26 +264,23 @@ def heun_march(phi, drive, g0, g1, x0, first, last, states, feedback, stops, his
     x = x0.copy()
     z = np.zeros(nz)
     z_next = np.zeros(nz)
+    change = np.zeros(nz)
     base = np.zeros(size)
+    held = np.zeros(size)
+    zero = np.zeros(size)
     trial = np.zeros(size)
+    none = np.zeros((size, 0))
     scratch = np.zeros_like(history[first])
     _all_feedback(x, first, feedback, stops, z, history[first])
     for k in range(first, last):
+        _row_sums(drive[k], phi, x, none, z, base)
+        _row_sums(zero, g0, z, none, z, held)
         for i in range(size):
-            total = drive[k, i]
-            for j in range(size):
-                total += phi[i, j] * x[j]
-            base[i] = total
-            held = 0.0
-            for j in range(nz):
-                held += g0[i, j] * z[j]
-            trial[i] = total + held
+            trial[i] = base[i] + held[i]
         _all_feedback(trial, k + 1, feedback, stops, z_next, scratch)
-        for i in range(size):
-            total = base[i]
-            for j in range(nz):
-                total += g0[i, j] * z[j] + g1[i, j] * (z_next[j] - z[j])
-            x[i] = total
+        for j in range(nz):
+            change[j] = z_next[j] - z[j]
+        _row_sums(base, g0, z, g1, change, x)
         _all_feedback(x, k + 1, feedback, stops, z, history[k + 1])
         for i in range(size):
             states[k + 1, i] = x[i]
