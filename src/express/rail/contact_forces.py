@@ -188,6 +188,9 @@ class ContactSet(NamedTuple):
     map_count : numpy.ndarray of int, shape (n,)
     wheel_load, friction, shear_modulus, wall : numpy.ndarray, shape (n,)
         Static wheel load [N], mu [-], G [Pa], stiffness beyond the tables [N/m].
+    centred_arm : numpy.ndarray, shape (n, 2)
+        ``arm`` of each side of the centred wheelset without yaw [m] (the origin of the
+        output ``u``).
     law : int
         :data:`POLACH` or :data:`FASTSIM`.
     """
@@ -205,6 +208,7 @@ class ContactSet(NamedTuple):
     friction: np.ndarray
     shear_modulus: np.ndarray
     wall: np.ndarray
+    centred_arm: np.ndarray
     law: int
 
 
@@ -232,7 +236,10 @@ def contact_set(contacts: list[WheelsetContact], law: CreepLaw = "fastsim") -> C
         np.array([len(c.tables.nodes) for c in contacts], dtype=np.int64), maps, each(lambda c: c.rail_map.start), each(lambda c: c.rail_map.step),
         np.array([c.rail_map.contact.shape[1] for c in contacts], dtype=np.int64),
         each(lambda c: c.wheel_load), each(lambda c: c.friction), each(lambda c: c.tables.shear_modulus),
-        each(lambda c: c.wall), LAWS[law],
+        each(lambda c: c.wall),
+        np.array([[_centred_arm(tables[j], c.tables.start, c.tables.step, side) for side in range(2)]
+                  for j, c in enumerate(contacts)], dtype=float),
+        LAWS[law],
     )
 
 
@@ -370,7 +377,7 @@ def profile_wheelset_forces(contacts, j, load_left, load_right, y, psi, y_dot, p
         out[_OUT_FX[side]] = work[side, _FX]
         # on the rail: the table's coordinate (the wheelset on the deflected rail) and the
         # contact's move along the axle from the centred wheelset's contact
-        out[_OUT_U[side]] = work[side, _U] + sigma * (arm - _centred_arm(table, t_start, t_step, side))
+        out[_OUT_U[side]] = work[side, _U] + sigma * (arm - contacts.centred_arm[j, side])
         out[_OUT_ANGLE[side]] = work[side, ANGLE]
         out[_OUT_LOAD[side]] = load_left if side == 0 else load_right
     out[_OUT_Y] = total_y - contacts.wall[j] * extra
