@@ -22,6 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from express.assembly.kinematics import point_motion
+from express.base.caches import IdentityCache
 from express.model.parameters import expression_value
 from express.model.records import ElementKind, Model
 
@@ -62,7 +63,19 @@ def vertical_contacts(model: Model, values: Mapping[str, float], wheelsets: Sequ
                       dofs: Sequence[str], inputs: Sequence[str]) -> list[tuple[VerticalContact | None, ...]]:
     """The vertical contact spring of each wheel (left, right) of each wheelset body in
     ``wheelsets``, ``None`` where the model has none; deflections over ``dofs`` and
-    ``inputs`` (the vehicle's own order)."""
+    ``inputs`` (the vehicle's own order).  Kept for the same model and numbers (a
+    simulation asks twice per run); the arrays are read-only."""
+    numbers = (tuple(sorted(values.items())), tuple(wheelsets), tuple(dofs), tuple(inputs))
+    return list(_FOUND.get_or_make((model,), lambda: _vertical_contacts(model, values, wheelsets, dofs, inputs),
+                                   numbers))
+
+
+#: Springs already found, by model and numbers.
+_FOUND: IdentityCache[list[tuple[VerticalContact | None, ...]]] = IdentityCache(16)
+
+
+def _vertical_contacts(model: Model, values: Mapping[str, float], wheelsets: Sequence[str],
+                       dofs: Sequence[str], inputs: Sequence[str]) -> list[tuple[VerticalContact | None, ...]]:
     grounds = {g.id for g in model.grounds}
     found: dict[tuple[str, int], VerticalContact] = {}
     for element in model.elements:
@@ -83,5 +96,6 @@ def vertical_contacts(model: Model, values: Mapping[str, float], wheelsets: Sequ
                     drive[list(inputs).index(name)] += scale * expression_value(value, values)
         key = (model.point(wheel_end).host, _side(model, wheel_end, values))
         arm = abs(expression_value(model.point(wheel_end).offset[1], values))
+        row.flags.writeable = drive.flags.writeable = False
         found[key] = VerticalContact(element.id, expression_value(element.stiffness, values), row, drive, arm)
     return [tuple(found.get((body, side)) for side in (0, 1)) for body in wheelsets]
