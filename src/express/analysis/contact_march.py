@@ -97,17 +97,25 @@ def _build_linear_terms(model) -> list[list[tuple[int, object]]]:
 
 
 _TERMS: IdentityCache[list[list[tuple[int, object]]]] = IdentityCache(16)
+#: Coefficients already evaluated, by model and values.
+_COEFFICIENTS: IdentityCache[np.ndarray] = IdentityCache(64)
 
 
 def linear_coefficients(vehicle, speed: float) -> np.ndarray:
     """The model's linear wheel/rail terms of every wheelset at ``speed`` [m/s], shape
     (n_wheelsets, len(LINEAR_TERMS)): :data:`LINEAR_TERMS` (``K`` on (y, psi), ``C`` on
-    (y', psi'), ``P`` on (yR, rho), lateral row then yaw row; the module docstring)."""
+    (y', psi'), ``P`` on (yR, rho), lateral row then yaw row; the module docstring); kept
+    for the same model and numbers."""
     model = vehicle.model
     rail = model.rail
     if not isinstance(rail.speed, sp.Symbol):
         raise ArgumentError("the contact simulation needs the model's speed as a parameter (rail.speed = \"v\")")
     values = {**vehicle.values, rail.speed.name: float(speed)}
+    held = _COEFFICIENTS.get_or_make((model,), lambda: _coefficients(model, values), tuple(sorted(values.items())))
+    return held.copy()
+
+
+def _coefficients(model, values: dict[str, float]) -> np.ndarray:
     terms_of = _linear_terms(model)
     out = np.zeros((len(terms_of), len(LINEAR_TERMS)))
     for j, terms in enumerate(terms_of):
