@@ -435,12 +435,7 @@ def _balanced_rate(work, rate, q, friction, shear_modulus):
     held.  (Stopping after a small first step, taken on the first pass's normal forces,
     left the rotation unconverged and moved the Manchester car's nonlinear critical speed
     by 0.3 km/h.)"""
-    residual = 0.0
-    slope = 0.0
-    for side in range(2):
-        r = work[side, RADIUS]
-        residual += r * work[side, _FX] + work[side, _LATERAL] * work[side, _PITCH_ARM]
-        slope += work[side, _F11] * r * r
+    residual, slope = _pitch_moment(work)
     for iteration in range(_NEWTON):
         if not slope > 0.0:
             break
@@ -472,16 +467,25 @@ def _close_pitch_balance(work):
     (another law than the balance's, another N); the rotation's change
     ``-residual / sum(k r^2)`` moves each wheel's ``Fx`` by ``k r`` times it (``k`` the
     tangent stiffnesses of the balance)."""
+    residual, slope = _pitch_moment(work)
+    if slope > 0.0:
+        change = -residual / slope
+        for side in range(2):
+            work[side, _FX] += work[side, _F11] * work[side, RADIUS] * change
+
+
+@njit(cache=True)
+def _pitch_moment(work):
+    """The contacts' pitch moment about the axle,
+    ``sum(r Fx + m T)``, and its slope in the rotation ``omega / v``, ``sum(k r^2)``, from
+    the forces and tangent stiffnesses ``k`` in ``work``."""
     residual = 0.0
     slope = 0.0
     for side in range(2):
         r = work[side, RADIUS]
         residual += r * work[side, _FX] + work[side, _LATERAL] * work[side, _PITCH_ARM]
         slope += work[side, _F11] * r * r
-    if slope > 0.0:
-        change = -residual / slope
-        for side in range(2):
-            work[side, _FX] += work[side, _F11] * work[side, RADIUS] * change
+    return residual, slope
 
 
 @njit(cache=True)
