@@ -25,6 +25,8 @@ import mpmath
 import numpy as np
 import sympy as sp
 
+from express.assembly.mass_blocks import coupled_groups
+
 #: Matrices of the second-order equations, in the order of the files.
 MATRICES = ("M", "K", "C0", "C1", "P0", "P2", "Pd")
 
@@ -168,26 +170,14 @@ def state_matrix(mass: mpmath.matrix, damping_: mpmath.matrix, stiffness: mpmath
 
 def coupled_blocks(*matrices: mpmath.matrix) -> list[list[int]]:
     """The DOFs in groups that no matrix couples (connected components of the pattern of
-    non-zero entries), each sorted, in the order of their first DOF: the eigenvalues of
-    the whole are those of the groups together (exact, it is only a permutation)."""
+    non-zero entries, :func:`express.assembly.mass_blocks.coupled_groups`), each sorted,
+    in the order of their first DOF: the eigenvalues of the whole are those of the groups
+    together (exact, it is only a permutation)."""
     n = matrices[0].rows
-    parent = list(range(n))
-
-    def root(i: int) -> int:
-        while parent[i] != i:
-            parent[i] = parent[parent[i]]
-            i = parent[i]
-        return i
-
+    pattern = np.zeros((n, n), dtype=bool)
     for matrix in matrices:
-        for i in range(n):
-            for j in range(n):
-                if matrix[i, j] != 0:
-                    parent[root(i)] = root(j)
-    groups: dict[int, list[int]] = {}
-    for i in range(n):
-        groups.setdefault(root(i), []).append(i)
-    return sorted(groups.values())
+        pattern |= np.array([[matrix[i, j] != 0 for j in range(n)] for i in range(n)])
+    return [group.tolist() for group in coupled_groups(pattern)]
 
 
 def _part(matrix: mpmath.matrix, index: list[int]) -> mpmath.matrix:
