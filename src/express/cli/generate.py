@@ -47,16 +47,27 @@ def run(
 
 def _export(model: Path, overrides: dict[str, str], fmt: str, output: str, *, keep_virtual: bool,
             with_rail: bool) -> tuple[str, int]:
-    from express.export import FORMATS as EXPORTERS
-    from express.export import to_matlab
+    """The export's text and number of DOFs; without overrides through the cache's copy
+    of an earlier export of the same files (:mod:`express.numeric.rendered`)."""
     from express.io.output import STDOUT
-    from express.numeric.generation import load_generation
+    from express.numeric.rendered import RenderedExport, rendered_export
 
-    result = load_generation(model, overrides, keep_virtual=keep_virtual, with_rail=with_rail)  # docs/cache.md
-    common.print_warnings(result.warnings)
-    equations = result.equations
-    if fmt == "matlab":
-        name = Path(output).stem if output != STDOUT else equations.name
-        return to_matlab(equations, name), len(equations.dofs)
-    return EXPORTERS[fmt](equations), len(equations.dofs)
+    name = Path(output).stem if fmt == "matlab" and output != STDOUT else None
 
+    def render() -> RenderedExport:
+        from express.export import FORMATS as EXPORTERS
+        from express.export import to_matlab
+        from express.numeric.generation import load_generation
+
+        result = load_generation(model, overrides, keep_virtual=keep_virtual, with_rail=with_rail)  # docs/cache.md
+        equations = result.equations
+        text = to_matlab(equations, name or equations.name) if fmt == "matlab" else EXPORTERS[fmt](equations)
+        return RenderedExport(text, len(equations.dofs), tuple(str(w) for w in result.warnings), equations.name)
+
+    if overrides:
+        exported = render()
+    else:
+        options = {"format": fmt, "name": name, "keep_virtual": keep_virtual, "with_rail": with_rail}
+        exported = rendered_export(model, options, render)
+    common.print_warnings(exported.notices)
+    return exported.text, exported.dofs

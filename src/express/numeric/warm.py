@@ -40,8 +40,8 @@ if TYPE_CHECKING:
     from express.assembly.equations import EquationsOfMotion
     from express.model.records import Model
 
-__all__ = ["VehicleOrigin", "WarmRead", "WarmVehicle", "find_warm", "read_warm_vehicle", "reemit", "warm_entry",
-           "write_warm_entry"]
+__all__ = ["VehicleOrigin", "WarmRead", "WarmVehicle", "file_digest", "find_warm", "read_warm_vehicle", "read_warning_items",
+           "reemit", "repeat_warnings", "unchanged", "warm_entry", "warning_items", "write_warm_entry"]
 
 #: Warning categories a warm entry may repeat (the reading's warnings, by name).
 _CATEGORIES: dict[str, type[Warning]] = {
@@ -139,13 +139,13 @@ class WarmVehicle:
 def _model_key(path: str | Path, with_rail: bool) -> str | None:
     """The warm entry's key: the model file's bytes and the options (None: not a regular
     file, or unreadable)."""
-    digest = _digest(os.fspath(path))
+    digest = file_digest(os.fspath(path))
     if digest is None:
         return None
     return entry_key("vehicle warm", [(os.path.abspath(path), digest)], {"with_rail": with_rail})
 
 
-def _digest(path: str) -> str | None:
+def file_digest(path: str) -> str | None:
     """SHA-256 of a regular file's bytes; None for anything else (a pipe is read once, by
     the model reader: ``express eigen <(cat model.toml)``) or an unreadable file."""
     try:
@@ -197,10 +197,15 @@ def find_warm(path: str | Path, with_rail: bool) -> WarmRead | None:
     except ProgramError:
         entry_damaged(key)
         return None
-    if any(_digest(name) != digest for name, digest in reads):
+    if not unchanged(reads):
         return None
     _remember(key, payload)
     return WarmRead(key, entry_key("vehicle", reads, {"with_rail": with_rail}), payload)
+
+
+def unchanged(reads: Sequence[tuple[str, str]]) -> bool:
+    """Whether every file of ``reads`` (path, SHA-256) still has its recorded bytes."""
+    return all(file_digest(name) == digest for name, digest in reads)
 
 
 def _remember(key: str, payload: dict) -> None:
@@ -263,11 +268,30 @@ def reemit(found: WarmRead, source: str) -> bool:
         _READ.pop(found.key, None)
         entry_damaged(found.key)
         return False
+    repeat_warnings(messages, recorded, source)
+    return True
+
+
+def repeat_warnings(messages: Sequence[tuple[str, str]], recorded: str, source: str) -> None:
+    """Give the ``(category, message)`` warnings of an entry again, the model file named
+    as ``source`` (this load's path) where the cold load named it ``recorded``."""
     for category, message in messages:
         if message.startswith(f"{recorded}:"):  # the file as the cold load was given it
             message = source + message[len(recorded):]
-        warnings.warn(message, _CATEGORIES[category], stacklevel=3)
-    return True
+        warnings.warn(message, _CATEGORIES[category], stacklevel=4)
+
+
+def warning_items(caught: Sequence[warnings.WarningMessage]) -> list[list[str]] | None:
+    """The caught warnings as ``[category, message]`` data, or None when one cannot be
+    repeated exactly (a category a warm entry does not know)."""
+    if any(type(w.message) is not w.category or w.category.__name__ not in _CATEGORIES for w in caught):
+        return None
+    return [[w.category.__name__, str(w.message)] for w in caught]
+
+
+def read_warning_items(data: Any) -> list[tuple[str, str]]:
+    """``[category, message]`` data back as pairs (ProgramError when it does not check)."""
+    return [_warning(item) for item in checked_list(data)]
 
 
 def warm_entry(
@@ -277,9 +301,8 @@ def warm_entry(
 ) -> dict[str, Any] | None:
     """The warm entry's data, or None when it cannot repeat the load exactly (a value
     not finite, a warning of another category)."""
-    if not all(math.isfinite(v) for v in values.values()):
-        return None
-    if any(type(w.message) is not w.category or w.category.__name__ not in _CATEGORIES for w in caught):
+    items = warning_items(caught)
+    if items is None or not all(math.isfinite(v) for v in values.values()):
         return None
     return {
         "name": name,
@@ -295,7 +318,7 @@ def warm_entry(
             "curvature": list(layout.curvature), "cant": list(layout.cant),
         },
         "facts": facts_data(facts),
-        "warnings": [[w.category.__name__, str(w.message)] for w in caught],
+        "warnings": items,
     }
 
 
