@@ -61,6 +61,16 @@ def test_control_names_have_no_dots(vehicle):
 def test_a_speed_that_is_not_positive_is_refused(vehicle, speed):
     with pytest.raises(ValueError, match="positive"):
         linear_system(vehicle, speed)
+    with pytest.raises(ValueError, match="positive"):
+        numeric_matrices(vehicle, speed)
+
+
+def test_the_files_matrices_are_the_linear_systems(vehicle):
+    """The file's A is linear_system's, its B and Bd the vehicle's input matrices (the
+    system's B + A Bd is not stored: it is not built for the file)."""
+    system, matrices = linear_system(vehicle, 30.0), numeric_matrices(vehicle, 30.0)
+    assert np.array_equal(matrices["A"], system.A) and np.array_equal(matrices["Bd"], system.D)
+    np.testing.assert_array_equal(system.B, matrices["B"] + matrices["A"] @ matrices["Bd"])
 
 
 def test_mat_file_reads_back_with_names_and_is_deterministic(vehicle):

@@ -361,6 +361,22 @@ def test_npz_and_mat_bytes_are_deterministic_and_load_back(compress):
     np.testing.assert_array_equal(np.ravel(loadmat(io.BytesIO(mat))["t"]), arrays["t"])
 
 
+def test_npz_compress_deflates_the_members():
+    """``compress=True`` deflates (it stored the members as they were until the members were
+    streamed: a ZipInfo given to ``writestr`` keeps its own ZIP_STORED)."""
+    import zipfile
+
+    arrays = {"x": np.zeros(10_000), "K": np.ones((50, 50))}
+    stored, deflated = npz_bytes(arrays), npz_bytes(arrays, compress=True)
+    with zipfile.ZipFile(io.BytesIO(deflated)) as archive:
+        assert {info.compress_type for info in archive.infolist()} == {zipfile.ZIP_DEFLATED}
+    with zipfile.ZipFile(io.BytesIO(stored)) as archive:
+        assert {info.compress_type for info in archive.infolist()} == {zipfile.ZIP_STORED}
+    assert len(deflated) < len(stored) / 20
+    with np.load(io.BytesIO(deflated)) as back:
+        np.testing.assert_array_equal(back["K"], arrays["K"])
+
+
 def test_inputs_found_during_the_work_are_protected(tmp_path):
     """A file read once the work started (a profile named by a track) may not be one of
     the declared destinations, nor be written afterwards."""

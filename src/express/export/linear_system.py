@@ -119,14 +119,15 @@ def numeric_matrices(vehicle: VehicleModel, speed: float) -> dict[str, Any]:
     Keys: ``M, C, K, P, Pd`` (the vehicle's equations), ``A, B, Bd`` (state space with
     input rates), ``speed`` [m/s], ``dofs`` and ``inputs`` (names).
     """
-    system = linear_system(vehicle, speed)
-    return {
+    if not (np.isfinite(speed) and speed > 0):
+        raise ValueError(f"speed {speed!r}: must be a positive number of m/s")
+    return {  # A as in linear_system, without its B + A Bd product and identity C (a long train's are dense)
         "M": vehicle.mass,
         "C": vehicle.damping(speed),
         "K": vehicle.stiffness,
         "P": vehicle.forcing(speed),
         "Pd": vehicle.forcing_rate(speed),
-        "A": system.A,
+        "A": vehicle.state_matrix(speed),
         "B": vehicle.input_matrix(speed),
         "Bd": vehicle.input_rate_matrix(speed),
         "speed": np.array(float(speed)),

@@ -73,6 +73,8 @@ STDOUT = "-"
 #: The descriptive text of a MAT-file's 128-byte header (116 bytes, space padded).
 MAT_HEADER = b"MATLAB 5.0 MAT-file, written by EXPRESS (express export)"
 _FIXED_DATE = (1980, 1, 1, 0, 0, 0)
+#: A member this large gets ZIP64 sizes (zipfile's own rule for a member of known size).
+_ZIP64_FROM = int(zipfile.ZIP64_LIMIT / 1.05) - 4096
 
 _ACTIVE: contextvars.ContextVar[Transaction | None] = contextvars.ContextVar("express_output_transaction", default=None)
 
@@ -624,11 +626,11 @@ def npz_bytes(arrays: Mapping[str, Any], *, compress: bool = False) -> bytes:
             require_finite(name, array)
             if array.dtype == object:
                 raise TypeError(f"{name}: object arrays are not exported")
-            member = io.BytesIO()
-            np.lib.format.write_array(member, array, allow_pickle=False)
             info = zipfile.ZipInfo(f"{name}.npy", date_time=_FIXED_DATE)
             info.external_attr = 0o644 << 16
-            archive.writestr(info, member.getvalue())
+            info.compress_type = method
+            with archive.open(info, "w", force_zip64=array.nbytes > _ZIP64_FROM) as member:  # streamed: no copy
+                np.lib.format.write_array(member, array, allow_pickle=False)
     return buffer.getvalue()
 
 
