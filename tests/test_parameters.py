@@ -24,8 +24,8 @@ from express.model.parameters import (
     units_map,
     with_values,
 )
-from express.model.records import Derivation, Parameter
 from express.model.parameters import with_values as model_with_values
+from express.model.records import Derivation, Parameter
 from express.numeric.statespace import load_vehicle, vehicle_model
 from express.rail.contact import creep_coefficients
 
@@ -545,3 +545,25 @@ def test_set_refuses_a_unit_of_the_wrong_dimension(capsys):
     err = capsys.readouterr().err
     assert status == 2
     assert "parameter ky1" in err and "expected a stiffness (N/m)" in err and "Traceback" not in err
+
+
+def test_a_reading_infers_the_dimensions_once(monkeypatch):
+    """The reader checks the parameters and then resolves the same model: the inference
+    (2.8 s on a 100-car train) runs once, and a changed model is inferred anew."""
+    from dataclasses import replace as replaced
+
+    from express.io import load_model
+    from express.model import parameter_units
+
+    runs: list[int] = []
+    original = parameter_units._Inference.run
+    monkeypatch.setattr(parameter_units._Inference, "run", lambda self, sites: runs.append(1) or original(self, sites))
+    monkeypatch.setattr(parameter_units, "_LAST", [])
+    model = load_model(Path(__file__).resolve().parents[1] / "examples" / "forced-steering.toml")
+    assert len(runs) == 1
+    dims, _ = parameter_units.infer_dimensions(model)
+    dims["mc"] = None  # the caller's copy: the remembered result is unchanged
+    assert parameter_units.infer_dimensions(model)[0]["mc"] is not None and len(runs) == 2
+    assert parameter_units.infer_dimensions(model)[0]["mc"] is not None and len(runs) == 2
+    parameter_units.infer_dimensions(replaced(model, name="other"))
+    assert len(runs) == 3
