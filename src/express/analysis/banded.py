@@ -32,7 +32,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["BandLayout", "band_layout", "band_storage", "choose_route", "reverse_cuthill_mckee", "solve_banded_stiffness"]
+__all__ = [
+    "SCIPY_IMPORT_S", "BandLayout", "band_layout", "band_storage", "choose_route", "reverse_cuthill_mckee", "route_costs",
+    "solve_banded_stiffness",
+]
 
 
 @dataclass(frozen=True)
@@ -177,24 +180,64 @@ def solve_banded_stiffness(
 
 
 #: Time model of the routes [s], fitted to this project's 2-core benchmark machine
-#: (``benchmarks/bench_numeric.py``): per solve a call overhead and a rate per
-#: multiply-add; the Schur form about ``10 N^3`` of them once.
+#: (``benchmarks/bench_numeric.py``, ``benchmarks/bench_frf_route.py``): per solve a call
+#: overhead and a rate per multiply-add; the Schur form about ``10 N^3`` of them once.
 _PER_CALL = 5e-6
 _PER_OPERATION = 0.7e-9
 _SCHUR_OPERATION = 1e-9
+#: Wall time [s] of importing ``scipy.linalg`` (0.2-0.25 s on that machine, more when it is
+#: loaded), which the banded and Schur routes need and NumPy's stacked solve does not.
+#: Charged whether or not the process has imported it already, so that the route, and
+#: with it the last bits of a response, depends only on the problem's size.
+SCIPY_IMPORT_S = 0.25
+
+
+def route_costs(n: int, states: int, frequencies: int, layout: BandLayout) -> dict[str, float]:
+    """Estimated wall time [s] of each route of
+    :func:`express.analysis.frequency.steady_response`, by the time model above.
+
+    Parameters
+    ----------
+    n : int
+        DOFs (size of the dynamic stiffness).
+    states : int
+        First-order states ``N`` (size of the state matrix).
+    frequencies : int
+        Frequencies ``F``.
+    layout : BandLayout
+        The band of the dynamic stiffness.
+
+    Returns
+    -------
+    dict
+        ``{"stacked": s, "banded": s, "schur": s}``: ``F`` dense LUs (``n^3 / 3``
+        multiply-adds each); ``F`` banded LUs (:attr:`BandLayout.work`) and the SciPy
+        import; one Schur form (``10 N^3``), ``F`` back substitutions (``N^2``) and the
+        SciPy import.
+
+    Examples
+    --------
+    >>> costs = route_costs(24, 48, 200, band_layout(np.ones((24, 24))))
+    >>> min(costs, key=costs.__getitem__)   # a car at 200 frequencies: NumPy's stacked solve
+    'stacked'
+    """
+    return {
+        "stacked": frequencies * (_PER_CALL + _PER_OPERATION * n**3 / 3.0),
+        "banded": SCIPY_IMPORT_S + frequencies * (_PER_CALL + _PER_OPERATION * layout.work),
+        "schur": SCIPY_IMPORT_S + _SCHUR_OPERATION * 10.0 * states**3
+        + frequencies * (_PER_CALL + _PER_OPERATION * states**2),
+    }
 
 
 def choose_route(n: int, states: int, frequencies: int, layout: BandLayout) -> str:
-    """``"banded"``, ``"schur"`` or ``"stacked"``: the cheapest way to solve the
-    response of ``n`` DOFs (``states`` first-order states) at ``frequencies`` points.
+    """``"stacked"``, ``"banded"`` or ``"schur"``: the cheapest way to solve the response
+    of ``n`` DOFs (``states`` first-order states) at ``frequencies`` points, by
+    :func:`route_costs` (the first of that order on a tie).
 
-    A band that halves the work of a dense LU (``n^3 / 3``) competes with the Schur
-    route (one ``O(N^3)`` form, then ``O(N^2)`` per frequency) by the time model above;
-    without one, the Schur route is taken from ``2 N`` frequencies on and the stacked
-    dense solve below.
+    A small model takes NumPy's stacked dense solve unless the frequencies are many
+    (for a 24-DOF car at 200 frequencies it costs about 2 ms, against the 0.25 s of
+    importing SciPy's LAPACK for either other route); a train whose band is narrow takes
+    the banded LU; a dense model at very many frequencies the Schur form.
     """
-    schur = _SCHUR_OPERATION * 10.0 * states**3 + frequencies * (_PER_CALL + _PER_OPERATION * states**2)
-    if layout.work < n**3 / 6.0:
-        banded = frequencies * (_PER_CALL + _PER_OPERATION * layout.work)
-        return "schur" if schur < banded else "banded"
-    return "schur" if frequencies >= 2 * states else "stacked"
+    costs = route_costs(n, states, frequencies, layout)
+    return min(costs, key=costs.__getitem__)

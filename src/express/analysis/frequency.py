@@ -179,15 +179,20 @@ def steady_response(
     """Complex amplitudes ``X`` of every DOF for input amplitudes ``U`` at every frequency.
 
     ``(-w^2 M + i w C(v) + K) X = (P(v) + i w Pd) U``, solved by the cheapest of three
-    routes (:func:`express.analysis.banded.choose_route`), all the same solution to
-    rounding (1e-9 relative on the steered car, whose lever mode is stiff):
+    routes (:func:`express.analysis.banded.choose_route`, which charges the 0.25 s
+    import of SciPy's LAPACK to the two routes that need it), all the same solution to
+    rounding:
 
-    - ``"stacked"``: a dense solve of the dynamic stiffness per frequency, in stacks;
+    - ``"stacked"``: a dense solve of the dynamic stiffness per frequency, in stacks
+      (NumPy only); every small model at a few hundred frequencies, exact to ~1e-14
+      of the largest amplitude;
     - ``"banded"``: a banded LU per frequency when the DOFs couple only near the
-      diagonal (trains: :mod:`express.analysis.banded`);
+      diagonal (trains: :mod:`express.analysis.banded`), as exact;
     - ``"schur"``: one Schur form of the state matrix, then a back substitution per
       frequency (:func:`express.analysis.ride.spectral.resolvent_solve`),
-      ``x = (i w I - A)^-1 (B + i w Bd) U`` and ``X = x[:n]``; for many frequencies.
+      ``x = (i w I - A)^-1 (B + i w Bd) U`` and ``X = x[:n]``; for very many
+      frequencies of a dense model; 1e-9-1e-8 of the largest amplitude on the steered
+      cars, whose lever and yaw-bush modes are stiff (``tests/test_numeric_frequency.py``).
 
     Parameters
     ----------
