@@ -8,7 +8,12 @@ import numpy as np
 import pytest
 
 from express.analysis.banded import (
-    SCIPY_IMPORT_S, band_layout, band_storage, choose_route, route_costs, solve_banded_stiffness,
+    SCIPY_IMPORT_S,
+    band_layout,
+    band_storage,
+    choose_route,
+    route_costs,
+    solve_banded_stiffness,
 )
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -8,7 +8,11 @@ import pytest
 
 from express.analysis.banded import band_layout, choose_route
 from express.analysis.frequency import (
-    dynamic_stiffness, frequency_response, ground_response, irregularity_delays, steady_response,
+    dynamic_stiffness,
+    frequency_response,
+    ground_response,
+    irregularity_delays,
+    steady_response,
 )
 from express.base.diagnostics import AnalysisError
 from express.io import load_model, parse_toml_model
