@@ -2,7 +2,9 @@
 
 The derivation cache (``docs/cache.md``) goes to a fresh temporary folder for the
 session, so that the tests never read or fill a real user's cache; tests that compare
-outputs make their own folders.
+outputs make their own folders.  The note on Numba kernels compiled by a first run is
+left out (``EXPRESS_COMPILE_NOTE=0``): which test runs first on a fresh machine would
+otherwise change what one command prints; ``tests/test_kernel_cache.py`` turns it on.
 """
 
 from __future__ import annotations
@@ -16,6 +18,7 @@ _FOLDER = tempfile.mkdtemp(prefix="express-test-cache-")
 
 def pytest_configure(config):
     os.environ["EXPRESS_CACHE_DIR"] = _FOLDER
+    os.environ["EXPRESS_COMPILE_NOTE"] = "0"  # a fresh machine's first command would print it
     os.environ.pop("EXPRESS_NO_CACHE", None)
 
 

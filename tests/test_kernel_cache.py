@@ -2,9 +2,15 @@
 
 from __future__ import annotations
 
+import os
+import re
+import subprocess
+import sys
 from pathlib import Path
 
-from express.base.kernel_cache import configure_kernel_cache
+import pytest
+
+from express.base.kernel_cache import compilation_note, configure_kernel_cache
 
 
 def test_a_read_only_package_sends_the_kernels_to_the_express_cache(tmp_path):
@@ -33,3 +39,24 @@ def test_the_installed_package_is_checked_by_default():
     environ: dict[str, str] = {}
     package = Path(__file__).resolve().parents[1] / "src" / "express"
     assert configure_kernel_cache(package, environ) is None
+
+
+@pytest.mark.slow
+def test_the_first_run_says_what_it_compiled_and_the_second_says_nothing(tmp_path):
+    """An empty Numba cache (a fresh install): the first ``conicity`` compiles its kernels
+    and says so once; the second loads them and prints no note."""
+    env = {k: v for k, v in os.environ.items() if k != "EXPRESS_COMPILE_NOTE"}
+    env.update(NUMBA_CACHE_DIR=str(tmp_path / "numba"), EXPRESS_CACHE_DIR=str(tmp_path / "cache"),
+               PYTHONPATH=str(Path(__file__).resolve().parents[1] / "src"))
+    command = [sys.executable, "-m", "express", "conicity", "S1002", "60E1"]
+    first, second = (subprocess.run(command, capture_output=True, text=True, env=env, timeout=900) for _ in range(2))
+    assert first.returncode == second.returncode == 0, first.stderr
+    (note,) = [line for line in first.stderr.splitlines() if line.startswith("note: compiled")]
+    assert re.search(r"compiled \d+ Numba kernels in this run \(\d+ s for the whole command\), once per "
+                     r"installation: they are kept in .*numba", note)
+    assert "compiled" not in second.stderr
+    assert first.stdout == second.stdout
+
+
+def test_the_note_can_be_switched_off():
+    assert compilation_note(12.0, {"EXPRESS_COMPILE_NOTE": "0"}) is None

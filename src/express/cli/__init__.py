@@ -25,6 +25,7 @@ import contextlib
 import os
 import re
 import sys
+import time
 import traceback
 import warnings
 from collections.abc import Iterator, Sequence
@@ -33,6 +34,7 @@ from typing import Any, NoReturn
 from express import __version__
 from express.base.diagnostics import EXIT_ANALYSIS, EXIT_INPUT, EXIT_INTERNAL, EXIT_OK, AnalysisError, InputError
 from express.base.interrupts import handling_signals, remove_temporaries
+from express.base.kernel_cache import compilation_note
 from express.cli import (
     cache,
     common,
@@ -207,9 +209,14 @@ def _run(parser: argparse.ArgumentParser, argv: Sequence[str] | None) -> int:
     no_cache = bool(values.get("no_cache", False))
     for key in _META:
         values.pop(key, None)
+    started = time.perf_counter()
     with _one_blas_thread(numeric), _cache_switch(no_cache), warnings.catch_warnings(), _finite_stdout(command):
         warnings.showwarning = _show_warning
-        return int(handler(**values))
+        status = int(handler(**values))
+    note = compilation_note(time.perf_counter() - started)
+    if note is not None:
+        common.note(note)
+    return status
 
 
 @contextlib.contextmanager
