@@ -97,3 +97,31 @@ def test_frf_without_rail_data(capsys, tmp_path):
     """A model with values but no rail data (issue 11): the DOFs' response to each ground input."""
     status, out, _ = run(capsys, "frf", str(valued_lever(tmp_path)), "--points", "3")
     assert status == 0 and "B2.ry/G1.x" in out
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("model", ["examples/forced-steering.toml", "examples/manchester.toml",
+                                   "tests/data/coach-series-dampers.toml"])
+def test_a_warm_frf_of_a_small_model_does_not_import_scipy(tmp_path, model):
+    """Issue 24: a warm ``frf --points 200`` of a car takes NumPy's stacked solve; neither
+    the response nor the stability check imports ``scipy.linalg`` (0.2-0.25 s of the
+    command).  The first (cold) start derives the model and may; the second reads the
+    cache back."""
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    env = {k: v for k, v in os.environ.items() if k != "EXPRESS_NO_CACHE"}
+    env.update(PYTHONPATH=str(root / "src"), EXPRESS_CACHE_DIR=str(tmp_path))
+    code = ("import sys, contextlib, io\nfrom express.cli import main\n"
+            "with contextlib.redirect_stdout(io.StringIO()):\n"
+            f"    status = main(['frf', {str(root / model)!r}, '--points', '200'])\n"
+            "print(status, 'scipy.linalg' in sys.modules)\n")
+    loaded = []
+    for _ in range(2):
+        done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=600)
+        assert done.returncode == 0, done.stderr
+        loaded.append(done.stdout.split()[-2:])
+    assert loaded[1] == ["0", "False"]
