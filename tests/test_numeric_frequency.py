@@ -219,3 +219,27 @@ def test_the_stacked_route_of_small_models_is_exact_to_rounding(model):
     for route, tolerance in (("stacked", 5e-14), ("banded", 5e-14), ("schur", 3e-9)):
         got = steady_response(vehicle, frequencies, vehicle.speed, columns, amplitudes[:, :, None], route=route)[..., 0]
         assert np.all(np.abs(got - exact).max(axis=1) <= tolerance * scale), route
+
+
+@pytest.mark.parametrize("name", ["conventional.toml", "manchester.toml", "forced-steering.toml"])
+def test_the_stability_check_by_blocks_is_the_dense_verdict(name):
+    """``require_stable`` takes the eigenvalues block by diagonal block (the conventional
+    car 34 + 6 states, Manchester 42 + 20, forced-steering one block): at speeds on
+    both sides of the critical speed it refuses exactly where a dense ``eigvals`` of
+    ``A`` finds an unstable eigenvalue."""
+    from express.analysis.frequency import require_stable
+    from express.analysis.modes import stability_threshold
+
+    vehicle = vehicle_model(load_model(f"examples/{name}"))
+    verdicts = []
+    for speed in np.geomspace(20.0, 250.0, 12):
+        dense = np.linalg.eigvals(vehicle.state_matrix(speed))
+        unstable = bool(dense.real.max() > stability_threshold(dense))
+        try:
+            require_stable(vehicle, speed)
+            refused = False
+        except AnalysisError:
+            refused = True
+        verdicts.append(unstable)
+        assert refused == unstable, speed
+    assert verdicts[0] is False and verdicts[-1] is True  # both sides

@@ -256,12 +256,18 @@ def require_stable(vehicle: VehicleModel, speed: float) -> None:
     response to a sinusoid is a steady state only when every free motion decays; an
     unstable one grows without bound whatever the excitation (issue 17).
 
+    Every eigenvalue of ``A(v)`` is computed, block by diagonal block
+    (:meth:`VehicleModel.eigenvalues`: the same set as a dense ``eigvals`` of ``A``,
+    smaller problems when ``A`` splits, as the Manchester car's 42 + 20 states); no
+    eigenvalue can be missed.  For a long coupled train this dense problem is most of
+    the command (``docs/benchmarks.md``).
+
     Raises
     ------
     AnalysisError
         Naming the speed and the least-damped eigenvalue with its mode.
     """
-    values = np.linalg.eigvals(vehicle.state_matrix(speed))
+    values = vehicle.eigenvalues(speed)
     from express.analysis.modes import stability_threshold
 
     if values.size == 0 or not values.real.max() > stability_threshold(values):
