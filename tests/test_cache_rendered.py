@@ -139,11 +139,13 @@ def _rewrite(path: Path, change) -> None:
 
 DAMAGES = {
     "truncated": lambda path: path.write_bytes(path.read_bytes()[:100]),
-    "text not a text": lambda path: _rewrite(path, lambda p: p.update(text=["M"])),
-    "bad count": lambda path: _rewrite(path, lambda p: p.update(dofs="24")),
+    "text not a text": lambda path: _rewrite(path, lambda p: p["data"].update(text=["M"])),
+    "bad count": lambda path: _rewrite(path, lambda p: p["data"].update(dofs="24")),
     "bad reads": lambda path: _rewrite(path, lambda p: p.update(reads=[["a", "b", "c"]])),
     "bad warnings": lambda path: _rewrite(path, lambda p: p.update(warnings=[["SystemExit", "x"]])),
-    "bad notices": lambda path: _rewrite(path, lambda p: p.update(notices=[1])),
+    "bad notices": lambda path: _rewrite(path, lambda p: p["data"].update(notices=[1])),
+    "no data": lambda path: _rewrite(path, lambda p: p.pop("data")),
+    "bad source": lambda path: _rewrite(path, lambda p: p.update(source=None)),
 }
 
 

@@ -30,7 +30,7 @@ def run(model: Path, overrides: dict[str, str], *, output: Path) -> int:
 
     with output_transaction(inputs=[model]) as outputs:
         outputs.declare(output, binary=True)
-        geometry = model_geometry_of(common.load_model_with(model, overrides))
+        geometry = _geometry(model, overrides)
         if Path(output).suffix.lower() == ".svg":  # with each element's name and values as a tooltip
             from express.drawing.views import svg_with_tooltips
             from express.io.output import write_text
@@ -40,6 +40,16 @@ def run(model: Path, overrides: dict[str, str], *, output: Path) -> int:
             save_figure(figure_model(geometry), output)
     common.note(f"wrote {output}")
     return 0
+
+
+def _geometry(model: Path, overrides: dict[str, str]):
+    """The drawing geometry of the model file; without overrides through the cache's copy
+    of an earlier drawing of the same files (:mod:`express.drawing.geometry_data`)."""
+    if overrides:
+        return model_geometry_of(common.load_model_with(model, overrides))
+    from express.drawing.geometry_data import cached_geometry
+
+    return cached_geometry(model, lambda: model_geometry_of(common.load_model_with(model, overrides)))
 
 
 def model_geometry_of(model):

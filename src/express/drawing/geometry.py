@@ -14,11 +14,14 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from express.base.diagnostics import ModelError, Problem
-from express.model.records import ElementKind, Model
+
+if TYPE_CHECKING:  # the records hold SymPy expressions: a drawing read from the cache needs neither
+    from express.model.records import Model
 
 __all__ = [
     "DrawnBody", "DrawnElement", "ModelGeometry", "displaced_geometry", "estimated_outline", "model_geometry",
@@ -206,6 +209,8 @@ def model_geometry(model: Model, value: Callable[[object], float], roles: Mappin
         outline, radius, gauge_half = _body_shape(body, value, wheelsets.get(body.id))
         bodies.append(DrawnBody(body.id, (roles or {}).get(body.id, "body"), centres[body.id],
                                 tuple(own.min(axis=0)), tuple(own.max(axis=0)), outline, radius, gauge_half))
+    from express.model.records import ElementKind
+
     elements = tuple(
         DrawnElement(
             element.id, element.s_end, element.t_end, int(element.direction) + (3 if element.rotational else 0),

@@ -73,8 +73,7 @@ STDOUT = "-"
 #: The descriptive text of a MAT-file's 128-byte header (116 bytes, space padded).
 MAT_HEADER = b"MATLAB 5.0 MAT-file, written by EXPRESS (express export)"
 _FIXED_DATE = (1980, 1, 1, 0, 0, 0)
-#: A member this large gets ZIP64 sizes (zipfile's own rule for a member of known size).
-_ZIP64_FROM = int(zipfile.ZIP64_LIMIT / 1.05) - 4096
+_ZIP64_FROM = int(zipfile.ZIP64_LIMIT / 1.05) - 4096  # ZIP64 sizes from here (zipfile's rule for a known size)
 
 _ACTIVE: contextvars.ContextVar[Transaction | None] = contextvars.ContextVar("express_output_transaction", default=None)
 

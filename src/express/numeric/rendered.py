@@ -17,20 +17,15 @@ with ``--set`` overrides does not use it (the values are part of the text).
 
 from __future__ import annotations
 
-import os
-import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from express.io.cache import cache_enabled, entry_damaged, entry_key, read_entry, write_entry
-from express.numeric.program import ProgramError, checked_list, checked_strings
-from express.numeric.warm import file_digest, read_warning_items, repeat_warnings, unchanged, warning_items
+from express.numeric.products import cached_product
+from express.numeric.program import ProgramError, checked_strings
 
 __all__ = ["RenderedExport", "rendered_export"]
-
-_KIND = "export text"
 
 
 @dataclass(frozen=True)
@@ -74,59 +69,17 @@ def rendered_export(path: str | Path, options: dict[str, Any], render: Callable[
     RenderedExport
         The same text, whether rendered now or read back.
     """
-    key = _key(path, options) if cache_enabled() else None
-    if key is None:
-        return render()
-    found = _read(key, str(path))
-    if found is not None:
-        return found
-    from express.base.reads import recorded_reads
+    def encode(export: RenderedExport) -> tuple[str, Any]:
+        data = {"text": export.text, "dofs": export.dofs, "notices": list(export.notices), "name": export.name}
+        return f"{export.name} ({options.get('format', 'export')})", data
 
-    with recorded_reads() as reads, warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        result = render()
-    for warning in caught:
-        warnings.warn_explicit(warning.message, warning.category, warning.filename, warning.lineno, source=warning.source)
-    items = warning_items(caught)
-    if items is not None and reads:
-        write_entry(key, {
-            "name": f"{result.name} ({options.get('format', 'export')})", "kind": _KIND, "reads": [list(read) for read in reads],
-            "source": str(path), "warnings": items, "text": result.text, "dofs": result.dofs,
-            "notices": list(result.notices),
-        })
-    return result
+    return cached_product(path, "export text", options, render, encode, _decode)
 
 
-def _key(path: str | Path, options: dict[str, Any]) -> str | None:
-    digest = file_digest(os.fspath(path))
-    if digest is None:  # a pipe or an unreadable file: read once, by the model reader
-        return None
-    return entry_key(_KIND, [(os.path.abspath(path), digest)], options)
-
-
-def _read(key: str, source: str) -> RenderedExport | None:
-    """The entry's export with its warnings given again; None when there is none, a file
-    it lists changed (rebuilt), or it is damaged (one warning, rebuilt)."""
-    payload = read_entry(key)
-    if payload is None:
-        return None
-    try:
-        if not isinstance(payload, dict) or payload.get("kind") != _KIND:
-            raise ProgramError("not an export entry")
-        reads = [(r[0], r[1]) for r in checked_list(payload.get("reads")) if len(checked_strings(r)) == 2]
-        if not reads or len(reads) != len(payload["reads"]):
-            raise ProgramError("bad reads")
-        messages = read_warning_items(payload.get("warnings"))
-        text, dofs, recorded = payload.get("text"), payload.get("dofs"), payload.get("source")
-        name = payload.get("name")
-        if not (isinstance(text, str) and type(dofs) is int and dofs >= 0 and isinstance(recorded, str)
-                and isinstance(name, str)):
-            raise ProgramError("bad export")
-        notices = checked_strings(payload.get("notices"))
-    except ProgramError:
-        entry_damaged(key)
-        return None
-    if not unchanged(reads):
-        return None
-    repeat_warnings(messages, recorded, source)
-    return RenderedExport(text, dofs, tuple(notices), name)
+def _decode(data: Any) -> RenderedExport:
+    if not isinstance(data, dict):
+        raise ProgramError("bad export")
+    text, dofs, name = data.get("text"), data.get("dofs"), data.get("name")
+    if not (isinstance(text, str) and type(dofs) is int and dofs >= 0 and isinstance(name, str)):
+        raise ProgramError("bad export")
+    return RenderedExport(text, dofs, tuple(checked_strings(data.get("notices"))), name)
