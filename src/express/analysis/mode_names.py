@@ -33,13 +33,22 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
-from express.assembly.equations import STROKE  # a series element's stroke: <element>.stroke
+from express.analysis.mode_energies import (
+    STROKE,
+    DofGroups,
+    group_sums,
+    kinetic_shares,
+    roll_centres,
+    series_ranking,
+    series_shares,
+)
 from express.model.topology import Topology
 
-__all__ = ["STROKE", "ModeEnergy", "generic_name", "kinematic_frequency", "mode_energy", "mode_name"]
+__all__ = ["STROKE", "ModeEnergy", "RoleGroups", "generic_names", "kinematic_frequency", "mode_energy", "mode_names"]
 
 #: A direction names the motion when it holds at least this share of the subject's
 #: kinetic energy (at most two directions are named).
@@ -92,7 +101,8 @@ class ModeEnergy:
 
 def mode_energy(phi: np.ndarray, eigenvalue: complex, dofs: Sequence[str], mass: np.ndarray,
                 damping: np.ndarray, stiffness: np.ndarray) -> ModeEnergy:
-    """The energy distribution of one mode (module docstring).
+    """The energy distribution of one mode (module docstring; :func:`mode_names` takes
+    many modes at once).
 
     Parameters
     ----------
@@ -105,32 +115,19 @@ def mode_energy(phi: np.ndarray, eigenvalue: complex, dofs: Sequence[str], mass:
     mass, damping, stiffness : numpy.ndarray, shape (n, n)
         ``M``, ``C(v)`` and ``K`` at the mode's speed.
     """
-    kinetic_parts = np.real(np.conj(phi) * (mass @ phi))
-    groups: dict[tuple[str, str], float] = {}
-    for value, dof in zip(kinetic_parts, dofs, strict=True):
-        body, _, direction = dof.partition(".")
-        if direction != STROKE:
-            groups[(body, direction)] = groups.get((body, direction), 0.0) + float(value)
-    groups = {key: max(value, 0.0) for key, value in groups.items()}
-    total = sum(groups.values())
-    kinetic = {key: value / total for key, value in groups.items()} if total > 0 else {}
-    dissipated = float(np.real(np.conj(phi) @ (damping @ phi)))
-    series = []
-    for i, dof in enumerate(dofs):
-        element, _, direction = dof.partition(".")
-        if direction == STROKE and dissipated > 0:
-            series.append((element, float(damping[i, i] * abs(phi[i]) ** 2 / dissipated)))
-    series.sort(key=lambda item: -item[1])
+    groups = DofGroups.of(dofs)
+    vectors = np.asarray(phi)[:, None]
+    shares = kinetic_shares(vectors, groups, mass)[:, 0]
+    keys = [(groups.bodies[body], direction) for body, direction in zip(groups.body_of, groups.directions, strict=True)]
+    kinetic = dict(zip(keys, shares.tolist(), strict=True)) if shares.any() else {}
+    series = series_ranking(series_shares(vectors, groups, damping)[:, 0], groups.elements)
     strain = float(np.real(np.conj(phi) @ (stiffness @ phi)))
     kinetic_energy = abs(eigenvalue) ** 2 * float(np.real(np.conj(phi) @ (mass @ phi)))
     ratio = kinetic_energy / strain if strain > 0 else float("inf")
-    index = {dof: i for i, dof in enumerate(dofs)}
-    roll_centre = {}
-    for dof in dofs:
-        body, _, direction = dof.partition(".")
-        if direction == "rx" and f"{body}.y" in index and abs(phi[index[dof]]) > 0:
-            roll_centre[body] = float(np.real(phi[index[f"{body}.y"]] / phi[index[dof]]))
-    return ModeEnergy(kinetic, tuple(series), ratio, roll_centre)
+    heights = roll_centres(vectors, groups)[:, 0]
+    roll_centre = {groups.bodies[body]: float(height) for body, height in zip(groups.roll[0], heights, strict=True)
+                   if height == height}
+    return ModeEnergy(kinetic, series, ratio, roll_centre)
 
 
 def kinematic_frequency(speed: float, conicity: float, r0: float, b: float) -> float:
@@ -164,117 +161,196 @@ def _is_sway(parts: dict[str, float]) -> bool:
     return set(top) == {"y", "rx"} and min(parts["y"], parts["rx"]) >= SWAY_SHARE * total
 
 
-def _where(shares: dict[str, float], roles: Topology, kind: str) -> str:
-    """Which bogie (running gear) or which car body (of several) the subject is."""
-    if kind == "body":
-        bodies = [b for b, r in roles.role.items() if r == "body"]
-        if len(bodies) < 2:
-            return ""
-        top = max(sorted(shares), key=lambda b: shares[b])
-        return top if shares[top] >= 0.75 * sum(shares.values()) else "all car bodies"
-    by_group: dict[str, float] = {}
-    for body, share in shares.items():
-        group = roles.group(body)
-        by_group[group] = by_group.get(group, 0.0) + share
-    total = sum(by_group.values())
-    named = [g for g in by_group if g]
-    if not named or total <= 0:
-        return ""
-    top = max(sorted(named), key=lambda g: by_group[g])
-    if by_group[top] >= 0.75 * total:
-        return roles.bogie_label(top)
-    if len(named) >= 2:
-        return "both bogies" if len(roles.bogies) == 2 else "all bogies"
-    return ""
-
-
-def _is_hunting(displacement: dict[tuple[str, str], float], roles: Topology, frequency: float,
-                damping_ratio: float, kinematic_hz: float | None) -> bool:
-    if not (frequency > 0 and damping_ratio < 0.5):
-        return False
-    if kinematic_hz is not None and kinematic_hz == kinematic_hz and frequency > HUNTING_FREQUENCY_FACTOR * kinematic_hz:
-        return False
-    gear = wheels = lateral_yaw = 0.0
-    for (body, direction), share in displacement.items():
-        role = roles.role.get(body, "body")
-        if role != "body":
-            gear += share
-        if role == "wheelset":
-            wheels += share
-            lateral_yaw += share if direction in ("y", "rz") else 0.0
-    return gear >= 0.5 and wheels >= HUNTING_WHEELSET_SHARE and lateral_yaw >= HUNTING_LATERAL_YAW * wheels
-
-
-def mode_name(energy: ModeEnergy, displacement: dict[tuple[str, str], float], roles: Topology,
-              frequency: float, damping_ratio: float, kinematic_hz: float | None = None) -> str:
-    """Name a mode of a rail vehicle from its energy (module docstring).
+class RoleGroups:
+    """The DOFs and bodies of a rail vehicle by role, for naming its modes (built once
+    per vehicle; the index arrays on first use).
 
     Parameters
     ----------
-    energy : ModeEnergy
-    displacement : dict of (str, str) to float
-        ``(body, direction)`` -> share of the displacement (participation), for hunting.
+    groups : DofGroups
     roles : Topology
-        The role of every body.
-    frequency : float
+        The role of every body (a body it does not list is a car body).
+    """
+
+    def __init__(self, groups: DofGroups, roles: Topology) -> None:
+        self.groups = groups
+        self.roles = roles
+
+    def role(self, body: str) -> str:
+        """``"wheelset"``, ``"lever"``, ``"bogie"`` or ``"body"``."""
+        return self.roles.role.get(body, "body")
+
+    @cached_property
+    def kinds(self) -> tuple[str, ...]:
+        """The roles of the bodies with DOFs, sorted."""
+        return tuple(sorted({self.role(body) for body in self.groups.bodies}))
+
+    @cached_property
+    def body_kind(self) -> np.ndarray:
+        """Index into :attr:`kinds` of every body of :attr:`DofGroups.bodies`."""
+        return np.array([self.kinds.index(self.role(body)) for body in self.groups.bodies], dtype=np.intp)
+
+    @cached_property
+    def row_role(self) -> np.ndarray:
+        """The role of every row (DOF with mass), as an array of str."""
+        return np.array([self.role(body) for body in self.groups.bodies] or [""])[self.groups.body_of]
+
+    @cached_property
+    def kind_directions(self) -> tuple[tuple[np.ndarray, np.ndarray, tuple[str, ...]], ...]:
+        """For every kind: its rows, their direction (index) and the directions in the
+        order of their first row."""
+        out = []
+        for kind in self.kinds:
+            rows = np.flatnonzero(self.row_role == kind)
+            names = tuple(dict.fromkeys(self.groups.directions[i] for i in rows))
+            labels = np.array([names.index(self.groups.directions[i]) for i in rows], dtype=np.intp)
+            out.append((rows, labels, names))
+        return tuple(out)
+
+    @cached_property
+    def hunting_rows(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Masks over the rows: running gear (not a car body), wheelsets, and their
+        lateral and yaw DOFs."""
+        wheelset = self.row_role == "wheelset"
+        lateral_yaw = np.array([direction in ("y", "rz") for direction in self.groups.directions], dtype=bool)
+        return self.row_role != "body", wheelset, wheelset & lateral_yaw
+
+    @cached_property
+    def sway_rolls(self) -> np.ndarray:
+        """Columns of :attr:`DofGroups.roll` whose body is a car body."""
+        return np.flatnonzero(self.body_kind[self.groups.roll[0]] == self.kinds.index("body")) if "body" in self.kinds \
+            else np.zeros(0, dtype=np.intp)
+
+    def places(self, shares: np.ndarray, bodies: np.ndarray, kind: str) -> list[str]:
+        """Where each mode's subject is: which bogie (running gear) or which car body of
+        several, from the shares of ``bodies`` (indices into :attr:`DofGroups.bodies`,
+        shape (b,); ``shares`` (b, m)); ``""`` when it is not one place."""
+        m = shares.shape[1]
+        names = [self.groups.bodies[i] for i in bodies]
+        if kind == "body":
+            if sum(1 for role in self.roles.role.values() if role == "body") < 2:
+                return [""] * m
+            sums, candidates = shares, sorted(range(len(names)), key=names.__getitem__)
+        else:
+            group_of = [self.roles.group(body) for body in names]
+            names = list(dict.fromkeys(group_of))
+            sums = group_sums(shares, np.array([names.index(g) for g in group_of], dtype=np.intp), len(names))
+            candidates = [i for i in sorted(range(len(names)), key=names.__getitem__) if names[i]]
+        if not candidates:
+            return [""] * m
+        total = np.add.reduce(sums, axis=0)
+        top = np.asarray(candidates)[np.argmax(sums[candidates], axis=0)]
+        leads = (sums[top, np.arange(m)] >= 0.75 * total).tolist()
+        if kind == "body":
+            return [names[t] if lead else "all car bodies" for t, lead in zip(top.tolist(), leads, strict=True)]
+        several = ("both bogies" if len(self.roles.bogies) == 2 else "all bogies") if len(candidates) >= 2 else ""
+        return ["" if t_total <= 0 else self.roles.bogie_label(names[t]) if lead else several
+                for t, lead, t_total in zip(top.tolist(), leads, total.tolist(), strict=True)]
+
+
+def _hunting(displacement: np.ndarray, naming: RoleGroups, frequency: np.ndarray, damping_ratio: np.ndarray,
+             kinematic_hz: float | None) -> np.ndarray:
+    """Which modes are hunting (module docstring), from the displacement shares (k, m)."""
+    possible = (frequency > 0) & (damping_ratio < 0.5)
+    if kinematic_hz is not None and kinematic_hz == kinematic_hz:
+        possible &= ~(frequency > HUNTING_FREQUENCY_FACTOR * kinematic_hz)
+    gear, wheels, kinematic = (np.add.reduce(displacement[mask], axis=0) for mask in naming.hunting_rows)
+    return possible & (gear >= 0.5) & (wheels >= HUNTING_WHEELSET_SHARE) & (kinematic >= HUNTING_LATERAL_YAW * wheels)
+
+
+def _relaxation(series: tuple[tuple[str, float], ...], suffix: str) -> str:
+    """The name of a mode in which nothing with mass moves."""
+    names = ", ".join(element for element, _ in series[:2])
+    return f"series element relaxation ({names}){suffix}" if names else f"static{suffix}"
+
+
+def mode_names(kinetic: np.ndarray, series: Sequence[tuple[tuple[str, float], ...]], rolls: np.ndarray,
+               displacement: np.ndarray, naming: RoleGroups, frequency: np.ndarray, damping_ratio: np.ndarray,
+               kinematic_hz: float | None = None) -> list[str]:
+    """Name modes of a rail vehicle from their energy (module docstring).
+
+    Parameters
+    ----------
+    kinetic : numpy.ndarray, shape (k, m)
+        Every DOF's share of the kinetic energy (:func:`~express.analysis.mode_energies.kinetic_shares`).
+    series : sequence of tuple of (str, float)
+        Every mode's series elements with their share of the dissipated power, largest first.
+    rolls : numpy.ndarray, shape (r, m)
+        Roll centres (:func:`~express.analysis.mode_energies.roll_centres`).
+    displacement : numpy.ndarray, shape (k, m)
+        Every DOF's share of the displacement (participation), for hunting.
+    naming : RoleGroups
+    frequency : numpy.ndarray, shape (m,)
         Damped frequency [Hz] (0 for a real eigenvalue).
-    damping_ratio : float
+    damping_ratio : numpy.ndarray, shape (m,)
         [-].
     kinematic_hz : float, optional
         Kinematic frequency of the wheelsets [Hz] (:func:`kinematic_frequency`).
 
     Returns
     -------
-    str
+    list of str
         E.g. ``"hunting, front bogie"``, ``"car body lower sway"``,
         ``"wheelset vertical, both bogies"``, ``"bogie frame yaw, non-oscillatory"``.
     """
-    suffix = "" if frequency > 0 else ", non-oscillatory"
-    if not energy.kinetic:
-        names = ", ".join(element for element, _ in energy.series[:2])
-        return f"series element relaxation ({names}){suffix}" if names else f"static{suffix}"
-    by_role: dict[str, float] = {}
-    for (body, _), share in energy.kinetic.items():
-        role = roles.role.get(body, "body")
-        by_role[role] = by_role.get(role, 0.0) + share
-    kind = max(sorted(by_role), key=lambda r: by_role[r])
-    body_shares = {b: s for b, s in energy.by_body().items() if roles.role.get(b, "body") == kind}
-    place = _where(body_shares, roles, kind)
-    located = f", {place}" if place else ""
-    if _is_hunting(displacement, roles, frequency, damping_ratio, kinematic_hz):
-        gear: dict[str, float] = {}
-        for (body, _), share in displacement.items():
-            if roles.role.get(body, "body") != "body":
-                gear[body] = gear.get(body, 0.0) + share
-        place = _where(gear, roles, "gear")
-        return f"hunting, {place}" if place else "hunting"
-    if kind == "wheelset" and frequency <= 0:
-        return f"wheelset creep{located}{suffix}"
-    parts: dict[str, float] = {}
-    for (body, direction), share in energy.kinetic.items():
-        if body in body_shares:
-            parts[direction] = parts.get(direction, 0.0) + share
-    motion = _motion(parts, _WHEELSET_WORDS if kind == "wheelset" else _WORDS)
-    if kind == "body" and _is_sway(parts):
-        heights = [energy.roll_centre[b] for b in body_shares if b in energy.roll_centre]
-        if heights:
-            motion = "lower sway" if min(heights, key=abs) < 0 else "upper sway"
-    return f"{_SUBJECTS.get(kind, kind)} {motion}{located}{suffix}"
+    groups, m = naming.groups, kinetic.shape[1]
+    kind_of = np.argmax(group_sums(kinetic, naming.body_kind[groups.body_of], len(naming.kinds)), axis=0)
+    by_body = group_sums(kinetic, groups.body_of, len(groups.bodies))
+    places = {}
+    for index, kind in enumerate(naming.kinds):
+        bodies = np.flatnonzero(naming.body_kind == index)
+        places[kind] = naming.places(by_body[bodies], bodies, kind)
+    hunting = _hunting(displacement, naming, frequency, damping_ratio, kinematic_hz)
+    gear = np.flatnonzero(naming.body_kind != naming.kinds.index("body")) if "body" in naming.kinds \
+        else np.arange(len(groups.bodies))
+    hunting_places = naming.places(group_sums(displacement, groups.body_of, len(groups.bodies))[gear], gear, "gear")
+    parts = [group_sums(kinetic[rows], labels, len(names)).T.tolist()
+             for rows, labels, names in naming.kind_directions]
+    sway = rolls[naming.sway_rolls]
+    has_kinetic: list[bool] = np.any(kinetic, axis=0).tolist()
+    names = []
+    for k in range(m):
+        suffix = "" if frequency[k] > 0 else ", non-oscillatory"
+        kind = naming.kinds[kind_of[k]]
+        located = f", {places[kind][k]}" if places[kind][k] else ""
+        if not has_kinetic[k]:
+            names.append(_relaxation(series[k], suffix))
+        elif hunting[k]:
+            names.append(f"hunting, {hunting_places[k]}" if hunting_places[k] else "hunting")
+        elif kind == "wheelset" and not frequency[k] > 0:
+            names.append(f"wheelset creep{located}{suffix}")
+        else:
+            directions = dict(zip(naming.kind_directions[kind_of[k]][2], parts[kind_of[k]][k], strict=True))
+            motion = _motion(directions, _WHEELSET_WORDS if kind == "wheelset" else _WORDS)
+            heights = sway[:, k][sway[:, k] == sway[:, k]]
+            if kind == "body" and _is_sway(directions) and heights.size:
+                motion = "lower sway" if heights[np.argmin(np.abs(heights))] < 0 else "upper sway"
+            names.append(f"{_SUBJECTS.get(kind, kind)} {motion}{located}{suffix}")
+    return names
 
 
-def generic_name(energy: ModeEnergy, frequency: float) -> str:
-    """Name of a mode of a model without rail data: the bodies holding at least 15 % of
-    its kinetic energy (at most three) with their main direction, e.g.
-    ``"B1 yaw, B2 pitch"``."""
-    suffix = "" if frequency > 0 else ", non-oscillatory"
-    if not energy.kinetic:
-        names = ", ".join(element for element, _ in energy.series[:2])
-        return f"series element relaxation ({names}){suffix}" if names else f"static{suffix}"
-    totals = energy.by_body()
-    chosen = [b for b in sorted(totals, key=lambda b: -totals[b]) if totals[b] >= 0.15][:3] or list(totals)[:1]
-    parts = []
-    for body in chosen:
-        directions = {d: s for (b, d), s in energy.kinetic.items() if b == body}
-        direction = max(sorted(directions), key=lambda d: directions[d])
-        parts.append(f"{body} {_WORDS.get(direction, direction)}")
-    return ", ".join(parts) + suffix
+def generic_names(kinetic: np.ndarray, series: Sequence[tuple[tuple[str, float], ...]], groups: DofGroups,
+                  frequency: np.ndarray) -> list[str]:
+    """Names of modes of a model without rail data: the bodies holding at least 15 % of
+    the kinetic energy (at most three) with their main direction, e.g.
+    ``"B1 yaw, B2 pitch"`` (arguments as :func:`mode_names`)."""
+    by_body = group_sums(kinetic, groups.body_of, len(groups.bodies))
+    rows_of = [sorted(np.flatnonzero(groups.body_of == body), key=lambda i: groups.directions[i])
+               for body in range(len(groups.bodies))]
+    has_kinetic: list[bool] = np.any(kinetic, axis=0).tolist()
+    names = []
+    for k in range(kinetic.shape[1]):
+        suffix = "" if frequency[k] > 0 else ", non-oscillatory"
+        if not has_kinetic[k]:
+            names.append(_relaxation(series[k], suffix))
+            continue
+        totals = by_body[:, k]
+        chosen = np.flatnonzero(totals >= 0.15)
+        chosen = chosen[np.argsort(-totals[chosen], kind="stable")][:3] if chosen.size else np.zeros(1, dtype=np.intp)
+        parts = []
+        for body in chosen.tolist():
+            rows = rows_of[body]
+            direction = groups.directions[rows[int(np.argmax(kinetic[rows, k]))]]
+            parts.append(f"{groups.bodies[body]} {_WORDS.get(direction, direction)}")
+        names.append(", ".join(parts) + suffix)
+    return names

@@ -11,11 +11,22 @@ at a speed and the critical speed.
 
 from __future__ import annotations
 
+import weakref
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from express.analysis.mode_names import STROKE, generic_name, kinematic_frequency, mode_energy, mode_name
+from express.analysis.mode_energies import (
+    DofGroups,
+    group_sums,
+    kinetic_shares,
+    participation,
+    roll_centres,
+    series_ranking,
+    series_shares,
+    top_rows,
+)
+from express.analysis.mode_names import RoleGroups, generic_names, kinematic_frequency, mode_names
 from express.base.units import KMH
 from express.model.topology import Topology
 from express.numeric.statespace import VehicleModel
@@ -273,10 +284,30 @@ def _dof_lengths(vehicle: VehicleModel) -> np.ndarray:
     return lengths
 
 
-def _participation(phi: np.ndarray, lengths: np.ndarray) -> np.ndarray:
-    weight = np.abs(phi * lengths) ** 2
-    total = weight.sum()
-    return weight / total if total > 0 else weight
+@dataclass(frozen=True)
+class _Layout:
+    """What :func:`modes_of` needs of a vehicle besides its matrices, built once per vehicle."""
+
+    groups: DofGroups
+    naming: RoleGroups | None  # None without rail data
+    lengths: np.ndarray
+
+
+_last_layout: tuple[weakref.ref, _Layout] | None = None
+
+
+def _layout(vehicle: VehicleModel) -> _Layout:
+    """The vehicle's :class:`_Layout`, kept for the last vehicle asked (a critical speed
+    asks for the modes of one vehicle at many speeds)."""
+    global _last_layout
+    last = _last_layout
+    if last is not None and last[0]() is vehicle:
+        return last[1]
+    groups = DofGroups.of(vehicle.dofs)
+    rail = vehicle.layout is not None and bool(vehicle.wheelsets)
+    layout = _Layout(groups, RoleGroups(groups, _roles(vehicle)) if rail else None, _dof_lengths(vehicle))
+    _last_layout = (weakref.ref(vehicle), layout)
+    return layout
 
 
 def modes_of(
@@ -304,54 +335,64 @@ def modes_of(
     tuple of Mode
         One per conjugate pair (the member with ``Im >= 0``) and per real eigenvalue,
         sorted by descending real part.
+
+    Notes
+    -----
+    The modes are described together, :data:`_CHUNK` at a time, as arrays over DOFs x
+    modes (:mod:`express.analysis.mode_energies`).
     """
-    n = vehicle.n
-    dofs = vehicle.dofs
-    rail = vehicle.layout is not None and bool(vehicle.wheelsets)
-    roles = _roles(vehicle)
-    lengths = _dof_lengths(vehicle)
+    layout = _layout(vehicle)
     speed = vehicle.speed if speed is None else speed
+    rail = layout.naming is not None
     damping = vehicle.damping(speed) if rail and speed == speed and speed > 0 else vehicle.damping_base
     kinematic = max((kinematic_frequency(speed, w.conicity, w.r0, w.b) for w in vehicle.wheelsets), default=None)
-    massive = np.array([not dof.endswith(f".{STROKE}") for dof in dofs])
     keep = np.flatnonzero(eigenvalues.imag >= 0.0)
     order = keep[np.lexsort((-eigenvalues.imag[keep], -eigenvalues.real[keep]))]
     if limit is not None:
         order = order[:limit]
-    modes = []
-    for k in order:
-        lam = complex(eigenvalues[k])
-        phi = eigenvectors[:n, k]
-        shares = _participation(np.where(massive, phi, 0.0), lengths)
-        ranked = [i for i in np.argsort(-shares, kind="stable") if massive[i]]
-        dominant = tuple((dofs[i], float(shares[i])) for i in ranked[:DOMINANT_COUNT])
-        bodies: dict[str, float] = {}
-        for i in ranked:
-            body = dofs[i].partition(".")[0]
-            bodies[body] = bodies.get(body, 0.0) + float(shares[i])
-        body_shares = tuple(sorted(bodies.items(), key=lambda item: -item[1]))
-        magnitude = abs(lam)
-        frequency = lam.imag / (2.0 * np.pi)
-        zeta = float(-lam.real / magnitude) if magnitude > 0 else 0.0
-        energy = mode_energy(phi, lam, dofs, vehicle.mass, damping, vehicle.stiffness)
-        displacement: dict[tuple[str, str], float] = {}
-        for i in ranked:
-            body, _, direction = dofs[i].partition(".")
-            displacement[(body, direction)] = displacement.get((body, direction), 0.0) + float(shares[i])
-        kind = (mode_name(energy, displacement, roles, frequency, zeta, kinematic) if rail
-                else generic_name(energy, frequency))
-        modes.append(
-            Mode(
-                eigenvalue=lam,
-                frequency_hz=float(frequency),
-                damping_ratio=zeta,
-                dominant=dominant,
-                kind=kind,
-                body_shares=body_shares,
-                series=energy.series,
-            )
-        )
+    modes: list[Mode] = []
+    for start in range(0, order.size, _CHUNK):
+        chosen = order[start : start + _CHUNK]
+        modes += _modes(vehicle, layout, eigenvalues[chosen], eigenvectors[: vehicle.n, chosen], damping, kinematic)
     return tuple(modes)
 
 
-# ---------------------------------------------------------------------------------------
+#: Modes described together (arrays of DOFs x modes: memory grows with it).
+_CHUNK = 256
+
+
+def _modes(vehicle: VehicleModel, layout: _Layout, values: np.ndarray, vectors: np.ndarray, damping: np.ndarray,
+           kinematic: float | None) -> list[Mode]:
+    """:class:`Mode` records of the eigenvalues ``values`` (m,) with the displacement
+    parts ``vectors`` (n, m) of their eigenvectors."""
+    groups = layout.groups
+    eigenvalues = [complex(value) for value in values]
+    frequency = [lam.imag / (2.0 * np.pi) for lam in eigenvalues]
+    zeta = [float(-lam.real / abs(lam)) if abs(lam) > 0 else 0.0 for lam in eigenvalues]
+    displacement = np.ascontiguousarray(participation(vectors, groups, layout.lengths)[:, groups.rows].T)
+    kinetic = kinetic_shares(vectors, groups, vehicle.mass)
+    shares = series_shares(vectors, groups, damping)
+    series = [series_ranking(shares[:, k], groups.elements) for k in range(len(eigenvalues))]
+    if layout.naming is not None:
+        kinds = mode_names(kinetic, series, roll_centres(vectors, groups), displacement, layout.naming,
+                           np.array(frequency), np.array(zeta), kinematic)
+    else:
+        kinds = generic_names(kinetic, series, groups, np.array(frequency))
+    dominant = top_rows(displacement, DOMINANT_COUNT).T.tolist()
+    by_body = group_sums(displacement, groups.body_of, len(groups.bodies))
+    body_order = np.argsort(-by_body, axis=0, kind="stable").T.tolist()
+    by_body_list = by_body.T.tolist()
+    dofs = [groups.dofs[i] for i in groups.rows]
+    dominant_shares = displacement.T.tolist()
+    return [
+        Mode(
+            eigenvalue=lam,
+            frequency_hz=float(frequency[k]),
+            damping_ratio=zeta[k],
+            dominant=tuple((dofs[i], dominant_shares[k][i]) for i in dominant[k]),
+            kind=kinds[k],
+            body_shares=tuple((groups.bodies[b], by_body_list[k][b]) for b in body_order[k]),
+            series=series[k],
+        )
+        for k, lam in enumerate(eigenvalues)
+    ]
