@@ -66,3 +66,19 @@ def test_eigen_without_rail_data(capsys, tmp_path):
     """A model with values but no rail data (issue 11): its modes, no speed."""
     status, out, _ = run(capsys, "eigen", str(valued_lever(tmp_path)))
     assert status == 0 and "no rail data: independent of speed" in out
+
+
+def test_eigen_solves_the_eigenproblem_once(capsys, monkeypatch):
+    """The eigenvalue list and the modes come from one ``eig`` (issue 24): every mode's
+    eigenvalue is in the list exactly, with its conjugate."""
+    calls = []
+    for name in ("eig", "eigvals"):
+        original = getattr(np.linalg, name)
+        monkeypatch.setattr(np.linalg, name, lambda *a, _f=original, _n=name, **k: calls.append(_n) or _f(*a, **k))
+    data = run_json(capsys, "eigen", STEERED)
+    assert calls == ["eig"]
+    listed = {complex(re, im) for re, im in data["eigenvalues"]}
+    assert len(data["eigenvalues"]) == 48
+    for mode in data["modes"]:
+        value = complex(*mode["eigenvalue"])
+        assert value in listed and value.conjugate() in listed

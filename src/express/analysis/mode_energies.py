@@ -20,13 +20,8 @@ import numpy as np
 
 from express.assembly.equations import STROKE  # a series element's stroke: <element>.stroke
 
-__all__ = ["STROKE", "DofGroups", "group_sums", "kinetic_shares", "participation", "roll_centres", "series_ranking",
+__all__ = ["STROKE", "DofGroups", "group_sums", "kinetic_shares", "participation", "roll_centres", "running_sum", "series_ranking",
            "series_shares", "top_rows"]
-
-#: A matrix with at most this share of nonzero entries is multiplied as a sparse one
-#: (a train's K and C: a few entries per row).
-_SPARSE_FILL = 0.05
-
 
 @dataclass(frozen=True)
 class DofGroups:
@@ -94,6 +89,18 @@ class DofGroups:
         )
 
 
+def running_sum(values: np.ndarray) -> np.ndarray:
+    """Column sums of ``values`` (k, m), the rows added one after the other
+    (``np.add.accumulate``: a fixed order; ``np.sum`` adds a single column pairwise).
+
+    Examples
+    --------
+    >>> running_sum(np.array([[1e16], [1.0], [-1e16]])).tolist()
+    [0.0]
+    """
+    return np.add.accumulate(values, axis=0)[-1] if values.shape[0] else np.zeros(values.shape[1])
+
+
 def group_sums(values: np.ndarray, labels: np.ndarray, count: int) -> np.ndarray:
     """Sums of the rows of ``values`` that share a label, each added in row order.
 
@@ -122,7 +129,15 @@ def group_sums(values: np.ndarray, labels: np.ndarray, count: int) -> np.ndarray
     order = np.argsort(labels, kind="stable")
     ordered = labels[order]
     starts = np.flatnonzero(np.r_[True, ordered[1:] != ordered[:-1]])
-    out[ordered[starts]] = np.add.reduceat(values[order], starts, axis=0)
+    sizes = np.diff(np.r_[starts, labels.size])
+    if starts.size <= sizes.max():  # a few large groups: one running sum each
+        for start, size in zip(starts.tolist(), sizes.tolist(), strict=True):
+            out[ordered[start]] = running_sum(values[order[start : start + size]])
+        return out
+    position = np.arange(labels.size) - np.repeat(starts, sizes)  # many small ones: the p-th rows together
+    for p in range(int(sizes.max())):
+        at = position == p
+        out[ordered[at]] += values[order[at]]
     return out
 
 
@@ -208,7 +223,7 @@ def kinetic_shares(vectors: np.ndarray, groups: DofGroups, mass: np.ndarray) -> 
         Over :attr:`DofGroups.rows`; a column of zeros where nothing with mass moves.
     """
     parts = np.maximum(np.real(np.conj(vectors) * _times(mass, vectors))[groups.rows], 0.0)
-    total = np.add.reduce(parts, axis=0)
+    total = running_sum(parts)
     return np.divide(parts, total, out=parts, where=total > 0)
 
 
@@ -230,7 +245,7 @@ def series_shares(vectors: np.ndarray, groups: DofGroups, damping: np.ndarray) -
     """
     if groups.strokes.size == 0:
         return np.zeros((0, vectors.shape[1]))
-    dissipated = np.real(np.conj(vectors) * _times(damping, vectors)).sum(axis=0)
+    dissipated = running_sum(np.real(np.conj(vectors) * _times(damping, vectors)))
     stroke = groups.strokes
     power = np.diag(damping)[stroke, None] * np.abs(vectors[stroke]) ** 2
     return np.divide(power, dissipated, out=np.full_like(power, np.nan), where=dissipated > 0)
@@ -266,13 +281,12 @@ def roll_centres(vectors: np.ndarray, groups: DofGroups) -> np.ndarray:
 
 
 def _times(matrix: np.ndarray, vectors: np.ndarray) -> np.ndarray:
-    """``matrix @ vectors``: by the diagonal when ``matrix`` is diagonal (a mass matrix),
-    as a sparse product when mostly zero (a long train's damping), else dense."""
-    nonzero = np.count_nonzero(matrix)
-    if nonzero == np.count_nonzero(np.diag(matrix)):
+    """``matrix @ vectors`` row by row, each row's products added in column order: by
+    the diagonal when ``matrix`` is diagonal (a mass matrix), else as a sparse product
+    (a long train's damping has a few entries per row).  Unlike a BLAS product, every
+    column comes out the same however many are multiplied together."""
+    if np.count_nonzero(matrix) == np.count_nonzero(np.diag(matrix)):
         return np.diag(matrix)[:, None] * vectors
-    if nonzero <= _SPARSE_FILL * matrix.size:
-        from scipy.sparse import csr_array
+    from scipy.sparse import csr_array
 
-        return np.asarray(csr_array(matrix) @ vectors)
-    return matrix @ vectors
+    return np.asarray(csr_array(matrix) @ vectors)

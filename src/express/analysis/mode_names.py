@@ -43,6 +43,7 @@ from express.analysis.mode_energies import (
     group_sums,
     kinetic_shares,
     roll_centres,
+    running_sum,
     series_ranking,
     series_shares,
 )
@@ -238,7 +239,7 @@ class RoleGroups:
             candidates = [i for i in sorted(range(len(names)), key=names.__getitem__) if names[i]]
         if not candidates:
             return [""] * m
-        total = np.add.reduce(sums, axis=0)
+        total = running_sum(sums)
         top = np.asarray(candidates)[np.argmax(sums[candidates], axis=0)]
         leads = (sums[top, np.arange(m)] >= 0.75 * total).tolist()
         if kind == "body":
@@ -254,7 +255,7 @@ def _hunting(displacement: np.ndarray, naming: RoleGroups, frequency: np.ndarray
     possible = (frequency > 0) & (damping_ratio < 0.5)
     if kinematic_hz is not None and kinematic_hz == kinematic_hz:
         possible &= ~(frequency > HUNTING_FREQUENCY_FACTOR * kinematic_hz)
-    gear, wheels, kinematic = (np.add.reduce(displacement[mask], axis=0) for mask in naming.hunting_rows)
+    gear, wheels, kinematic = (running_sum(displacement[mask]) for mask in naming.hunting_rows)
     return possible & (gear >= 0.5) & (wheels >= HUNTING_WHEELSET_SHARE) & (kinematic >= HUNTING_LATERAL_YAW * wheels)
 
 

@@ -173,6 +173,9 @@ class EigenResult:
     modes : tuple of Mode
         One per conjugate pair (and one per real eigenvalue), sorted by descending real
         part: ``modes[0]`` is the least stable.
+    eigenvalues : numpy.ndarray, shape (N,)
+        Every eigenvalue of ``A`` [1/s], both members of each conjugate pair, sorted by
+        descending real part, then descending imaginary part (empty when not given).
 
     Examples
     --------
@@ -189,6 +192,7 @@ class EigenResult:
 
     speed: float
     modes: tuple[Mode, ...]
+    eigenvalues: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=complex), repr=False, compare=False)
 
     @property
     def speed_kmh(self) -> float:
@@ -378,20 +382,21 @@ def _modes(vehicle: VehicleModel, layout: _Layout, values: np.ndarray, vectors: 
                            np.array(frequency), np.array(zeta), kinematic)
     else:
         kinds = generic_names(kinetic, series, groups, np.array(frequency))
-    dominant = top_rows(displacement, DOMINANT_COUNT).T.tolist()
+    dominant = top_rows(displacement, DOMINANT_COUNT)
+    dominant_dofs = np.array([groups.dofs[i] for i in groups.rows], dtype=object)[dominant].T.tolist()
+    dominant_shares = np.take_along_axis(displacement, dominant, axis=0).T.tolist()
     by_body = group_sums(displacement, groups.body_of, len(groups.bodies))
-    body_order = np.argsort(-by_body, axis=0, kind="stable").T.tolist()
-    by_body_list = by_body.T.tolist()
-    dofs = [groups.dofs[i] for i in groups.rows]
-    dominant_shares = displacement.T.tolist()
+    body_order = np.argsort(-by_body, axis=0, kind="stable")
+    body_names = np.array(groups.bodies, dtype=object)[body_order].T.tolist()
+    body_shares = np.take_along_axis(by_body, body_order, axis=0).T.tolist()
     return [
         Mode(
             eigenvalue=lam,
             frequency_hz=float(frequency[k]),
             damping_ratio=zeta[k],
-            dominant=tuple((dofs[i], dominant_shares[k][i]) for i in dominant[k]),
+            dominant=tuple(zip(dominant_dofs[k], dominant_shares[k], strict=True)),
             kind=kinds[k],
-            body_shares=tuple((groups.bodies[b], by_body_list[k][b]) for b in body_order[k]),
+            body_shares=tuple(zip(body_names[k], body_shares[k], strict=True)),
             series=series[k],
         )
         for k, lam in enumerate(eigenvalues)

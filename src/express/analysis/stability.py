@@ -46,7 +46,7 @@ import numpy as np
 
 from express.analysis.critical_options import CriticalOptions
 from express.analysis.modes import EigenResult, Mode, modes_of
-from express.base.diagnostics import ArgumentError
+from express.base.diagnostics import AnalysisError, ArgumentError
 from express.base.threads import limited_blas
 from express.base.units import KMH
 from express.numeric.statespace import VehicleModel
@@ -153,7 +153,15 @@ def eigen_analysis(vehicle: VehicleModel, speed: float | None = None) -> EigenRe
     Returns
     -------
     EigenResult
-        Modes sorted by descending real part, one per conjugate pair.
+        Modes sorted by descending real part, one per conjugate pair, and every
+        eigenvalue (:attr:`EigenResult.eigenvalues`), all from one :func:`numpy.linalg.eig`.
+
+    Raises
+    ------
+    ArgumentError
+        For a speed that is not positive (a model with rail data).
+    AnalysisError
+        When ``A`` has non-finite entries.
 
     Notes
     -----
@@ -173,14 +181,18 @@ def eigen_analysis(vehicle: VehicleModel, speed: float | None = None) -> EigenRe
          -0.2957    1023.3335   162.869   0.0003  steering lever pitch, both bogies (L...
     ...
     """
-    if vehicle.layout is None or not vehicle.wheelsets:  # A does not depend on the speed
-        values, vectors = np.linalg.eig(vehicle.state_matrix(1.0))
-        return EigenResult(float("nan"), modes_of(vehicle, values, vectors))
+    rail = vehicle.layout is not None and bool(vehicle.wheelsets)  # without rail data A does not depend on the speed
     speed = vehicle.speed if speed is None else speed
-    if not speed > 0:
+    if rail and not speed > 0:
         raise ArgumentError(f"speed must be positive, got {speed}")
-    values, vectors = np.linalg.eig(vehicle.state_matrix(float(speed)))
-    return EigenResult(float(speed), modes_of(vehicle, values, vectors, speed=float(speed)))
+    state_matrix = vehicle.state_matrix(float(speed) if rail else 1.0)
+    if not np.all(np.isfinite(state_matrix)):
+        raise AnalysisError("the state matrix A has non-finite entries")
+    values, vectors = np.linalg.eig(state_matrix)
+    every = values[np.lexsort((-values.imag, -values.real))]
+    if not rail:
+        return EigenResult(float("nan"), modes_of(vehicle, values, vectors), every)
+    return EigenResult(float(speed), modes_of(vehicle, values, vectors, speed=float(speed)), every)
 
 
 @limited_blas

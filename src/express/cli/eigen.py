@@ -74,20 +74,17 @@ def _draw_mode(model: Path, overrides: dict[str, str], speed: float | None, numb
 
 
 def _table(model: Path, overrides: dict[str, str], speed: float | None, as_json: bool) -> int:
-    import numpy as np
-
     from express.analysis.stability import eigen_analysis
     from express.numeric.statespace import load_vehicle
 
     vehicle = load_vehicle(model, overrides)  # any model: without rail data A has no speed
     rail = vehicle.layout is not None and bool(vehicle.wheelsets)
     v: float | None = common.running_speed(vehicle, speed) if rail else None
-    state_matrix = vehicle.state_matrix(v if v is not None else 1.0)
-    if not np.all(np.isfinite(state_matrix)):
-        raise AnalysisError("eigen: the state matrix A has non-finite entries")
-    result = eigen_analysis(vehicle, v)
-    eigenvalues = np.linalg.eigvals(state_matrix)
-    eigenvalues = eigenvalues[np.lexsort((-eigenvalues.imag, -eigenvalues.real))]
+    try:
+        result = eigen_analysis(vehicle, v)
+    except AnalysisError as error:
+        raise AnalysisError(f"eigen: {error}") from None
+    eigenvalues = result.eigenvalues  # every one, from the same eig as the modes
     name = vehicle.name
     if as_json:
         common.print_json({
