@@ -30,7 +30,6 @@ from express.analysis.curving.outputs import WheelRailOutputs
 from express.analysis.integrator import (
     WheelsetCoordinates,
     bump_stop_arrays,
-    run_march,
     wheel_rail_feedback,
     wheelset_coordinates,
 )
@@ -326,20 +325,19 @@ def _contact_law(x, k, feedback, z, record):
     return None
 
 
-def march_contact(phi, drive, g0, g1, x0, wheel_rail: dict, contact: ContactSet, linear: np.ndarray, *,
+def march_contact(linear, x0, wheel_rail: dict, contact: ContactSet, coefficients: np.ndarray, *,
                   loads: WheelLoadModel | None = None, roll: tuple[np.ndarray, np.ndarray] = NO_ROLL, progress=None):
-    """March with the contact feedback (arguments as :func:`express.analysis.integrator.
-    march`; ``contact`` from :func:`contact_arrays`, ``linear`` from
-    :func:`linear_coefficients`, ``loads`` the wheel loads, the static ones by default);
-    returns the states, shape (steps + 1, N), and the contact forces of each state
-    (:func:`contact_force_history`)."""
-    steps = drive.shape[0]
+    """March with the contact feedback (``linear`` the linear part of the step and the
+    other arguments as :func:`express.analysis.integrator.march`; ``contact`` from
+    :func:`contact_arrays`, ``coefficients`` from :func:`linear_coefficients`, ``loads``
+    the wheel loads, the static ones by default); returns the states, shape (steps + 1, N),
+    and the contact forces of each state (:func:`contact_force_history`)."""
+    steps = linear.steps
     loads = static_wheel_loads(contact.wheel_load, steps) if loads is None else loads
-    feedback = ContactFeedback(wheelset_coordinates(wheel_rail, x0.size), contact, np.ascontiguousarray(linear), loads,
-                               *roll)
+    feedback = ContactFeedback(wheelset_coordinates(wheel_rail, x0.size), contact, np.ascontiguousarray(coefficients),
+                               loads, *roll)
     history = np.zeros((steps + 1, len(wheel_rail["iy"]), len(OUTPUTS)))
-    states = run_march(phi, drive, g0, g1, x0, feedback, bump_stop_arrays(wheel_rail, x0.size, steps), history,
-                       progress)
+    states = linear.run(x0, feedback, bump_stop_arrays(wheel_rail, x0.size, steps), history, progress)
     return states, history
 
 

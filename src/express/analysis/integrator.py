@@ -29,8 +29,8 @@ from scipy.linalg import expm
 from express.rail.nonlinear import longitudinal_creepage, penetration, saturation_ratio
 
 __all__ = [
-    "BumpStops", "DeadbandFeedback", "WheelsetCoordinates", "bump_stop_arrays", "bump_stops", "discretize",
-    "heun_march", "march", "run_march", "wheel_rail_feedback", "wheelset_coordinates",
+    "BumpStops", "DeadbandFeedback", "DenseSteps", "WheelsetCoordinates", "all_feedback", "bump_stop_arrays",
+    "bump_stops", "discretize", "heun_march", "march", "run_march", "wheel_rail_feedback", "wheelset_coordinates",
 ]
 
 
@@ -209,7 +209,7 @@ def bump_stops(x, k, stops, first, z):
 
 
 @njit(cache=True)
-def _all_feedback(x, k, feedback, stops, z, record):
+def all_feedback(x, k, feedback, stops, z, record):
     """Wheel/rail feedback, then the bump stops after it, into ``z``."""
     wheel_rail_feedback(x, k, feedback, z, record)
     if stops.gap.size > 0:
@@ -281,17 +281,17 @@ def heun_march(phi_t, drive, g0_t, g1_t, x0, first, last, states, feedback, stop
     zero = np.zeros(size)
     trial = np.zeros(size)
     scratch = np.zeros_like(history[first])
-    _all_feedback(x, first, feedback, stops, z, history[first])
+    all_feedback(x, first, feedback, stops, z, history[first])
     for k in range(first, last):
         _products(drive[k], phi_t, x, base)
         _products(zero, g0_t, z, held)
         for i in range(size):
             trial[i] = base[i] + held[i]
-        _all_feedback(trial, k + 1, feedback, stops, z_next, scratch)
+        all_feedback(trial, k + 1, feedback, stops, z_next, scratch)
         for j in range(nz):
             change[j] = z_next[j] - z[j]
         _paired_products(base, g0_t, z, g1_t, change, x)
-        _all_feedback(x, k + 1, feedback, stops, z, history[k + 1])
+        all_feedback(x, k + 1, feedback, stops, z, history[k + 1])
         for i in range(size):
             states[k + 1, i] = x[i]
     return x
@@ -325,16 +325,41 @@ def wheelset_coordinates(wheel_rail: dict, size: int) -> WheelsetCoordinates:
         np.ascontiguousarray(w["y_rail"], dtype=float), np.ascontiguousarray(w["rho"], dtype=float), float(w["speed"]))
 
 
-def march(phi, drive, g0, g1, x0, wheel_rail, *, flange=True, saturation=True, progress=None):
-    """March the discretized system over all steps with the dead-band wheel/rail law.
+class DenseSteps(NamedTuple):
+    """The linear part of a step as dense matrices (the route of small models):
+    ``x[k+1] = phi x[k] + drive[k] + g0 z[k] + g1 (z[k+1] - z[k])``, :func:`heun_march`.
 
-    Parameters
+    Attributes
     ----------
     phi : numpy.ndarray, shape (N, N)
     drive : numpy.ndarray, shape (steps, N)
         Known forcing already discretized: ``gamma0 e[k] + gamma1 (e[k+1] - e[k])``.
-    g0, g1 : numpy.ndarray, shape (N, 2 * n_wheelsets + n_stops)
+    g0, g1 : numpy.ndarray, shape (N, n_z)
         Discretized input matrices of the feedback forces (wheel/rail, then bump stops).
+    """
+
+    phi: np.ndarray
+    drive: np.ndarray
+    g0: np.ndarray
+    g1: np.ndarray
+
+    @property
+    def steps(self) -> int:
+        """Number of steps."""
+        return int(self.drive.shape[0])
+
+    def run(self, x0, feedback, stops: BumpStops, history: np.ndarray, progress=None) -> np.ndarray:
+        """:func:`run_march` from ``x0``; returns the states, shape (steps + 1, N)."""
+        return run_march(self.phi, self.drive, self.g0, self.g1, x0, feedback, stops, history, progress)
+
+
+def march(linear, x0, wheel_rail, *, flange=True, saturation=True, progress=None):
+    """March the discretized system over all steps with the dead-band wheel/rail law.
+
+    Parameters
+    ----------
+    linear : DenseSteps or express.analysis.sparse_march.SparseSteps
+        The linear part of the step (dense matrices, or the sparse route of large models).
     x0 : numpy.ndarray, shape (N,)
         Initial state.
     wheel_rail : dict
@@ -358,6 +383,5 @@ def march(phi, drive, g0, g1, x0, wheel_rail, *, flange=True, saturation=True, p
                                 *(np.ascontiguousarray(w[key], dtype=float) for key in
                                   ("f1", "f2", "conicity", "r0", "b", "clearance", "k_rail", "limit")),
                                 bool(flange), bool(saturation))
-    steps = drive.shape[0]
-    return run_march(phi, drive, g0, g1, x0, feedback, bump_stop_arrays(w, x0.size, steps),
-                     np.zeros((steps + 1, 0, 0)), progress)
+    steps = linear.steps
+    return linear.run(x0, feedback, bump_stop_arrays(w, x0.size, steps), np.zeros((steps + 1, 0, 0)), progress)

@@ -51,7 +51,8 @@ from pathlib import Path
 import numpy as np
 
 from express.analysis.curving.outputs import WheelRailOutputs
-from express.analysis.integrator import discretize, march
+from express.analysis.integrator import DenseSteps, discretize, march
+from express.analysis.sparse_march import Route, SparseSteps, choose_route, sparse_steps
 from express.analysis.track_inputs import TrackInputs, rail_layout, station_index, track_inputs
 from express.assembly.clearance import clearance_force, clearances_of
 from express.base.diagnostics import ArgumentError
@@ -220,6 +221,7 @@ def simulate(
     clearances: bool | None = None,
     contact: ContactModel | None = None,
     creep_law: CreepLaw = "fastsim",
+    route: Route = "auto",
 ) -> SimulationResult:
     """Run ``vehicle`` along ``track``.
 
@@ -255,10 +257,17 @@ def simulate(
         ``saturation`` off) uses neither.
     creep_law : {"fastsim", "polach"}
         The creep law of the contact tables.
+    route : {"auto", "dense", "sparse"}
+        How the linear part of a step is taken (the same exact discretization and time
+        step either way): dense matrices ``exp(A dt)`` and its hold integrals, or their
+        action on the state from the sparse ``A`` (:mod:`express.analysis.sparse_march`,
+        results equal to rounding); ``"auto"`` chooses the sparse one for large sparse
+        models (:func:`~express.analysis.sparse_march.choose_route`).
 
     Returns
     -------
     SimulationResult
+        ``options["route"]`` is ``"sparse"`` when the sparse route was taken.
     """
     v = float(vehicle.speed if speed is None else speed)
     if not v > 0:
@@ -270,16 +279,6 @@ def simulate(
     time = np.arange(steps + 1) * dt
     distance = start + v * time
     inputs = track_inputs(vehicle, track, distance, v)
-    phi, gamma0, gamma1 = discretize(vehicle.state_matrix(v), dt)
-    # drive[k] = gamma0 e[k] + gamma1 (e[k+1] - e[k]) with e = B u + Bd u'
-    b, bd = vehicle.input_matrix(v), vehicle.input_rate_matrix(v)
-    early, late = (gamma0 - gamma1), gamma1
-    drive = (
-        inputs.u[:-1] @ (early @ b).T
-        + inputs.u[1:] @ (late @ b).T
-        + inputs.u_rate[:-1] @ (early @ bd).T
-        + inputs.u_rate[1:] @ (late @ bd).T
-    )
     n = vehicle.n
     stops = _stops(vehicle, inputs, flange or saturation if clearances is None else clearances)
     tables = contact_tables_of(vehicle, contact, creep_law) if (flange or saturation) else None
@@ -290,7 +289,8 @@ def simulate(
         wheel_loads, load_kind = march_wheel_loads(vehicle, inputs, v, tables.wheel_load)
         roll = roll_coordinates(vehicle)
     selector = _feedback_selector(vehicle, stops, roll[0] if tables is not None else ())
-    g0, g1 = gamma0 @ selector, gamma1 @ selector
+    a = vehicle.state_matrix(v)
+    linear = (_dense_steps if choose_route(a, route) == "dense" else _sparse_steps)(vehicle, a, v, dt, inputs, selector)
     wheel_rail = _wheel_rail_arrays(vehicle, inputs, v)
     wheel_rail.update(stops)
     size = vehicle.form.size
@@ -299,19 +299,13 @@ def simulate(
         raise ArgumentError(f"initial_state must have shape ({size},), got {x0.shape}")
     show = _terminal_progress() if progress is None else (_terminal_progress() if progress else None)
     if tables is not None:
-        states, history = march_contact(
-            np.ascontiguousarray(phi), np.ascontiguousarray(drive), np.ascontiguousarray(g0),
-            np.ascontiguousarray(g1), x0, wheel_rail, tables, linear_coefficients(vehicle, v),
-            loads=wheel_loads, roll=roll, progress=show,
-        )
+        states, history = march_contact(linear, x0, wheel_rail, tables, linear_coefficients(vehicle, v),
+                                        loads=wheel_loads, roll=roll, progress=show)
     else:
-        states = march(
-            np.ascontiguousarray(phi), np.ascontiguousarray(drive), np.ascontiguousarray(g0),
-            np.ascontiguousarray(g1), x0, wheel_rail, flange=flange, saturation=saturation, progress=show,
-        )
+        states = march(linear, x0, wheel_rail, flange=flange, saturation=saturation, progress=show)
     q = states[:, :n]
     # feedback forces act on massive coordinates only: they do not enter q_F'
-    q_dot = vehicle.form.velocities(states, inputs.u, inputs.u_rate)
+    q_dot = _velocities(vehicle, states, inputs, sparse=isinstance(linear, SparseSteps))
     outputs = derived_outputs(vehicle, q, q_dot, inputs, v, flange=flange, saturation=saturation,
                               deadband=tables is None)
     record = None
@@ -325,12 +319,56 @@ def simulate(
         for k, name in enumerate(stops["names"]):
             outputs[f"stop_{name}"] = stop_forces[:, k]
     options: dict[str, object] = {"flange": flange, "saturation": saturation, "dt": dt}
+    if isinstance(linear, SparseSteps):
+        options["route"] = "sparse"
     if tables is not None:
         options["contact"] = f"tables ({creep_law})"
         options["wheel_loads"] = load_kind
     if stops["names"]:
         options["clearances"] = True
     return SimulationResult(time, distance, vehicle.dofs, q, q_dot, outputs, v, options, record)
+
+
+def _dense_steps(vehicle: VehicleModel, a: np.ndarray, v: float, dt: float, inputs: TrackInputs,
+                 selector: np.ndarray) -> DenseSteps:
+    """The dense matrices of the step (:func:`express.analysis.integrator.discretize`)."""
+    phi, gamma0, gamma1 = discretize(a, dt)
+    # drive[k] = gamma0 e[k] + gamma1 (e[k+1] - e[k]) with e = B u + Bd u'
+    b, bd = vehicle.input_matrix(v), vehicle.input_rate_matrix(v)
+    early, late = (gamma0 - gamma1), gamma1
+    drive = (
+        inputs.u[:-1] @ (early @ b).T
+        + inputs.u[1:] @ (late @ b).T
+        + inputs.u_rate[:-1] @ (early @ bd).T
+        + inputs.u_rate[1:] @ (late @ bd).T
+    )
+    return DenseSteps(*(np.ascontiguousarray(m) for m in (phi, drive, gamma0 @ selector, gamma1 @ selector)))
+
+
+def _sparse_steps(vehicle: VehicleModel, a: np.ndarray, v: float, dt: float, inputs: TrackInputs,
+                  selector: np.ndarray) -> SparseSteps:
+    """The sparse route's step (:mod:`express.analysis.sparse_march`): the forcing
+    ``e = B u + Bd u'`` at every step from the sparse input matrices."""
+    from scipy.sparse import csr_matrix
+
+    b, bd = csr_matrix(vehicle.input_matrix(v)), csr_matrix(vehicle.input_rate_matrix(v))
+    forcing = (b @ inputs.u.T + bd @ inputs.u_rate.T).T
+    return sparse_steps(a, dt, forcing, selector)
+
+
+def _velocities(vehicle: VehicleModel, states: np.ndarray, inputs: TrackInputs, *, sparse: bool) -> np.ndarray:
+    """``q'`` of every coordinate at every step (:meth:`express.assembly.first_order.
+    FirstOrderForm.velocities`); on the sparse route from the sparse velocity rows (mostly
+    picking a velocity out of the state)."""
+    form = vehicle.form
+    if not sparse:
+        return form.velocities(states, inputs.u, inputs.u_rate)
+    from scipy.sparse import csr_matrix
+
+    result = (csr_matrix(form.velocity) @ states.T).T
+    if form.first_order.size:
+        result = result + (csr_matrix(form.velocity_input) @ inputs.u.T + csr_matrix(form.velocity_rate) @ inputs.u_rate.T).T
+    return np.ascontiguousarray(result)
 
 
 def contact_tables_of(vehicle: VehicleModel, contact: ContactModel | None, creep_law: CreepLaw) -> ContactSet | None:

@@ -101,27 +101,31 @@ def classify_bodies(model: Model, station: Callable[[str], float] | None = None)
         lever, partner = host.get(pin.virtual), host.get(pin.non_virtual)
         if lever in bodies and lever not in lever_partner and any(r in bodies[lever].dofs for r in ROTATIONS):
             lever_partner[lever] = partner if partner in bodies else ""
+    running_gear = set(wheelsets)
+    counts: dict[str, dict[str, int]] = {wheelset: {} for wheelset in wheelsets}
+    for element in model.elements:  # the elements between a wheelset and another body
+        ends = {host.get(element.s_end), host.get(element.t_end)}
+        if len(ends) != 2:
+            continue
+        for wheelset in [end for end in ends if end in running_gear and end is not None]:
+            (other,) = ends - {wheelset}
+            if other in bodies and other not in running_gear and other not in lever_partner and "rz" in bodies[other].dofs:
+                counts[wheelset][other] = counts[wheelset].get(other, 0) + 1
     bogie_of: dict[str, str] = {}
     for wheelset in wheelsets:
-        counts: dict[str, int] = {}
-        for element in model.elements:
-            ends = {host.get(element.s_end), host.get(element.t_end)}
-            if wheelset not in ends or len(ends) != 2:
-                continue
-            (other,) = ends - {wheelset}
-            if other in bodies and other not in wheelsets and other not in lever_partner and "rz" in bodies[other].dofs:
-                counts[other] = counts.get(other, 0) + 1
-        if counts:
-            bogie_of[wheelset] = max(sorted(counts), key=lambda body: counts[body])
-    order = [b.id for b in model.bodies if b.id in set(bogie_of.values())]
+        found = counts[wheelset]
+        if found:
+            bogie_of[wheelset] = max(sorted(found), key=lambda body: found[body])
+    frames = set(bogie_of.values())
+    order = [b.id for b in model.bodies if b.id in frames]
     bogies = tuple(sorted(order, key=lambda b: -station(b)) if station is not None else order)
     role = {}
     for body_id in bodies:
-        if body_id in wheelsets:
+        if body_id in running_gear:
             role[body_id] = "wheelset"
         elif body_id in lever_partner:
             role[body_id] = "lever"
-        elif body_id in bogies:
+        elif body_id in frames:
             role[body_id] = "bogie"
         else:
             role[body_id] = "body"
