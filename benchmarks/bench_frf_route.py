@@ -6,6 +6,7 @@ Run from the repository root::
 
     PYTHONPATH=src python3 benchmarks/bench_frf_route.py             # ~1 min
     PYTHONPATH=src python3 benchmarks/bench_frf_route.py --runs 9
+    PYTHONPATH=src python3 benchmarks/bench_frf_route.py --train 20   # and a train's parts
 
 Warm ``express frf MODEL --points 200`` (a cache folder filled by an earlier start) on the
 bundled forced-steering and Manchester cars and the 37-coordinate coach
@@ -23,6 +24,11 @@ child imported ``scipy.linalg``.  Then, in this process with SciPy loaded, the r
 itself by each route (median of 20 calls, one BLAS thread as ``frf`` runs it) and the
 largest difference between the old and the new route's amplitudes, relative to the largest
 amplitude; and the import of ``scipy.linalg`` in a fresh interpreter after NumPy.
+
+With ``--train N``: an N-car train (``examples/make_vehicles.py``), its warm ``frf --points
+50`` in one process, part by part with one BLAS thread as the command runs them: the warm
+``load_vehicle``, the stability check (``require_stable``: every eigenvalue of the dense
+``A``) and the banded response; then the same dense eigenvalues with two BLAS threads.
 
 The last line is ``warm_max_s=<x> ratio_max=<r>`` (now / before, wall).
 """
@@ -144,9 +150,57 @@ def _in_process(model: Path, cache: Path) -> tuple[str, str, dict[str, float], f
     return now, old, times, difference
 
 
+def _train_parts(cars: int, cache: Path) -> None:
+    """Print the parts of a warm ``frf --points 50`` of a ``cars``-car train."""
+    import numpy as np
+
+    os.environ["EXPRESS_CACHE_DIR"] = str(cache)
+    from express.analysis.banded import band_layout, choose_route
+    from express.analysis.frequency import irregularity_delays, require_stable, steady_response
+    from express.base.threads import blas_threads
+    from express.numeric.statespace import load_vehicle
+
+    train = cache / f"train{cars}.toml"
+    subprocess.run([sys.executable, str(ROOT / "examples" / "make_vehicles.py"), "--cars", str(cars), "-o", str(train)],
+                   check=True, capture_output=True)
+    start = time.perf_counter()
+    load_vehicle(train)  # derives and stores (untimed)
+    derived = time.perf_counter() - start
+    from express.numeric import statespace, warm
+
+    statespace._GENERATED.clear()
+    warm._READ.clear()
+    start = time.perf_counter()
+    vehicle = load_vehicle(train)
+    loaded = time.perf_counter() - start
+    speed = 100 / 3.6
+    frequencies = np.geomspace(0.1, 20.0, 50)
+    columns = [vehicle.inputs.index(name) for name in vehicle.layout.irregularity]
+    delays = irregularity_delays(vehicle, speed)
+    amplitudes = 1e-3 * np.exp(-2j * np.pi * frequencies[:, None] * delays[None, :])[:, :, None]
+    layout = band_layout(vehicle.mass, vehicle.damping(speed), vehicle.stiffness)
+    route = choose_route(vehicle.n, vehicle.form.size, frequencies.size, layout)
+    with blas_threads(1):
+        start = time.perf_counter()
+        require_stable(vehicle, speed)
+        check = time.perf_counter() - start
+        start = time.perf_counter()
+        steady_response(vehicle, frequencies, speed, columns, amplitudes)
+        response = time.perf_counter() - start
+    a = vehicle.state_matrix(speed)
+    with blas_threads(2):
+        start = time.perf_counter()
+        np.linalg.eigvals(a)
+        two = time.perf_counter() - start
+    print(f"train of {cars} cars ({vehicle.n} DOFs, {vehicle.form.size} states; derived in {derived:.1f} s): warm "
+          f"load_vehicle {loaded:.2f} s; stability check {check:.2f} s (1 BLAS thread); the response ({route} "
+          f"route, 50 frequencies) {response:.2f} s; the check's dense eigenvalues with 2 BLAS threads {two:.2f} s")
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--runs", type=int, default=5, help="starts per way (median)")
+    parser.add_argument("--train", type=int, default=0, help="also the parts of a train of this many cars")
     args = parser.parse_args(argv)
     load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
     print(f"# bench_frf_route {datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M} UTC; {cpu_name()}, "
@@ -180,6 +234,8 @@ def main(argv: list[str] | None = None) -> int:
             spent = ", ".join(f"{route} {seconds * 1e3:.1f} ms" for route, seconds in times.items())
             print(f"  {label:<24} before: {old}, now: {now}; {spent}; largest difference {difference:.1e} "
                   "of the largest amplitude")
+        if args.train:
+            _train_parts(args.train, cache)
     verdict = "met" if warm_max <= TARGET_S else "TARGET MISSED"
     print(f"warm frf <= {TARGET_S} s: {verdict} (worst {warm_max:.3f} s wall)")
     print(f"warm_max_s={warm_max:.3f} ratio_max={max(ratios):.3f}")
