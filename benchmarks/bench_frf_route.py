@@ -12,7 +12,8 @@ Warm ``express frf MODEL --points 200`` (a cache folder filled by an earlier sta
 bundled forced-steering and Manchester cars and the 37-coordinate coach
 (``tests/data/coach-series-dampers.toml``), as fresh processes, two ways taking turns:
 
-* **now**: ``express frf ...`` started as ``python -m express`` starts it (``runpy``; the route by
+* **now**: ``express frf ...`` started as ``python -m express`` starts it (``runpy``, after
+  importing this script, as the baseline does; the route by
   :func:`express.analysis.banded.choose_route`, which charges the 0.25 s SciPy import to the
   banded and Schur routes);
 * **before** (the named baseline): the same command with the route chosen by the rule of
@@ -47,6 +48,7 @@ import tempfile
 import time
 from pathlib import Path
 
+from bench_cache import _environment  # the children's environment: a cache folder, compiled modules
 from machine import cpu_name, usable_cores  # benchmarks/machine.py
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -81,15 +83,6 @@ finally:
 """
 
 
-def _environment(cache: Path) -> dict[str, str]:
-    environment = dict(os.environ)
-    environment["PYTHONPATH"] = str(ROOT / "src") + os.pathsep + environment.get("PYTHONPATH", "")
-    environment["EXPRESS_CACHE_DIR"] = str(cache)
-    environment.pop("EXPRESS_NO_CACHE", None)
-    environment.pop("PYTHONDONTWRITEBYTECODE", None)  # compiled modules, as installed
-    return environment
-
-
 def _start(command: list[str], environment: dict[str, str]) -> tuple[float, float, str]:
     """(wall, CPU) seconds of one start and its standard error."""
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
@@ -104,10 +97,10 @@ def _start(command: list[str], environment: dict[str, str]) -> tuple[float, floa
 
 def _commands(model: Path) -> dict[str, list[str]]:
     argv = ["frf", str(model), "--points", str(POINTS)]
-    patch = (f"sys.path.insert(0, {str(Path(__file__).parent)!r})\nimport bench_frf_route\n"
-             "import express.analysis.banded\nexpress.analysis.banded.choose_route = bench_frf_route.before\n")
+    load = f"sys.path.insert(0, {str(Path(__file__).parent)!r})\nimport bench_frf_route\n"  # both ways alike
+    patch = load + "import express.analysis.banded\nexpress.analysis.banded.choose_route = bench_frf_route.before\n"
     return {
-        "now": [sys.executable, "-c", _CHILD.format(patch="", argv=argv)],
+        "now": [sys.executable, "-c", _CHILD.format(patch=load, argv=argv)],
         "before": [sys.executable, "-c", _CHILD.format(patch=patch, argv=argv)],
     }
 
