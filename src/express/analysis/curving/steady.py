@@ -25,11 +25,13 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
 from express.analysis.curving.measure import march_wheel_loads, wheel_rail_outputs
 from express.analysis.curving.outputs import WheelRailOutputs
+from express.analysis.curving.step_solver import StepSolver
 from express.analysis.simulate import derived_outputs
 from express.analysis.track_inputs import TrackInputs
 from express.assembly.clearance import clearance_force, clearances_of
@@ -256,6 +258,11 @@ class SteadyCurvingSolver:
         columns += [force[:, : vehicle.n] @ r for r in stop_rows]
         self.selector = np.column_stack(columns)
         self.stop_rows = stop_rows
+        self.sparse_a = self.sparse_selector = None  # a long train's J is kept sparse (step_solver.py)
+        if StepSolver(self.a.shape[0]).sparse:
+            from scipy import sparse
+
+            self.sparse_a, self.sparse_selector = sparse.csr_matrix(self.a), sparse.csr_matrix(self.selector)
 
     def inputs(self, curve: SteadyCurve) -> TrackInputs:
         """The track inputs of ``curve`` at every station (one instant)."""
@@ -352,12 +359,18 @@ class SteadyCurvingSolver:
         forcing = self.b @ inputs.u[0]
         nonlinear_run = self.flange or self.saturation
 
-        def equations(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        def equations(x: np.ndarray) -> tuple[np.ndarray, Any]:
             if not nonlinear_run:
-                return self.a @ x + forcing, self.a
+                return self.a @ x + forcing, self.a if self.sparse_a is None else self.sparse_a
             contact = self._contact(x, inputs)
             z = np.concatenate([contact, self._stops(x, inputs)])
-            jacobian = self.a + self.selector @ self._feedback_slopes(x, inputs, contact)
+            slopes = self._feedback_slopes(x, inputs, contact)
+            if self.sparse_a is None:
+                jacobian = self.a + self.selector @ slopes
+            else:
+                from scipy import sparse
+
+                jacobian = self.sparse_a + self.sparse_selector @ sparse.csr_matrix(slopes)
             return self.a @ x + forcing + self.selector @ z, jacobian
 
         return equations, forcing
@@ -377,7 +390,7 @@ class SteadyCurvingSolver:
         inputs = self.inputs(curve)
         equations, forcing = self._equations(inputs)
         try:
-            linear = np.linalg.solve(self.a, -forcing)
+            linear = StepSolver(forcing.size).solve(self.a if self.sparse_a is None else self.sparse_a, -forcing)
         except np.linalg.LinAlgError as error:
             raise CurveError("the vehicle has a free coordinate (A is singular): it has no steady state") from error
         scale = max(float(np.linalg.norm(forcing)), 1e-300)
@@ -478,13 +491,13 @@ def _pseudo_transient(equations, start: np.ndarray, scale: float, steps: int = 1
     """
     x = np.array(start, dtype=float)
     f, jacobian = equations(x)
-    identity = np.eye(x.size)
+    solve = StepSolver(x.size)  # dense, or banded for a long train
     step, largest = 1e-3, 1e6  # [s] of pseudo-time
     residual = best = float(np.linalg.norm(f))
     best_x = x.copy()
     stalled = 0
     for count in range(1, steps + 1):
-        x = x + np.linalg.solve(identity / step - jacobian, f)
+        x = x + solve(step, jacobian, f)
         f, jacobian = equations(x)
         new = float(np.linalg.norm(f))
         if not np.isfinite(new):
