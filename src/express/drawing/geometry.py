@@ -25,7 +25,7 @@ if TYPE_CHECKING:  # the records hold SymPy expressions: a drawing read from the
 
 __all__ = [
     "DrawnBody", "DrawnElement", "ModelGeometry", "displaced_geometry", "estimated_outline", "model_geometry",
-    "point_displacement",
+    "point_displacement", "points_by_host",
 ]
 
 Vector = tuple[float, float, float]
@@ -204,8 +204,9 @@ def model_geometry(model: Model, value: Callable[[object], float], roles: Mappin
         raise ModelError(problems)
     bodies = []
     wheelsets = {w.body: w for w in model.rail.wheelsets} if model.rail is not None else {}
+    hosted = points_by_host(hosts)
     for body in model.bodies:
-        own = np.array([centres[body.id]] + [points[p] for p, host in hosts.items() if host == body.id])
+        own = np.array([centres[body.id]] + [points[p] for p in hosted.get(body.id, ())])
         outline, radius, gauge_half = _body_shape(body, value, wheelsets.get(body.id))
         bodies.append(DrawnBody(body.id, (roles or {}).get(body.id, "body"), centres[body.id],
                                 tuple(own.min(axis=0)), tuple(own.max(axis=0)), outline, radius, gauge_half))
@@ -226,6 +227,15 @@ def model_geometry(model: Model, value: Callable[[object], float], roles: Mappin
     _place_unplaced_ground_points(model, points, grounds)
     return ModelGeometry(model.name, tuple(bodies), points, hosts, elements, pins,
                          tuple(p for p, host in hosts.items() if host in grounds))
+
+
+def points_by_host(hosts: Mapping[str, str]) -> dict[str, list[str]]:
+    """Host (body or ground) -> its points, each list in the order of ``hosts`` (point ->
+    host): one pass instead of a search of every point for every body."""
+    grouped: dict[str, list[str]] = {}
+    for point, host in hosts.items():
+        grouped.setdefault(host, []).append(point)
+    return grouped
 
 
 def _place_unplaced_ground_points(model: Model, points: dict[str, Vector], grounds: set[str]) -> None:
@@ -265,9 +275,10 @@ def displaced_geometry(geometry: ModelGeometry, dofs: Mapping[str, float]) -> Mo
         else:
             points[point] = position
     bodies = []
+    hosted = points_by_host(geometry.hosts)
     for body in geometry.bodies:
         moved = np.asarray(body.centre) + point_displacement((0.0, 0.0, 0.0), dofs, body.id)
-        own = np.array([moved] + [points[p] for p, host in geometry.hosts.items() if host == body.id])
+        own = np.array([moved] + [points[p] for p in hosted.get(body.id, ())])
         turn: Vector = (float(dofs.get(f"{body.id}.rx", 0.0)), float(dofs.get(f"{body.id}.ry", 0.0)),
                         float(dofs.get(f"{body.id}.rz", 0.0)))
         bodies.append(replace(body, centre=tuple(moved), low=tuple(own.min(axis=0)), high=tuple(own.max(axis=0)),

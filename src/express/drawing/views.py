@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from express.drawing.geometry import DrawnElement, ModelGeometry
+from express.drawing.geometry import DrawnElement, ModelGeometry, points_by_host
 
 __all__ = ["VIEWS", "draw_view", "figure_model", "label_boxes", "place_labels", "svg_with_tooltips"]
 
@@ -166,12 +166,14 @@ def _hull(points: np.ndarray) -> np.ndarray:
     return np.array(loop + loop[:1])
 
 
-def _draw_body(axis, geometry: ModelGeometry, body, view: tuple[int, int], pad: float, colour: str, alpha: float) -> None:
+def _draw_body(axis, geometry: ModelGeometry, body, view: tuple[int, int], pad: float, colour: str, alpha: float,
+               hosted: dict[str, list[str]]) -> None:
+    """Draw ``body`` (``hosted``: each body's points, :func:`express.drawing.geometry.points_by_host`)."""
     from matplotlib.patches import Circle, Polygon, Rectangle
 
     h, v = view
     if body.role == "lever":
-        own = np.array([geometry.points[p] for p, host in geometry.hosts.items() if host == body.id] or [body.centre])
+        own = np.array([geometry.points[p] for p in hosted.get(body.id, ())] or [body.centre])
         bar = own[:, [h, v]]
         order = np.lexsort((bar[:, 1], bar[:, 0]))
         axis.plot(bar[order, 0], bar[order, 1], color=colour, lw=2.5, alpha=alpha, solid_capstyle="round")
@@ -220,38 +222,93 @@ _CANDIDATES = ((2, 2), (2, -8), (-14, 2), (-14, -8), (2, 9), (2, -15), (-22, 9),
 _BODY_CANDIDATES = ((0, 0), (0, 9), (0, -9), (12, 0), (-12, 0), (0, 18), (0, -18))
 
 
+#: Side [pixels] of the cells that index the placed labels (:class:`_PlacedBoxes`).
+_CELL = 48.0
+#: How far [pixels] a label's box found by shifting may lie from the one matplotlib
+#: measures (a few 1e-13 in practice): only a candidate that is ruled out with this
+#: margin to spare is ruled out without measuring it.
+_MARGIN = 1e-6
+
+
+class _PlacedBoxes:
+    """The window extents of the labels placed so far, indexed by grid cells: a box is
+    compared with the boxes in the cells it covers only (the same overlaps as comparing
+    it with every placed box, without the work growing with their square)."""
+
+    def __init__(self) -> None:
+        self.cells: dict[tuple[int, int], list] = {}
+
+    @staticmethod
+    def _cells(x0: float, y0: float, x1: float, y1: float):
+        import math
+
+        for i in range(math.floor(x0 / _CELL), math.floor(x1 / _CELL) + 1):
+            for j in range(math.floor(y0 / _CELL), math.floor(y1 / _CELL) + 1):
+                yield i, j
+
+    def add(self, box) -> None:
+        for cell in self._cells(box.x0, box.y0, box.x1, box.y1):
+            self.cells.setdefault(cell, []).append(box)
+
+    def near(self, x0: float, y0: float, x1: float, y1: float) -> list:
+        """The placed boxes in the cells of the box ``(x0, y0)``-``(x1, y1)``."""
+        found: dict[int, object] = {}
+        for cell in self._cells(x0, y0, x1, y1):
+            for box in self.cells.get(cell, ()):
+                found[id(box)] = box
+        return list(found.values())
+
+    def hit(self, x0: float, y0: float, x1: float, y1: float) -> bool:
+        """Whether the box overlaps a placed box (touching counts, as in
+        ``matplotlib.transforms.Bbox.overlaps``)."""
+        return any(x0 <= b.x1 and b.x0 <= x1 and y0 <= b.y1 and b.y0 <= y1 for b in self.near(x0, y0, x1, y1))
+
+
 def place_labels(figure) -> list[str]:
     """Move every label to the first offset (:data:`_CANDIDATES`) where it overlaps no
     label placed before it (body labels first), in each axis; hide those with no free
-    place. Returns the hidden labels' names, for a list under the figure."""
+    place. Returns the hidden labels' names, for a list under the figure.
+
+    A label's box is measured once; its box at another offset is that one shifted, and an
+    offset the shifted box rules out with :data:`_MARGIN` to spare (outside the axes, or
+    over a placed label) is not measured again; the others are measured by matplotlib and
+    decided exactly as before (the same places on every drawing, in a fraction of the time
+    on a long train)."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
 
     if not isinstance(figure.canvas, FigureCanvasAgg):
         FigureCanvasAgg(figure)
-    figure.canvas.draw()
+    figure.draw_without_rendering()  # the layout, measured with the Agg renderer, nothing painted
     figure.set_layout_engine("none")  # keep the laid-out axes: the boxes measured stay true
     renderer = figure.canvas.get_renderer()
-    hidden: list[str] = []
+    pixels = figure.dpi / 72.0  # per point of offset
+    hidden: dict[str, None] = {}  # in order, once each
     for axis in figure.axes:
-        placed: list = []
+        placed = _PlacedBoxes()
+        frame = axis.get_window_extent(renderer)
         texts = [t for t in axis.texts if str(t.get_gid() or "").startswith("label:")]
         texts.sort(key=lambda t: t.get_fontsize(), reverse=True)  # body ids (larger) first
         for text in texts:
-            frame = axis.get_window_extent(renderer)
             offsets = (_BODY_CANDIDATES if text.get_fontsize() >= 6 else _CANDIDATES)
-            for offset in offsets:
+            text.xyann = offsets[0]
+            first = text.get_window_extent(renderer)
+            for number, offset in enumerate(offsets):
+                dx, dy = (offset[0] - offsets[0][0]) * pixels, (offset[1] - offsets[0][1]) * pixels
+                x0, y0 = first.x0 + dx + _MARGIN, first.y0 + dy + _MARGIN
+                x1, y1 = first.x1 + dx - _MARGIN, first.y1 + dy - _MARGIN
+                if not (frame.x0 <= x0 and x1 <= frame.x1 and frame.y0 <= y0 and y1 <= frame.y1) or placed.hit(x0, y0, x1, y1):
+                    continue  # ruled out whatever the last bits of the measured box
                 text.xyann = offset
-                box = text.get_window_extent(renderer)
+                box = first if number == 0 else text.get_window_extent(renderer)
                 inside = frame.x0 <= box.x0 and box.x1 <= frame.x1 and frame.y0 <= box.y0 and box.y1 <= frame.y1
-                if inside and not any(box.overlaps(other) for other in placed):
-                    placed.append(box)
+                if inside and not any(box.overlaps(other) for other in placed.near(box.x0, box.y0, box.x1, box.y1)):
+                    placed.add(box)
                     break
             else:
+                text.xyann = offsets[-1]
                 text.set_visible(False)
-                name = str(text.get_gid())[6:]
-                if name not in hidden:
-                    hidden.append(name)
-    return hidden
+                hidden[str(text.get_gid())[6:]] = None
+    return list(hidden)
 
 
 def draw_view(axis, geometry: ModelGeometry, view: str, *, alpha: float = 1.0, labels: bool = True,
@@ -263,9 +320,10 @@ def draw_view(axis, geometry: ModelGeometry, view: str, *, alpha: float = 1.0, l
     size = 0.025 * span
     pad = 0.008 * span
 
+    hosted = points_by_host(geometry.hosts)
     for body in geometry.bodies:
         colour = _COLOURS.get(body.role, _COLOURS["body"])
-        _draw_body(axis, geometry, body, (h, v), pad, colour, alpha)
+        _draw_body(axis, geometry, body, (h, v), pad, colour, alpha, hosted)
         if labels:
             centre = np.asarray(body.centre)[[h, v]]
             axis.annotate(body.id, centre, fontsize=6, color=colour, weight="bold", ha="center", va="center",
