@@ -14,9 +14,10 @@ from express.analysis.mode_energies import (
     group_sums,
     kinetic_shares,
     participation,
+    running_sum,
     series_ranking,
     series_shares,
-    top_rows,
+    top_columns,
 )
 from express.analysis.mode_names import mode_energy
 from express.analysis.modes import modes_of
@@ -27,11 +28,20 @@ ROOT = Path(__file__).resolve().parents[1]
 RNG = np.random.default_rng(24)
 
 
-@pytest.mark.parametrize("rows, groups", [(1, 1), (7, 3), (60, 11), (300, 40)])
+@pytest.mark.parametrize("columns", [1, 2, 7])
+@pytest.mark.parametrize("rows", [0, 1, 9, 100, 2400])
+def test_running_sums_add_the_rows_one_after_the_other(rows, columns):
+    """Bit for bit Python's running sum, also for a single column (NumPy would add it pairwise)."""
+    values = RNG.random((rows, columns)) * 10.0 ** RNG.integers(-8, 8, size=(rows, 1))
+    expected = [sum(float(v) for v in values[:, column]) for column in range(columns)]
+    assert running_sum(values).tolist() == expected
+
+
+@pytest.mark.parametrize("rows, groups", [(1, 1), (7, 3), (60, 11), (300, 40), (400, 2)])
 def test_group_sums_add_in_row_order_as_running_sums(rows, groups):
     """Bit for bit the running sum ``((0 + a) + b) + c`` of one mode's DOFs, for every column."""
     values = RNG.random((rows, 5)) * 10.0 ** RNG.integers(-8, 8, size=(rows, 1))
-    labels = RNG.integers(0, groups, size=rows)
+    labels = RNG.integers(0, groups, size=rows)  # many small groups, or a few large ones
     expected = np.zeros((groups, 5))
     for column in range(5):
         for row in range(rows):
@@ -41,18 +51,18 @@ def test_group_sums_add_in_row_order_as_running_sums(rows, groups):
 
 @pytest.mark.parametrize("rows", [3, 16, 17, 200])
 @pytest.mark.parametrize("count", [1, 4])
-def test_top_rows_are_the_stable_argsort_prefix_also_with_ties(rows, count):
-    values = np.round(RNG.random((rows, 50)), 1)  # many ties, also at the threshold
-    values[:, :5] = 0.0  # whole columns tied
-    values[rows // 2, 10] = np.nan
-    expected = np.argsort(-values, axis=0, kind="stable")[:count]
-    assert np.array_equal(top_rows(values, count), expected)
+def test_top_columns_are_the_stable_argsort_prefix_also_with_ties(rows, count):
+    values = np.round(RNG.random((50, rows)), 1)  # many ties, also at the threshold
+    values[:5] = 0.0  # whole rows tied
+    values[10, rows // 2] = np.nan
+    expected = np.argsort(-values, axis=1, kind="stable")[:, :count]
+    assert np.array_equal(top_columns(values, count), expected)
 
 
-def test_top_rows_of_distinct_values_pick_the_largest_first():
-    values = RNG.permutation(1000).reshape(100, 10).astype(float)
-    top = top_rows(values, 4)
-    assert np.array_equal(np.take_along_axis(values, top, axis=0), -np.sort(-values, axis=0)[:4])
+def test_top_columns_of_distinct_values_pick_the_largest_first():
+    values = RNG.permutation(1000).reshape(10, 100).astype(float)
+    top = top_columns(values, 4)
+    assert np.array_equal(np.take_along_axis(values, top, axis=1), -np.sort(-values, axis=1)[:, :4])
 
 
 def _car(name):

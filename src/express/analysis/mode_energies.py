@@ -20,8 +20,19 @@ import numpy as np
 
 from express.assembly.equations import STROKE  # a series element's stroke: <element>.stroke
 
-__all__ = ["STROKE", "DofGroups", "group_sums", "kinetic_shares", "participation", "roll_centres", "running_sum", "series_ranking",
-           "series_shares", "top_rows"]
+__all__ = [
+    "STROKE",
+    "DofGroups",
+    "RowProduct",
+    "group_sums",
+    "kinetic_shares",
+    "participation",
+    "roll_centres",
+    "running_sum",
+    "series_ranking",
+    "series_shares",
+    "top_columns",
+]
 
 @dataclass(frozen=True)
 class DofGroups:
@@ -90,15 +101,20 @@ class DofGroups:
 
 
 def running_sum(values: np.ndarray) -> np.ndarray:
-    """Column sums of ``values`` (k, m), the rows added one after the other
-    (``np.add.accumulate``: a fixed order; ``np.sum`` adds a single column pairwise).
+    """Column sums of ``values`` (k, m), the rows added one after the other.
+
+    ``np.add.reduce`` over the first axis adds a row at a time to the sums of all
+    columns, but a single column pairwise: that one is accumulated
+    (``tests/test_mode_energies.py`` checks both against Python's running sums).
 
     Examples
     --------
     >>> running_sum(np.array([[1e16], [1.0], [-1e16]])).tolist()
     [0.0]
     """
-    return np.add.accumulate(values, axis=0)[-1] if values.shape[0] else np.zeros(values.shape[1])
+    if values.shape[1] == 1 and values.shape[0]:
+        return np.add.accumulate(values, axis=0)[-1]
+    return np.add.reduce(values, axis=0)
 
 
 def group_sums(values: np.ndarray, labels: np.ndarray, count: int) -> np.ndarray:
@@ -141,39 +157,39 @@ def group_sums(values: np.ndarray, labels: np.ndarray, count: int) -> np.ndarray
     return out
 
 
-def top_rows(values: np.ndarray, count: int) -> np.ndarray:
-    """The rows of the ``count`` largest values of every column, largest first, ties in
-    row order: the first rows of ``np.argsort(-values, axis=0, kind="stable")``, without
-    sorting whole columns.
+def top_columns(values: np.ndarray, count: int) -> np.ndarray:
+    """The columns of the ``count`` largest values of every row, largest first, ties in
+    column order: the first columns of ``np.argsort(-values, axis=1, kind="stable")``,
+    without sorting whole rows.
 
     Parameters
     ----------
-    values : numpy.ndarray, shape (k, m)
+    values : numpy.ndarray, shape (m, k)
     count : int
 
     Returns
     -------
-    numpy.ndarray of int, shape (min(count, k), m)
+    numpy.ndarray of int, shape (m, min(count, k))
 
     Examples
     --------
-    >>> top_rows(np.array([[0.1, 0.5], [0.4, 0.2], [0.4, 0.3]]), 2).tolist()
-    [[1, 0], [2, 2]]
+    >>> top_columns(np.array([[0.1, 0.4, 0.4], [0.5, 0.2, 0.3]]), 2).tolist()
+    [[1, 2], [0, 2]]
     """
-    k, m = values.shape
+    m, k = values.shape
     count = min(count, k)
     if k <= 4 * count:
-        return np.argsort(-values, axis=0, kind="stable")[:count]
-    threshold = -np.partition(-values, count - 1, axis=0)[count - 1]  # each column's count-th largest
+        return np.argsort(-values, axis=1, kind="stable")[:, :count]
+    threshold = -np.partition(-values, count - 1, axis=1)[:, count - 1 : count]  # each row's count-th largest
     chosen = values >= threshold
-    plain = np.flatnonzero(chosen.sum(axis=0) == count)  # no tie at the threshold (nor nan)
-    out = np.empty((count, m), dtype=np.intp)
+    plain = np.flatnonzero(chosen.sum(axis=1) == count)  # no tie at the threshold (nor nan)
+    out = np.empty((m, count), dtype=np.intp)
     if plain.size:
-        rows = np.nonzero(chosen[:, plain].T)[1].reshape(plain.size, count).T  # ascending in each column
-        picked = np.take_along_axis(values[:, plain], rows, axis=0)
-        out[:, plain] = np.take_along_axis(rows, np.argsort(-picked, axis=0, kind="stable"), axis=0)
-    for column in np.setdiff1d(np.arange(m), plain):
-        out[:, column] = np.argsort(-values[:, column], kind="stable")[:count]
+        columns = np.nonzero(chosen[plain])[1].reshape(plain.size, count)  # ascending in each row
+        picked = np.take_along_axis(values[plain], columns, axis=1)
+        out[plain] = np.take_along_axis(columns, np.argsort(-picked, axis=1, kind="stable"), axis=1)
+    for row in np.setdiff1d(np.arange(m), plain):
+        out[row] = np.argsort(-values[row], kind="stable")[:count]
     return out
 
 
@@ -204,7 +220,7 @@ def participation(vectors: np.ndarray, groups: DofGroups, lengths: np.ndarray) -
     return np.divide(weight, total, out=weight, where=total > 0)
 
 
-def kinetic_shares(vectors: np.ndarray, groups: DofGroups, mass: np.ndarray) -> np.ndarray:
+def kinetic_shares(vectors: np.ndarray, groups: DofGroups, mass: np.ndarray | RowProduct) -> np.ndarray:
     """Every DOF's share of the kinetic energy of every mode
     (:mod:`express.analysis.mode_names`): ``T_i = Re(conj(phi_i) (M phi)_i)``, negative
     parts taken as 0, divided by their sum.
@@ -214,20 +230,20 @@ def kinetic_shares(vectors: np.ndarray, groups: DofGroups, mass: np.ndarray) -> 
     vectors : numpy.ndarray, shape (n, m)
         ``phi`` of the modes (columns), complex.
     groups : DofGroups
-    mass : numpy.ndarray, shape (n, n)
-        ``M``.
+    mass : numpy.ndarray, shape (n, n), or RowProduct
+        ``M`` (prepared once for many calls).
 
     Returns
     -------
     numpy.ndarray, shape (k, m)
         Over :attr:`DofGroups.rows`; a column of zeros where nothing with mass moves.
     """
-    parts = np.maximum(np.real(np.conj(vectors) * _times(mass, vectors))[groups.rows], 0.0)
+    parts = np.maximum(np.real(np.conj(vectors) * _product(mass)(vectors))[groups.rows], 0.0)
     total = running_sum(parts)
     return np.divide(parts, total, out=parts, where=total > 0)
 
 
-def series_shares(vectors: np.ndarray, groups: DofGroups, damping: np.ndarray) -> np.ndarray:
+def series_shares(vectors: np.ndarray, groups: DofGroups, damping: np.ndarray | RowProduct) -> np.ndarray:
     """Every series element's share of the power dissipated in every mode: its damper's
     ``c |phi_s|^2`` over ``Re(phi^H C phi)``.
 
@@ -235,7 +251,7 @@ def series_shares(vectors: np.ndarray, groups: DofGroups, damping: np.ndarray) -
     ----------
     vectors : numpy.ndarray, shape (n, m)
     groups : DofGroups
-    damping : numpy.ndarray, shape (n, n)
+    damping : numpy.ndarray, shape (n, n), or RowProduct
         ``C(v)``.
 
     Returns
@@ -245,9 +261,10 @@ def series_shares(vectors: np.ndarray, groups: DofGroups, damping: np.ndarray) -
     """
     if groups.strokes.size == 0:
         return np.zeros((0, vectors.shape[1]))
-    dissipated = running_sum(np.real(np.conj(vectors) * _times(damping, vectors)))
+    product = _product(damping)
+    dissipated = running_sum(np.real(np.conj(vectors) * product(vectors)))
     stroke = groups.strokes
-    power = np.diag(damping)[stroke, None] * np.abs(vectors[stroke]) ** 2
+    power = product.diagonal[stroke, None] * np.abs(vectors[stroke]) ** 2
     return np.divide(power, dissipated, out=np.full_like(power, np.nan), where=dissipated > 0)
 
 
@@ -280,13 +297,36 @@ def roll_centres(vectors: np.ndarray, groups: DofGroups) -> np.ndarray:
     return np.real(np.divide(y, rx, out=np.full_like(y, np.nan), where=rolls))
 
 
-def _times(matrix: np.ndarray, vectors: np.ndarray) -> np.ndarray:
+class RowProduct:
     """``matrix @ vectors`` row by row, each row's products added in column order: by
     the diagonal when ``matrix`` is diagonal (a mass matrix), else as a sparse product
     (a long train's damping has a few entries per row).  Unlike a BLAS product, every
-    column comes out the same however many are multiplied together."""
-    if np.count_nonzero(matrix) == np.count_nonzero(np.diag(matrix)):
-        return np.diag(matrix)[:, None] * vectors
-    from scipy.sparse import csr_array
+    column comes out the same however many are multiplied together.
 
-    return np.asarray(csr_array(matrix) @ vectors)
+    Parameters
+    ----------
+    matrix : numpy.ndarray, shape (n, n)
+
+    Examples
+    --------
+    >>> RowProduct(np.array([[2.0, 0.0], [0.0, 3.0]]))(np.array([[1j], [1.0]])).ravel().tolist()
+    [2j, (3+0j)]
+    """
+
+    def __init__(self, matrix: np.ndarray) -> None:
+        self.diagonal = np.diag(matrix).copy()
+        self._sparse = None
+        if np.count_nonzero(matrix) != np.count_nonzero(self.diagonal):
+            from scipy.sparse import csr_array
+
+            self._sparse = csr_array(matrix)
+
+    def __call__(self, vectors: np.ndarray) -> np.ndarray:
+        """The product with ``vectors`` (n, m)."""
+        if self._sparse is None:
+            return self.diagonal[:, None] * vectors
+        return np.asarray(self._sparse @ vectors)
+
+
+def _product(matrix: np.ndarray | RowProduct) -> RowProduct:
+    return matrix if isinstance(matrix, RowProduct) else RowProduct(matrix)

@@ -176,6 +176,7 @@ class RoleGroups:
     def __init__(self, groups: DofGroups, roles: Topology) -> None:
         self.groups = groups
         self.roles = roles
+        self._place_cache: dict[tuple[tuple[int, ...], bool], tuple[list[str], np.ndarray | None, list[int]]] = {}
 
     def role(self, body: str) -> str:
         """``"wheelset"``, ``"lever"``, ``"bogie"`` or ``"body"``."""
@@ -227,16 +228,10 @@ class RoleGroups:
         several, from the shares of ``bodies`` (indices into :attr:`DofGroups.bodies`,
         shape (b,); ``shares`` (b, m)); ``""`` when it is not one place."""
         m = shares.shape[1]
-        names = [self.groups.bodies[i] for i in bodies]
-        if kind == "body":
-            if sum(1 for role in self.roles.role.values() if role == "body") < 2:
-                return [""] * m
-            sums, candidates = shares, sorted(range(len(names)), key=names.__getitem__)
-        else:
-            group_of = [self.roles.group(body) for body in names]
-            names = list(dict.fromkeys(group_of))
-            sums = group_sums(shares, np.array([names.index(g) for g in group_of], dtype=np.intp), len(names))
-            candidates = [i for i in sorted(range(len(names)), key=names.__getitem__) if names[i]]
+        if kind == "body" and sum(1 for role in self.roles.role.values() if role == "body") < 2:
+            return [""] * m
+        names, labels, candidates = self._places(tuple(bodies.tolist()), kind == "body")
+        sums = shares if labels is None else group_sums(shares, labels, len(names))
         if not candidates:
             return [""] * m
         total = running_sum(sums)
@@ -247,6 +242,24 @@ class RoleGroups:
         several = ("both bogies" if len(self.roles.bogies) == 2 else "all bogies") if len(candidates) >= 2 else ""
         return ["" if t_total <= 0 else self.roles.bogie_label(names[t]) if lead else several
                 for t, lead, t_total in zip(top.tolist(), leads, total.tolist(), strict=True)]
+
+
+    def _places(self, bodies: tuple[int, ...], each: bool) -> tuple[list[str], np.ndarray | None, list[int]]:
+        """The places ``bodies`` can be: each body, or their bogies; how the bodies add
+        to them (None: each its own) and those that name a place, sorted by name
+        (kept: a few sets of bodies per vehicle)."""
+        if (bodies, each) not in self._place_cache:
+            self._place_cache[(bodies, each)] = self._places_of(bodies, each)
+        return self._place_cache[(bodies, each)]
+
+    def _places_of(self, bodies: tuple[int, ...], each: bool) -> tuple[list[str], np.ndarray | None, list[int]]:
+        names = [self.groups.bodies[i] for i in bodies]
+        if each:
+            return names, None, sorted(range(len(names)), key=names.__getitem__)
+        group_of = [self.roles.group(body) for body in names]
+        names = list(dict.fromkeys(group_of))
+        labels = np.array([names.index(group) for group in group_of], dtype=np.intp)
+        return names, labels, [i for i in sorted(range(len(names)), key=names.__getitem__) if names[i]]
 
 
 def _hunting(displacement: np.ndarray, naming: RoleGroups, frequency: np.ndarray, damping_ratio: np.ndarray,

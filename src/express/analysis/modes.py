@@ -13,18 +13,20 @@ from __future__ import annotations
 
 import weakref
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 
 from express.analysis.mode_energies import (
     DofGroups,
+    RowProduct,
     group_sums,
     kinetic_shares,
     participation,
     roll_centres,
     series_ranking,
     series_shares,
-    top_rows,
+    top_columns,
 )
 from express.analysis.mode_names import RoleGroups, generic_names, kinematic_frequency, mode_names
 from express.base.units import KMH
@@ -115,8 +117,21 @@ class Mode:
     damping_ratio: float
     dominant: tuple[tuple[str, float], ...]
     kind: str = ""
-    body_shares: tuple[tuple[str, float], ...] = field(default=(), repr=False)
     series: tuple[tuple[str, float], ...] = field(default=(), repr=False)
+    #: the bodies and their shares of the displacement, in the order of their first DOF
+    #: (sorted into :attr:`body_shares` when asked: thousands of modes of a long train
+    #: would each sort a thousand bodies)
+    _bodies: tuple[tuple[str, ...], np.ndarray] | None = field(default=None, repr=False, compare=False)
+
+    @cached_property
+    def body_shares(self) -> tuple[tuple[str, float], ...]:
+        """Share of every body (sum of its DOFs' shares), largest first (ties in the
+        order of the bodies' first DOF)."""
+        if self._bodies is None:
+            return ()
+        names, shares = self._bodies
+        order = np.argsort(-shares, kind="stable")
+        return tuple(zip([names[i] for i in order], shares[order].tolist(), strict=True))
 
     @property
     def real(self) -> float:
@@ -295,6 +310,8 @@ class _Layout:
     groups: DofGroups
     naming: RoleGroups | None  # None without rail data
     lengths: np.ndarray
+    mass: RowProduct
+    dominant_dofs: np.ndarray  # the DOFs with mass, as an object array
 
 
 _last_layout: tuple[weakref.ref, _Layout] | None = None
@@ -309,7 +326,8 @@ def _layout(vehicle: VehicleModel) -> _Layout:
         return last[1]
     groups = DofGroups.of(vehicle.dofs)
     rail = vehicle.layout is not None and bool(vehicle.wheelsets)
-    layout = _Layout(groups, RoleGroups(groups, _roles(vehicle)) if rail else None, _dof_lengths(vehicle))
+    layout = _Layout(groups, RoleGroups(groups, _roles(vehicle)) if rail else None, _dof_lengths(vehicle),
+                     RowProduct(vehicle.mass), np.array([groups.dofs[i] for i in groups.rows], dtype=object))
     _last_layout = (weakref.ref(vehicle), layout)
     return layout
 
@@ -373,8 +391,9 @@ def _modes(vehicle: VehicleModel, layout: _Layout, values: np.ndarray, vectors: 
     eigenvalues = [complex(value) for value in values]
     frequency = [lam.imag / (2.0 * np.pi) for lam in eigenvalues]
     zeta = [float(-lam.real / abs(lam)) if abs(lam) > 0 else 0.0 for lam in eigenvalues]
-    displacement = np.ascontiguousarray(participation(vectors, groups, layout.lengths)[:, groups.rows].T)
-    kinetic = kinetic_shares(vectors, groups, vehicle.mass)
+    by_mode = participation(vectors, groups, layout.lengths)[:, groups.rows]  # (m, k)
+    displacement = np.ascontiguousarray(by_mode.T)
+    kinetic = kinetic_shares(vectors, groups, layout.mass)
     shares = series_shares(vectors, groups, damping)
     series = [series_ranking(shares[:, k], groups.elements) for k in range(len(eigenvalues))]
     if layout.naming is not None:
@@ -382,13 +401,10 @@ def _modes(vehicle: VehicleModel, layout: _Layout, values: np.ndarray, vectors: 
                            np.array(frequency), np.array(zeta), kinematic)
     else:
         kinds = generic_names(kinetic, series, groups, np.array(frequency))
-    dominant = top_rows(displacement, DOMINANT_COUNT)
-    dominant_dofs = np.array([groups.dofs[i] for i in groups.rows], dtype=object)[dominant].T.tolist()
-    dominant_shares = np.take_along_axis(displacement, dominant, axis=0).T.tolist()
-    by_body = group_sums(displacement, groups.body_of, len(groups.bodies))
-    body_order = np.argsort(-by_body, axis=0, kind="stable")
-    body_names = np.array(groups.bodies, dtype=object)[body_order].T.tolist()
-    body_shares = np.take_along_axis(by_body, body_order, axis=0).T.tolist()
+    dominant = top_columns(by_mode, DOMINANT_COUNT)
+    dominant_dofs = layout.dominant_dofs[dominant].tolist()
+    dominant_shares = np.take_along_axis(by_mode, dominant, axis=1).tolist()
+    by_body = group_sums(displacement, groups.body_of, len(groups.bodies)).T
     return [
         Mode(
             eigenvalue=lam,
@@ -396,8 +412,8 @@ def _modes(vehicle: VehicleModel, layout: _Layout, values: np.ndarray, vectors: 
             damping_ratio=zeta[k],
             dominant=tuple(zip(dominant_dofs[k], dominant_shares[k], strict=True)),
             kind=kinds[k],
-            body_shares=tuple(zip(body_names[k], body_shares[k], strict=True)),
             series=series[k],
+            _bodies=(groups.bodies, by_body[k]),
         )
         for k, lam in enumerate(eigenvalues)
     ]
