@@ -134,3 +134,65 @@ def test_a_bad_environment_variable_is_exit_2_on_the_command_line(monkeypatch, c
     err = capsys.readouterr().err
     assert status == 2
     assert err.startswith("error: ") and ENVIRONMENT_VARIABLE in err and len(err.splitlines()) == 1
+
+
+# One large dense problem (issue 24): more threads while the default limit holds
+
+@pytest.fixture
+def large_is_two(monkeypatch):
+    """Two threads for a large problem, whatever the machine (a 1-core CI runner too)."""
+    monkeypatch.delenv(ENVIRONMENT_VARIABLE, raising=False)
+    monkeypatch.setattr(threads, "large_problem_limit", lambda: 2)
+    threads._blas_controller()
+
+
+def test_a_large_problem_gets_more_threads_inside_the_default_limit(large_is_two):
+    with blas_threads():
+        with threads.large_problem_threads(threads.LARGE_PROBLEM):
+            assert set(blas_counts()) == {2}
+        assert set(blas_counts()) == {1}
+        with threads.large_problem_threads(threads.LARGE_PROBLEM - 1):  # not large
+            assert set(blas_counts()) == {1}
+
+
+@pytest.mark.parametrize("setting", ["1", "3"])
+def test_a_set_environment_variable_holds_for_large_problems_too(large_is_two, monkeypatch, setting):
+    monkeypatch.setenv(ENVIRONMENT_VARIABLE, setting)
+    with blas_threads(), threads.large_problem_threads(10**4):
+        assert set(blas_counts()) == {int(setting)}
+
+
+def test_an_explicit_outer_limit_holds_for_large_problems(large_is_two):
+    with blas_threads(1), threads.large_problem_threads(10**4):
+        assert set(blas_counts()) == {1}
+
+
+def test_workers_keep_one_thread_for_large_problems(large_is_two, monkeypatch):
+    """A study's worker process, or a thread other than the main one, does not add threads
+    for a large problem."""
+    import multiprocessing
+    import threading
+
+    seen = []
+
+    def inside():
+        with blas_threads():
+            before = blas_counts()
+            with threads.large_problem_threads(10**4):
+                seen.append((before, blas_counts()))
+
+    worker = threading.Thread(target=inside)
+    worker.start()
+    worker.join()
+    monkeypatch.setattr(multiprocessing, "parent_process", lambda: object())
+    inside()
+    assert seen[0][0] == seen[0][1]  # (OpenBLAS may ignore a limit set from another thread)
+    assert set(seen[1][1]) == {1}
+
+
+def test_eigen_analysis_of_a_large_a_runs_on_more_threads(car, large_is_two, spy, monkeypatch):
+    monkeypatch.setattr(threads, "LARGE_PROBLEM", 2 * car.n)  # the car's A counts as large
+    with blas_threads():  # as the command line does
+        stability.eigen_analysis(car, 30.0)
+    assert spy and all(set(counts) == {2} for counts in spy)
+    assert set(blas_counts()) != {2} or threads._depth == 0

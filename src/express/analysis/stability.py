@@ -47,7 +47,7 @@ import numpy as np
 from express.analysis.critical_options import CriticalOptions
 from express.analysis.modes import EigenResult, Mode, modes_of
 from express.base.diagnostics import AnalysisError, ArgumentError
-from express.base.threads import limited_blas
+from express.base.threads import large_problem_threads, limited_blas
 from express.base.units import KMH
 from express.numeric.statespace import VehicleModel
 
@@ -188,7 +188,8 @@ def eigen_analysis(vehicle: VehicleModel, speed: float | None = None) -> EigenRe
     state_matrix = vehicle.state_matrix(float(speed) if rail else 1.0)
     if not np.all(np.isfinite(state_matrix)):
         raise AnalysisError("the state matrix A has non-finite entries")
-    values, vectors = np.linalg.eig(state_matrix)
+    with large_problem_threads(state_matrix.shape[0]):  # a long train's A: threads pay
+        values, vectors = np.linalg.eig(state_matrix)
     every = values[np.lexsort((-values.imag, -values.real))]
     if not rail:
         return EigenResult(float("nan"), modes_of(vehicle, values, vectors), every)

@@ -11,10 +11,17 @@ restores what they had when the outermost numerical call returns; a library firs
 loaded inside (SciPy imported by the work) starts with the limit too.
 
 The limit is 1 unless the environment variable ``EXPRESS_BLAS_THREADS`` says otherwise:
-a positive integer is the limit, ``0`` or ``none`` leaves BLAS alone (for very large
-models, where threads pay).  Limits nest: an inner numerical call inside an outer one
-changes nothing, and an explicit ``blas_threads(4)`` around library calls is obeyed by
-them.
+a positive integer is the limit, ``0`` or ``none`` leaves BLAS alone.  Limits nest: an
+inner numerical call inside an outer one changes nothing, and an explicit
+``blas_threads(4)`` around library calls is obeyed by them.
+
+One large dense problem is the exception (:func:`large_problem_threads`): the
+eigendecomposition of a long train's ``A`` (4800 states for 100 cars) runs on
+:func:`large_problem_limit` threads (2 on a 2-core machine) while the default limit
+holds: ``EXPRESS_BLAS_THREADS`` unset and no explicit ``blas_threads(n)`` outside, in
+the main thread of a process that is not a worker (a study's workers keep one thread
+each: they already share the cores).  Setting ``EXPRESS_BLAS_THREADS`` (to 1, say)
+applies that number to these problems too.
 
 Examples
 --------
@@ -39,15 +46,21 @@ from typing import Any, TypeVar
 
 from express.base.diagnostics import UsageError
 
-__all__ = ["ENVIRONMENT_VARIABLE", "blas_limit", "blas_threads", "limited_blas"]
+__all__ = ["ENVIRONMENT_VARIABLE", "LARGE_PROBLEM", "blas_limit", "blas_threads", "large_problem_limit",
+           "large_problem_threads", "limited_blas"]
 
 #: Name of the environment variable that sets the limit (``0``/``none``: no limit).
 ENVIRONMENT_VARIABLE = "EXPRESS_BLAS_THREADS"
+#: A dense problem of at least this many states (rows) is large: :func:`large_problem_threads`.
+LARGE_PROBLEM = 1000
+#: At most this many threads for a large problem (measured on 2 cores: docs/benchmarks.md).
+LARGE_PROBLEM_THREADS = 2
 
 _Function = TypeVar("_Function", bound=Callable[..., Any])
 
 _lock = threading.RLock()
 _depth = 0
+_default_outside = False  # the outermost blas_threads holds the default limit
 _controller: Any = None
 _with_scipy = False
 
@@ -133,12 +146,15 @@ def blas_threads(limit: int | str | None = "default") -> Iterator[None]:
         Number of threads (>= 1); ``None``: leave BLAS alone; ``"default"``:
         :func:`blas_limit`.  Inside another ``blas_threads`` the outer limit stays.
     """
-    global _depth
+    global _depth, _default_outside
+    default = limit == "default"
     if limit == "default":
         limit = blas_limit()
     with _lock:
         outermost = _depth == 0
         _depth += 1
+        if outermost:
+            _default_outside = default
     try:
         if not outermost or limit is None:
             yield
@@ -156,6 +172,56 @@ def blas_threads(limit: int | str | None = "default") -> Iterator[None]:
     finally:
         with _lock:
             _depth -= 1
+
+
+def large_problem_limit() -> int:
+    """Threads for one large dense problem: the cores this process may use, at most
+    :data:`LARGE_PROBLEM_THREADS`."""
+    usable = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+    return max(1, min(usable, LARGE_PROBLEM_THREADS))
+
+
+def _may_use_more(states: int) -> bool:
+    """A large problem may have more threads than the default limit (module docstring)."""
+    if states < LARGE_PROBLEM or os.environ.get(ENVIRONMENT_VARIABLE, "").strip():
+        return False
+    if threading.current_thread() is not threading.main_thread():
+        return False
+    import multiprocessing
+
+    return multiprocessing.parent_process() is None and (_depth == 0 or _default_outside)
+
+
+@contextlib.contextmanager
+def large_problem_threads(states: int) -> Iterator[None]:
+    """Run one large dense problem (``states`` rows, e.g. an eigendecomposition) on
+    :func:`large_problem_limit` BLAS threads when the default limit holds (module
+    docstring); otherwise, or for a smaller problem, change nothing.
+
+    Parameters
+    ----------
+    states : int
+        Size of the problem (rows of the matrix); large from :data:`LARGE_PROBLEM`.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> a = np.eye(1200)
+    >>> with blas_threads(), large_problem_threads(a.shape[0]):
+    ...     values = np.linalg.eigvals(a)
+    """
+    if not _may_use_more(states):
+        yield
+        return
+    libraries = _blas_controller().lib_controllers
+    original = [library.num_threads for library in libraries]
+    try:
+        for library in libraries:
+            library.set_num_threads(large_problem_limit())
+        yield
+    finally:
+        for library, threads in zip(libraries, original, strict=True):
+            library.set_num_threads(threads)
 
 
 def limited_blas(function: _Function) -> _Function:
