@@ -243,3 +243,24 @@ def test_the_stability_check_by_blocks_is_the_dense_verdict(name):
         verdicts.append(unstable)
         assert refused == unstable, speed
     assert verdicts[0] is False and verdicts[-1] is True  # both sides
+
+
+@pytest.mark.parametrize("name, largest", [("manchester.toml", 42), ("forced-steering.toml", 48)])
+def test_the_stability_check_asks_for_the_threads_of_its_largest_block(monkeypatch, name, largest):
+    """``require_stable`` runs its eigenvalues inside ``large_problem_threads`` of the
+    largest diagonal block (the Manchester car's 42 of 62 states): threads rise only for a
+    block of 1000 states or more (a long train), never for a car."""
+    import contextlib
+
+    from express.analysis import frequency
+
+    asked = []
+
+    @contextlib.contextmanager
+    def recording(states):
+        asked.append(states)
+        yield
+
+    monkeypatch.setattr(frequency, "large_problem_threads", recording)
+    frequency.require_stable(vehicle_model(load_model(f"examples/{name}")), 30.0)
+    assert asked == [largest]

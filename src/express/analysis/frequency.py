@@ -51,7 +51,7 @@ import numpy as np
 
 from express.base.diagnostics import ArgumentError
 from express.base.names import did_you_mean
-from express.base.threads import limited_blas
+from express.base.threads import large_problem_threads, limited_blas
 from express.numeric.statespace import VehicleModel
 
 __all__ = [
@@ -260,14 +260,17 @@ def require_stable(vehicle: VehicleModel, speed: float) -> None:
     (:meth:`VehicleModel.eigenvalues`: the same set as a dense ``eigvals`` of ``A``,
     smaller problems when ``A`` splits, as the Manchester car's 42 + 20 states); no
     eigenvalue can be missed.  For a long coupled train this dense problem is most of
-    the command (``docs/benchmarks.md``).
+    the command (``docs/benchmarks.md``); from 1000 states in a block it runs on the
+    BLAS threads of one large problem (:func:`express.base.threads.large_problem_threads`).
 
     Raises
     ------
     AnalysisError
         Naming the speed and the least-damped eigenvalue with its mode.
     """
-    values = vehicle.eigenvalues(speed)
+    largest = max(block.size for block in vehicle.eigen_blocks.blocks)
+    with large_problem_threads(largest):
+        values = vehicle.eigenvalues(speed)
     from express.analysis.modes import stability_threshold
 
     if values.size == 0 or not values.real.max() > stability_threshold(values):
