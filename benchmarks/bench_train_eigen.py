@@ -18,10 +18,10 @@ For every train (``examples/make_vehicles.py --cars N``):
   - **this tree**: ``src/``.
 
   Whether the two printed tables are identical is printed too.
-* in one process of this tree (medians of ``--runs``): ``eig`` of ``A`` on one BLAS
-  thread and with :func:`express.base.threads.large_problem_threads` (the threads
-  ``eigen_analysis`` uses), and :func:`express.analysis.modes.modes_of` (the modes'
-  names, energies and dominant DOFs).
+* in one process of this tree (medians of ``--runs``, taking turns): ``eig`` of ``A``
+  on one and on two BLAS threads (and whether their eigenvalues are the same bits),
+  and :func:`express.analysis.modes.modes_of` (the modes' names, energies and dominant
+  DOFs).
 
 The last line is ``eigen_s=<this tree, largest train> baseline_s=<...> ratio=<...>``.
 """
@@ -75,25 +75,25 @@ _IN_PROCESS = """
 import json, statistics, sys, time
 import numpy as np
 from express.analysis.modes import modes_of
-from express.base.threads import blas_threads, large_problem_limit, large_problem_threads
+from express.base.threads import blas_threads
 from express.numeric.statespace import load_vehicle
 
 vehicle = load_vehicle(sys.argv[1])
 speed = float(sys.argv[2]) / 3.6
 runs = int(sys.argv[3])
 a = vehicle.state_matrix(speed)
-times = {"eig, 1 thread": [], f"eig, large-problem threads ({large_problem_limit()})": [], "modes_of": []}
+times = {"eig, 1 BLAS thread": [], "eig, 2 BLAS threads": [], "modes_of": []}
+results = {}
 for _ in range(runs):
-    with blas_threads(1):
-        start = time.perf_counter(); np.linalg.eig(a); times["eig, 1 thread"].append(time.perf_counter() - start)
+    for threads in (1, 2):
+        with blas_threads(threads):
+            start = time.perf_counter(); results[threads] = np.linalg.eig(a)
+            times[f"eig, {threads} BLAS thread{'s' if threads > 1 else ''}"].append(time.perf_counter() - start)
     with blas_threads():
-        start = time.perf_counter()
-        with large_problem_threads(a.shape[0]):
-            values, vectors = np.linalg.eig(a)
-        times[f"eig, large-problem threads ({large_problem_limit()})"].append(time.perf_counter() - start)
-        start = time.perf_counter(); modes = modes_of(vehicle, values, vectors, speed=speed)
+        start = time.perf_counter(); modes = modes_of(vehicle, *results[1], speed=speed)
         times["modes_of"].append(time.perf_counter() - start)
 print(json.dumps({"states": a.shape[0], "modes": len(modes),
+                  "same_bits": bool(np.array_equal(results[1][0], results[2][0])),
                   "medians": {name: statistics.median(values) for name, values in times.items()}}))
 """
 
@@ -146,7 +146,8 @@ def main() -> int:
             print(f"  ratio baseline / this tree: {base / new:.2f}x; printed tables identical: "
                   f"{len(set(tables.values())) == 1}")
             parts = _breakdown(caches["this tree"], train, arguments.runs)
-            print(f"  this tree in one process ({parts['states']} states, {parts['modes']} modes), medians:")
+            print(f"  this tree in one process ({parts['states']} states, {parts['modes']} modes), medians "
+                  f"(eigenvalues of 1 and 2 threads the same bits: {parts['same_bits']}):")
             for name, value in parts["medians"].items():
                 print(f"    {name:<36} {value:8.2f} s")
             summary = f"eigen_s={new:.2f} baseline_s={base:.2f} ratio={base / new:.2f}"

@@ -140,10 +140,24 @@ def test_a_bad_environment_variable_is_exit_2_on_the_command_line(monkeypatch, c
 
 @pytest.fixture
 def large_is_two(monkeypatch):
-    """Two threads for a large problem, whatever the machine (a 1-core CI runner too)."""
+    """Two threads asked for a large problem (EXPRESS_BLAS_THREADS_LARGE=2)."""
     monkeypatch.delenv(ENVIRONMENT_VARIABLE, raising=False)
-    monkeypatch.setattr(threads, "large_problem_limit", lambda: 2)
+    monkeypatch.setenv(threads.LARGE_ENVIRONMENT_VARIABLE, "2")
     threads._blas_controller()
+
+
+def test_by_default_a_large_problem_keeps_one_thread(monkeypatch):
+    monkeypatch.delenv(ENVIRONMENT_VARIABLE, raising=False)
+    monkeypatch.delenv(threads.LARGE_ENVIRONMENT_VARIABLE, raising=False)
+    with blas_threads(), threads.large_problem_threads(10**4):
+        assert set(blas_counts()) == {1}
+
+
+@pytest.mark.parametrize("text", ["0", "-2", "two"])
+def test_a_bad_large_problem_variable_is_a_clear_error(monkeypatch, text):
+    monkeypatch.setenv(threads.LARGE_ENVIRONMENT_VARIABLE, text)
+    with pytest.raises(ValueError, match=threads.LARGE_ENVIRONMENT_VARIABLE):
+        threads.large_problem_limit()
 
 
 def test_a_large_problem_gets_more_threads_inside_the_default_limit(large_is_two):

@@ -15,13 +15,16 @@ a positive integer is the limit, ``0`` or ``none`` leaves BLAS alone.  Limits ne
 inner numerical call inside an outer one changes nothing, and an explicit
 ``blas_threads(4)`` around library calls is obeyed by them.
 
-One large dense problem is the exception (:func:`large_problem_threads`): the
+One large dense problem may run on more threads (:func:`large_problem_threads`): the
 eigendecomposition of a long train's ``A`` (4800 states for 100 cars) runs on
-:func:`large_problem_limit` threads (2 on a 2-core machine) while the default limit
-holds: ``EXPRESS_BLAS_THREADS`` unset and no explicit ``blas_threads(n)`` outside, in
-the main thread of a process that is not a worker (a study's workers keep one thread
-each: they already share the cores).  Setting ``EXPRESS_BLAS_THREADS`` (to 1, say)
-applies that number to these problems too.
+``EXPRESS_BLAS_THREADS_LARGE`` threads (:func:`large_problem_limit`, default 1: no
+change) while the default limit holds: ``EXPRESS_BLAS_THREADS`` unset and no explicit
+``blas_threads(n)`` outside, in the main thread of a process that is not a worker (a
+study's workers keep one thread each: they already share the cores).  The default is
+one thread because that was faster where it was measured: on a 2-core machine shared
+with other jobs two OpenBLAS threads took 2.2-2.7x longer for the 4800-state
+eigenproblem (``docs/benchmarks.md``); on a quiet machine with idle cores
+``EXPRESS_BLAS_THREADS_LARGE=2`` (or more) may pay without slowing the small problems.
 
 Examples
 --------
@@ -46,15 +49,15 @@ from typing import Any, TypeVar
 
 from express.base.diagnostics import UsageError
 
-__all__ = ["ENVIRONMENT_VARIABLE", "LARGE_PROBLEM", "blas_limit", "blas_threads", "large_problem_limit",
-           "large_problem_threads", "limited_blas"]
+__all__ = ["ENVIRONMENT_VARIABLE", "LARGE_ENVIRONMENT_VARIABLE", "LARGE_PROBLEM", "blas_limit", "blas_threads",
+           "large_problem_limit", "large_problem_threads", "limited_blas"]
 
 #: Name of the environment variable that sets the limit (``0``/``none``: no limit).
 ENVIRONMENT_VARIABLE = "EXPRESS_BLAS_THREADS"
+#: Name of the environment variable that sets the threads of one large problem (default 1).
+LARGE_ENVIRONMENT_VARIABLE = "EXPRESS_BLAS_THREADS_LARGE"
 #: A dense problem of at least this many states (rows) is large: :func:`large_problem_threads`.
 LARGE_PROBLEM = 1000
-#: At most this many threads for a large problem (measured on 2 cores: docs/benchmarks.md).
-LARGE_PROBLEM_THREADS = 2
 
 _Function = TypeVar("_Function", bound=Callable[..., Any])
 
@@ -175,15 +178,30 @@ def blas_threads(limit: int | str | None = "default") -> Iterator[None]:
 
 
 def large_problem_limit() -> int:
-    """Threads for one large dense problem: the cores this process may use, at most
-    :data:`LARGE_PROBLEM_THREADS`."""
-    usable = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
-    return max(1, min(usable, LARGE_PROBLEM_THREADS))
+    """Threads for one large dense problem: ``EXPRESS_BLAS_THREADS_LARGE`` (default 1),
+    read on every call.
+
+    Raises
+    ------
+    UsageError
+        When the variable is not a positive integer.
+    """
+    text = os.environ.get(LARGE_ENVIRONMENT_VARIABLE, "").strip()
+    if not text:
+        return 1
+    try:
+        limit = int(text)
+    except ValueError:
+        limit = 0
+    if limit < 1:
+        raise UsageError(f"environment variable {LARGE_ENVIRONMENT_VARIABLE}={text!r}: expected a number of "
+                         "threads (>= 1)")
+    return limit
 
 
 def _may_use_more(states: int) -> bool:
     """A large problem may have more threads than the default limit (module docstring)."""
-    if states < LARGE_PROBLEM or os.environ.get(ENVIRONMENT_VARIABLE, "").strip():
+    if states < LARGE_PROBLEM or os.environ.get(ENVIRONMENT_VARIABLE, "").strip() or large_problem_limit() == 1:
         return False
     if threading.current_thread() is not threading.main_thread():
         return False
@@ -196,7 +214,8 @@ def _may_use_more(states: int) -> bool:
 def large_problem_threads(states: int) -> Iterator[None]:
     """Run one large dense problem (``states`` rows, e.g. an eigendecomposition) on
     :func:`large_problem_limit` BLAS threads when the default limit holds (module
-    docstring); otherwise, or for a smaller problem, change nothing.
+    docstring); otherwise, for a smaller problem, or with the default of one thread,
+    change nothing.
 
     Parameters
     ----------
