@@ -248,8 +248,9 @@ def test_the_stability_check_by_blocks_is_the_dense_verdict(name):
 @pytest.mark.parametrize("name, largest", [("manchester.toml", 42), ("forced-steering.toml", 48)])
 def test_the_stability_check_asks_for_the_threads_of_its_largest_block(monkeypatch, name, largest):
     """``require_stable`` runs its eigenvalues inside ``large_problem_threads`` of the
-    largest diagonal block (the Manchester car's 42 of 62 states): threads rise only for a
-    block of 1000 states or more (a long train), never for a car."""
+    largest diagonal block (the Manchester car's 42 of 62 states): threads may rise
+    (``EXPRESS_BLAS_THREADS_LARGE``) only for a block of 1000 states or more (a long
+    train), never for a car."""
     import contextlib
 
     from express.analysis import frequency

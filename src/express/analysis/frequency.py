@@ -260,8 +260,8 @@ def require_stable(vehicle: VehicleModel, speed: float) -> None:
     (:meth:`VehicleModel.eigenvalues`: the same set as a dense ``eigvals`` of ``A``,
     smaller problems when ``A`` splits, as the Manchester car's 42 + 20 states); no
     eigenvalue can be missed.  For a long coupled train this dense problem is most of
-    the command (``docs/benchmarks.md``); from 1000 states in a block it runs on the
-    BLAS threads of one large problem (:func:`express.base.threads.large_problem_threads`).
+    the command (``docs/benchmarks.md``); it runs on the BLAS threads of one large
+    problem (:func:`express.base.threads.large_problem_threads` of the largest block).
 
     Raises
     ------
