@@ -30,7 +30,7 @@ class StepSolver:
     --------
     >>> j = -np.diag([1.0, 2.0]) + np.diag([0.5], 1)
     >>> StepSolver(2)(0.1, j, np.array([1.0, 1.0])).round(6).tolist()
-    [0.087719, 0.083333]
+    [0.094697, 0.083333]
     """
 
     def __init__(self, n: int, sparse_from: int | None = None):
