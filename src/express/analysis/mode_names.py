@@ -243,7 +243,6 @@ class RoleGroups:
         return ["" if t_total <= 0 else self.roles.bogie_label(names[t]) if lead else several
                 for t, lead, t_total in zip(top.tolist(), leads, total.tolist(), strict=True)]
 
-
     def _places(self, bodies: tuple[int, ...], each: bool) -> tuple[list[str], np.ndarray | None, list[int]]:
         """The places ``bodies`` can be: each body, or their bogies; how the bodies add
         to them (None: each its own) and those that name a place, sorted by name
