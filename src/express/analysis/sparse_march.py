@@ -255,12 +255,16 @@ def taylor_step(steps, x, w0, w1, out, term, product, v0, v1):
         for j in range(1, steps.degree + 1):
             coefficient = h / j
             _multiply(steps.indptr, steps.indices, steps.data, term, product)
-            for i in range(size):
-                term[i] = coefficient * (product[i] + t1 * v1[i] + t2 * v0[i])
-                out[i] += term[i]
+            c2 = 0.0
+            total = 0.0
+            for i in range(size):  # the next term, the sum and their largest values in one pass
+                value = coefficient * (product[i] + t1 * v1[i] + t2 * v0[i])
+                term[i] = value
+                out[i] += value
+                c2 = max(c2, abs(value))
+                total = max(total, abs(out[i]))
             t1, t2 = coefficient * t2, 0.0
-            c2 = _largest(term)
-            if j >= 3 and c1 + c2 <= _TOLERANCE * _largest(out):
+            if j >= 3 and c1 + c2 <= _TOLERANCE * total:
                 break
             c1 = c2
         for i in range(size):
