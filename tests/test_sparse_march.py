@@ -167,3 +167,30 @@ def test_sparse_route_is_deterministic(train):
     first, second = (simulate(train, paper_curve(), end=60.0, progress=False) for _ in range(2))
     np.testing.assert_array_equal(first.q, second.q)
     np.testing.assert_array_equal(first.q_dot, second.q_dot)
+
+
+@pytest.mark.parametrize("which", ["forced-steering", pytest.param("train9", marks=pytest.mark.slow)])
+def test_cold_warm_and_no_cache_runs_write_the_same_file(which, tmp_path, monkeypatch):
+    """``express simulate`` with a cold cache, a warm one (a vehicle read back without its
+    model: the body roles from its facts) and --no-cache: the same bytes, on the dense
+    route (a car) and on the sparse one (the 9-car train)."""
+    from express.cli import main
+    from express.numeric import statespace
+
+    if which == "train9":
+        spec = importlib.util.spec_from_file_location("make_vehicles", ROOT / "examples" / "make_vehicles.py")
+        module = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(module)
+        model = tmp_path / "train9.toml"
+        model.write_text(module.vehicle_toml(True, cars=9), encoding="utf-8")
+    else:
+        model = ROOT / "examples" / f"{which}.toml"
+    monkeypatch.setenv("EXPRESS_CACHE_DIR", str(tmp_path / "cache"))
+    monkeypatch.delenv("EXPRESS_NO_CACHE", raising=False)
+    written = []
+    for number, extra in enumerate(([], [], ["--no-cache"])):
+        statespace._GENERATED.clear()
+        out = tmp_path / f"run{number}.csv"
+        assert main(["simulate", str(model), "--linear", "-o", str(out), "--json", *extra]) == 0
+        written.append(out.read_bytes())
+    assert written[0] == written[1] == written[2]

@@ -57,7 +57,7 @@ from express.analysis.track_inputs import TrackInputs, rail_layout, station_inde
 from express.assembly.clearance import clearance_force, clearances_of
 from express.base.diagnostics import ArgumentError
 from express.base.threads import limited_blas
-from express.model.topology import classify_bodies
+from express.model.topology import Topology, classify_bodies
 from express.numeric.statespace import VehicleModel
 from express.rail.contact_forces import ContactSet
 from express.rail.nonlinear import wheelset_forces
@@ -174,7 +174,8 @@ def _safe_keys(columns: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
 
 def lever_bodies(vehicle: VehicleModel) -> list[str]:
     """The steering levers (:func:`express.model.topology.classify_bodies`), in pin order."""
-    return list(classify_bodies(vehicle.model).levers) if vehicle.model is not None else []
+    topology = _topology(vehicle)
+    return list(topology.levers) if topology is not None else []
 
 
 def _lever_rotation(vehicle: VehicleModel, body: str) -> str:
@@ -186,7 +187,16 @@ def _lever_rotation(vehicle: VehicleModel, body: str) -> str:
 
 def bogie_of_wheelsets(vehicle: VehicleModel) -> dict[str, str]:
     """The bogie each wheelset is suspended from (:func:`express.model.topology.classify_bodies`)."""
-    return dict(classify_bodies(vehicle.model).bogie_of) if vehicle.model is not None else {}
+    topology = _topology(vehicle)
+    return dict(topology.bogie_of) if topology is not None else {}
+
+
+def _topology(vehicle: VehicleModel) -> Topology | None:
+    """The roles of the vehicle's bodies: from the facts a vehicle read back from the
+    derivation cache carries (the model file is not read again), else from its model."""
+    if vehicle.origin.facts is not None:
+        return vehicle.origin.facts.topology
+    return classify_bodies(vehicle.model) if vehicle.model is not None else None
 
 
 def _terminal_progress(stream=None):
