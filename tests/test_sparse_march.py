@@ -6,8 +6,9 @@
   follows Al-Mohy and Higham's table; one step equals the closed-form step (Van Loan's
   block exponential) for a random matrix with a linearly varying forcing.
 * Whole runs: the sparse and the dense route agree to rounding on the bundled cars
-  (linear and with flange contact and creep saturation), on the coach with series
-  dampers (first-order coordinates) and on the train; the time step is the same.
+  (linear and with flange contact and creep saturation, the dead band and the contact
+  tables of the S1002 car), on the coach with series dampers (first-order coordinates)
+  and on the train; the time step is the same.
 
 Accuracy achieved against the dense route (Fig. 9 curve, 120 km/h, dt = 5 ms):
 coordinates q within 2.3e-13 of their largest value (tolerance 1e-12); rates q' within
@@ -135,16 +136,17 @@ def _agreement(dense, sparse):
     return q, rates, outputs
 
 
-@pytest.mark.parametrize(("model", "nonlinear"), [
-    ("examples/forced-steering.toml", True),
-    ("examples/forced-steering.toml", False),
-    ("examples/conventional.toml", True),
-    ("tests/data/coach-series-dampers.toml", True),
+@pytest.mark.parametrize(("model", "nonlinear", "speed"), [
+    ("examples/forced-steering.toml", True, None),
+    ("examples/forced-steering.toml", False, None),
+    ("examples/conventional.toml", True, None),
+    ("tests/data/coach-series-dampers.toml", True, None),
+    ("examples/manchester-s1002.toml", True, 80 / 3.6),  # the contact from the profiles' tables
 ])
-def test_sparse_route_agrees_with_the_dense_route(model, nonlinear):
+def test_sparse_route_agrees_with_the_dense_route(model, nonlinear, speed):
     vehicle = vehicle_model(load_model(ROOT / model))
-    runs = [simulate(vehicle, paper_curve(), flange=nonlinear, saturation=nonlinear, progress=False, route=route)
-            for route in ("dense", "sparse")]
+    runs = [simulate(vehicle, paper_curve(), speed=speed, flange=nonlinear, saturation=nonlinear, progress=False,
+                     route=route) for route in ("dense", "sparse")]
     assert runs[0].options["dt"] == runs[1].options["dt"] == 0.005 and "route" not in runs[0].options
     assert runs[1].options == {**runs[0].options, "route": "sparse"}
     np.testing.assert_array_equal(runs[0].time, runs[1].time)  # the same steps
