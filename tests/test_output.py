@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 from express.base.diagnostics import AnalysisError, InputError, OutputError
-from express.io import output
+from express.io import archives
 from express.io.output import (
     check_destination,
     column_name,
@@ -357,7 +357,7 @@ def test_npz_and_mat_bytes_are_deterministic_and_load_back(compress):
         np.testing.assert_array_equal(stored["K"], arrays["K"])
     mat = mat_bytes(arrays, compress=compress)
     assert mat == mat_bytes(arrays, compress=compress)
-    assert mat.startswith(output.MAT_HEADER)
+    assert mat.startswith(archives.MAT_HEADER)
     np.testing.assert_array_equal(np.ravel(loadmat(io.BytesIO(mat))["t"]), arrays["t"])
 
 

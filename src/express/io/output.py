@@ -38,7 +38,6 @@ import math
 import os
 import stat
 import sys
-import zipfile
 from collections.abc import Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -46,6 +45,7 @@ from typing import Any
 
 from express.base.diagnostics import OutputError
 from express.base.interrupts import release, temporary_file
+from express.io.archives import mat_bytes, npz_bytes
 from express.io.finite import non_finite_error, require_finite, require_finite_columns
 
 __all__ = [
@@ -71,9 +71,6 @@ __all__ = [
 STDOUT = "-"
 
 #: The descriptive text of a MAT-file's 128-byte header (116 bytes, space padded).
-MAT_HEADER = b"MATLAB 5.0 MAT-file, written by EXPRESS (express export)"
-_FIXED_DATE = (1980, 1, 1, 0, 0, 0)
-_ZIP64_FROM = int(zipfile.ZIP64_LIMIT / 1.05) - 4096  # ZIP64 sizes from here (zipfile's rule for a known size)
 
 _ACTIVE: contextvars.ContextVar[Transaction | None] = contextvars.ContextVar("express_output_transaction", default=None)
 
@@ -608,43 +605,3 @@ def json_text(value: Any) -> str:
     import json
 
     return json.dumps(json_safe(value), indent=2, allow_nan=False) + "\n"
-
-
-def npz_bytes(arrays: Mapping[str, Any], *, compress: bool = False) -> bytes:
-    """A NumPy ``.npz`` archive of ``arrays`` (name -> array), byte-identical run to run
-    (fixed zip dates), readable by ``numpy.load`` without pickles; ``compress`` deflates
-    the members (as :func:`numpy.savez_compressed`); a nan or inf is refused
-    (:func:`express.io.finite.require_finite`)."""
-    import numpy as np
-
-    buffer = io.BytesIO()
-    method = zipfile.ZIP_DEFLATED if compress else zipfile.ZIP_STORED
-    with zipfile.ZipFile(buffer, "w", compression=method) as archive:
-        for name, value in arrays.items():
-            array = np.asarray(value)
-            require_finite(name, array)
-            if array.dtype == object:
-                raise TypeError(f"{name}: object arrays are not exported")
-            info = zipfile.ZipInfo(f"{name}.npy", date_time=_FIXED_DATE)
-            info.external_attr = 0o644 << 16
-            info.compress_type = method
-            with archive.open(info, "w", force_zip64=array.nbytes > _ZIP64_FROM) as member:  # streamed: no copy
-                np.lib.format.write_array(member, array, allow_pickle=False)
-    return buffer.getvalue()
-
-
-def mat_bytes(arrays: Mapping[str, Any], *, compress: bool = False) -> bytes:
-    """A MATLAB 5 ``.mat`` file of ``arrays`` (vectors as columns), byte-identical run
-    to run (the creation date in the header is replaced by :data:`MAT_HEADER`); a nan
-    or inf is refused (:func:`express.io.finite.require_finite`)."""
-    import numpy as np
-    from scipy.io import savemat
-
-    for name, value in arrays.items():
-        require_finite(name, value)
-    buffer = io.BytesIO()
-    savemat(buffer, {name: np.asarray(value) for name, value in arrays.items()}, oned_as="column",
-            do_compression=compress)
-    data = bytearray(buffer.getvalue())
-    data[:116] = MAT_HEADER.ljust(116, b" ")
-    return bytes(data)
