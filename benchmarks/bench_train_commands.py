@@ -80,7 +80,7 @@ def bench_simulate(vehicle, cars: int, runs: int, dense: bool) -> float | None:
             return simulate(vehicle, track, flange=nonlinear, saturation=nonlinear, progress=False, route=route)
 
         sparse_s, sparse = _median(lambda: run("auto"), runs)
-        line = f"  simulate {label:<18} sparse route {sparse_s:8.2f} s ({sparse.options.get('route', 'dense')})"
+        line = f"  simulate {label:<18} route auto {sparse_s:8.2f} s ({sparse.options.get('route', 'dense')})"
         if dense:
             dense_runs = runs if cars <= 40 else 1
             start = time.perf_counter()
@@ -166,20 +166,21 @@ def main(argv=None) -> int:
     from machine import cpu_name, usable_cores
 
     print(f"machine: {cpu_name()}, {usable_cores()} usable cores, load average {os.getloadavg()[0]:.1f}")
-    folder = Path(tempfile.mkdtemp(prefix="bench-train-"))
-    os.environ.setdefault("EXPRESS_CACHE_DIR", str(folder / "cache"))
-    from express.numeric.statespace import load_vehicle
+    with tempfile.TemporaryDirectory(prefix="bench-train-") as name:  # the trains, their cache, the drawing
+        folder = Path(name)
+        os.environ.setdefault("EXPRESS_CACHE_DIR", str(folder / "cache"))
+        from express.numeric.statespace import load_vehicle
 
-    simulate_speedup = draw_speedup = float("nan")
-    for cars in args.cars or [20, 100]:
-        path = _train(cars, folder)
-        start = time.perf_counter()
-        vehicle = load_vehicle(path)
-        print(f"{cars} cars: {vehicle.form.size} states (load {time.perf_counter() - start:.1f} s, not timed below)",
-              flush=True)
-        speedup = bench_simulate(vehicle, cars, args.runs, cars <= 40 or args.dense_100)
-        simulate_speedup = speedup if speedup is not None else simulate_speedup
-        draw_speedup = bench_draw(path, args.runs, folder)
+        simulate_speedup = draw_speedup = float("nan")
+        for cars in args.cars or [20, 100]:
+            path = _train(cars, folder)
+            start = time.perf_counter()
+            vehicle = load_vehicle(path)
+            print(f"{cars} cars: {vehicle.form.size} states (load {time.perf_counter() - start:.1f} s, not timed below)",
+                  flush=True)
+            speedup = bench_simulate(vehicle, cars, args.runs, cars <= 40 or args.dense_100)
+            simulate_speedup = speedup if speedup is not None else simulate_speedup
+            draw_speedup = bench_draw(path, args.runs, folder)
     print(f"simulate_speedup={simulate_speedup:.1f} draw_speedup={draw_speedup:.1f}")
     return 0
 
