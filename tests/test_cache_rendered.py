@@ -8,8 +8,6 @@ other entries; the reading's warnings are given again."""
 
 from __future__ import annotations
 
-import hashlib
-import json
 import os
 import subprocess
 import sys
@@ -17,10 +15,9 @@ from pathlib import Path
 
 import pytest
 
+from cache_support import entries, rewrite_entry, use_fresh_cache
 from express.base.limits import read_input_text
 from express.cli import main
-from express.io import cache
-from express.numeric import statespace, warm
 from express.rail import build
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -32,11 +29,7 @@ FORMATS = ("json", "matlab", "python", "latex", "text")
 @pytest.fixture
 def fresh(tmp_path, monkeypatch):
     """An empty cache folder, nothing reused in memory, no warning given yet; the model file."""
-    monkeypatch.setenv("EXPRESS_CACHE_DIR", str(tmp_path / "cache"))
-    monkeypatch.delenv("EXPRESS_NO_CACHE", raising=False)
-    monkeypatch.setattr(statespace, "_GENERATED", {})
-    monkeypatch.setattr(warm, "_READ", {})
-    monkeypatch.setattr(cache, "_WARNED", set())
+    use_fresh_cache(tmp_path, monkeypatch)
     path = tmp_path / "wheelset.toml"
     path.write_text(MODEL)
     return path
@@ -60,7 +53,7 @@ def _generate(path: Path, *options: str, output: Path | None = None) -> str:
 
 
 def _entries() -> list[Path]:
-    return [p for p in cache.cache_directory().glob("*.json") if b'"kind":"export text"' in p.read_bytes()]
+    return entries("export text")
 
 
 @pytest.mark.parametrize("fmt", FORMATS)
@@ -126,26 +119,15 @@ def test_set_and_the_cache_off_use_no_text_entry(fresh, renders, monkeypatch):
     assert not _entries() and len(renders) == 3
 
 
-def _rewrite(path: Path, change) -> None:
-    """Change the payload of an entry and fix its checksum: a whole entry whose data is bad."""
-    header, _, body = path.read_bytes().partition(b"\n")
-    payload = json.loads(body)
-    change(payload)
-    body = json.dumps(payload).encode()
-    parts = header.split(b" ")
-    parts[3] = hashlib.sha256(body).hexdigest().encode()
-    path.write_bytes(b" ".join(parts) + b"\n" + body)
-
-
 DAMAGES = {
     "truncated": lambda path: path.write_bytes(path.read_bytes()[:100]),
-    "text not a text": lambda path: _rewrite(path, lambda p: p["data"].update(text=["M"])),
-    "bad count": lambda path: _rewrite(path, lambda p: p["data"].update(dofs="24")),
-    "bad reads": lambda path: _rewrite(path, lambda p: p.update(reads=[["a", "b", "c"]])),
-    "bad warnings": lambda path: _rewrite(path, lambda p: p.update(warnings=[["SystemExit", "x"]])),
-    "bad notices": lambda path: _rewrite(path, lambda p: p["data"].update(notices=[1])),
-    "no data": lambda path: _rewrite(path, lambda p: p.pop("data")),
-    "bad source": lambda path: _rewrite(path, lambda p: p.update(source=None)),
+    "text not a text": lambda path: rewrite_entry(path, lambda p: p["data"].update(text=["M"])),
+    "bad count": lambda path: rewrite_entry(path, lambda p: p["data"].update(dofs="24")),
+    "bad reads": lambda path: rewrite_entry(path, lambda p: p.update(reads=[["a", "b", "c"]])),
+    "bad warnings": lambda path: rewrite_entry(path, lambda p: p.update(warnings=[["SystemExit", "x"]])),
+    "bad notices": lambda path: rewrite_entry(path, lambda p: p["data"].update(notices=[1])),
+    "no data": lambda path: rewrite_entry(path, lambda p: p.pop("data")),
+    "bad source": lambda path: rewrite_entry(path, lambda p: p.update(source=None)),
 }
 
 

@@ -9,8 +9,6 @@ reading's warnings are handled as for the derivation entry."""
 
 from __future__ import annotations
 
-import hashlib
-import json
 import os
 import subprocess
 import sys
@@ -20,6 +18,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from cache_support import rewrite_entry
 from express.base.diagnostics import ModelWarning
 from express.base.limits import read_input_text
 from express.io import cache
@@ -191,24 +190,13 @@ def test_the_cache_off_reads_no_warm_entry(fresh, derivations, monkeypatch):
     assert not _anew(fresh).origin.cached and len(derivations) == 2
 
 
-def _rewrite(path: Path, change) -> None:
-    """Change the payload of an entry and fix its checksum: a whole entry whose data is bad."""
-    header, _, body = path.read_bytes().partition(b"\n")
-    payload = json.loads(body)
-    change(payload)
-    body = json.dumps(payload).encode()
-    parts = header.split(b" ")
-    parts[3] = hashlib.sha256(body).hexdigest().encode()
-    path.write_bytes(b" ".join(parts) + b"\n" + body)
-
-
 DAMAGES = {
     "truncated": lambda path: path.write_bytes(path.read_bytes()[:100]),
-    "bad values": lambda path: _rewrite(path, lambda p: p["values"][0].__setitem__(1, "1 MN/m")),
-    "bad facts": lambda path: _rewrite(path, lambda p: p["facts"].update(gyration=[1])),
-    "bad wheelset": lambda path: _rewrite(path, lambda p: p["wheelsets"][0].__setitem__(1, 10**6)),
-    "bad warnings": lambda path: _rewrite(path, lambda p: p.update(warnings=[["SystemExit", "x"]])),
-    "bad reads": lambda path: _rewrite(path, lambda p: p.update(reads="everything")),
+    "bad values": lambda path: rewrite_entry(path, lambda p: p["values"][0].__setitem__(1, "1 MN/m")),
+    "bad facts": lambda path: rewrite_entry(path, lambda p: p["facts"].update(gyration=[1])),
+    "bad wheelset": lambda path: rewrite_entry(path, lambda p: p["wheelsets"][0].__setitem__(1, 10**6)),
+    "bad warnings": lambda path: rewrite_entry(path, lambda p: p.update(warnings=[["SystemExit", "x"]])),
+    "bad reads": lambda path: rewrite_entry(path, lambda p: p.update(reads="everything")),
 }
 
 

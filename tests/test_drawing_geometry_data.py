@@ -7,7 +7,6 @@ reading the model or importing SymPy; ``--set`` and a damaged entry are handled.
 
 from __future__ import annotations
 
-import hashlib
 import json
 import os
 import subprocess
@@ -16,11 +15,12 @@ from pathlib import Path
 
 import pytest
 
+from cache_support import entries, rewrite_entry, use_fresh_cache
 from express.cli import main
 from express.cli.draw import model_geometry_of
 from express.drawing import geometry_data as data_module
 from express.drawing.geometry_data import geometry_data, geometry_from_data
-from express.io import cache, load_model
+from express.io import load_model
 from express.numeric.program import ProgramError
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -30,9 +30,7 @@ EXAMPLES = sorted(p for p in (ROOT / "examples").iterdir()
 
 @pytest.fixture
 def fresh(tmp_path, monkeypatch):
-    monkeypatch.setenv("EXPRESS_CACHE_DIR", str(tmp_path / "cache"))
-    monkeypatch.delenv("EXPRESS_NO_CACHE", raising=False)
-    monkeypatch.setattr(cache, "_WARNED", set())
+    use_fresh_cache(tmp_path, monkeypatch)
     return tmp_path
 
 
@@ -74,7 +72,7 @@ def test_set_draws_from_the_model(fresh, makes):
 
 
 def _geometry_entries() -> list[Path]:
-    return [p for p in cache.cache_directory().glob("*.json") if b'"kind":"drawing geometry"' in p.read_bytes()]
+    return entries("drawing geometry")
 
 
 BAD = {
@@ -104,13 +102,7 @@ def test_a_damaged_entry_is_drawn_anew_with_one_warning(fresh, makes, capsys):
     assert main(["draw", str(model), "-o", str(fresh / "a.svg")]) == 0
     first = (fresh / "a.svg").read_bytes()
     (entry,) = _geometry_entries()
-    header, _, body = entry.read_bytes().partition(b"\n")
-    payload = json.loads(body)
-    payload["data"]["elements"][0][3] = 9
-    body = json.dumps(payload).encode()
-    parts = header.split(b" ")
-    parts[3] = hashlib.sha256(body).hexdigest().encode()
-    entry.write_bytes(b" ".join(parts) + b"\n" + body)
+    rewrite_entry(entry, lambda payload: payload["data"]["elements"][0].__setitem__(3, 9))
     capsys.readouterr()
     assert main(["draw", str(model), "-o", str(fresh / "b.svg")]) == 0
     assert capsys.readouterr().err.count("damaged or foreign entry") == 1
