@@ -162,16 +162,8 @@ def blas_threads(limit: int | str | None = "default") -> Iterator[None]:
         if not outermost or limit is None:
             yield
             return
-        libraries = _blas_controller().lib_controllers
-        original = [library.num_threads for library in libraries]
-        try:
-            for library in libraries:
-                library.set_num_threads(int(limit))
-            with _loaded_inside(int(limit)):
-                yield
-        finally:
-            for library, threads in zip(libraries, original, strict=True):
-                library.set_num_threads(threads)
+        with _threads_set(int(limit)), _loaded_inside(int(limit)):
+            yield
     finally:
         with _lock:
             _depth -= 1
@@ -232,11 +224,18 @@ def large_problem_threads(states: int) -> Iterator[None]:
     if not _may_use_more(states):
         yield
         return
+    with _threads_set(large_problem_limit()):
+        yield
+
+
+@contextlib.contextmanager
+def _threads_set(count: int) -> Iterator[None]:
+    """Every loaded BLAS library on ``count`` threads, each set back to its own on exit."""
     libraries = _blas_controller().lib_controllers
     original = [library.num_threads for library in libraries]
     try:
         for library in libraries:
-            library.set_num_threads(large_problem_limit())
+            library.set_num_threads(count)
         yield
     finally:
         for library, threads in zip(libraries, original, strict=True):
