@@ -124,3 +124,24 @@ def test_body_shares_are_the_sums_of_the_dofs_shares(coach):
         for dof, share in mode.dominant:
             assert shares[dof.partition(".")[0]] >= share
         assert sum(shares.values()) == pytest.approx(1.0, rel=1e-14)
+
+
+@pytest.mark.parametrize("n", [5, 30, 120])
+@pytest.mark.parametrize("kind", ["real", "complex"])
+def test_the_numpy_row_product_is_scipys_bit_for_bit(monkeypatch, n, kind):
+    """Below ``SCIPY_FROM`` a non-diagonal matrix (a damping with series elements) is
+    multiplied without importing SciPy: the same sums in the same order as SciPy's sparse
+    product, so a mode's shares do not depend on the model's size class."""
+    from express.analysis import mode_energies
+
+    rng = np.random.default_rng(n)
+    matrix = np.diag(rng.normal(size=n))
+    for k in (1, 2, 3):
+        matrix += np.diag(rng.normal(size=n - k) * (rng.random(n - k) < 0.5), k)
+    matrix[-1, 0] = 1.5
+    vectors = rng.normal(size=(n, 6)) + (1j * rng.normal(size=(n, 6)) if kind == "complex" else 0)
+    monkeypatch.setattr(mode_energies, "SCIPY_FROM", 10**9)
+    own = mode_energies.RowProduct(matrix)(vectors)
+    monkeypatch.setattr(mode_energies, "SCIPY_FROM", 0)
+    assert np.array_equal(own, mode_energies.RowProduct(matrix)(vectors))
+    np.testing.assert_allclose(own, matrix @ vectors, rtol=1e-13, atol=1e-13)
