@@ -66,8 +66,7 @@ def linear_system(vehicle: VehicleModel, speed: float) -> LinearSystem:
     ValueError
         If ``speed`` is not a positive finite number.
     """
-    if not (np.isfinite(speed) and speed > 0):
-        raise ValueError(f"speed {speed!r}: must be a positive number of m/s")
+    _check_speed(speed)
     a = vehicle.state_matrix(speed)
     b = vehicle.input_matrix(speed)
     bd = vehicle.input_rate_matrix(speed)
@@ -119,8 +118,7 @@ def numeric_matrices(vehicle: VehicleModel, speed: float) -> dict[str, Any]:
     Keys: ``M, C, K, P, Pd`` (the vehicle's equations), ``A, B, Bd`` (state space with
     input rates), ``speed`` [m/s], ``dofs`` and ``inputs`` (names).
     """
-    if not (np.isfinite(speed) and speed > 0):
-        raise ValueError(f"speed {speed!r}: must be a positive number of m/s")
+    _check_speed(speed)
     return {  # A as in linear_system, without its B + A Bd product and identity C (a long train's are dense)
         "M": vehicle.mass,
         "C": vehicle.damping(speed),
@@ -134,3 +132,8 @@ def numeric_matrices(vehicle: VehicleModel, speed: float) -> dict[str, Any]:
         "dofs": np.array(vehicle.dofs, dtype=str),
         "inputs": np.array(vehicle.inputs, dtype=str),
     }
+
+
+def _check_speed(speed: float) -> None:
+    if not (np.isfinite(speed) and speed > 0):
+        raise ValueError(f"speed {speed!r}: must be a positive number of m/s")
