@@ -4,13 +4,12 @@ entry rewritten with bad data but a valid checksum."""
 
 from __future__ import annotations
 
-import hashlib
 import json
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from express.io import cache
+from express.io import cache, cache_files
 from express.numeric import statespace, warm
 
 
@@ -29,11 +28,13 @@ def entries(kind: str) -> list[Path]:
 
 
 def rewrite_entry(path: Path, change: Callable[[Any], Any]) -> None:
-    """Change the payload of an entry and fix its checksum: a whole entry whose data is bad."""
+    """Change the payload of an entry and sign it again with the user's own secret: a whole
+    entry whose data is bad, as only a process of the same user could write it."""
     header, _, body = path.read_bytes().partition(b"\n")
     payload = json.loads(body)
     change(payload)
     body = json.dumps(payload).encode()
     parts = header.split(b" ")
-    parts[3] = hashlib.sha256(body).hexdigest().encode()
+    secret = (path.parent / ".secret").read_bytes()
+    parts[3] = cache_files.entry_signature(secret, path.stem, body).encode()
     path.write_bytes(b" ".join(parts) + b"\n" + body)

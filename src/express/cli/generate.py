@@ -47,27 +47,17 @@ def run(
 
 def _export(model: Path, overrides: dict[str, str], fmt: str, output: str, *, keep_virtual: bool,
             with_rail: bool) -> tuple[str, int]:
-    """The export's text and number of DOFs; without overrides through the cache's copy
-    of an earlier export of the same files (:mod:`express.numeric.rendered`)."""
+    """The export's text and number of DOFs, written from the derivation (read back from
+    the cache's generation entry when there is one, :mod:`express.numeric.generation`);
+    an export's text is never copied from the cache (``docs/cache.md``)."""
+    from express.export import FORMATS as EXPORTERS
+    from express.export import to_matlab
     from express.io.output import STDOUT
-    from express.numeric.rendered import RenderedExport, rendered_export
+    from express.numeric.generation import load_generation
 
     name = Path(output).stem if fmt == "matlab" and output != STDOUT else None
-
-    def render() -> RenderedExport:
-        from express.export import FORMATS as EXPORTERS
-        from express.export import to_matlab
-        from express.numeric.generation import load_generation
-
-        result = load_generation(model, overrides, keep_virtual=keep_virtual, with_rail=with_rail)  # docs/cache.md
-        equations = result.equations
-        text = to_matlab(equations, name or equations.name) if fmt == "matlab" else EXPORTERS[fmt](equations)
-        return RenderedExport(text, len(equations.dofs), tuple(str(w) for w in result.warnings), equations.name)
-
-    if overrides:
-        exported = render()
-    else:
-        options = {"format": fmt, "name": name, "keep_virtual": keep_virtual, "with_rail": with_rail}
-        exported = rendered_export(model, options, render)
-    common.print_warnings(exported.notices)
-    return exported.text, exported.dofs
+    result = load_generation(model, overrides, keep_virtual=keep_virtual, with_rail=with_rail)
+    equations = result.equations
+    text = to_matlab(equations, name or equations.name) if fmt == "matlab" else EXPORTERS[fmt](equations)
+    common.print_warnings(tuple(str(w) for w in result.warnings))
+    return text, len(equations.dofs)

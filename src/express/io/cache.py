@@ -14,18 +14,21 @@ keyed by everything that can change it (``docs/cache.md``):
 
 Safety: an entry is JSON data (names, integers, floats; expressions as
 :class:`~express.numeric.program.ExpressionProgram` data, checked when read) with a
-header holding the format, the key and a SHA-256 of the payload; it is written through
-the one output layer (:func:`express.io.output.write_bytes_now`: a temporary file,
-fsync, atomic rename), so a reader sees a whole entry or none and concurrent writers
-leave a valid one.  A truncated, corrupted or foreign entry is ignored with one warning
-and rebuilt.  Nothing read is executed or evaluated; no ``pickle``.
+header holding the format, the key and an HMAC of the key and payload under the user's
+secret; the files are opened, written and removed by :mod:`express.io.cache_files`
+(private folder, no link followed, no special file opened, a new file renamed into
+place), so a reader sees a whole entry or none, concurrent writers leave a valid one,
+and a link planted in the folder is never written through.  A truncated, corrupted,
+foreign or re-signed entry is ignored with one warning and rebuilt.  Nothing read is
+executed or evaluated; no ``pickle``.
 
 Place: ``EXPRESS_CACHE_DIR``, else the user's cache directory (:mod:`platformdirs`,
 ``~/.cache/express`` on Linux), sub-folder ``derivations``.  ``EXPRESS_NO_CACHE=1`` or
 ``--no-cache`` (:func:`disabled`) switches it off.  Size bound: ``EXPRESS_CACHE_MB``
 (default :data:`DEFAULT_SIZE_MB`); when a write passes it, the least recently used
 entries (file modification time, renewed at every hit) are removed.  A location that
-cannot be written is used for reading only, with one warning.
+cannot be written is used for reading only, with one warning; a folder that is a link,
+another user's or writable by others is not used at all (one warning).
 """
 
 from __future__ import annotations
@@ -33,13 +36,27 @@ from __future__ import annotations
 import contextlib
 import contextvars
 import hashlib
+import hmac
 import json
+import math
 import os
+import re
+import stat
 import warnings
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
+
+from express.io.cache_files import (
+    Folder,
+    entry_signature,
+    open_folder,
+    own_files,
+    read_private,
+    remove_own,
+    write_private,
+)
 
 __all__ = [
     "DEFAULT_SIZE_MB",
@@ -58,11 +75,12 @@ __all__ = [
 ]
 
 #: Version of the entry format; a new one makes every older entry a miss.
-FORMAT_VERSION = 1
+FORMAT_VERSION = 2
 #: Default size bound of the cache [MB] (``EXPRESS_CACHE_MB`` changes it).
 DEFAULT_SIZE_MB = 512
 _MAGIC = b"EXPRESS-DERIVATION-CACHE"
 _SUFFIX = ".json"
+_KEY = re.compile(r"[0-9a-f]{64}")
 _ENABLED: contextvars.ContextVar[bool] = contextvars.ContextVar("express_cache_enabled", default=True)
 _WARNED: set[str] = set()
 
@@ -156,29 +174,47 @@ def _warn_once(topic: str, message: str) -> None:
         warnings.warn(message, stacklevel=3)
 
 
+def _folder(*, write: bool) -> Folder:
+    """The cache folder checked (:func:`express.io.cache_files.open_folder`); one warning
+    when it is refused (a link, another owner, other writers)."""
+    folder = open_folder(cache_directory(), create=write)
+    if folder.refused is not None:
+        _warn_once(f"refused {folder.path}", f"derivation cache: {folder.path} {folder.refused}; "
+                   "working without the cache")
+    return folder
+
+
 def read_entry(key: str) -> Any:
     """The payload stored under ``key``, or ``None`` (no entry, the cache off, or an entry
-    that is damaged or foreign: then one warning, and the caller rebuilds it)."""
-    if not cache_enabled():
+    that is damaged, foreign or not a regular file of this user: then one warning, and
+    the caller rebuilds it)."""
+    if not cache_enabled() or not _KEY.fullmatch(key):
         return None
-    path = _entry_path(key)
-    try:
-        with open(path, "rb") as stream:
-            data = stream.read(size_bound() + 1)
-    except OSError:
+    folder = _folder(write=False)
+    if not folder.usable:
         return None
-    payload = _payload(data, key)
+    assert folder.secret is not None
+    path = folder.path / f"{key}{_SUFFIX}"
+    data = read_private(path, size_bound())
+    if data is None:
+        return None
+    payload = _payload(data, key, folder.secret) if isinstance(data, bytes) else None
     if payload is None:
-        _warn_once(f"damaged {path}", f"derivation cache: ignored the damaged or foreign entry {path}; rebuilding it")
+        reason = f" ({data})" if isinstance(data, str) else ""
+        _warn_once(f"damaged {path}", f"derivation cache: ignored the damaged or foreign entry {path}{reason}; rebuilding it")
         return None
     with contextlib.suppress(OSError):
-        os.utime(path)  # least recently used = oldest modification time
+        os.utime(path, follow_symlinks=False)  # least recently used = oldest modification time
     return payload
 
 
 def has_entry(key: str) -> bool:
     """Whether an entry is stored under ``key`` (not read: it may still turn out damaged)."""
-    return cache_enabled() and _entry_path(key).is_file()
+    if not cache_enabled():
+        return False
+    with contextlib.suppress(OSError):
+        return stat.S_ISREG(os.lstat(_entry_path(key)).st_mode)
+    return False
 
 
 def entry_damaged(key: str) -> None:
@@ -188,17 +224,17 @@ def entry_damaged(key: str) -> None:
     _warn_once(f"damaged {path}", f"derivation cache: ignored the damaged or foreign entry {path}; rebuilding it")
 
 
-def _payload(data: bytes, key: str) -> Any:
+def _payload(data: bytes, key: str, secret: bytes) -> Any:
     header, newline, body = data.partition(b"\n")
     parts = header.split(b" ")
     if not newline or len(parts) != 4 or parts[0] != _MAGIC:
         return None
     if parts[1] != str(FORMAT_VERSION).encode() or parts[2] != key.encode():
         return None
-    if hashlib.sha256(body).hexdigest().encode() != parts[3]:
+    if not hmac.compare_digest(entry_signature(secret, key, body).encode(), parts[3]):
         return None
     try:
-        return json.loads(body)
+        return checked_json(body)
     except ValueError:
         return None
 
@@ -206,29 +242,37 @@ def _payload(data: bytes, key: str) -> Any:
 def write_entry(key: str, payload: Any) -> None:
     """Store ``payload`` (JSON-able data) under ``key``, then keep the cache within its
     bound.  A location that cannot be written gives one warning and nothing else."""
-    if not cache_enabled():
+    if not cache_enabled() or not _KEY.fullmatch(key):
         return
-    from express.base.diagnostics import OutputError
-    from express.io.output import write_bytes_now
-
+    folder = _folder(write=True)
+    if folder.refused is not None:
+        return
     body = json.dumps(payload, separators=(",", ":"), sort_keys=True).encode()
-    header = b" ".join((_MAGIC, str(FORMAT_VERSION).encode(), key.encode(), hashlib.sha256(body).hexdigest().encode()))
     try:
-        write_bytes_now(_entry_path(key), header + b"\n" + body)
-    except (OutputError, OSError) as error:
-        _warn_once("write", f"derivation cache: cannot write in {cache_directory()} ({error}); working without storing")
+        if folder.secret is None or not folder.writable:
+            raise PermissionError("the folder cannot be written")
+        signature = entry_signature(folder.secret, key, body).encode()
+        header = b" ".join((_MAGIC, str(FORMAT_VERSION).encode(), key.encode(), signature))
+        write_private(folder.path, f"{key}{_SUFFIX}", header + b"\n" + body)
+    except OSError as error:
+        reason = getattr(error, "strerror", None) or error
+        _warn_once("write", f"derivation cache: cannot write in {folder.path} ({reason}); working without storing")
         return
-    _evict(size_bound())
+    _evict(folder.path, size_bound())
 
 
-def memoized_values(kind: str, arguments: Sequence[float], compute: Callable[[], dict[str, float]]) -> dict[str, float]:
+def memoized_values(kind: str, arguments: Sequence[float], compute: Callable[[], dict[str, float]],
+                    valid: Callable[[dict[str, float]], bool] | None = None) -> dict[str, float]:
     """``compute()`` of a pure numerical function of ``arguments``, kept in the cache by
     the exact arguments (``repr`` of the floats: the same bits or a miss).  The values
-    read back are the floats that were computed (JSON keeps a double exactly)."""
+    read back are the floats that were computed (JSON keeps a double exactly); they are
+    used only when they are finite and pass ``valid`` (the check the computation's own
+    results pass), else the entry is damaged: one warning, computed anew."""
     key = entry_key(f"values {kind}", (), {"arguments": [repr(float(x)) for x in arguments]})
     payload = read_entry(key)
     values = payload.get("values") if isinstance(payload, dict) and payload.get("kind") == "values" else None
-    if isinstance(values, dict) and values and all(isinstance(v, float) for v in values.values()):
+    if (isinstance(values, dict) and values and all(type(v) is float and math.isfinite(v) for v in values.values())
+            and (valid is None or valid(values))):
         return dict(values)
     if payload is not None:
         entry_damaged(key)
@@ -237,25 +281,27 @@ def memoized_values(kind: str, arguments: Sequence[float], compute: Callable[[],
     return result
 
 
-def _entries() -> list[tuple[Path, os.stat_result]]:
-    found = []
-    with contextlib.suppress(OSError):
-        for path in cache_directory().iterdir():
-            if path.suffix == _SUFFIX:
-                with contextlib.suppress(OSError):
-                    found.append((path, path.stat()))
-    return found
+def checked_json(body: bytes) -> Any:
+    """``json.loads`` of an entry's payload; ValueError for JSON nested beyond what the
+    parser takes (an entry of 100 000 nested arrays), as for any other bad JSON."""
+    try:
+        return json.loads(body)
+    except RecursionError:
+        raise ValueError("nested too deeply") from None
 
 
-def _evict(bound: int) -> None:
+def _entries(directory: Path) -> list[tuple[str, os.stat_result]]:
+    return list(own_files(directory))
+
+
+def _evict(directory: Path, bound: int) -> None:
     """Remove the least recently used entries until the total size is within ``bound``."""
-    entries = sorted(_entries(), key=lambda item: (item[1].st_mtime_ns, item[0].name))
+    entries = sorted(_entries(directory), key=lambda item: (item[1].st_mtime_ns, item[0]))
     total = sum(status.st_size for _, status in entries)
-    for path, status in entries:
+    for name, status in entries:
         if total <= bound:
             break
-        with contextlib.suppress(OSError):
-            path.unlink()
+        remove_own(directory, name)
         total -= status.st_size
 
 
@@ -274,6 +320,8 @@ class CacheInfo:
         The size bound [bytes].
     models : tuple of (str, str, int)
         ``(key, model name, size in bytes)`` of every entry, most recently used first.
+    refused : str or None
+        Why the folder is not used (a link, another owner, other writers), or None.
     """
 
     directory: Path
@@ -282,33 +330,37 @@ class CacheInfo:
     size: int
     bound: int
     models: tuple[tuple[str, str, int], ...]
+    refused: str | None = None
 
 
 def cache_info() -> CacheInfo:
-    """Place, size and entries of the cache."""
-    entries = sorted(_entries(), key=lambda item: -item[1].st_mtime_ns)
-    models = tuple((path.stem, _entry_name(path), status.st_size) for path, status in entries)
-    return CacheInfo(cache_directory(), cache_enabled(), len(entries), sum(m[2] for m in models), size_bound(), models)
+    """Place, size and entries of the cache (only the entries of its own shape: regular
+    files of this user named by a key)."""
+    folder = _folder(write=False)
+    found = [] if folder.refused is not None else _entries(folder.path)
+    entries = sorted(found, key=lambda item: -item[1].st_mtime_ns)
+    models = tuple((name[: -len(_SUFFIX)], _entry_name(folder, name), status.st_size) for name, status in entries)
+    return CacheInfo(folder.path, cache_enabled(), len(entries), sum(m[2] for m in models), size_bound(), models,
+                     folder.refused)
 
 
-def _entry_name(path: Path) -> str:
-    """The model name recorded in an entry (read back as data; ``?`` when unreadable)."""
-    try:
-        with open(path, "rb") as stream:
-            payload = _payload(stream.read(size_bound() + 1), path.stem)
-    except OSError:
-        return "?"
-    name = payload.get("name") if isinstance(payload, dict) else None
-    return name if isinstance(name, str) else "?"
+def _entry_name(folder: Folder, name: str) -> str:
+    """The model name recorded in an entry (read back as data; ``?`` when unreadable),
+    printable characters only."""
+    data = read_private(folder.path / name, size_bound()) if folder.usable else None
+    payload = _payload(data, name[: -len(_SUFFIX)], folder.secret) if isinstance(data, bytes) and folder.secret else None
+    recorded = payload.get("name") if isinstance(payload, dict) else None
+    return "".join(c if c.isprintable() else "?" for c in recorded) if isinstance(recorded, str) else "?"
 
 
 def clear_cache() -> int:
-    """Remove every entry (and stray temporary files); return the number of entries removed."""
+    """Remove every entry (and stray temporary files) — only regular files of this user
+    named as the cache names them, never through a link; return the number of entries removed."""
+    folder = _folder(write=False)
+    if folder.refused is not None:
+        return 0
     removed = 0
-    with contextlib.suppress(OSError):
-        for path in cache_directory().iterdir():
-            if path.suffix == _SUFFIX or path.name.endswith(".tmp"):
-                with contextlib.suppress(OSError):
-                    path.unlink()
-                    removed += path.suffix == _SUFFIX
+    for name, _ in list(own_files(folder.path, temporaries=True)):
+        if remove_own(folder.path, name):
+            removed += name.endswith(_SUFFIX)
     return removed

@@ -135,8 +135,14 @@ def _kalker(wheel_load: float, wheel_radius: float, rail_head_radius: float, you
     if recording():
         from express.io.cache import memoized_values
 
-        return memoized_values("kalker", arguments, lambda: _kalker_now(*arguments))
+        return memoized_values("kalker", arguments, lambda: _kalker_now(*arguments), _kalker_valid)
     return _kalker_now(*arguments)
+
+
+def _kalker_valid(values: Mapping[str, float]) -> bool:
+    """What :func:`_kalker_now` gives: exactly f11 and f22, positive (cache entries are
+    checked against it before use)."""
+    return set(values) == {"f11", "f22"} and all(value > 0 for value in values.values())
 
 
 def _kalker_now(*arguments: float) -> dict[str, float]:
