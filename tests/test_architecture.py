@@ -23,6 +23,7 @@ LAYERS = [
     ("express.assembly", 3),
     ("express.rail", 4),
     ("express.numeric", 5),
+    ("express.forces", 5.5),  # the nonlinear force elements, between the state space and the analyses
     ("express.analysis", 6),
     ("express.export", 7), ("express.drawing", 7), ("express.report", 7),
     ("express.paper", 8),  # the paper's demo runs every stage, the exports and report included

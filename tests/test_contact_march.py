@@ -18,7 +18,8 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from express.analysis.contact_march import contact_rhs, linear_coefficients
+from express.analysis.contact_march import contact_rhs
+from express.forces.contact import linear_coefficients
 from express.analysis.simulate import simulate
 from express.io.toml_model import parse_toml_model
 from express.numeric.statespace import vehicle_model

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from express.assembly.clearance import clearance_force, clearances_of
+from express.forces.bump_stops import clearance_force, clearances_of
 from express.assembly.generator import generate
 from express.base.diagnostics import ModelError
 from express.io import load_model, parse_toml_model

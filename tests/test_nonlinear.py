@@ -11,7 +11,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from express.analysis.integrator import DeadbandFeedback, WheelsetCoordinates, deadband_feedback
+from express.forces.deadband import DeadbandLaw, deadband_feedback
+from express.forces.wheelsets import WheelsetCoordinates
 from express.numeric.statespace import WheelsetData
 from express.rail.nonlinear import flange_penetration, linear_creepages, saturation_factor, wheelset_forces
 
@@ -214,7 +215,7 @@ def test_numba_feedback_matches_wheelset_forces(flange, saturation):
         x = rng.uniform(-1, 1, 2 * n) * np.array([0.012, 0.008, 0.012, 0.008, 0.1] * 2) * np.r_[np.ones(n), 20 * np.ones(n)]
         z = np.zeros(4)
         coordinates = WheelsetCoordinates(iy, ipsi, n + iy, n + ipsi, y_rail, rho, V)
-        deadband_feedback(x, k, DeadbandFeedback(coordinates, *arrays, limit, flange, saturation), z)
+        deadband_feedback(x, k, DeadbandLaw(0, coordinates, *arrays, limit, flange, saturation), z)
         out = wheelset_forces(x[iy], x[ipsi], x[n + iy], x[n + ipsi], y_rail[k], rho[k], V, ws,
                               flange=flange, saturation=saturation)
         np.testing.assert_allclose(z[:2], out["flange"] + out["lateral_correction"], rtol=1e-9, atol=1e-6)

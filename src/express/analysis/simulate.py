@@ -35,7 +35,7 @@ attack ``aoa{n}`` [rad]; per vehicle the wheel unloading ``dQQ0``.  Always:
 ``theta_<lever>``
     Rotation of each steering lever [rad] (bodies carrying a pin's virtual DOF).
 ``stop_<element>``
-    Force of each bump stop (clearance element, :mod:`express.assembly.clearance`) [N; N m for
+    Force of each bump stop (clearance element, :mod:`express.forces.bump_stops`) [N; N m for
     a rotational one], zero inside its gap.
 
 Series (Maxwell) elements make the state ``[q; q_D']`` (:mod:`express.assembly.first_order`);
@@ -51,15 +51,15 @@ from pathlib import Path
 import numpy as np
 
 from express.analysis.curving.outputs import WheelRailOutputs
+from express.analysis.force_elements import contact_tables_of, run_forces
 from express.analysis.integrator import DenseSteps, discretize, march
 from express.analysis.sparse_march import Route, SparseSteps, choose_route, sparse_steps
 from express.analysis.track_inputs import TrackInputs, rail_layout, station_index, track_inputs
-from express.assembly.clearance import clearance_force, clearances_of
 from express.base.diagnostics import ArgumentError
 from express.base.threads import limited_blas
+from express.forces.bump_stops import BumpStopElement, clearance_force, clearances_of
 from express.model.topology import Topology, classify_bodies
 from express.numeric.statespace import VehicleModel
-from express.rail.contact_forces import ContactSet
 from express.rail.nonlinear import wheelset_forces
 from express.rail.options import ContactModel, CreepLaw
 from express.rail.track import Track
@@ -261,7 +261,7 @@ def simulate(
         ``flange`` and ``saturation`` are off (a linear run).
     contact : {"tables", "deadband"}, optional
         The nonlinear wheel/rail contact: ``"tables"`` looks the contact up in the
-        profiles' tables (:mod:`express.analysis.contact_march`; the default when the
+        profiles' tables (:mod:`express.forces.contact`; the default when the
         model's conicity comes from profiles), ``"deadband"`` is the flange spring and
         creep saturation of :mod:`express.rail.nonlinear`.  A linear run (``flange`` and
         ``saturation`` off) uses neither.
@@ -290,29 +290,19 @@ def simulate(
     distance = start + v * time
     inputs = track_inputs(vehicle, track, distance, v)
     n = vehicle.n
-    stops = _stops(vehicle, inputs, flange or saturation if clearances is None else clearances)
     tables = contact_tables_of(vehicle, contact, creep_law) if (flange or saturation) else None
-    if tables is not None:  # the contact from the profiles' tables: its loads, its roll moment
-        from express.analysis.contact_march import linear_coefficients, march_contact, roll_coordinates
-        from express.analysis.curving.measure import march_wheel_loads
-
-        wheel_loads, load_kind = march_wheel_loads(vehicle, inputs, v, tables.wheel_load)
-        roll = roll_coordinates(vehicle)
-    selector = _feedback_selector(vehicle, stops, roll[0] if tables is not None else ())
+    run = run_forces(vehicle, inputs, v, tables=tables, flange=flange, saturation=saturation,
+                     clearances=flange or saturation if clearances is None else clearances)
+    forces = run.forces
     a = vehicle.state_matrix(v)
+    selector = forces.selector()
     linear = (_dense_steps if choose_route(a, route) == "dense" else _sparse_steps)(vehicle, a, v, dt, inputs, selector)
-    wheel_rail = _wheel_rail_arrays(vehicle, inputs, v)
-    wheel_rail.update(stops)
     size = vehicle.form.size
     x0 = np.zeros(size) if initial_state is None else np.asarray(initial_state, dtype=float)
     if x0.shape != (size,):
         raise ArgumentError(f"initial_state must have shape ({size},), got {x0.shape}")
     show = _terminal_progress() if progress is None else (_terminal_progress() if progress else None)
-    if tables is not None:
-        states, history = march_contact(linear, x0, wheel_rail, tables, linear_coefficients(vehicle, v),
-                                        loads=wheel_loads, roll=roll, progress=show)
-    else:
-        states = march(linear, x0, wheel_rail, flange=flange, saturation=saturation, progress=show)
+    states, history = march(linear, x0, forces, progress=show)
     q = states[:, :n]
     # feedback forces act on massive coordinates only: they do not enter q_F'
     q_dot = _velocities(vehicle, states, inputs, sparse=isinstance(linear, SparseSteps))
@@ -322,19 +312,17 @@ def simulate(
     if tables is not None:
         from express.analysis.contact_march import contact_wheel_outputs
 
-        record = contact_wheel_outputs(vehicle, history, q, load_kind)
+        assert run.wheel_loads is not None
+        record = contact_wheel_outputs(vehicle, history, q, run.wheel_loads)
         outputs.update(record.columns())
-    if stops["names"]:
-        stop_forces = -_stop_forces(states, stops)
-        for k, name in enumerate(stops["names"]):
-            outputs[f"stop_{name}"] = stop_forces[:, k]
+    outputs.update(forces.outputs(states, history))
     options: dict[str, object] = {"flange": flange, "saturation": saturation, "dt": dt}
     if isinstance(linear, SparseSteps):
         options["route"] = "sparse"
     if tables is not None:
         options["contact"] = f"tables ({creep_law})"
-        options["wheel_loads"] = load_kind
-    if stops["names"]:
+        options["wheel_loads"] = run.wheel_loads
+    if forces.of_kind(BumpStopElement):
         options["clearances"] = True
     return SimulationResult(time, distance, vehicle.dofs, q, q_dot, outputs, v, options, record)
 
@@ -379,76 +367,6 @@ def _velocities(vehicle: VehicleModel, states: np.ndarray, inputs: TrackInputs, 
     if form.first_order.size:
         result = result + (csr_matrix(form.velocity_input) @ inputs.u.T + csr_matrix(form.velocity_rate) @ inputs.u_rate.T).T
     return np.ascontiguousarray(result)
-
-
-def contact_tables_of(vehicle: VehicleModel, contact: ContactModel | None, creep_law: CreepLaw) -> ContactSet | None:
-    """The stacked contact tables when the contact comes from profiles (``None``: the
-    dead-band model)."""
-    if contact not in (None, "tables", "deadband"):
-        raise ArgumentError(f'contact must be "tables" or "deadband", not {contact!r}')
-    if contact == "deadband" or vehicle.model is None:
-        return None
-    from express.analysis.contact_march import contact_arrays
-    from express.rail.profile_contact import wheelset_contacts
-
-    contacts = wheelset_contacts(vehicle.model, vehicle.values, vehicle.wheelsets)
-    if any(c is None for c in contacts):
-        if contact == "tables":
-            missing = [w.name for w, c in zip(vehicle.wheelsets, contacts, strict=True) if c is None]
-            raise ArgumentError(f"contact tables need profiles for every wheelset (none for {', '.join(missing)})")
-        return None
-    return contact_arrays([c for c in contacts if c is not None], creep_law)
-
-
-def _feedback_selector(vehicle: VehicleModel, stops: dict, roll=()) -> np.ndarray:
-    """``G`` columns of the feedback forces: wheelset lateral, wheelset yaw, wheelset roll
-    (the coordinates ``roll``, with the contact tables on vertical springs), bump stops."""
-    force = vehicle.form.force
-    columns = [force[:, w.y] for w in vehicle.wheelsets] + [force[:, w.psi] for w in vehicle.wheelsets]
-    columns += [force[:, int(index)] for index in roll]
-    columns += [force[:, : vehicle.n] @ row[: vehicle.n] for row in stops["stop_rows"]]
-    return np.column_stack(columns) if columns else np.zeros((vehicle.form.size, 0))
-
-
-def _stops(vehicle: VehicleModel, inputs: TrackInputs, active: bool) -> dict:
-    """Bump-stop arrays for :func:`express.analysis.integrator.march` (empty if none)."""
-    size, count = vehicle.form.size, inputs.u.shape[0]
-    data = clearances_of(vehicle.equations, vehicle.values) if active else None
-    if data is None or data.count == 0:
-        return {"names": (), "stop_rows": np.zeros((0, size)), "stop_offset": np.zeros((count, 0)),
-                "stop_gap": np.zeros(0), "stop_k": np.zeros(0), "stop_k3": np.zeros(0)}
-    rows = np.zeros((data.count, size))
-    rows[:, : vehicle.n] = data.gradient
-    return {"names": data.names, "stop_rows": rows, "stop_offset": inputs.u @ data.inputs.T,
-            "stop_gap": data.gap, "stop_k": data.stiffness, "stop_k3": data.progressive}
-
-
-def _stop_forces(states: np.ndarray, stops: dict) -> np.ndarray:
-    """Generalized-force amplitudes ``-F`` of the bump stops at every step, (N, n_stops)."""
-    delta = states @ stops["stop_rows"].T + stops["stop_offset"]
-    return -clearance_force(delta, stops["stop_gap"], stops["stop_k"], stops["stop_k3"])
-
-
-def _wheel_rail_arrays(vehicle: VehicleModel, inputs: TrackInputs, speed: float) -> dict:
-    ws = vehicle.wheelsets
-    velocity = {int(i): vehicle.n + j for j, i in enumerate(vehicle.form.massive)}
-    return {
-        "iy": np.array([w.y for w in ws], dtype=np.int64),
-        "ipsi": np.array([w.psi for w in ws], dtype=np.int64),
-        "ivy": np.array([velocity[w.y] for w in ws], dtype=np.int64),
-        "ivpsi": np.array([velocity[w.psi] for w in ws], dtype=np.int64),
-        "y_rail": np.ascontiguousarray(inputs.y_rail),
-        "rho": np.ascontiguousarray(inputs.rho_wheelsets),
-        "speed": speed,
-        "f1": np.array([w.f1 for w in ws]),
-        "f2": np.array([w.f2 for w in ws]),
-        "conicity": np.array([w.conicity for w in ws]),
-        "r0": np.array([w.r0 for w in ws]),
-        "b": np.array([w.b for w in ws]),
-        "clearance": np.array([w.flange_clearance for w in ws]),
-        "k_rail": np.array([w.rail_stiffness for w in ws]),
-        "limit": np.array([w.friction * w.wheel_load for w in ws]),
-    }
 
 
 def derived_outputs(vehicle: VehicleModel, q, q_dot, inputs: TrackInputs, speed: float, *, flange=True, saturation=True,

@@ -27,8 +27,8 @@ from typing import Literal, NamedTuple
 import numpy as np
 from numba import njit
 
-from express.analysis.integrator import BumpStops, all_feedback
 from express.base.diagnostics import ArgumentError
+from express.forces.law import stacked_forces
 
 __all__ = [
     "SPARSE_MAX_DENSITY", "SPARSE_MIN_STATES", "SparseSteps", "choose_route", "sparse_heun_march", "sparse_steps",
@@ -118,7 +118,7 @@ class SparseSteps(NamedTuple):
         """Number of steps."""
         return int(self.forcing.shape[0]) - 1
 
-    def run(self, x0, feedback, stops: BumpStops, history: np.ndarray, progress=None) -> np.ndarray:
+    def run(self, x0, laws: tuple, history: np.ndarray, progress=None) -> np.ndarray:
         """:func:`sparse_heun_march` over every step (in 50 chunks when ``progress`` is
         given, called with the fraction done after each); returns the states, shape
         (steps + 1, N)."""
@@ -129,7 +129,7 @@ class SparseSteps(NamedTuple):
         x = np.ascontiguousarray(x0, dtype=float)
         for first in range(0, steps, chunk):
             last = min(steps, first + chunk)
-            x = sparse_heun_march(self, x, first, last, states, feedback, stops, history)
+            x = sparse_heun_march(self, x, first, last, states, laws, history)
             if progress is not None:
                 progress(last / steps)
         return states
@@ -274,7 +274,7 @@ def taylor_step(steps, x, w0, w1, out, term, product, v0, v1):
 
 
 @njit(cache=True)
-def sparse_heun_march(steps, x0, first, last, states, feedback, stops, history):
+def sparse_heun_march(steps, x0, first, last, states, laws, history):
     """Steps ``first .. last`` as :func:`express.analysis.integrator.heun_march` does them,
     the linear part by :func:`taylor_step`: the predictor ``x~ = x(dt)`` with the feedback
     ``z[k]`` held, then ``x[k+1] = x~ +`` the response from rest to the feedback's change
@@ -294,14 +294,14 @@ def sparse_heun_march(steps, x0, first, last, states, feedback, stops, history):
     work = np.zeros((4, size))
     scratch = np.zeros_like(history[first])
     forcing = steps.forcing
-    all_feedback(x, first, feedback, stops, z, history[first])
+    stacked_forces(x, first, laws, z, history[first])
     for k in range(first, last):
         _multiply(steps.g_indptr, steps.g_indices, steps.g_data, z, pushed)
         for i in range(size):
             w0[i] = forcing[k, i] + pushed[i]
             w1[i] = forcing[k + 1, i] - forcing[k, i]
         taylor_step(steps, x, w0, w1, trial, work[0], work[1], work[2], work[3])
-        all_feedback(trial, k + 1, feedback, stops, z_next, scratch)
+        stacked_forces(trial, k + 1, laws, z_next, scratch)
         moved = False
         for j in range(nz):
             change[j] = z_next[j] - z[j]
@@ -314,7 +314,7 @@ def sparse_heun_march(steps, x0, first, last, states, feedback, stops, history):
         else:
             for i in range(size):
                 x[i] = trial[i]
-        all_feedback(x, k + 1, feedback, stops, z, history[k + 1])
+        stacked_forces(x, k + 1, laws, z, history[k + 1])
         for i in range(size):
             states[k + 1, i] = x[i]
     return x

@@ -35,7 +35,7 @@ simulation"):
 
 The vertical load of each wheel is an argument: the static load
 (:func:`quasi_static_forces`' default, as the Manchester benchmark's case A) or the
-march's (:class:`express.analysis.contact_march.WheelLoadModel`).  Beyond the table (or
+march's (:class:`express.forces.contact.WheelLoadModel`).  Beyond the table (or
 the rail map), a wall of the rail's stiffness holds the wheel.
 """
 

@@ -209,7 +209,7 @@ def _derailment(outputs: WheelRailOutputs, distance: np.ndarray, y_over_q: np.nd
 
 def flange_angle_of(contact: ContactSet | None, default: float) -> float:
     """The flange angle [rad] for Nadal's limit: the largest contact angle of the contact
-    tables (stacked, :func:`express.analysis.contact_march.contact_arrays`), else ``default``."""
+    tables (stacked, :func:`express.forces.contact.contact_arrays`), else ``default``."""
     if contact is None:
         return default
     from express.rail.contact_tables import ANGLE
@@ -227,7 +227,7 @@ def assess_run(vehicle, track, result) -> tuple[WheelRailOutputs, Assessment]:
     """The wheel/rail outputs and the assessment of a time simulation
     (:class:`~express.analysis.simulate.SimulationResult`) along ``track``."""
     from express.analysis.curving.measure import DEFAULT_FLANGE_ANGLE, wheel_rail_outputs
-    from express.analysis.simulate import contact_tables_of
+    from express.analysis.force_elements import contact_tables_of
     from express.analysis.track_inputs import track_inputs
 
     contact = None
@@ -248,7 +248,7 @@ def assess_run(vehicle, track, result) -> tuple[WheelRailOutputs, Assessment]:
 def assess_steady(vehicle, steady) -> Assessment:
     """The assessment of a steady state (:class:`~express.analysis.curving.steady.SteadyCurving`)."""
     from express.analysis.curving.measure import DEFAULT_FLANGE_ANGLE
-    from express.analysis.simulate import contact_tables_of
+    from express.analysis.force_elements import contact_tables_of
 
     contact = None
     if steady.contact.startswith("tables"):

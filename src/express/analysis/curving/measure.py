@@ -3,7 +3,7 @@ vehicle states along a track: one function for a steady state and a time history
 
 Two contact models give the per-wheel forces:
 
-* the **contact tables** of the profiles (:mod:`express.analysis.contact_march`): each
+* the **contact tables** of the profiles (:mod:`express.forces.contact`): each
   wheel's lateral and longitudinal force, contact position and angle come from the
   compiled contact of :mod:`express.rail.contact_forces`, at the wheel loads the time
   march uses (the static loads with the quasi-static load transfer,
@@ -43,7 +43,7 @@ from express.rail.load_transfer import (
 from express.rail.nonlinear import linear_creepages, wheelset_forces
 
 if TYPE_CHECKING:
-    from express.analysis.contact_march import WheelLoadModel
+    from express.forces.contact import WheelLoadModel
 
 __all__ = ["DEFAULT_FLANGE_ANGLE", "estimated_loads", "estimated_wheel_loads", "march_wheel_loads", "vehicle_body_loads",
            "wheel_rail_outputs"]
@@ -109,7 +109,7 @@ def estimated_wheel_loads(vehicle, inputs, speed: float, static: np.ndarray) -> 
     TrackInputs`) at ``speed`` [m/s], as changes of the static loads ``static`` [N]; the
     estimate is linear in the bodies' lateral displacements (the wheelsets' own excepted:
     their contact points move with them), whose gains are taken one body at a time."""
-    from express.analysis.contact_march import WheelLoadModel
+    from express.forces.contact import WheelLoadModel
 
     body = vehicle_body_loads(vehicle)
     count = inputs.u.shape[0]
@@ -137,11 +137,11 @@ def estimated_wheel_loads(vehicle, inputs, speed: float, static: np.ndarray) -> 
 def march_wheel_loads(vehicle: VehicleModel, inputs, speed: float, static: np.ndarray) -> tuple[WheelLoadModel, str]:
     """The wheel loads of the contact tables and where they come from: the model's own
     vertical contact springs when every wheel has one
-    (:func:`express.analysis.contact_march.dynamic_wheel_loads`, ``"dynamic"``; plus the
+    (:func:`express.forces.contact.dynamic_wheel_loads`, ``"dynamic"``; plus the
     change of the load normal to the track plane, which a linear model does not carry),
     else the quasi-static estimate (:func:`estimated_wheel_loads`,
     ``"quasi-static estimate"``)."""
-    from express.analysis.contact_march import dynamic_wheel_loads
+    from express.forces.contact import dynamic_wheel_loads
 
     dynamic = dynamic_wheel_loads(vehicle, inputs, static)
     if dynamic is None:
@@ -182,7 +182,8 @@ def _deadband_forces(vehicle: VehicleModel, q, q_dot, inputs, speed: float, flan
 def _table_outputs(vehicle: VehicleModel, q, q_dot, inputs, speed: float, contact: ContactSet) -> WheelRailOutputs:
     """The record of the contact tables with the wheel loads the time march uses
     (:func:`estimated_wheel_loads`)."""
-    from express.analysis.contact_march import contact_force_history, contact_wheel_outputs, wheel_loads_history
+    from express.analysis.contact_march import contact_force_history, contact_wheel_outputs
+    from express.forces.contact import wheel_loads_history
 
     ws = vehicle.wheelsets
     model, kind = march_wheel_loads(vehicle, inputs, speed, contact.wheel_load)
@@ -206,7 +207,7 @@ def wheel_rail_outputs(vehicle: VehicleModel, q: np.ndarray, q_dot: np.ndarray, 
     speed : float
         [m/s].
     contact : ContactSet, optional
-        The stacked contact tables (:func:`express.analysis.contact_march.contact_arrays`);
+        The stacked contact tables (:func:`express.forces.contact.contact_arrays`);
         without them the dead-band model's forces are used.
     flange_angle : float
         The dead-band model's flange contact angle [rad].

@@ -29,16 +29,16 @@ from typing import Any
 
 import numpy as np
 
-from express.analysis.curving.measure import march_wheel_loads, wheel_rail_outputs
+from express.analysis.curving.measure import wheel_rail_outputs
 from express.analysis.curving.outputs import WheelRailOutputs
 from express.analysis.curving.step_solver import StepSolver
+from express.analysis.force_elements import contact_tables_of, run_forces
 from express.analysis.simulate import derived_outputs
 from express.analysis.track_inputs import TrackInputs
-from express.assembly.clearance import clearance_force, clearances_of
 from express.base.diagnostics import ArgumentError, InputError
+from express.forces.element import ForceSet
 from express.model.parameters import expression_value
 from express.numeric.statespace import VehicleModel
-from express.rail import nonlinear
 from express.rail.options import ContactModel, CreepLaw
 from express.rail.track.geometry import turn_sign
 
@@ -223,8 +223,6 @@ class SteadyCurvingSolver:
 
     def __init__(self, vehicle: VehicleModel, speed: float | None = None, *, contact: ContactModel | None = None,
                  creep_law: CreepLaw = "fastsim", flange: bool = True, saturation: bool = True):
-        from express.analysis.simulate import contact_tables_of
-
         if vehicle.layout is None or vehicle.model is None or vehicle.model.rail is None:
             raise ArgumentError("the model has no rail data: add a [rail] section to run it in a curve")
         self.vehicle = vehicle
@@ -240,24 +238,10 @@ class SteadyCurvingSolver:
         self.cant_base = expression_value(vehicle.model.rail.cant_base, vehicle.values)
         self.gravity = expression_value(vehicle.model.rail.gravity, vehicle.values)
         ws = vehicle.wheelsets
-        velocity = {int(i): vehicle.n + j for j, i in enumerate(vehicle.form.massive)}
         self.iy = np.array([w.y for w in ws])
         self.ipsi = np.array([w.psi for w in ws])
-        self.ivy = np.array([velocity[w.y] for w in ws])
-        self.ivpsi = np.array([velocity[w.psi] for w in ws])
-        self.stops = clearances_of(vehicle.equations, vehicle.values) if nonlinear_run else None
-        stop_rows = self.stops.gradient if self.stops is not None and self.stops.count else np.zeros((0, vehicle.n))
-        force = vehicle.form.force
-        self.roll = (np.zeros(0, dtype=np.int64), np.zeros(0))
-        if self.tables is not None:
-            from express.analysis.contact_march import linear_coefficients, roll_coordinates
-
-            self.linear = linear_coefficients(vehicle, v)
-            self.roll = roll_coordinates(vehicle)  # the contact's roll moment on a 3-D wheelset
-        columns = [force[:, w.y] for w in ws] + [force[:, w.psi] for w in ws] + [force[:, int(i)] for i in self.roll[0]]
-        columns += [force[:, : vehicle.n] @ r for r in stop_rows]
-        self.selector = np.column_stack(columns)
-        self.stop_rows = stop_rows
+        self._held: tuple[TrackInputs, ForceSet] | None = None
+        self.selector = self._forces(self.inputs(SteadyCurve(math.inf))).selector()
         self.sparse_a = self.sparse_selector = None  # a long train's J is kept sparse (step_solver.py)
         if StepSolver(self.a.shape[0]).sparse:
             from scipy import sparse
@@ -278,82 +262,21 @@ class SteadyCurvingSolver:
         return TrackInputs(u, np.zeros_like(u), np.zeros((1, count)), np.full((1, count), curve.curvature),
                            np.full((1, len(layout.stations)), curve.curvature))
 
+    def _forces(self, inputs: TrackInputs) -> ForceSet:
+        """The run's force elements on ``inputs`` (one instant,
+        :func:`express.analysis.force_elements.run_forces`), kept for the last inputs."""
+        if self._held is not None and self._held[0] is inputs:
+            return self._held[1]
+        nonlinear_run = self.flange or self.saturation
+        forces = run_forces(self.vehicle, inputs, self.speed, tables=self.tables, flange=self.flange,
+                            saturation=self.saturation, clearances=nonlinear_run).forces
+        self._held = (inputs, forces)
+        return forces
+
     def feedback(self, x: np.ndarray, inputs: TrackInputs) -> np.ndarray:
         """``z(x)``: the nonlinear forces fed back, as the time march computes them: the
         wheel/rail forces of every wheelset (lateral, then yaw) and the bump stops."""
-        return np.concatenate([self._contact(x, inputs), self._stops(x, inputs)])
-
-    def _contact(self, x: np.ndarray, inputs: TrackInputs) -> np.ndarray:
-        y, psi, y_dot, psi_dot = x[self.iy], x[self.ipsi], x[self.ivy], x[self.ivpsi]
-        rho = inputs.rho_wheelsets[0]
-        if self.tables is not None:  # the time march's own law (express.analysis.contact_march)
-            from express.analysis.contact_march import OUTPUTS, contact_feedback
-
-            count = self.iy.size
-            wheel_rail = np.zeros((2 + (self.roll[0].size > 0)) * count)
-            contact_feedback(np.ascontiguousarray(x, dtype=float), 0, self._contact_feedback(inputs), wheel_rail,
-                             np.zeros((count, len(OUTPUTS))))
-            return wheel_rail
-        forces = nonlinear.wheelset_forces(y, psi, y_dot, psi_dot, inputs.y_rail[0], rho, self.speed,
-                                           self.vehicle.wheelsets, flange=self.flange, saturation=self.saturation)
-        return np.concatenate([forces["flange"] + forces["lateral_correction"], forces["yaw_correction"]])
-
-    def _stop_deflection(self, x: np.ndarray, inputs: TrackInputs) -> np.ndarray:
-        assert self.stops is not None
-        return self.stop_rows @ x[: self.vehicle.n] + self.stops.inputs @ inputs.u[0]
-
-    def _stop_force(self, delta: np.ndarray) -> np.ndarray:
-        assert self.stops is not None
-        return -clearance_force(delta, self.stops.gap, self.stops.stiffness, self.stops.progressive)
-
-    def _stops(self, x: np.ndarray, inputs: TrackInputs) -> np.ndarray:
-        if not self.stop_rows.shape[0]:
-            return np.zeros(0)
-        return self._stop_force(self._stop_deflection(x, inputs))
-
-    def _feedback_slopes(self, x: np.ndarray, inputs: TrackInputs, contact: np.ndarray) -> np.ndarray:
-        """``dz/dx`` (len(z), N) by forward differences: each wheelset's forces depend on
-        its own four coordinates only, so one difference moves one kind of coordinate of
-        every wheelset at once; a bump stop's force depends on its deflection only."""
-        step = 1e-8
-        count = self.iy.size
-        slopes = np.zeros((contact.size + self.stop_rows.shape[0], x.size))
-        rows = np.arange(count)
-        if self.flange or self.saturation:
-            # with the roll coordinates (3-D wheelsets on vertical springs) the loads, and so
-            # the forces, depend on each wheelset's vertical and roll coordinates too
-            extra = [np.array([self.vehicle.dof_index(f"{w.name}.{c}") for w in self.vehicle.wheelsets])
-                     for c in ("z", "rx") if self.roll[0].size]
-            for columns in (self.iy, self.ipsi, self.ivy, self.ivpsi, *extra):
-                moved = x.copy()
-                moved[columns] += step
-                change = (self._contact(moved, inputs) - contact) / step
-                for block in range(contact.size // count):
-                    slopes[block * count + rows, columns] = change[block * count:(block + 1) * count]
-        if self.stop_rows.shape[0]:
-            delta = self._stop_deflection(x, inputs)
-            rate = (self._stop_force(delta + step) - self._stop_force(delta)) / step
-            slopes[contact.size:, : self.vehicle.n] = rate[:, None] * self.stop_rows
-        return slopes
-
-    def _contact_feedback(self, inputs: TrackInputs):
-        """The march's :class:`~express.analysis.contact_march.ContactFeedback` on
-        ``inputs`` (one instant), kept for the last inputs."""
-        from express.analysis.contact_march import ContactFeedback
-        from express.analysis.integrator import WheelsetCoordinates
-
-        held = getattr(self, "_held_feedback", None)
-        if held is not None and held[0] is inputs:
-            return held[1]
-        assert self.tables is not None
-        iy, ipsi, ivy, ivpsi = (np.ascontiguousarray(a, dtype=np.int64) for a in (self.iy, self.ipsi, self.ivy, self.ivpsi))
-        coordinates = WheelsetCoordinates(iy, ipsi, ivy, ivpsi, np.ascontiguousarray(inputs.y_rail, dtype=float),
-                                          np.ascontiguousarray(inputs.rho_wheelsets, dtype=float), float(self.speed))
-        feedback = ContactFeedback(coordinates, self.tables, np.ascontiguousarray(self.linear),
-                                   march_wheel_loads(self.vehicle, inputs, self.speed, self.tables.wheel_load)[0],
-                                   *self.roll)
-        self._held_feedback = (inputs, feedback)
-        return feedback
+        return self._forces(inputs).forces(x, 0)
 
     def _equations(self, inputs: TrackInputs):
         forcing = self.b @ inputs.u[0]
@@ -362,9 +285,9 @@ class SteadyCurvingSolver:
         def equations(x: np.ndarray) -> tuple[np.ndarray, Any]:
             if not nonlinear_run:
                 return self.a @ x + forcing, self.a if self.sparse_a is None else self.sparse_a
-            contact = self._contact(x, inputs)
-            z = np.concatenate([contact, self._stops(x, inputs)])
-            slopes = self._feedback_slopes(x, inputs, contact)
+            forces = self._forces(inputs)
+            z = forces.forces(x, 0)
+            slopes = forces.slopes(x, 0, z)
             if self.sparse_a is None:
                 jacobian = self.a + self.selector @ slopes
             else:

@@ -1,0 +1,54 @@
+"""The compiled side of the force elements: one entry point, :func:`force_law`, that each
+kind's parameter NamedTuple selects (``numba.extending.overload``), and the stacked set's
+forces, :func:`stacked_forces`, which the compiled marches call.
+
+A kind registers its law in its own module::
+
+    @overload(force_law)
+    def _my_law(x, k, law, z, record):
+        if isinstance(law, types.BaseNamedTuple) and law.instance_class is MyLaw:
+            return lambda x, k, law, z, record: my_forces(x, k, law, z, record)
+        return None
+
+where ``my_forces`` writes the element's forces at state ``x`` and step ``k`` into
+``z[law.first : law.first + width]`` (``first``: the element's place in the stack, a field
+of every law) and what it records into ``record``.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+from numba import literal_unroll, njit, types
+from numba.extending import overload
+
+__all__ = ["NoForces", "force_law", "stacked_forces"]
+
+
+def force_law(x, k, law, z, record):
+    """The forces of one element at state ``x`` and step ``k`` into ``z`` from its place
+    ``law.first`` on, what it records into ``record``.
+
+    Compiled only: each law NamedTuple type registers its implementation with
+    ``numba.extending.overload`` (module docstring)."""
+    raise NotImplementedError("force_law runs inside compiled code only")
+
+
+class NoForces(NamedTuple):
+    """The law of an empty set (a stack is never empty for the compiled loop)."""
+
+    first: int
+
+
+@overload(force_law)
+def _no_forces(x, k, law, z, record):
+    if isinstance(law, types.BaseNamedTuple) and law.instance_class is NoForces:
+        return lambda x, k, law, z, record: None
+    return None
+
+
+@njit(cache=True)
+def stacked_forces(x, k, laws, z, record):
+    """Every element's forces into ``z``, in the order of the stack (a tuple of laws)."""
+    for law in literal_unroll(laws):
+        force_law(x, k, law, z, record)
