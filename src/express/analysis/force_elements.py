@@ -5,7 +5,7 @@ steady-curving solver alike.
 The wheel/rail element comes first — the contact from the profiles' tables when the
 model's conicity comes from profiles (its wheel loads from
 :func:`express.analysis.curving.measure.march_wheel_loads`), else the paper's dead-band
-flange spring and saturation — then the bump stops.
+flange spring and saturation — then the bump stops and the friction elements.
 """
 
 from __future__ import annotations
@@ -18,6 +18,7 @@ from express.forces.bump_stops import bump_stops_of
 from express.forces.contact import ContactElement, linear_coefficients, roll_coordinates
 from express.forces.deadband import DeadbandElement
 from express.forces.element import ForceElement, ForceSet
+from express.forces.friction import friction_elements_of
 from express.forces.wheelsets import wheelset_coordinates
 from express.numeric.statespace import VehicleModel
 from express.rail.contact_forces import ContactSet
@@ -78,7 +79,8 @@ def run_forces(vehicle: VehicleModel, inputs: TrackInputs, speed: float, *, tabl
     flange, saturation : bool
         The dead-band model's flange contact and creep saturation.
     clearances : bool
-        Include the bump stops.
+        Include the suspension's nonlinear elements (bump stops, friction); without them
+        friction elements are stuck, as the linear analyses see them.
     """
     coordinates = wheelset_coordinates(vehicle, inputs.y_rail, inputs.rho_wheelsets, speed)
     elements: list[ForceElement] = []
@@ -91,7 +93,8 @@ def run_forces(vehicle: VehicleModel, inputs: TrackInputs, speed: float, *, tabl
                                        roll_coordinates(vehicle)))
     else:
         elements.append(DeadbandElement(vehicle, coordinates, flange=flange, saturation=saturation))
-    stops = bump_stops_of(vehicle, inputs.u) if clearances else None
-    if stops is not None:
-        elements.append(stops)
+    if clearances:  # the suspension's nonlinear elements
+        for element in (bump_stops_of(vehicle, inputs.u), friction_elements_of(vehicle, inputs.u)):
+            if element is not None:
+                elements.append(element)
     return RunForces(ForceSet(tuple(elements), vehicle.form.size), kind)

@@ -135,17 +135,17 @@ def heun_march(phi_t, drive, g0_t, g1_t, x0, first, last, states, laws, history)
     zero = np.zeros(size)
     trial = np.zeros(size)
     scratch = np.zeros_like(history[first])
-    stacked_forces(x, first, laws, z, history[first])
+    stacked_forces(x, first, laws, z, history[first], True)
     for k in range(first, last):
         _products(drive[k], phi_t, x, base)
         _products(zero, g0_t, z, held)
         for i in range(size):
             trial[i] = base[i] + held[i]
-        stacked_forces(trial, k + 1, laws, z_next, scratch)
+        stacked_forces(trial, k + 1, laws, z_next, scratch, False)
         for j in range(nz):
             change[j] = z_next[j] - z[j]
         _paired_products(base, g0_t, z, g1_t, change, x)
-        stacked_forces(x, k + 1, laws, z, history[k + 1])
+        stacked_forces(x, k + 1, laws, z, history[k + 1], True)
         for i in range(size):
             states[k + 1, i] = x[i]
     return x

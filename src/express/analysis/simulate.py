@@ -58,6 +58,7 @@ from express.analysis.track_inputs import TrackInputs, rail_layout, station_inde
 from express.base.diagnostics import ArgumentError
 from express.base.threads import limited_blas
 from express.forces.bump_stops import BumpStopElement, clearance_force, clearances_of
+from express.forces.friction import FrictionElement
 from express.model.topology import Topology, classify_bodies
 from express.numeric.statespace import VehicleModel
 from express.rail.nonlinear import wheelset_forces
@@ -95,6 +96,9 @@ class SimulationResult:
         The per-wheel, per-wheelset and per-vehicle wheel/rail quantities of a run with
         the contact tables (:class:`~express.analysis.curving.outputs.WheelRailOutputs`);
         their columns are in ``outputs`` too.
+    output_units : dict of str to str
+        The SI unit of the force elements' outputs, as each element states it (the other
+        outputs' units follow their names, :func:`output_unit`).
     """
 
     time: np.ndarray
@@ -106,6 +110,7 @@ class SimulationResult:
     speed: float
     options: dict = field(default_factory=dict)
     wheel_rail: WheelRailOutputs | None = None
+    output_units: dict[str, str] = field(default_factory=dict)
 
     def series(self) -> dict[str, np.ndarray]:
         """Every column: time, d1, each DOF, each DOF rate (``<dof>_dot``), outputs."""
@@ -129,7 +134,7 @@ class SimulationResult:
         for dof in self.dofs:
             units[f"{dof}_dot"] = f"{units[dof]}/s"
         for name in self.outputs:
-            units[name] = output_unit(name)
+            units[name] = self.output_units.get(name, output_unit(name))
         return units
 
     def to_csv(self) -> str:
@@ -294,6 +299,7 @@ def simulate(
     run = run_forces(vehicle, inputs, v, tables=tables, flange=flange, saturation=saturation,
                      clearances=flange or saturation if clearances is None else clearances)
     forces = run.forces
+    _check_step(forces, vehicle, dt)
     a = vehicle.state_matrix(v)
     selector = forces.selector()
     linear = (_dense_steps if choose_route(a, route) == "dense" else _sparse_steps)(vehicle, a, v, dt, inputs, selector)
@@ -324,7 +330,21 @@ def simulate(
         options["wheel_loads"] = run.wheel_loads
     if forces.of_kind(BumpStopElement):
         options["clearances"] = True
-    return SimulationResult(time, distance, vehicle.dofs, q, q_dot, outputs, v, options, record)
+    if forces.of_kind(FrictionElement):
+        options["friction"] = "slipping (spring-slider)"
+    return SimulationResult(time, distance, vehicle.dofs, q, q_dot, outputs, v, options, record, forces.output_units())
+
+
+def _check_step(forces, vehicle: VehicleModel, dt: float) -> None:
+    """One warning when the step does not resolve a force element's stiffest feedback
+    (a friction element's pre-slip spring while it slips): the run is not converged."""
+    resolved = forces.resolved_step(vehicle.mass)
+    if resolved is not None and dt > resolved:
+        import warnings
+
+        warnings.warn(f"the time step {dt * 1e3:g} ms does not resolve the friction elements' pre-slip springs "
+                      f"while they slip (at most {resolved * 1e3:.3g} ms): the run is not converged in the step; "
+                      "use a smaller dt (--dt)", UserWarning, stacklevel=3)
 
 
 def _dense_steps(vehicle: VehicleModel, a: np.ndarray, v: float, dt: float, inputs: TrackInputs,

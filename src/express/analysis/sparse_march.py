@@ -294,14 +294,14 @@ def sparse_heun_march(steps, x0, first, last, states, laws, history):
     work = np.zeros((4, size))
     scratch = np.zeros_like(history[first])
     forcing = steps.forcing
-    stacked_forces(x, first, laws, z, history[first])
+    stacked_forces(x, first, laws, z, history[first], True)
     for k in range(first, last):
         _multiply(steps.g_indptr, steps.g_indices, steps.g_data, z, pushed)
         for i in range(size):
             w0[i] = forcing[k, i] + pushed[i]
             w1[i] = forcing[k + 1, i] - forcing[k, i]
         taylor_step(steps, x, w0, w1, trial, work[0], work[1], work[2], work[3])
-        stacked_forces(trial, k + 1, laws, z_next, scratch)
+        stacked_forces(trial, k + 1, laws, z_next, scratch, False)
         moved = False
         for j in range(nz):
             change[j] = z_next[j] - z[j]
@@ -314,7 +314,7 @@ def sparse_heun_march(steps, x0, first, last, states, laws, history):
         else:
             for i in range(size):
                 x[i] = trial[i]
-        stacked_forces(x, k + 1, laws, z, history[k + 1])
+        stacked_forces(x, k + 1, laws, z, history[k + 1], True)
         for i in range(size):
             states[k + 1, i] = x[i]
     return x

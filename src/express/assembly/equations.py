@@ -91,6 +91,35 @@ class Matrices(Mapping[str, _T], Generic[_T]):
 
 
 @dataclass(frozen=True)
+class ElementTerm:
+    """A nonlinear element's record for the force elements of the time domain
+    (:mod:`express.forces`): its deflection ``delta = gradient . q + inputs . u`` and its
+    values by name.  What the values mean is the kind's (a friction element:
+    ``stiffness`` the pre-slip spring, ``friction`` the limit ``mu N``); the linear
+    matrices hold its linearisation, the kind's module says which.
+
+    Attributes
+    ----------
+    element : str
+        The element's id.
+    kind : str
+        The :class:`~express.model.records.ElementKind` value (``"friction"``).
+    gradient : dict of str to sympy.Expr
+        d(delta)/dq by reduced DOF.
+    inputs : dict of str to sympy.Expr
+        d(delta)/du by input.
+    values : dict of str to sympy.Expr
+        The element's values by name.
+    """
+
+    element: str
+    kind: str
+    gradient: dict[str, sp.Expr]
+    inputs: dict[str, sp.Expr]
+    values: dict[str, sp.Expr]
+
+
+@dataclass(frozen=True)
 class ClearanceTerm:
     """A clearance element (bump stop), left out of the linear matrices.
 
@@ -234,6 +263,9 @@ class EquationsOfMotion:
         Unit the value was given in, by name (informative).
     clearances : tuple of ClearanceTerm
         Clearance elements (bump stops) for the nonlinear simulation; not in the matrices.
+    element_terms : tuple of ElementTerm
+        The other nonlinear elements (friction) for the time domain; their linearisation
+        is in the matrices.
     derivation : tuple of DerivedParameter or DerivationCall
         How the derived parameters follow from the given ones, in evaluation order
         (:func:`derivation_steps`); empty when every parameter is given. ``values``
@@ -249,6 +281,7 @@ class EquationsOfMotion:
     values: dict[str, float] = field(default_factory=dict)
     units: dict[str, str] = field(default_factory=dict)
     clearances: tuple[ClearanceTerm, ...] = ()
+    element_terms: tuple[ElementTerm, ...] = ()
     derivation: tuple[DerivationStep, ...] = ()
 
     def __post_init__(self) -> None:

@@ -26,6 +26,7 @@ from express.assembly.algebra import ExactDomain, inverted_symbols, needs_fracti
 from express.assembly.equations import (
     STROKE,
     ClearanceTerm,
+    ElementTerm,
     EquationsOfMotion,
     GenerationResult,
     Matrices,
@@ -372,6 +373,7 @@ class _Assembly:
     forcing_rate: dict[tuple[int, int], Any] = field(default_factory=dict)
     mass: dict[tuple[int, int], Any] = field(default_factory=dict)
     clearances: list = field(default_factory=list)
+    element_terms: list = field(default_factory=list)
 
 
 def _assemble(model: Model, added: AddedTerms, domain: ExactDomain, deflections: _Deflections, reduced: list[str],
@@ -399,6 +401,9 @@ def _assemble(model: Model, added: AddedTerms, domain: ExactDomain, deflections:
         if element.clearance:
             parts.clearances.append(_clearance(element, g, h, reduced, deflections.inputs, domain.readable))
             continue
+        if element.sliding:  # in the matrices stuck (its pre-slip spring), below; slips in the time domain
+            parts.element_terms.append(_element_term(element, g, h, reduced, deflections.inputs, domain.readable,
+                                                     {"stiffness": element.stiffness, "friction": element.friction}))
         if element.series:
             # spring deflection delta - s, damper stroke s (docs/model-format.md)
             stroke = r_index[f"{element.id}.{STROKE}"]
@@ -493,6 +498,7 @@ def _generate(model: Model, keep_virtual: bool, added: AddedTerms, domain: Exact
         values=values,
         units=units,
         clearances=tuple(parts.clearances),
+        element_terms=tuple(parts.element_terms),
         derivation=derivation_steps(model),
     )
     warnings = _generation_warnings(model, reduced, matrices["M"], parts.clearances)
@@ -550,4 +556,16 @@ def _clearance(element, gradient: dict, inputs_gradient: dict, dofs: list[str], 
         gap=sp.sympify(element.gap),
         stiffness=sp.sympify(element.stiffness),
         progressive=sp.sympify(element.progressive),
+    )
+
+
+def _element_term(element, gradient: dict, inputs_gradient: dict, dofs: list[str], inputs: list[str], form,
+                  values: dict) -> ElementTerm:
+    """The record of a nonlinear element for the time domain (:class:`ElementTerm`)."""
+    return ElementTerm(
+        element=element.id,
+        kind=element.kind.value,
+        gradient={dofs[i]: form(v) for i, v in sorted(gradient.items())},
+        inputs={inputs[j]: form(v) for j, v in sorted(inputs_gradient.items())},
+        values={name: sp.sympify(value) for name, value in values.items()},
     )

@@ -141,9 +141,9 @@ def bump_stop_forces(x, k, stops, z):
 
 
 @overload(force_law)
-def _bump_stop_law(x, k, law, z, record):
+def _bump_stop_law(x, k, law, z, record, commit):
     if isinstance(law, types.BaseNamedTuple) and law.instance_class is BumpStopLaw:
-        return lambda x, k, law, z, record: bump_stop_forces(x, k, law, z)
+        return lambda x, k, law, z, record, commit: bump_stop_forces(x, k, law, z)
     return None
 
 

@@ -323,9 +323,9 @@ def roll_coordinates(vehicle) -> tuple[np.ndarray, np.ndarray]:
 
 
 @overload(force_law)
-def _contact_law(x, k, law, z, record):
+def _contact_law(x, k, law, z, record, commit):
     if isinstance(law, types.BaseNamedTuple) and law.instance_class is ContactFeedback:
-        return lambda x, k, law, z, record: contact_feedback(x, k, law, z, record)
+        return lambda x, k, law, z, record, commit: contact_feedback(x, k, law, z, record)
     return None
 
 

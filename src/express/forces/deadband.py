@@ -76,9 +76,9 @@ def deadband_feedback(x, k, feedback, z):
 
 
 @overload(force_law)
-def _deadband_law(x, k, law, z, record):
+def _deadband_law(x, k, law, z, record, commit):
     if isinstance(law, types.BaseNamedTuple) and law.instance_class is DeadbandLaw:
-        return lambda x, k, law, z, record: deadband_feedback(x, k, law, z)
+        return lambda x, k, law, z, record, commit: deadband_feedback(x, k, law, z)
     return None
 
 

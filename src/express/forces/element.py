@@ -77,6 +77,11 @@ class ForceElement(ABC):
     def slopes(self, x: np.ndarray, k: int, forces: np.ndarray) -> np.ndarray:
         """``dz/dx`` of the block at ``x`` (whose forces are ``forces``), shape (width, N)."""
 
+    def resolved_step(self, mass: np.ndarray) -> float | None:
+        """The largest time step [s] that resolves what the element feeds back explicitly
+        (its stiffest linearisation), given the mass matrix (n, n); None: no limit."""
+        return None
+
     def record_shape(self) -> tuple[int, ...] | None:
         """The shape of what the compiled law records per step, or None (nothing)."""
         return None
@@ -127,6 +132,11 @@ class ForceSet:
         """The compiled laws of the stack, each at its place (never empty)."""
         laws = tuple(element.law(int(first)) for element, first in zip(self.elements, self._firsts(), strict=True))
         return laws or (NoForces(0),)
+
+    def resolved_step(self, mass: np.ndarray) -> float | None:
+        """The smallest :meth:`ForceElement.resolved_step` of the stack [s], None if none."""
+        steps = [s for s in (e.resolved_step(mass) for e in self.elements) if s is not None]
+        return min(steps) if steps else None
 
     def history(self, steps: int) -> np.ndarray:
         """Zeroed records of the march, shape (steps + 1, ...) of the one recording element

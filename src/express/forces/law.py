@@ -5,14 +5,17 @@ forces, :func:`stacked_forces`, which the compiled marches call.
 A kind registers its law in its own module::
 
     @overload(force_law)
-    def _my_law(x, k, law, z, record):
+    def _my_law(x, k, law, z, record, commit):
         if isinstance(law, types.BaseNamedTuple) and law.instance_class is MyLaw:
-            return lambda x, k, law, z, record: my_forces(x, k, law, z, record)
+            return lambda x, k, law, z, record, commit: my_forces(x, k, law, z, record)
         return None
 
 where ``my_forces`` writes the element's forces at state ``x`` and step ``k`` into
 ``z[law.first : law.first + width]`` (``first``: the element's place in the stack, a field
-of every law) and what it records into ``record``.
+of every law) and what it records into ``record``.  ``commit`` is True where ``x`` is a
+state the march keeps (the start and each step's end) and False at the predictor's trial
+state: an element with internal states (a friction slider, kept in an array of its law)
+updates them only when committing.
 """
 
 from __future__ import annotations
@@ -25,9 +28,10 @@ from numba.extending import overload
 __all__ = ["NoForces", "force_law", "stacked_forces"]
 
 
-def force_law(x, k, law, z, record):
+def force_law(x, k, law, z, record, commit):
     """The forces of one element at state ``x`` and step ``k`` into ``z`` from its place
-    ``law.first`` on, what it records into ``record``.
+    ``law.first`` on, what it records into ``record``; its internal states updated when
+    ``commit`` (module docstring).
 
     Compiled only: each law NamedTuple type registers its implementation with
     ``numba.extending.overload`` (module docstring)."""
@@ -41,14 +45,15 @@ class NoForces(NamedTuple):
 
 
 @overload(force_law)
-def _no_forces(x, k, law, z, record):
+def _no_forces(x, k, law, z, record, commit):
     if isinstance(law, types.BaseNamedTuple) and law.instance_class is NoForces:
-        return lambda x, k, law, z, record: None
+        return lambda x, k, law, z, record, commit: None
     return None
 
 
 @njit(cache=True)
-def stacked_forces(x, k, laws, z, record):
-    """Every element's forces into ``z``, in the order of the stack (a tuple of laws)."""
+def stacked_forces(x, k, laws, z, record, commit):
+    """Every element's forces into ``z``, in the order of the stack (a tuple of laws);
+    internal states updated when ``commit``."""
     for law in literal_unroll(laws):
-        force_law(x, k, law, z, record)
+        force_law(x, k, law, z, record, commit)

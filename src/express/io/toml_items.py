@@ -27,7 +27,7 @@ __all__ = ["TomlReader", "check_id", "cut_text", "entries", "read_items", "show_
 
 BODY_KEYS = ("mass", "inertia", "dofs", "position", "label", "outline")
 POINT_KEYS = ("body", "offset")
-ELEMENT_KEYS = ("from", "to", "direction", "stiffness", "damping", "label", "series", "gap", "progressive")
+ELEMENT_KEYS = ("from", "to", "direction", "stiffness", "damping", "label", "series", "gap", "progressive", "friction")
 PIN_KEYS = ("virtual", "non_virtual")
 DIRECTIONS = {"x": 0, "y": 1, "z": 2, "1": 0, "2": 1, "3": 2}
 ROTATIONS = {"rx": 0, "ry": 1, "rz": 2}
@@ -192,7 +192,7 @@ def read_items(reader: TomlReader, data: dict, base: tuple[str, ...] = ()):
 
 
 def read_element(reader: TomlReader, element_id: str, path: tuple[str, ...], item: str, spec: dict) -> Element:
-    """One element: translational or rotational, plain, series or clearance."""
+    """One element: translational or rotational, plain, series, clearance or friction."""
     direction = spec.get("direction")
     name = str(direction) if not isinstance(direction, (bool, float)) else ""
     rotational = name in ROTATIONS
@@ -213,6 +213,14 @@ def read_element(reader: TomlReader, element_id: str, path: tuple[str, ...], ite
         if series:
             reader.problem(path, item, "a clearance element cannot be a series element")
         kind = ElementKind.CLEARANCE
+    friction = sp.S.Zero
+    if "friction" in spec:
+        friction = reader.expression(spec["friction"], path + ("friction",), item, "friction")  # > 0: check_model
+        if kind is not ElementKind.PARALLEL:
+            reader.problem(path, item, "a friction element cannot be a series or clearance element")
+        if "stiffness" not in spec:
+            reader.problem(path, item, "a friction element needs its pre-slip stiffness (stiffness = ...)")
+        kind = ElementKind.FRICTION
     return Element(
         element_id,
         reader.expression(spec.get("stiffness", 0), path + ("stiffness",), item, "stiffness"),
@@ -226,5 +234,6 @@ def read_element(reader: TomlReader, element_id: str, path: tuple[str, ...], ite
         kind=kind,
         gap=gap,
         progressive=reader.expression(spec.get("progressive", 0), path + ("progressive",), item, "progressive"),
+        friction=friction,
     )
 

@@ -135,6 +135,8 @@ def _site_range(site: UseSite, bodies: dict, elements: dict) -> ValidRange | Non
             return _symmetric(ELEMENT_MAX, "N*m*s/rad" if rotational else "N*s/m", warn_negative=True)
         if site.what == "gap":
             return ValidRange(0.0, math.pi, "rad") if rotational else ValidRange(0.0, LENGTH_MAX, "m")
+        if site.what == "friction limit":
+            return ValidRange(0.0, FORCE_MAX, "N*m" if rotational else "N", open_low=True)
         if site.what == "progressive stiffness":
             return _symmetric(ELEMENT_MAX, "N*m/rad", True) if rotational else _symmetric(PROGRESSIVE_MAX, "N/m^3", True)
     if kind == "gravity":

@@ -86,6 +86,10 @@ def use_sites(model: Model) -> Iterator[UseSite]:
             progressive = getattr(element, "progressive", sp.S.Zero)
             cubic = DIMENSIONS["rotational_stiffness"] if rotational else _CUBIC
             yield UseSite(progressive, cubic, item, "progressive stiffness", element.line)
+        friction = getattr(element, "friction", sp.S.Zero)
+        if sp.sympify(friction) != 0:
+            yield UseSite(friction, DIMENSIONS["force"] * DIMENSIONS["length"] if rotational else "force", item,
+                          "friction limit", element.line)
     gravity = getattr(model, "gravity", None)
     if gravity is not None:
         yield UseSite(gravity, "acceleration", "gravity", "acceleration", None)

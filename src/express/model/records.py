@@ -142,6 +142,10 @@ class ElementKind(Enum):
     SERIES = "series"
     #: A bump stop: ``k e + k3 e^3`` beyond the gap only (the nonlinear simulation).
     CLEARANCE = "clearance"
+    #: Coulomb friction: a pre-slip spring in series with a slider that slips at the
+    #: friction limit (the slider's position a state of the time march; the linear
+    #: analyses see it stuck: the spring alone).
+    FRICTION = "friction"
 
 
 @dataclass(frozen=True)
@@ -179,6 +183,10 @@ class Element:
         The clearance [m] (clearance elements only).
     progressive : sympy.Expr
         The cubic stiffness ``k3`` [N/m^3] beyond the gap (clearance elements only).
+    friction : sympy.Expr
+        The friction limit ``mu N`` [N; N m for a rotational one] of a friction element:
+        its pre-slip spring (``stiffness``) carries at most this force, beyond it the
+        slider slips (friction elements only).
     """
 
     id: str
@@ -193,6 +201,7 @@ class Element:
     kind: ElementKind = ElementKind.PARALLEL
     gap: sp.Expr = sp.S.Zero
     progressive: sp.Expr = sp.S.Zero
+    friction: sp.Expr = sp.S.Zero
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "direction", Axis(self.direction))
@@ -211,6 +220,11 @@ class Element:
     def clearance(self) -> bool:
         """A clearance element (bump stop)."""
         return self.kind is ElementKind.CLEARANCE
+
+    @property
+    def sliding(self) -> bool:
+        """A friction element (a pre-slip spring and a slider)."""
+        return self.kind is ElementKind.FRICTION
 
     @property
     def axis_name(self) -> str:
@@ -577,6 +591,12 @@ def _check_element_kinds(model: Model, hosts: dict[str, str], bodies: dict[str, 
                         model.source, element.line, item,
                         f"a series (Maxwell) element needs a nonzero {what}",
                     ))
+        if element.sliding:
+            for what, value in (("pre-slip stiffness (stiffness)", element.stiffness), ("friction limit", element.friction)):
+                number = _numeric_value(value, model.parameters)
+                if number is not None and not number > 0:
+                    problems.append(Problem(model.source, element.line, item,
+                                            f"a friction element needs a positive {what}, got {number:g}"))
         if element.clearance:
             gap = _numeric_value(element.gap, model.parameters)
             if gap is not None and not gap >= 0:

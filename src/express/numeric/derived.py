@@ -28,7 +28,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from express.assembly.equations import ClearanceTerm, EquationsOfMotion, Matrices
+from express.assembly.equations import ClearanceTerm, ElementTerm, EquationsOfMotion, Matrices
 from express.base.diagnostics import InputError
 from express.numeric.compiled import CompiledExpressions, CompiledMatrices
 from express.numeric.program import ExpressionProgram, ProgramError, checked_list, checked_strings
@@ -104,9 +104,12 @@ def vehicle_entry(
     """The cache data of a derived vehicle (JSON-ready)."""
     constant, speed_dependent, scatter = compiled.programs()
     clearances, program = _clearance_data(equations.clearances)
+    terms, term_program = _element_term_data(equations.element_terms)
     return {
         "name": equations.name,
         "kind": "vehicle",
+        "element_terms": terms,
+        "element_term_program": term_program.to_data(),
         "dofs": list(equations.dofs),
         "eliminated": list(equations.eliminated),
         "inputs": list(equations.inputs),
@@ -233,6 +236,8 @@ def _equations(data: dict, model: Model, matrices: Mapping[str, Any]) -> Equatio
         values=values,
         units=units,
         clearances=_read_clearances(data.get("clearances"), ExpressionProgram.from_data(data.get("clearance_program"))),
+        element_terms=_read_element_terms(data.get("element_terms"),
+                                          ExpressionProgram.from_data(data.get("element_term_program"))),
         derivation=derivation_steps(model),
     )
 
@@ -285,6 +290,44 @@ def _read_clearances(data: Any, program: ExpressionProgram) -> tuple[ClearanceTe
         terms.append(ClearanceTerm(_string(record.get("element")), gradient, inputs, gap, stiffness, progressive))
     if next(expressions, None) is not None:
         raise ProgramError("bad clearances")
+    return tuple(terms)
+
+
+def _element_term_data(terms: tuple[ElementTerm, ...]) -> tuple[list, ExpressionProgram]:
+    """The element terms as records of names and one program of their expressions."""
+    import sympy as sp
+
+    records, expressions = [], []
+    for term in terms:
+        records.append({"element": term.element, "kind": term.kind, "gradient": list(term.gradient),
+                        "inputs": list(term.inputs), "values": list(term.values)})
+        expressions += [*term.gradient.values(), *term.inputs.values(), *term.values.values()]
+    names = sorted({symbol.name for expression in expressions for symbol in sp.sympify(expression).free_symbols})
+    return records, ExpressionProgram.from_expressions(expressions, names)
+
+
+def _read_element_terms(data: Any, program: ExpressionProgram) -> tuple[ElementTerm, ...]:
+    from express.model.records import ElementKind
+
+    records = data if isinstance(data, list) else None
+    if records is None:
+        raise ProgramError("bad element terms")
+    expressions = iter(program.expressions() if records else [])
+    kinds = {kind.value for kind in ElementKind}
+    terms = []
+    try:
+        for record in records:
+            record = _mapping(record)
+            kind = _string(record.get("kind"))
+            if kind not in kinds:
+                raise ProgramError("bad element kind")
+            parts = [{name: next(expressions) for name in checked_strings(record.get(key))}
+                     for key in ("gradient", "inputs", "values")]
+            terms.append(ElementTerm(_string(record.get("element")), kind, *parts))
+    except StopIteration:
+        raise ProgramError("bad element terms") from None
+    if next(expressions, None) is not None:
+        raise ProgramError("bad element terms")
     return tuple(terms)
 
 
@@ -343,9 +386,12 @@ def generation_entry(result: GenerationResult) -> dict[str, Any]:
         places[key] = {"shape": [rows, columns], "entries": found}
     names = sorted({symbol.name for expression in distinct for symbol in expression.free_symbols})
     clearances, clearance_program = _clearance_data(equations.clearances)
+    terms, term_program = _element_term_data(equations.element_terms)
     return {
         "name": equations.name,
         "kind": "generation",
+        "element_terms": terms,
+        "element_term_program": term_program.to_data(),
         "dofs": list(equations.dofs),
         "eliminated": list(equations.eliminated),
         "inputs": list(equations.inputs),
