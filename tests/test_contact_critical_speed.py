@@ -102,11 +102,18 @@ def test_critical_speeds_regression_guard(cli_run):
     the unrefined 5 ms step), with the wheel loads of the vertical contact springs, the
     contact's roll moment, the air and primary springs along their supports' axes and the
     contact of issue 22 item 2 (174.72 km/h before it; 285.4 and 175.44 km/h with those
-    axes fixed in the track frame)."""
+    axes fixed in the track frame).
+
+    The nonlinear speed is held within 0.7 km/h, not its 0.1 km/h bracket: the end of the
+    limit cycle depends on the path into it by up to 0.52 km/h
+    (``test_another_start_reaches_a_cycle_ending_within_0_7_kmh``), and the rounding of
+    another processor's BLAS kernels is such a change of path — on an AMD EPYC with
+    OpenBLAS's Haswell kernels the same code gives 174.33 km/h (2026-12-01), 0.39 km/h
+    from the 173.94 km/h of the machine the value was first measured on."""
     data, _, _ = cli_run
     assert data["critical_speed_kmh"] == pytest.approx(284.40, abs=0.1)
     nonlinear = data["nonlinear"]
-    assert nonlinear["critical_speed_kmh"] == pytest.approx(173.937, abs=0.1)  # the bracket
+    assert nonlinear["critical_speed_kmh"] == pytest.approx(173.937, abs=0.7)  # path dependence, not the bracket
 
 
 def test_the_model_takes_its_conicity_from_the_profiles():

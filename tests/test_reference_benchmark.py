@@ -204,10 +204,26 @@ def test_number_format_is_fixed():
         number(mpmath.mpf(1) / 3, 15)  # at 15 digits the value would be rounded first
 
 
+def _same_files(made: Path) -> None:
+    """Every regenerated file is the stored one byte for byte, except the one number the
+    docs call this machine's (``precision.max_error_double_precision_library``: LAPACK's
+    rounding on this processor), which must stay within three times the stored value."""
+    for path in sorted(made.iterdir()):
+        new, old = path.read_bytes(), (REFERENCE / path.name).read_bytes()
+        if path.suffix != ".json" or new == old:
+            assert new == old, path.name
+            continue
+        fresh, stored = json.loads(new), json.loads(old)
+        machine = "max_error_double_precision_library"
+        for quantity, value in fresh["precision"].pop(machine).items():
+            assert float(value) <= 3 * float(stored["precision"][machine][quantity]) + 1e-15, (path.name, quantity)
+        stored["precision"].pop(machine)
+        assert fresh == stored, path.name
+
+
 def test_the_lever_regenerates_byte_identically(tmp_path):
     assert mr.main(["--vehicles", "lever", "--out", str(tmp_path)]) == 0
-    for path in sorted(tmp_path.iterdir()):
-        assert path.read_bytes() == (REFERENCE / path.name).read_bytes(), path.name
+    _same_files(tmp_path)
 
 
 def test_unknown_vehicle_is_refused(capsys):
@@ -218,8 +234,7 @@ def test_unknown_vehicle_is_refused(capsys):
 @pytest.mark.slow
 def test_the_conventional_car_regenerates_byte_identically(tmp_path):
     assert mr.main(["--vehicles", "conventional", "--out", str(tmp_path)]) == 0
-    for path in sorted(tmp_path.iterdir()):
-        assert path.read_bytes() == (REFERENCE / path.name).read_bytes(), path.name
+    _same_files(tmp_path)
 
 
 def _rounded(text: str) -> Decimal:
