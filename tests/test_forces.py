@@ -136,3 +136,27 @@ def test_simulate_sees_only_the_stack(stopped):
     assert result.options["clearances"] is True and "stop_T1_stop" in result.outputs
     phi, _, _ = discretize(stopped.state_matrix(result.speed), result.options["dt"])
     assert phi.shape == (stopped.form.size, stopped.form.size)
+
+
+def test_a_series_damper_without_damping_leaves_its_stroke_out_of_the_stops_too():
+    """Issue 35 item 8: the yaw dampers in series with their bushes at cyaw = 0 carry no
+    force and the vehicle leaves their strokes out (24 -> 20 coordinates); the bump stops
+    (written over the equations' 24) crashed simulate and steady curving.  Now both run, and
+    give the car without those dampers at all: to 1e-12 of the largest displacement
+    (achieved 3e-16 in the run, 0 in the steady state)."""
+    import dataclasses as dc
+
+    from express.analysis.curving.steady import SteadyCurve, SteadyCurvingSolver
+
+    model = with_lateral_bump_stops(load_model(ROOT / "examples" / "conventional-yaw-bush.toml"), 0.002)
+    zero = vehicle_model(model).with_values({"cyaw": 0.0})
+    without = vehicle_model(dc.replace(model, elements=tuple(e for e in model.elements if not e.series)))
+    assert zero.dofs == without.dofs
+    a, b = (simulate(v, paper_curve(), end=150.0, progress=False) for v in (zero, without))
+    scale = float(np.max(np.abs(b.q)))
+    assert np.max(np.abs(a.q - b.q)) <= 1e-12 * scale
+    assert np.max(np.abs(a.outputs["stop_T1_stop"] - b.outputs["stop_T1_stop"])) <= 1e-6 * max(
+        1.0, float(np.max(np.abs(b.outputs["stop_T1_stop"]))))
+    curve = SteadyCurve(400.0, 0.1)
+    first, second = (SteadyCurvingSolver(v, 20.0).solve(curve) for v in (zero, without))
+    np.testing.assert_allclose(first.q, second.q, rtol=0, atol=1e-12 * float(np.max(np.abs(second.q))))

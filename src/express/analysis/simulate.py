@@ -446,7 +446,7 @@ def continuous_rhs(
     a, b, bd = vehicle.state_matrix(v), vehicle.input_matrix(v), vehicle.input_rate_matrix(v)
     n = vehicle.n
     ws = vehicle.wheelsets
-    data = clearances_of(vehicle.equations, vehicle.values) if (flange or saturation) else None
+    data = clearances_of(vehicle.equations, vehicle.values, vehicle.dofs) if (flange or saturation) else None
     stop_rows = data.gradient if data is not None else np.zeros((0, n))
     columns = [vehicle.form.force[:, w.y] for w in ws] + [vehicle.form.force[:, w.psi] for w in ws]
     columns += [vehicle.form.force @ row for row in stop_rows]

@@ -70,22 +70,32 @@ def _number(expression, values: dict[str, float]) -> float:
         raise ValueError(f"no value for {error.args[0]}") from None
 
 
-def clearances_of(equations: EquationsOfMotion, values: dict[str, float]) -> Clearances:
-    """The clearance elements of ``equations`` at parameter ``values`` (SI).
+def clearances_of(equations: EquationsOfMotion, values: dict[str, float], dofs: tuple[str, ...] | None = None) -> Clearances:
+    """The clearance elements of ``equations`` at parameter ``values`` (SI), their
+    deflections over the coordinates ``dofs`` (default: the equations'; a numerical
+    vehicle may have fewer: a series element without damping leaves its stroke out).
 
     Raises
     ------
     ValueError
-        Naming a parameter without a value, or a negative gap.
+        Naming a parameter without a value, a negative gap, or a deflection on a
+        coordinate that ``dofs`` leaves out.
     """
-    n, m = len(equations.dofs), len(equations.inputs)
+    dofs = equations.dofs if dofs is None else dofs
+    column = {dof: i for i, dof in enumerate(dofs)}
+    n, m = len(dofs), len(equations.inputs)
     terms = equations.clearances
     gradient = np.zeros((len(terms), n))
     inputs = np.zeros((len(terms), m))
     gap, stiffness, progressive = (np.zeros(len(terms)) for _ in range(3))
     for b, term in enumerate(terms):
         for dof, value in term.gradient.items():
-            gradient[b, equations.dofs.index(dof)] = _number(value, values)
+            number = _number(value, values)
+            if dof in column:
+                gradient[b, column[dof]] = number
+            elif number != 0.0:
+                raise ValueError(f"clearance element {term.element}: its deflection moves {dof}, which the vehicle "
+                                 "leaves out")
         for name, value in term.inputs.items():
             inputs[b, equations.inputs.index(name)] = _number(value, values)
         gap[b] = _number(term.gap, values)
@@ -223,7 +233,7 @@ class BumpStopElement(ForceElement):
 def bump_stops_of(vehicle, u: np.ndarray) -> BumpStopElement | None:
     """The bump stops of ``vehicle`` (a :class:`~express.numeric.statespace.VehicleModel`)
     along the inputs ``u`` (steps + 1, m), or None when it has none."""
-    data = clearances_of(vehicle.equations, vehicle.values)
+    data = clearances_of(vehicle.equations, vehicle.values, vehicle.dofs)
     if data.count == 0:
         return None
     return BumpStopElement(data, vehicle.form.force, u)

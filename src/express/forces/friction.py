@@ -215,12 +215,14 @@ def friction_elements_of(vehicle, u: np.ndarray) -> FrictionElement | None:
     terms = [t for t in equations.element_terms if t.kind == "friction"]
     if not terms:
         return None
-    n, m = len(equations.dofs), len(equations.inputs)
+    column = {dof: i for i, dof in enumerate(vehicle.dofs)}  # a stroke left out by the vehicle: no column
+    n, m = len(vehicle.dofs), len(equations.inputs)
     gradient, inputs = np.zeros((len(terms), n)), np.zeros((len(terms), m))
     values = vehicle.values
     for f, term in enumerate(terms):
         for dof, value in term.gradient.items():
-            gradient[f, equations.dofs.index(dof)] = expression_value(value, values)
+            if dof in column:
+                gradient[f, column[dof]] = expression_value(value, values)
         for name, value in term.inputs.items():
             inputs[f, equations.inputs.index(name)] = expression_value(value, values)
     stiffness = np.array([expression_value(t.values["stiffness"], values) for t in terms])
