@@ -78,7 +78,7 @@ def test_run_covers_the_track_on_the_requested_grid(run_steered, steered, track)
     assert np.all(np.isfinite(r.q)) and np.all(np.isfinite(r.q_dot))
     for name in ("Q1", "Q4", "QP1", "Qtot1", "flange1", "dy1", "psi_TW1", "psi_TW4", "theta_L1", "rho1", "S1"):
         assert r.outputs[name].shape == r.time.shape, name
-    assert r.options == {"flange": True, "saturation": True, "dt": 0.005}
+    assert r.options == {"flange": True, "saturation": True, "dt": 0.005, "speed_from": "track"}
     # the track seen by the leading wheelset
     assert r.outputs["rho1"].max() == pytest.approx(1 / RADIUS)
     assert r.outputs["S1"].max() == pytest.approx(0.095)
@@ -403,3 +403,25 @@ def test_save_is_all_or_nothing(short_run, tmp_path, monkeypatch):
         short_run.save(path)
     assert path.read_bytes() == before
     assert list(tmp_path.iterdir()) == [path]
+
+
+def test_the_library_runs_at_the_tracks_speed_as_the_command_line_does(capsys):
+    """Issue 35 item 1: ``express.simulate(vehicle, track)`` ran the Manchester car at its
+    model's 198 km/h on R400, whose line speed is 95 km/h (6.6 m/s^2 of cant deficiency,
+    no warning), where ``express simulate`` takes the track's speed.  Now the library
+    takes the same speed and says where it came from; a given speed still wins."""
+    import json
+
+    from express.cli import main
+    from express.numeric.statespace import load_vehicle
+    from express.rail.track.named import named_track
+
+    path = ROOT / "examples" / "manchester.toml"
+    vehicle = load_vehicle(path)
+    track, _ = named_track("R400")
+    run = simulate(vehicle, track, progress=False)
+    assert run.speed == track.speed and run.options["speed_from"] == "track"
+    assert main(["simulate", str(path), "--track", "R400", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["speed"] == run.speed
+    given = simulate(vehicle, track, speed=20.0, end=50.0, progress=False)
+    assert given.speed == 20.0 and given.options["speed_from"] == "given"

@@ -66,7 +66,8 @@ from express.rail.options import ContactModel, CreepLaw
 from express.rail.track import Track
 
 __all__ = [
-    "SimulationResult", "TrackInputs", "bogie_of_wheelsets", "contact_tables_of", "lever_bodies", "output_unit", "simulate",
+    "SimulationResult", "TrackInputs", "bogie_of_wheelsets", "contact_tables_of", "lever_bodies", "output_unit",
+    "running_speed", "simulate",
     "track_inputs",
 ]
 
@@ -247,7 +248,9 @@ def simulate(
     track : Track
         Curvature, cant and irregularity along the track.
     speed : float, optional
-        [m/s]; the model's own speed by default.
+        [m/s]; by default the track's own speed (a track file's or a named track's line
+        speed), else the model's, as ``express simulate`` chooses; ``options["speed_from"]``
+        says which (``"given"``, ``"track"``, ``"model"``).
     dt : float
         Time step [s] (the linear part is exact; the step limits how finely the
         flange and saturation feedback is followed).
@@ -284,9 +287,7 @@ def simulate(
     SimulationResult
         ``options["route"]`` is ``"sparse"`` when the sparse route was taken.
     """
-    v = float(vehicle.speed if speed is None else speed)
-    if not v > 0:
-        raise ArgumentError(f"speed must be positive, got {v}")
+    v, speed_from = running_speed(vehicle, track, speed)
     end = track.length if end is None else end
     if end <= start:
         raise ArgumentError(f"end ({end} m) must lie beyond start ({start} m)")
@@ -322,7 +323,7 @@ def simulate(
         record = contact_wheel_outputs(vehicle, history, q, run.wheel_loads)
         outputs.update(record.columns())
     outputs.update(forces.outputs(states, history))
-    options: dict[str, object] = {"flange": flange, "saturation": saturation, "dt": dt}
+    options: dict[str, object] = {"flange": flange, "saturation": saturation, "dt": dt, "speed_from": speed_from}
     if isinstance(linear, SparseSteps):
         options["route"] = "sparse"
     if tables is not None:
@@ -333,6 +334,20 @@ def simulate(
     if forces.of_kind(FrictionElement):
         options["friction"] = "slipping (spring-slider)"
     return SimulationResult(time, distance, vehicle.dofs, q, q_dot, outputs, v, options, record, forces.output_units())
+
+
+def running_speed(vehicle: VehicleModel, track: Track, speed: float | None) -> tuple[float, str]:
+    """The speed of a run [m/s] and where it comes from: ``speed`` if given, else the
+    track's own, else the model's (the command line's rule, ``express simulate``)."""
+    if speed is not None:
+        v, source = float(speed), "given"
+    elif getattr(track, "speed", None) is not None:
+        v, source = float(track.speed), "track"  # type: ignore[arg-type]
+    else:
+        v, source = float(vehicle.speed), "model"
+    if not v > 0:
+        raise ArgumentError(f"speed must be positive, got {v}")
+    return v, source
 
 
 def _check_step(forces, vehicle: VehicleModel, dt: float) -> None:
