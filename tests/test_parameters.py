@@ -16,6 +16,7 @@ from express.base.expressions import parse_expression
 from express.base.units import DIMENSIONS, KMH
 from express.io import load_model, model_to_toml, parse_toml_model
 from express.model.parameters import (
+    CommandLineText,
     display_value,
     evaluation_order,
     expression_value,
@@ -390,7 +391,8 @@ def test_all_bad_overrides_at_once(steered):
 @pytest.mark.parametrize(
     ("name", "value", "si"),
     [
-        ("v", "100", 100 * KMH),  # a bare speed is km/h (rail usage, as --speed)
+        ("v", "100", 100.0),  # a bare speed is SI in the library (issue 35 item 7)
+        ("v", CommandLineText("100"), 100 * KMH),  # typed on the command line: km/h (rail usage, as --speed)
         ("v", "27.8 m/s", 27.8),
         ("v", "100 km/h", 100 * KMH),
         ("v", 27.8, 27.8),  # a float is SI
@@ -406,7 +408,8 @@ def test_override_values(steered, name, value, si):
 
 
 def test_quantity_value_rule():
-    assert quantity_value("100", DIMENSIONS["speed"]) == pytest.approx(100 / 3.6)
+    assert quantity_value(CommandLineText("100"), DIMENSIONS["speed"]) == pytest.approx(100 / 3.6)
+    assert quantity_value("100", DIMENSIONS["speed"]) == 100.0  # the library: SI
     assert quantity_value("100") == 100.0
     assert quantity_value("2 kN/m", DIMENSIONS["stiffness"]) == 2000.0
 
@@ -567,3 +570,18 @@ def test_a_reading_infers_the_dimensions_once(monkeypatch):
     assert parameter_units.infer_dimensions(model)[0]["mc"] is not None and len(runs) == 2
     parameter_units.infer_dimensions(replaced(model, name="other"))
     assert len(runs) == 3
+
+
+def test_the_library_never_applies_the_command_lines_km_h():
+    """Issue 35 item 7: ``with_values({"v": "30"})`` gave 8.33 m/s; a bare speed is SI in
+    the library (30 m/s), km/h only as typed after ``--set`` (the command's own rule)."""
+    from express.cli import common
+    from express.numeric.statespace import vehicle_model
+
+    vehicle = vehicle_model(load_model(ROOT / "examples" / "forced-steering.toml"))
+    assert vehicle.with_values({"v": "30"}).speed == 30.0
+    assert vehicle.with_values({"v": "30 km/h"}).speed == pytest.approx(30 / 3.6)
+    parser = __import__("argparse").ArgumentParser()
+    common.add_model_arguments(parser)
+    typed = parser.parse_args(["m.toml", "--set", "v=30"]).overrides
+    assert vehicle.with_values(typed).speed == pytest.approx(30 / 3.6)

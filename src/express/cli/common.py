@@ -200,8 +200,9 @@ def count(option: str, low: int, high: int) -> Callable[[str], int]:
 class _Assignments(argparse.Action):
     """``--set NAME=TEXT`` (repeatable) -> ``{NAME: TEXT}``, the last one winning.
 
-    The text is kept as written: the library converts it with the parameter's dimension
-    (a bare speed is km/h, everything else SI).
+    The text is kept as written, marked as typed on the command line
+    (:class:`express.model.parameters.CommandLineText`): the library converts it with the
+    parameter's dimension, a bare speed in km/h, everything else SI.
     """
 
     def __call__(self, parser, namespace, values, option_string=None):
@@ -210,8 +211,10 @@ class _Assignments(argparse.Action):
         name, text = name.strip(), text.strip()
         if not sep or not _NAME.match(name) or not text:
             raise argparse.ArgumentError(self, f'"{item}": expected NAME=VALUE, e.g. --set Gamma=0.05 or --set "v=100 km/h"')
+        from express.model.parameters import CommandLineText
+
         assignments = dict(getattr(namespace, self.dest, None) or {})
-        assignments[name] = text
+        assignments[name] = CommandLineText(text)
         setattr(namespace, self.dest, assignments)
 
 

@@ -61,6 +61,7 @@ from express.model.parameter_units import infer_dimensions, use_sites
 from express.model.records import Derivation, Model, Parameter
 
 __all__ = [
+    "CommandLineText",
     "DerivationFunction",
     "derivation_function",
     "display_unit",
@@ -377,12 +378,21 @@ class _Uses:
         return self._dims.get(name)
 
 
+class CommandLineText(str):
+    """A value as typed on the command line (``--set v=100``): its bare speed is km/h, the
+    command line's shorthand (rail usage).  The library never applies the shorthand to
+    any other text: ``with_values({"v": "30"})`` is 30 m/s."""
+
+    __slots__ = ()
+
+
 def quantity_value(text: str, dimension: Dimension | None = None, pure: bool = False) -> float:
-    """An SI value from command-line text: ``"100 km/h"``, ``"4 MN/m"``, ``"0.05"``, ``"1/3"``.
+    """An SI value from text: ``"100 km/h"``, ``"4 MN/m"``, ``"0.05"``, ``"1/3"``.
 
     A number with a unit is checked against ``dimension`` (with ``pure``, a value used
-    as a pure number, an angle unit is refused with a hint); a bare number is SI,
-    except a speed, which is km/h (rail usage: ``--set v=100`` is 100 km/h).
+    as a pure number, an angle unit is refused with a hint); a bare number is SI —
+    except a speed typed on the command line (:class:`CommandLineText`), which is km/h
+    (``--set v=100`` is 100 km/h).
 
     Raises
     ------
@@ -402,7 +412,7 @@ def quantity_value(text: str, dimension: Dimension | None = None, pure: bool = F
     if unit:
         if dimension is not None:
             check_dimension(unit, dimension)
-    elif dimension == DIMENSIONS["speed"]:
+    elif dimension == DIMENSIONS["speed"] and isinstance(text, CommandLineText):
         value *= KMH
     if not math.isfinite(value):
         raise UnitError(f'"{text}" is not a finite number')
@@ -494,9 +504,10 @@ def with_values(model: Model, overrides: Mapping[str, float | str]) -> Model:
     ----------
     model : Model
     overrides : mapping of str to float or str
-        New values: floats in SI, or texts as on the command line (``"60 t"``,
-        ``"100 km/h"``; a bare number is SI except for a speed, km/h).  Giving a value
-        to a derived parameter makes it a given one (its expression is dropped).
+        New values: floats in SI, or texts with a unit (``"60 t"``, ``"100 km/h"``; a bare
+        number is SI, a speed too, except :class:`CommandLineText`, the command line's
+        ``--set``, whose bare speed is km/h).  Giving a value to a derived parameter makes
+        it a given one (its expression is dropped).
 
     Raises
     ------
