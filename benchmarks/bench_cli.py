@@ -53,7 +53,7 @@ TARGET_S = 0.3
 HEAVY = ("sympy", "scipy", "matplotlib", "numba", "numpy")
 #: Heavy modules a one-car command might load; each found loaded is printed.
 NEEDLESS = ("numba", "scipy.optimize", "scipy.integrate", "scipy.interpolate", "scipy.signal", "matplotlib",
-            "express.rail.profile_contact", "express.rail.contact_tables", "express.analysis.simulate")
+            "express.rail.profile_contact", "express.rail.contact_tables", "express.analysis.time.simulate")
 CAR = ROOT / "examples" / "forced-steering.toml"
 
 

@@ -91,7 +91,7 @@ def timed(function, runs: int) -> tuple[float, object]:
 
 
 def case(name: str, vehicle, speed_kmh: float, travel: float, runs: int) -> dict:
-    from express.analysis.simulate import simulate
+    from express.analysis.time.simulate import simulate
     from express.rail.track import Straight, Track
 
     speed = speed_kmh / 3.6

@@ -40,7 +40,7 @@ import numpy as np  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from express.analysis.curving.steady import SteadyCurve, SteadyCurvingSolver, steady_curving  # noqa: E402
-from express.analysis.simulate import simulate  # noqa: E402
+from express.analysis.time.simulate import simulate  # noqa: E402
 from express.model.parameters import expression_value  # noqa: E402
 from express.numeric.statespace import load_vehicle  # noqa: E402
 from express.rail.track import Curve, Straight, Track, Transition  # noqa: E402

@@ -6,7 +6,7 @@ Run from the repository root::
 
     PYTHONPATH=src python3 benchmarks/bench_elements.py [--runs N]
 
-1. The compiled time march (``express.analysis.integrator.march``) on the paper's curve
+1. The compiled time march (``express.analysis.time.integrator.march``) on the paper's curve
    (460 m at 120 km/h, 2761 steps) for the conventional car: plain (baseline), with two
    lateral bump stops that never engage (gap 1 m), and with two that engage (gap 20 mm).
    Two stops add two feedback channels to the eight of the wheelsets and their
@@ -76,7 +76,7 @@ def _with_stops(model, gap: float):
 
 def _march_call(vehicle, track):
     """The arguments of the march of one simulate() call, and a function repeating it."""
-    import express.analysis.simulate as simulation
+    import express.analysis.time.simulate as simulation
 
     captured = {}
     real = simulation.march

@@ -126,8 +126,8 @@ class Bench:
 
     # ------------------------------------------------------------------ 1. curving run
     def curving(self, vehicles, track):
-        from express.analysis.integrator import discretize
-        from express.analysis.simulate import simulate, track_inputs
+        from express.analysis.time.integrator import discretize
+        from express.analysis.time.simulate import simulate, track_inputs
 
         args = self.args
         print(f"\n== 1. curving run: paper_curve() {track.length:.0f} m, flange contact and saturation, "
@@ -172,7 +172,7 @@ class Bench:
     def solve_ivp_baseline(self, name, vehicle, track):
         from scipy.integrate import solve_ivp
 
-        from express.analysis.simulate import continuous_rhs, derived_outputs, simulate, track_inputs
+        from express.analysis.time.simulate import continuous_rhs, derived_outputs, simulate, track_inputs
 
         args = self.args
         end = 100.0 if args.quick else track.length
@@ -368,7 +368,7 @@ _LIBRARY_AGAINST_CLI = """
 import json, random, statistics, sys, tempfile, time
 from pathlib import Path
 from threadpoolctl import threadpool_info
-from express.analysis.simulate import simulate
+from express.analysis.time.simulate import simulate
 from express.cli import _one_blas_thread, main
 from express.rail.track import paper_curve
 from express.numeric.statespace import load_vehicle

@@ -15,7 +15,7 @@ timed).  Measured, each the median of ``--runs`` runs after one warm-up, in one 
 
 1. ``simulate()`` through the paper's curve (460 m, 120 km/h, dt = 5 ms, 2761 steps),
    linear (``--linear``) and with flange contact and creep saturation: the sparse route
-   (:mod:`express.analysis.sparse_march`, chosen by ``route="auto"``) against the dense
+   (:mod:`express.analysis.time.sparse_march`, chosen by ``route="auto"``) against the dense
    route (``route="dense"``: ``expm`` of the 48 N x 48 N matrix, dense products every
    step) -- the baseline; on 100 cars the dense route takes minutes and runs once, only
    with ``--dense-100``.  The largest difference of ``q`` between the routes, relative
@@ -70,7 +70,7 @@ def _train(cars: int, folder: Path) -> Path:
 def bench_simulate(vehicle, cars: int, runs: int, dense: bool) -> float | None:
     import numpy as np
 
-    from express.analysis.simulate import simulate
+    from express.analysis.time.simulate import simulate
     from express.rail.track import paper_curve
 
     track = paper_curve()

@@ -11,10 +11,10 @@ import numpy as np
 from numba import njit, types
 from numba.extending import overload
 
-from express.analysis.force_elements import run_forces
-from express.analysis.integrator import march
-from express.analysis.simulate import _dense_steps
-from express.analysis.track_inputs import track_inputs
+from express.analysis.time.force_elements import run_forces
+from express.analysis.time.integrator import march
+from express.analysis.time.simulate import _dense_steps
+from express.analysis.time.track_inputs import track_inputs
 from express.forces.element import ForceElement, ForceSet
 from express.forces.law import force_law
 from express.numeric.statespace import load_vehicle

@@ -24,7 +24,7 @@ from cli_support import (
     run_json,
     valued_lever,
 )
-from express.analysis.divergence import find_divergence
+from express.analysis.time.divergence import find_divergence
 
 
 @pytest.fixture

@@ -20,7 +20,7 @@ ROOT = Path(__file__).resolve().parents[1]
 CAR = ROOT / "examples" / "forced-steering.toml"
 PROFILED = ROOT / "examples" / "manchester-s1002.toml"
 NEEDLESS = ("numba", "matplotlib", "express.rail.profile_contact", "express.rail.contact_tables",
-            "express.analysis.simulate")
+            "express.analysis.time.simulate")
 
 
 def loaded_after(argv: list[str], modules: tuple[str, ...]) -> tuple[int, list[str]]:

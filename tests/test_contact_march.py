@@ -1,5 +1,5 @@
-"""Simulation with the contact tables (express.analysis.contact_march through
-express.analysis.simulate.simulate).
+"""Simulation with the contact tables (express.analysis.time.contact_march through
+express.analysis.time.simulate.simulate).
 
 * Linear limit: with smooth profiles (a circular tread on the 60E1 crown), rigid rails
   and a tiny disturbance the contact run equals the linear model's run: the fed-back
@@ -18,9 +18,9 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from express.analysis.contact_march import contact_rhs
+from express.analysis.time.contact_march import contact_rhs
 from express.forces.contact import linear_coefficients
-from express.analysis.simulate import simulate
+from express.analysis.time.simulate import simulate
 from express.io.toml_model import parse_toml_model
 from express.numeric.statespace import vehicle_model
 from express.rail.contact_forces import quasi_static_forces

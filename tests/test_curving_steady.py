@@ -14,7 +14,7 @@ from express.analysis.curving.steady import (
     SteadyCurvingSolver,
     steady_curving,
 )
-from express.analysis.simulate import simulate
+from express.analysis.time.simulate import simulate
 from express.numeric.statespace import load_vehicle
 from express.rail.track import Curve, Straight, Track, Transition
 

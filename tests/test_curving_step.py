@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from express.analysis.simulate import simulate
+from express.analysis.time.simulate import simulate
 from express.numeric.statespace import load_vehicle
 from express.rail.track import paper_curve
 

@@ -138,7 +138,7 @@ def conventional():
 
 @pytest.fixture(scope="module")
 def runs(conventional):
-    from express.analysis.simulate import simulate
+    from express.analysis.time.simulate import simulate
     from express.rail.track import paper_curve
 
     track = paper_curve()
@@ -156,7 +156,7 @@ def runs(conventional):
 def _relative_lateral(result, vehicle, q=None):
     """Car body - bogie 1 lateral displacement at the stop (its deflection: the DOFs'
     part and the curvature inputs' part, the track turning between the stations)."""
-    from express.analysis.simulate import track_inputs
+    from express.analysis.time.simulate import track_inputs
     from express.rail.track import paper_curve
 
     data = clearances_of(vehicle.equations, vehicle.values)
@@ -192,7 +192,7 @@ def test_a_stop_that_is_never_reached_changes_nothing(runs):
 def test_march_with_stops_matches_a_reference_integration(runs):
     from scipy.integrate import solve_ivp
 
-    from express.analysis.simulate import continuous_rhs
+    from express.analysis.time.simulate import continuous_rhs
 
     vehicle, result = runs["stopped_vehicle"], runs["stopped"]
     rhs = continuous_rhs(vehicle, runs["track"])

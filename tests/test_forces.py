@@ -9,10 +9,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from express.analysis.force_elements import run_forces
-from express.analysis.integrator import discretize
-from express.analysis.simulate import simulate
-from express.analysis.track_inputs import track_inputs
+from express.analysis.time.force_elements import run_forces
+from express.analysis.time.integrator import discretize
+from express.analysis.time.simulate import simulate
+from express.analysis.time.track_inputs import track_inputs
 from express.forces.bump_stops import BumpStopElement
 from express.forces.deadband import DeadbandElement
 from express.forces.element import ForceSet

@@ -17,9 +17,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from express.analysis.integrator import march
-from express.analysis.simulate import _dense_steps
-from express.analysis.track_inputs import TrackInputs
+from express.analysis.time.integrator import march
+from express.analysis.time.simulate import _dense_steps
+from express.analysis.time.track_inputs import TrackInputs
 from express.base.diagnostics import ModelError
 from express.forces.element import ForceSet
 from express.forces.friction import friction_elements_of, return_mapping

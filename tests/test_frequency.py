@@ -91,7 +91,7 @@ def _fit(time: np.ndarray, signal: np.ndarray, f: float) -> complex:
 def test_matches_linear_simulation(steered, f):
     """Measured agreement: 2e-5 (0.7 Hz, near the car body's sway mode), 5e-5 (2 Hz),
     3e-4 (5 Hz; the first-order hold of the input over dt = 5 ms)."""
-    from express.analysis.simulate import simulate
+    from express.analysis.time.simulate import simulate
     from express.rail.track import SinusoidIrregularity, Straight, Track
 
     duration = 25.0  # the slowest modes decay as exp(-0.3 t): < 1e-2 after 17 s

@@ -109,7 +109,7 @@ def test_every_parameter_has_a_documented_source(model):
 
 @pytest.mark.slow
 def test_it_runs_in_the_simulation_with_its_bump_stops(vehicle):
-    from express.analysis.simulate import simulate
+    from express.analysis.time.simulate import simulate
     from express.rail.track import paper_curve
 
     result = simulate(vehicle, paper_curve(), speed=25.0, end=250.0, progress=False)

@@ -236,7 +236,7 @@ def conventional():
 def test_q_is_the_flanging_wheels_share_of_the_rail_force(conventional):
     """``Q{n}`` = flange force + half the wheelset's lateral creep force; ``Qtot{n}`` =
     creep + flange; ``QP{n}`` = Q / P (``simulate.py`` module docstring)."""
-    from express.analysis.simulate import derived_outputs, track_inputs
+    from express.analysis.time.simulate import derived_outputs, track_inputs
     from express.rail.track import paper_curve
 
     vehicle = conventional

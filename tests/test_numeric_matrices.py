@@ -203,7 +203,7 @@ def _frequency():
 
 
 def _simulate(car):
-    from express.analysis.simulate import simulate
+    from express.analysis.time.simulate import simulate
     from express.rail.track import paper_curve
 
     return simulate(car, paper_curve(), end=20.0)

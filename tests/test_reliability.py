@@ -476,7 +476,7 @@ NON_FINITE_CASES = [
      "eigenvalue_derivatives", math.nan, "sensitivity: a result is not a finite number (nan)"),
     (["sensitivity", CONVENTIONAL, "--output", "eigenvalue", "--parameter", "ky1", "--json"],
      "express.analysis.study.sensitivity", "eigenvalue_derivatives", math.inf, "result.eigenvalue"),
-    (["simulate", CONVENTIONAL, "--dt", "0.01", "-o", "{out}.csv"], "express.analysis.simulate", "simulate:q",
+    (["simulate", CONVENTIONAL, "--dt", "0.01", "-o", "{out}.csv"], "express.analysis.time.simulate", "simulate:q",
      math.nan, "a state or output is not finite"),  # diverged at t = 0: no valid step to keep as .diverged.csv
     (["report", CONVENTIONAL, "-o", "{out}.html"], "express.analysis.stability", "eigen_analysis:modes", math.nan,
      "report: a result is not a finite number (nan)"),

@@ -12,7 +12,7 @@ import pytest
 from scipy import linalg, stats
 
 from cli_support import CONVENTIONAL
-from express.analysis.integrator import discretize
+from express.analysis.time.integrator import discretize
 from express.analysis.ride import spectral
 from express.analysis.ride.comfort import sperling_index
 from express.analysis.ride.summaries import (
@@ -373,11 +373,11 @@ def test_vertical_time_realisation_rms_within_3_percent_of_the_spectral_rms(mode
 
 @pytest.mark.slow
 def test_lateral_simulation_rms_within_3_percent_of_the_spectral_rms(conventional):
-    """express.analysis.simulate in linear mode on a straight track with an ERRI low
+    """express.analysis.time.simulate in linear mode on a straight track with an ERRI low
     alignment realisation (seeded, 3-120 m, period 2 km): over the last full period the
     floor accelerations and the wheel forces Q_n (= W_n.Y without flange contact) match
     the spectral RMS over the same band; so do Sperling's Wz from the histories."""
-    from express.analysis.simulate import simulate
+    from express.analysis.time.simulate import simulate
     from express.rail.track import SpectrumIrregularity, Straight, Track
 
     speed, dt, period = 40.0, 0.005, 2000.0

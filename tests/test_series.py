@@ -240,7 +240,7 @@ def test_a_rigid_bush_gives_the_parallel_damper_critical_speed(conventional):
 def test_simulation_with_series_yaw_dampers_matches_a_reference_integration(conventional):
     from scipy.integrate import solve_ivp
 
-    from express.analysis.simulate import continuous_rhs, simulate
+    from express.analysis.time.simulate import continuous_rhs, simulate
     from express.rail.track import paper_curve
 
     vehicle = vehicle_model(with_series_yaw_dampers(conventional, 5e6))

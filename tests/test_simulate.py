@@ -1,4 +1,4 @@
-"""Curving simulation (``express.analysis.simulate``): the paper's Fig. 9 qualitatively,
+"""Curving simulation (``express.analysis.time.simulate``): the paper's Fig. 9 qualitatively,
 agreement with a reference ODE solver, step convergence, symmetry, linear frequency
 response, determinism and result files.
 
@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from express.analysis.simulate import continuous_rhs, derived_outputs, simulate, track_inputs
+from express.analysis.time.simulate import continuous_rhs, derived_outputs, simulate, track_inputs
 from express.base.diagnostics import OutputError
 from express.io import load_model
 from express.io.output import column_name

@@ -1,4 +1,4 @@
-"""The sparse route of the time march (``express.analysis.sparse_march``).
+"""The sparse route of the time march (``express.analysis.time.sparse_march``).
 
 * The route choice: small or dense models keep the dense route; a 9-car train takes the
   sparse one.
@@ -27,9 +27,9 @@ import numpy as np
 import pytest
 from scipy.linalg import expm
 
-from express.analysis.integrator import discretize
-from express.analysis.simulate import output_unit, simulate
-from express.analysis.sparse_march import (
+from express.analysis.time.integrator import discretize
+from express.analysis.time.simulate import output_unit, simulate
+from express.analysis.time.sparse_march import (
     SPARSE_MIN_STATES,
     choose_route,
     sparse_steps,

@@ -467,7 +467,7 @@ def test_growth_rate_matches_eigenvalue(steered, factor):
     envelope is a straight line. (The conventional car's two bogies have nearly equal
     hunting modes, 0.35 and 0.03 1/s at 1.05 v_cr, whose beating spoils a short fit.)
     """
-    from express.analysis.simulate import simulate
+    from express.analysis.time.simulate import simulate
     from express.rail.track import Straight, Track
 
     speed = factor * critical_speed(steered).speed

@@ -49,7 +49,7 @@ _PUBLIC = {
     "nonlinear_critical_speed": "express.analysis.nonlinear_stability:nonlinear_critical_speed",
     "frequency_response": "express.analysis.frequency:frequency_response",
     "ground_response": "express.analysis.frequency:ground_response",
-    "simulate": "express.analysis.simulate:simulate",
+    "simulate": "express.analysis.time.simulate:simulate",
     "steady_curving": "express.analysis.curving.steady:steady_curving",
     "ride_response": "express.analysis.ride.vehicle:ride_response",
     "run_study": "express.analysis.study.run:run_study",

@@ -25,7 +25,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from express.analysis.simulate import SimulationResult, simulate
+from express.analysis.time.simulate import SimulationResult, simulate
 from express.base.diagnostics import ArgumentError
 from express.numeric.statespace import VehicleModel
 from express.rail.options import ContactModel, CreepLaw
@@ -148,7 +148,7 @@ def settle_cycle(vehicle: VehicleModel, speed: float, state: np.ndarray, *, dt: 
     wheelset : int
         The watched wheelset (:attr:`CycleCheck.watched`, :attr:`CycleCheck.flange_force`).
     creep_law, contact :
-        As :func:`express.analysis.simulate.simulate`.
+        As :func:`express.analysis.time.simulate.simulate`.
 
     Returns
     -------

@@ -27,7 +27,7 @@ the state of the anchor's run, alive when the lateral motion of some wheelset st
 (:func:`express.analysis.limit_cycles.settle_cycle`).  Every try starts from the same
 state, so whether a speed counts as alive does not depend on the tries before it; the
 speeds tried lie on one grid, ``anchor - k step / 2**n``.  Every run is a
-:func:`express.analysis.simulate.simulate` with the contact from the profiles' tables when
+:func:`express.analysis.time.simulate.simulate` with the contact from the profiles' tables when
 the model has them (else the dead-band flange and creep saturation).
 
 **Step-size check.**  The runs use a fixed step ``dt``, and the end of the cycle moves
@@ -424,7 +424,7 @@ def nonlinear_critical_speed(
         ``threshold`` [m] and at least ``persistence`` times the middle third's; a run of
         the end-of-cycle search is dead when its amplitude falls to ``threshold``.
     creep_law, contact :
-        As :func:`express.analysis.simulate.simulate`.
+        As :func:`express.analysis.time.simulate.simulate`.
     linear : CriticalSpeed, optional
         The linear critical speed, if already known.
     v_max : float

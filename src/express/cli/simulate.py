@@ -1,11 +1,11 @@
-"""``express simulate``: a vehicle run along a track (:func:`express.analysis.simulate.simulate`).
+"""``express simulate``: a vehicle run along a track (:func:`express.analysis.time.simulate.simulate`).
 
 A run that leaves the model's range of validity is not a result: when a state becomes
 non-finite, or a wheelset moves more than ten flange clearances
 from its rail, the command exits with status 1, names the time, the track position and
 the least-damped eigenvalue at the speed, leaves the requested outputs untouched and
 keeps the history up to that point in ``<name>.diverged<suffix>`` beside each of them
-(:mod:`express.analysis.divergence` finds the step).
+(:mod:`express.analysis.time.divergence` finds the step).
 """
 
 from __future__ import annotations
@@ -93,7 +93,7 @@ def run(
             raise UsageError(f"--dt {dt:g} s: {steps:,.0f} steps for {road.length:g} m at {v / common.KMH:g} km/h; "
                              f"at most {MAX_STEPS:,} (give a larger --dt)")
         result = _simulate(vehicle, road, v, dt, linear)
-        from express.analysis.divergence import find_divergence
+        from express.analysis.time.divergence import find_divergence
 
         divergence = find_divergence(result, vehicle)
         if divergence is None:
@@ -169,7 +169,7 @@ def _files_read_by(road: Any) -> list[str]:
 def _simulate(vehicle: Any, road: Any, speed: float, dt: float, linear: bool) -> Any:
     import numpy as np
 
-    from express.analysis.simulate import simulate
+    from express.analysis.time.simulate import simulate
 
     with np.errstate(over="ignore", invalid="ignore"):  # a diverging run is reported: analysis.divergence
         return simulate(vehicle, road, speed=speed, dt=dt, flange=not linear, saturation=not linear,
@@ -187,7 +187,7 @@ def _write(result: Any, outputs: list[str], plot: Path | None, title: str) -> No
 
 def _diverged(result: Any, vehicle: Any, divergence: Any, outputs: list[str]) -> str:
     """Keep the history before ``divergence`` beside each output; return the message."""
-    from express.analysis.divergence import divergence_message, truncate
+    from express.analysis.time.divergence import divergence_message, truncate
 
     k = divergence.index
     message = "simulate: " + divergence_message(result, vehicle, divergence)
@@ -223,7 +223,7 @@ def _print_summary(name: str, summary: dict, track: str | None, stream: Any) -> 
 
 
 def _with_unit(name: str, value: float) -> str:
-    from express.analysis.simulate import output_unit
+    from express.analysis.time.simulate import output_unit
 
     unit = output_unit(name)
     if unit == "N":

@@ -185,7 +185,7 @@ def static_wheel_loads(static: np.ndarray, steps: int) -> WheelLoadModel:
 def dynamic_wheel_loads(vehicle, inputs, static: np.ndarray) -> WheelLoadModel | None:
     """The loads of the model's own vertical contact springs
     (:func:`express.rail.vertical_contact.vertical_contacts`) along ``inputs`` (a
-    :class:`~express.analysis.track_inputs.TrackInputs`); ``None`` unless every wheel
+    :class:`~express.analysis.time.track_inputs.TrackInputs`); ``None`` unless every wheel
     has one."""
     if vehicle.model is None:
         return None

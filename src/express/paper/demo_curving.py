@@ -148,7 +148,7 @@ class Curving:
 
 
 def _runs(cars: Cars, track):
-    from express.analysis.simulate import simulate
+    from express.analysis.time.simulate import simulate
 
     runs = {name: simulate(car, track, progress=False) for name, car in cars.items()}
     if runs["steered"].distance.size != runs["conventional"].distance.size:  # same speed and dt: same grid
@@ -199,7 +199,7 @@ def measure_curving(cars: Cars, track=None, *, check: bool = True) -> Curving:
         Also run the steered car with the ``k_LU`` estimated to give the paper's lever
         angle (one more simulation), to test that estimate.
     """
-    from express.analysis.simulate import simulate
+    from express.analysis.time.simulate import simulate
     from express.rail.track import paper_curve
 
     track = paper_curve() if track is None else track

@@ -16,7 +16,7 @@ wheelset's lateral and yaw DOFs.
 
 All functions are vectorized over wheelsets (and time).  The laws themselves are the
 compiled ufuncs :func:`penetration`, :func:`longitudinal_creepage` and
-:func:`saturation_ratio`, which the time march (:mod:`express.analysis.integrator`) calls
+:func:`saturation_ratio`, which the time march (:mod:`express.analysis.time.integrator`) calls
 on scalars: one formula each.
 """
 

@@ -160,7 +160,7 @@ def _curving_section(vehicle: VehicleModel, track=None, track_name: str = "") ->
     model's), with its EN 14363 running-safety assessment."""
     from express.analysis.curving.assessment import assess_run
     from express.analysis.curving.steady import track_problems
-    from express.analysis.simulate import simulate
+    from express.analysis.time.simulate import simulate
     from express.rail.track.named import named_track
 
     if track is None:  # the paper's layout at the model's speed

@@ -225,10 +225,10 @@ def smallest_radius(track) -> float:
 
 def assess_run(vehicle, track, result) -> tuple[WheelRailOutputs, Assessment]:
     """The wheel/rail outputs and the assessment of a time simulation
-    (:class:`~express.analysis.simulate.SimulationResult`) along ``track``."""
+    (:class:`~express.analysis.time.simulate.SimulationResult`) along ``track``."""
     from express.analysis.curving.measure import DEFAULT_FLANGE_ANGLE, wheel_rail_outputs
-    from express.analysis.force_elements import contact_tables_of
-    from express.analysis.track_inputs import track_inputs
+    from express.analysis.time.force_elements import contact_tables_of
+    from express.analysis.time.track_inputs import track_inputs
 
     contact = None
     label = str(result.options.get("contact", ""))
@@ -248,7 +248,7 @@ def assess_run(vehicle, track, result) -> tuple[WheelRailOutputs, Assessment]:
 def assess_steady(vehicle, steady) -> Assessment:
     """The assessment of a steady state (:class:`~express.analysis.curving.steady.SteadyCurving`)."""
     from express.analysis.curving.measure import DEFAULT_FLANGE_ANGLE
-    from express.analysis.force_elements import contact_tables_of
+    from express.analysis.time.force_elements import contact_tables_of
 
     contact = None
     if steady.contact.startswith("tables"):

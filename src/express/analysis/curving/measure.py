@@ -71,7 +71,7 @@ def _body_stations(vehicle: VehicleModel) -> list[int]:
 def estimated_loads(vehicle: VehicleModel, q: np.ndarray, inputs, speed: float, loads: BodyLoads | None = None):
     """Quasi-static wheel loads (:func:`express.rail.load_transfer.wheel_loads`) at every
     instant, each body at its station's curvature and cant, displaced by its lateral
-    coordinate; ``inputs`` a :class:`~express.analysis.simulate.TrackInputs`.
+    coordinate; ``inputs`` a :class:`~express.analysis.time.simulate.TrackInputs`.
 
     Returns
     -------
@@ -105,7 +105,7 @@ def _value(vehicle: VehicleModel, field: str) -> float:
 
 def estimated_wheel_loads(vehicle, inputs, speed: float, static: np.ndarray) -> WheelLoadModel:
     """The quasi-static wheel loads of :func:`express.analysis.curving.measure.
-    estimated_loads` along ``inputs`` (a :class:`~express.analysis.track_inputs.
+    estimated_loads` along ``inputs`` (a :class:`~express.analysis.time.track_inputs.
     TrackInputs`) at ``speed`` [m/s], as changes of the static loads ``static`` [N]; the
     estimate is linear in the bodies' lateral displacements (the wheelsets' own excepted:
     their contact points move with them), whose gains are taken one body at a time."""
@@ -182,7 +182,7 @@ def _deadband_forces(vehicle: VehicleModel, q, q_dot, inputs, speed: float, flan
 def _table_outputs(vehicle: VehicleModel, q, q_dot, inputs, speed: float, contact: ContactSet) -> WheelRailOutputs:
     """The record of the contact tables with the wheel loads the time march uses
     (:func:`estimated_wheel_loads`)."""
-    from express.analysis.contact_march import contact_force_history, contact_wheel_outputs
+    from express.analysis.time.contact_march import contact_force_history, contact_wheel_outputs
     from express.forces.contact import wheel_loads_history
 
     ws = vehicle.wheelsets
@@ -203,7 +203,7 @@ def wheel_rail_outputs(vehicle: VehicleModel, q: np.ndarray, q_dot: np.ndarray, 
         Coordinates [m, rad] and their rates.
     inputs : TrackInputs
         The track seen by the vehicle at each instant
-        (:func:`express.analysis.simulate.track_inputs`).
+        (:func:`express.analysis.time.simulate.track_inputs`).
     speed : float
         [m/s].
     contact : ContactSet, optional

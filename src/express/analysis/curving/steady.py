@@ -2,7 +2,7 @@
 
 In a curve of constant radius and cant, at constant speed, every coordinate measured
 from the track (``docs/rail.md``) is constant, so the state ``x`` of the time march
-(:mod:`express.analysis.simulate`) solves (``docs/curving.md``, "Steady state")::
+(:mod:`express.analysis.time.simulate`) solves (``docs/curving.md``, "Steady state")::
 
     0 = A(v) x + B(v) u + S z(x)
 
@@ -32,9 +32,9 @@ import numpy as np
 from express.analysis.curving.measure import wheel_rail_outputs
 from express.analysis.curving.outputs import WheelRailOutputs
 from express.analysis.curving.step_solver import StepSolver
-from express.analysis.force_elements import contact_tables_of, run_forces
-from express.analysis.simulate import derived_outputs
-from express.analysis.track_inputs import TrackInputs
+from express.analysis.time.force_elements import contact_tables_of, run_forces
+from express.analysis.time.simulate import derived_outputs
+from express.analysis.time.track_inputs import TrackInputs
 from express.base.diagnostics import ArgumentError, InputError
 from express.forces.element import ForceSet
 from express.model.parameters import expression_value
@@ -212,7 +212,7 @@ class SteadyCurvingSolver:
     speed : float, optional
         [m/s]; the model's speed by default.
     contact : {"tables", "deadband"}, optional
-        As :func:`express.analysis.simulate.simulate` (tables when the model's contact
+        As :func:`express.analysis.time.simulate.simulate` (tables when the model's contact
         comes from profiles).
     creep_law : {"fastsim", "polach"}
         Creep law of the contact tables.
@@ -264,7 +264,7 @@ class SteadyCurvingSolver:
 
     def _forces(self, inputs: TrackInputs) -> ForceSet:
         """The run's force elements on ``inputs`` (one instant,
-        :func:`express.analysis.force_elements.run_forces`), kept for the last inputs."""
+        :func:`express.analysis.time.force_elements.run_forces`), kept for the last inputs."""
         if self._held is not None and self._held[0] is inputs:
             return self._held[1]
         nonlinear_run = self.flange or self.saturation
@@ -333,10 +333,10 @@ class SteadyCurvingSolver:
         return self._result(curve, x, inputs, evaluations, residual)
 
     def _settle(self, curve: SteadyCurve, x: np.ndarray, seconds: float = 10.0, rounds: int = 3) -> np.ndarray:
-        """The time march (:func:`express.analysis.simulate.simulate`, the same equations)
+        """The time march (:func:`express.analysis.time.simulate.simulate`, the same equations)
         from ``x`` in a long constant curve until the state stops moving; its fixed point
         is the equilibrium (the exact discretisation's fixed point solves ``A x + e = 0``)."""
-        from express.analysis.simulate import simulate
+        from express.analysis.time.simulate import simulate
         from express.rail.track import Curve, Track
 
         stations = [w.station for w in self.vehicle.wheelsets] + list(self.vehicle.station_positions)
@@ -369,7 +369,7 @@ class SteadyCurvingSolver:
                              vehicle.dofs, q.copy(), x.copy(), wheel_rail, angles, self.contact, iterations, residual)
 
     def _check_on_tables(self, x: np.ndarray, inputs: TrackInputs, curve: SteadyCurve) -> None:
-        from express.analysis.contact_march import contact_force_history
+        from express.analysis.time.contact_march import contact_force_history
         from express.rail.contact_forces import OUTPUTS
 
         n = self.vehicle.n

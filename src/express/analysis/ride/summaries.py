@@ -223,17 +223,17 @@ def simulation_accelerations(vehicle: VehicleModel, result: Any, track: Any) -> 
 
     For a linear run (no flange contact, saturation or bump stops) they come exactly from
     the state equation ``x' = A x + B u + Bd u'`` with the run's track inputs
-    (:func:`express.analysis.simulate.track_inputs`); otherwise from second-order
+    (:func:`express.analysis.time.simulate.track_inputs`); otherwise from second-order
     central differences of the velocities.
 
     Parameters
     ----------
     vehicle : VehicleModel
-    result : express.analysis.simulate.SimulationResult
+    result : express.analysis.time.simulate.SimulationResult
     track : express.rail.track.Track
         The track of the run.
     """
-    from express.analysis.simulate import track_inputs
+    from express.analysis.time.simulate import track_inputs
 
     options = result.options
     linear = not (options.get("flange") or options.get("saturation") or options.get("clearances"))

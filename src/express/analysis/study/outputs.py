@@ -224,7 +224,7 @@ class PointOutputs:
                 "least_damping_frequency": float(abs(eigenvalues[keep][k].imag) / (2 * np.pi))}
 
     def _track_run(self, vehicle) -> dict[str, float]:
-        from express.analysis.simulate import simulate
+        from express.analysis.time.simulate import simulate
 
         if self._track is None:
             from express.rail.track import load_track, paper_curve

@@ -2,11 +2,11 @@
 
 A long train's state matrix is large and very sparse (100 cars: 4800 states, 0.1 %
 non-zeros) while its exponential ``phi = exp(A dt)`` and the hold integrals are dense:
-forming them (:func:`express.analysis.integrator.discretize`) and multiplying by them at
+forming them (:func:`express.analysis.time.integrator.discretize`) and multiplying by them at
 every step costs minutes.  This route never forms them.  Each step integrates
 ``x' = A x + w0 + (t / dt) w1`` over ``dt`` exactly as the dense route does (the same
 first-order hold of the known forcing and of the feedback forces, the same Heun
-predictor on the feedback, :func:`express.analysis.integrator.heun_march`), by the
+predictor on the feedback, :func:`express.analysis.time.integrator.heun_march`), by the
 truncated Taylor series of the exponential of the matrix augmented with the forcing,
 applied to the state (Al-Mohy and Higham, "Computing the action of the matrix
 exponential", SIAM J. Sci. Comput. 33 (2011) 488-511, Algorithm 3.2 with the degree and
@@ -275,7 +275,7 @@ def taylor_step(steps, x, w0, w1, out, term, product, v0, v1):
 
 @njit(cache=True)
 def sparse_heun_march(steps, x0, first, last, states, laws, history):
-    """Steps ``first .. last`` as :func:`express.analysis.integrator.heun_march` does them,
+    """Steps ``first .. last`` as :func:`express.analysis.time.integrator.heun_march` does them,
     the linear part by :func:`taylor_step`: the predictor ``x~ = x(dt)`` with the feedback
     ``z[k]`` held, then ``x[k+1] = x~ +`` the response from rest to the feedback's change
     ``z[k+1] - z[k]`` over the step (nothing when it did not change).  Returns the last state."""

@@ -100,7 +100,7 @@ def divergence_message(result: Any, vehicle: Any, divergence: Divergence) -> str
 
 
 def truncate(result: Any, count: int) -> Any:
-    """The first ``count`` time steps of a :class:`~express.analysis.simulate.SimulationResult`
+    """The first ``count`` time steps of a :class:`~express.analysis.time.simulate.SimulationResult`
     (marked ``options["diverged"] = True``).
 
     Parameters

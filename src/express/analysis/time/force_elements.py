@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from express.analysis.track_inputs import TrackInputs
+from express.analysis.time.track_inputs import TrackInputs
 from express.base.diagnostics import ArgumentError
 from express.forces.bump_stops import bump_stops_of
 from express.forces.contact import ContactElement, linear_coefficients, roll_coordinates

@@ -11,7 +11,7 @@ import numpy as np
 from numba import njit
 
 from express.analysis.curving.outputs import WheelRailOutputs
-from express.analysis.track_inputs import track_inputs
+from express.analysis.time.track_inputs import track_inputs
 from express.forces.contact import contact_arrays, linear_coefficients, linear_wheel_rail
 from express.rail.contact_forces import OUTPUTS, WORK_FIELDS, ContactSet, WheelsetContact, profile_wheelset_forces
 from express.rail.options import CreepLaw

@@ -202,7 +202,7 @@ def march(linear, x0: np.ndarray, forces: ForceSet, progress=None) -> tuple[np.n
 
     Parameters
     ----------
-    linear : DenseSteps or express.analysis.sparse_march.SparseSteps
+    linear : DenseSteps or express.analysis.time.sparse_march.SparseSteps
         The linear part of the step (dense matrices, or the sparse route of large models),
         made with ``forces.selector()`` as the feedback's input matrix.
     x0 : numpy.ndarray, shape (N,)

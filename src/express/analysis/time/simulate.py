@@ -51,10 +51,10 @@ from pathlib import Path
 import numpy as np
 
 from express.analysis.curving.outputs import WheelRailOutputs
-from express.analysis.force_elements import contact_tables_of, run_forces
-from express.analysis.integrator import DenseSteps, discretize, march
-from express.analysis.sparse_march import Route, SparseSteps, choose_route, sparse_steps
-from express.analysis.track_inputs import TrackInputs, rail_layout, station_index, track_inputs
+from express.analysis.time.force_elements import contact_tables_of, run_forces
+from express.analysis.time.integrator import DenseSteps, discretize, march
+from express.analysis.time.sparse_march import Route, SparseSteps, choose_route, sparse_steps
+from express.analysis.time.track_inputs import TrackInputs, rail_layout, station_index, track_inputs
 from express.base.diagnostics import ArgumentError
 from express.base.threads import limited_blas
 from express.forces.bump_stops import BumpStopElement, clearance_force, clearances_of
@@ -278,9 +278,9 @@ def simulate(
     route : {"auto", "dense", "sparse"}
         How the linear part of a step is taken (the same exact discretization and time
         step either way): dense matrices ``exp(A dt)`` and its hold integrals, or their
-        action on the state from the sparse ``A`` (:mod:`express.analysis.sparse_march`,
+        action on the state from the sparse ``A`` (:mod:`express.analysis.time.sparse_march`,
         results equal to rounding); ``"auto"`` chooses the sparse one for large sparse
-        models (:func:`~express.analysis.sparse_march.choose_route`).
+        models (:func:`~express.analysis.time.sparse_march.choose_route`).
 
     Returns
     -------
@@ -317,7 +317,7 @@ def simulate(
                               deadband=tables is None)
     record = None
     if tables is not None:
-        from express.analysis.contact_march import contact_wheel_outputs
+        from express.analysis.time.contact_march import contact_wheel_outputs
 
         assert run.wheel_loads is not None
         record = contact_wheel_outputs(vehicle, history, q, run.wheel_loads)
@@ -364,7 +364,7 @@ def _check_step(forces, vehicle: VehicleModel, dt: float) -> None:
 
 def _dense_steps(vehicle: VehicleModel, a: np.ndarray, v: float, dt: float, inputs: TrackInputs,
                  selector: np.ndarray) -> DenseSteps:
-    """The dense matrices of the step (:func:`express.analysis.integrator.discretize`)."""
+    """The dense matrices of the step (:func:`express.analysis.time.integrator.discretize`)."""
     phi, gamma0, gamma1 = discretize(a, dt)
     # drive[k] = gamma0 e[k] + gamma1 (e[k+1] - e[k]) with e = B u + Bd u'
     b, bd = vehicle.input_matrix(v), vehicle.input_rate_matrix(v)
@@ -380,7 +380,7 @@ def _dense_steps(vehicle: VehicleModel, a: np.ndarray, v: float, dt: float, inpu
 
 def _sparse_steps(vehicle: VehicleModel, a: np.ndarray, v: float, dt: float, inputs: TrackInputs,
                   selector: np.ndarray) -> SparseSteps:
-    """The sparse route's step (:mod:`express.analysis.sparse_march`): the forcing
+    """The sparse route's step (:mod:`express.analysis.time.sparse_march`): the forcing
     ``e = B u + Bd u'`` at every step from the sparse input matrices."""
     from scipy.sparse import csr_matrix
 
