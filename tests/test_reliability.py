@@ -555,3 +555,53 @@ def test_a_demo_with_a_non_finite_number_writes_nothing(capsys, tmp_path: Path, 
     status, _, err = run(capsys, "demo", tmp_path / "out", "--examples", Path(STEERED).parent)
     assert status == 1 and "result.critical_speed_kmh: not a finite number (nan)" in err, err
     assert sorted(p.name for p in (tmp_path / "out").iterdir()) == []
+
+
+# ------------------------------------------------------------ issue 36, item 6: leftovers
+
+
+@pytest.mark.parametrize("argv, status, words", [
+    (["contact-geometry", "S1002", "60E1", "--inclination", "1:inf", "-o", "{tmp}/g.csv"], 0, []),
+    (["critical-speed", "examples/conventional.toml", "--conicities", "0.1,,0.2"], 2, ["an empty item in the list"]),
+    (["simulate", "examples/conventional.toml", "--assess", "--linear"], 2, ["--assess", "drop one of them"]),
+], ids=["upright rail 1:inf", "an empty list item", "assess of a linear run"])
+def test_leftovers_of_the_fourth_audit(tmp_path, argv, status, words):
+    """The documented upright rail ``1:inf`` is not refused as a non-finite result (the
+    finite check read the echoed input); ``0.1,,0.2`` is an error, not two values;
+    ``simulate --assess --linear`` is refused instead of dropping the assessment."""
+    import subprocess
+    import sys
+
+    root = Path(__file__).resolve().parents[1]
+    run = subprocess.run([sys.executable, "-m", "express", *[a.replace("{tmp}", str(tmp_path)) for a in argv]],
+                         capture_output=True, text=True, cwd=root, timeout=600)
+    assert run.returncode == status, run.stderr
+    assert "Traceback" not in run.stderr
+    for word in words:
+        assert word in run.stderr
+
+
+def test_a_non_ascii_name_is_told_it_is_not_ascii():
+    from express.base.diagnostics import ModelError
+    from express.io import parse_toml_model
+
+    text = '[model]\nname = "m"\n[parameters]\n"μ" = 0.3\n[bodies.B]\nmass = 1\ndofs = ["x"]\n'
+    with pytest.raises(ModelError) as error:
+        parse_toml_model(text, "m.toml")
+    message = " ".join(str(p) for p in error.value.problems)
+    assert "ASCII" in message and "'μ'" in message and "must start with a letter" not in message
+
+
+@pytest.mark.slow
+def test_a_report_of_a_profile_contact_model_prints_no_library_warning(tmp_path):
+    """``express report examples/manchester-s1002.toml --track R600`` printed Matplotlib's
+    "No artists with labels found to put in legend" (the run's force panel looked for the
+    dead-band model's Q<n>; it now draws each wheel's Y)."""
+    import subprocess
+    import sys
+
+    root = Path(__file__).resolve().parents[1]
+    run = subprocess.run([sys.executable, "-m", "express", "report", "examples/manchester-s1002.toml", "--track", "R600",
+                          "-o", str(tmp_path / "r.html")], capture_output=True, text=True, cwd=root, timeout=900)
+    assert run.returncode == 0, run.stderr
+    assert "No artists" not in run.stderr and "Warning" not in run.stderr

@@ -104,11 +104,14 @@ def test_every_problem_at_once(home: Path, capsys) -> None:
     ("[study\n", ["not valid TOML"]),
     ('[other]\nx = 1\n', ["[study]"]),
     ('[study]\nmodel = "missing.toml"\n[study.parameters]\nGamma = { values = [0.1] }\n', ["no such model file"]),
+    ('[study]\nmodel = "examples"\n[study.parameters]\nGamma = { values = [0.1] }\n', ["is a folder, not a model file"]),
+    ('[study]\nmodel = "/dev/zero"\n[study.parameters]\nGamma = { values = [0.1] }\n', ["is not a regular file"]),
     ('[study]\nmodel = "examples/forced-steering.toml"\nkind = "lhs"\n[study.parameters]\nGamma = { from = 0.05, to = 0.2 }\n',
      ["samples"]),
     ('[study]\nmodel = "examples/forced-steering.toml"\n[study.parameters]\nGamma = { values = [0.1] }\n'
      '[study.options]\nv_max = "5 kg"\ntrack = "nowhere.toml"\n', ["v_max", "track"]),
-], ids=["toml syntax", "no study table", "missing model", "lhs without samples", "bad options"])
+], ids=["toml syntax", "no study table", "missing model", "a folder as the model", "a device as the model",
+        "lhs without samples", "bad options"])
 def test_other_mistakes(home: Path, text: str, words: list[str]) -> None:
     with pytest.raises(ModelError) as caught:
         parse_study(text, home / "s.toml")

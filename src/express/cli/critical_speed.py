@@ -36,6 +36,10 @@ def parse_range(text: str, option: str = "--conicities") -> list[float]:
     --------
     >>> parse_range("0.1:0.3:3")
     [0.1, 0.2, 0.3]
+    >>> parse_range("0.1,,0.2")
+    Traceback (most recent call last):
+    ...
+    argparse.ArgumentTypeError: "0.1,,0.2": an empty item in the list (two commas, or one at an end)
     """
     usage = f'"{text}": expected START:STOP:COUNT (e.g. 0.02:0.4:40) or a list 0.05,0.1'
     parts = text.strip().split(":")
@@ -43,7 +47,10 @@ def parse_range(text: str, option: str = "--conicities") -> list[float]:
         if len(parts) == 3:
             start, stop, count = float(parts[0]), float(parts[1]), int(parts[2])
         elif len(parts) == 1:
-            values = [float(part) for part in text.split(",") if part.strip()]
+            items = text.strip().split(",")
+            if not all(item.strip() for item in items):  # "0.1,,0.2": an empty item, not two values
+                raise argparse.ArgumentTypeError(f'"{text}": an empty item in the list (two commas, or one at an end)')
+            values = [float(item) for item in items]
             start, stop, count = 0.0, 0.0, len(values)
         else:
             raise ValueError

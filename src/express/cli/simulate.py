@@ -71,6 +71,9 @@ def run(
     outputs = list(outputs or [])
     if "-" in outputs and as_json:
         raise UsageError("-o - and --json both write to standard output; choose one")
+    if assess and linear:
+        raise UsageError("--assess judges the forces of the nonlinear wheel/rail contact, which a --linear run "
+                         "leaves out; drop one of them")
     inputs = [model] + ([Path(track)] if track is not None and Path(track).is_file() else [])
     failure = None
     assessment = None
@@ -97,7 +100,7 @@ def run(
 
         divergence = find_divergence(result, vehicle)
         if divergence is None:
-            if assess and not linear:
+            if assess:
                 assessment = _assess(vehicle, road, result)
             _write(result, outputs, plot, f"{vehicle.equations.name}: {v / common.KMH:.0f} km/h, {_track_name(track)}")
         else:

@@ -25,8 +25,9 @@ __all__ = [
     "require_finite_text",
 ]
 
-#: A nan or inf printed as a number (``nan``, ``-inf``, ``+Inf``, ``NaN``), not part of a word.
-_NON_FINITE = re.compile(r"(?<![\w.])[-+]?(?:nan|inf|infinity)(?![\w(])", re.IGNORECASE)
+#: A nan or inf printed as a number (``nan``, ``-inf``, ``+Inf``, ``NaN``), not part of a word
+#: nor the second term of a ratio (``1:inf``, the documented upright rail: an input echoed).
+_NON_FINITE = re.compile(r"(?<![\w.:])[-+]?(?:nan|inf|infinity)(?![\w(])", re.IGNORECASE)
 
 
 def first_non_finite(values: Any) -> tuple[tuple[int, ...], complex | float, int] | None:
@@ -98,6 +99,7 @@ def require_finite_text(quantity: str, text: str) -> None:
     Examples
     --------
     >>> require_finite_text("eigen", "mode 1: 1.2 Hz, information\n")
+    >>> require_finite_text("contact-geometry", "S1002 on 60E1: inclination 1:inf\n")
     >>> require_finite_text("eigen", "mode 1: nan Hz\n")
     Traceback (most recent call last):
     ...

@@ -103,7 +103,8 @@ ID_PATTERN = re.compile(r"[A-Za-z][A-Za-z0-9_]*\Z")
 
 def check_id(reader: TomlReader, identifier: str, path: tuple[str, ...], item: str) -> None:
     if not ID_PATTERN.match(identifier):
-        reader.problem(path, item, "an id must start with a letter and hold only letters, digits and _")
+        reader.problem(path, item, "an id is ASCII: a letter A-Z or a-z, then letters, digits and _"
+                       + ("" if identifier.isascii() else f" ({identifier!r} holds a character outside ASCII)"))
 
 
 def entries(reader: TomlReader, table: Any, section: str, kind: str, allowed: tuple[str, ...], base: tuple[str, ...] = ()):

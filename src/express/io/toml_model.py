@@ -108,7 +108,8 @@ def _parameters(reader: TomlReader, table: dict) -> dict[str, Parameter]:
         item = f"parameter {name}"
         line = reader.line(*path)
         if not is_valid_name(name):
-            reader.problem(path, item, "a parameter name must start with a letter (letters, digits, _)")
+            reader.problem(path, item, "a parameter name is ASCII: a letter A-Z or a-z, then letters, digits and _"
+                           + ("" if name.isascii() else f" ({name!r} holds a character outside ASCII; e.g. mu for μ)"))
             continue
         unit = ""
         if isinstance(raw, dict):

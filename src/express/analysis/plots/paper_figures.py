@@ -390,7 +390,8 @@ def figure_simulation(distance: np.ndarray, outputs: Mapping[str, np.ndarray], *
     distance : numpy.ndarray, shape (T,)
         Distance of the leading wheelset ``d1`` [m].
     outputs : mapping of str to numpy.ndarray
-        ``rho1`` and any of ``theta_*``, ``psi_TW*``, ``Q<n>`` (SI, shape (T,)).
+        ``rho1`` and any of ``theta_*``, ``psi_TW*``, ``Q<n>`` (the dead-band model's lateral
+        force) or ``Y<n><L|R>`` (the contact tables' lateral force of each wheel) (SI, shape (T,)).
     title : str
     """
     figure, (top, middle, bottom) = new_figure(3, 1, figsize=(7.6, 8.6), sharex=True)
@@ -407,18 +408,29 @@ def figure_simulation(distance: np.ndarray, outputs: Mapping[str, np.ndarray], *
     top.set_ylabel(r"$\rho_1$ [1/km]")
     top.legend(loc="upper left")
     top.set_title("(a) curvature at the leading wheelset" + (" and lever angles" if thetas else ""), loc="left")
-    for k, name in enumerate(sorted(k for k in outputs if k.startswith("psi_TW"))):
+    steering = sorted(k for k in outputs if k.startswith("psi_TW"))
+    for k, name in enumerate(steering):
         middle.plot(distance, outputs[name] * 1e3, color=colours[k % 4], label=name)
     middle.set_ylabel(r"$\psi_{TW}$ [mrad]")
-    middle.legend(loc="upper right", ncol=4)
+    if steering:
+        middle.legend(loc="upper right", ncol=4)
     middle.set_title("(b) wheelset yaw relative to its bogie", loc="left")
     forces = sorted((k for k in outputs if k[:1] == "Q" and k[1:].isdigit()), key=lambda s: int(s[1:]))
+    panel = "(c) lateral force on the flanging wheel"
+    if not forces:  # the contact from profile tables: the lateral force Y of every wheel (Q is its vertical load)
+        forces = sorted((k for k in outputs if k[:1] == "Y" and k[1:-1].isdigit() and k[-1:] in "LR"),
+                        key=lambda s: (int(s[1:-1]), s[-1]))
+        panel = "(c) lateral force Y on each wheel"
     for k, name in enumerate(forces):
-        bottom.plot(distance, outputs[name] * 1e-3, color=colours[k % 4], label=name)
-    bottom.set_ylabel("Q [kN]")
+        bottom.plot(distance, outputs[name] * 1e-3, color=colours[k % 4], label=name,
+                    linestyle="-" if k < 4 else "--")
+    bottom.set_ylabel(("Q" if panel.endswith("flanging wheel") else "Y") + " [kN]")
     bottom.set_xlabel(r"distance of the leading wheelset $d_1$ [m]")
-    bottom.legend(loc="upper right", ncol=4)
-    bottom.set_title("(c) lateral force on the flanging wheel", loc="left")
+    if forces:
+        bottom.legend(loc="upper right", ncol=4)
+    else:
+        bottom.text(0.5, 0.5, "no wheel/rail forces in this run", transform=bottom.transAxes, ha="center")
+    bottom.set_title(panel, loc="left")
     bottom.set_xlim(float(distance[0]), float(distance[-1]))
     figure.suptitle(title)
     figure.tight_layout()

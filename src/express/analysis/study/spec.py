@@ -232,7 +232,9 @@ def _model(check: _Checker, study: dict, path: Path):
         return None
     model_path = (path.parent / name) if not Path(name).is_absolute() else Path(name)
     if not model_path.is_file():
-        check.add(("model",), "study.model", f"no such model file: {model_path}")
+        what = ("is a folder, not a model file" if model_path.is_dir()
+                else "is not a regular file (a device or a pipe)" if model_path.exists() else None)
+        check.add(("model",), "study.model", f"{model_path}: {what}" if what else f"no such model file: {model_path}")
         return None
     try:
         return load_model(model_path)
