@@ -530,3 +530,17 @@ def test_seeded_mutations_of_the_lever(tmp_path, capsys):
             out, err = capsys.readouterr()
             assert status in (0, 2), (lines[number], err)
             assert "Traceback" not in out + err
+
+
+@pytest.mark.parametrize("kept", ["Number,\t", "Number,\tCP Number,\n\tVir", "Number,\tCP Number,\n\tVirtual,\tNon-Virtu"])
+def test_a_file_cut_inside_its_last_sections_headings_is_refused(tmp_path, kept):
+    """Issue 36 item 6: the lever cut inside the column headings of (5) Pinned Joint read
+    as the lever without its pin (exit 0); headings left out altogether stay a valid empty
+    section."""
+    text = (Path(__file__).resolve().parents[1] / "examples" / "lever.exp").read_text()
+    head = text[: text.rindex("(5) Pinned Joint")] + "(5) Pinned Joint\n"
+    path = tmp_path / "cut.exp"
+    path.write_text(head + kept)
+    with pytest.raises(ModelError) as error:
+        read_classic(path)
+    assert any("inside the section's column headings" in str(p) for p in error.value.problems)

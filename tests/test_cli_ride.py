@@ -130,6 +130,7 @@ _TABLES = {
     "unit.csv": ("n [1/m], vertical [m^2/(rad/m)]\n0.01, 1e-4\n0.02, 1e-5\n", "unit must be"),
     "text.csv": ("n [1/m], vertical\n0.01, abc\n0.02, 1e-5\n", "not a number"),
     "short.csv": ("n [1/m], vertical\n0.01, 1e-4\n", "at least two rows"),
+    "twice.csv": ("n [1/m], alignment, alignment\n0.01, 1e-4, 2e-4\n0.02, 1e-5, 2e-5\n", "given twice"),
 }
 
 

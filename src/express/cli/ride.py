@@ -162,7 +162,11 @@ def read_psd_table(path: Path) -> dict:
         first = "n"
     elif first_unit is not None and first_unit != _PSD_UNITS[first][0]:
         problems.append(Problem(source, header_line, f"column {columns[0][0]}", f"unit must be {_PSD_UNITS[first][0]}, got {first_unit!r}"))
+    seen: set[str] = set()
     for name, unit in columns[1:]:
+        if name in seen:
+            problems.append(Problem(source, header_line, f"column {name}", "given twice: one column per component"))
+        seen.add(name)
         if name not in COMPONENTS:
             problems.append(Problem(source, header_line, f"column {name or '(empty)'}", f"unknown component; known: {', '.join(COMPONENTS)}"))
         elif unit is not None and unit not in _PSD_UNITS[first][1]:

@@ -219,6 +219,7 @@ def _check_structure(text: str, rows: dict[str, list], seen: set[str], source: s
         problems.append(Problem(source, None, "section (1) Body", "no bodies: a model needs at least one"))
     if missing:
         return
+    _check_last_headings(text, rows, last, source, problems)
     _check_promised(text, rows, last, source, problems)
     used = {field for _, fields in rows["TSD"] for field in fields[3:5]}
     used |= {field for _, fields in rows["Pinned Joint"] for field in fields[1:3]}
@@ -231,6 +232,29 @@ def _check_structure(text: str, rows: dict[str, list], seen: set[str], source: s
 
 
 _RENAMING = re.compile(r"#\s+([BGCTP]\d+) = \S", re.MULTILINE)
+
+
+#: The last word of each section's column headings (the paper's and the writer's alike).
+_LAST_HEADING = {"Body": "rz", "Ground": "number", "CP": "z", "TSD": "direction", "Pinned Joint": "non-virtual"}
+
+
+def _check_last_headings(text: str, rows: dict[str, list], last: int, source: str, problems: list[Problem]) -> None:
+    """A file cut inside the column headings of its last section, which has no rows, reads
+    as a smaller model (a pinned joint fewer): headings that stop before their last word
+    mean the file was cut there.  Headings left out altogether are a valid empty section."""
+    lines = text.splitlines()
+    opened = [(k, m) for k, line in enumerate(lines) if (m := _HEADER.match(line))]
+    if not opened:
+        return
+    index, header = opened[-1]
+    section = SECTIONS.get(int(header.group(1)))
+    if section is None or rows.get(section):
+        return
+    words = [w for w in re.split(r"[\s,]+", " ".join(lines[index + 1:]).strip().lower()) if w]
+    if words and words[-1] != _LAST_HEADING[section]:
+        problems.append(Problem(source, last, f"section ({header.group(1)}) {section}",
+                                f"the file stops early, at line {last}: inside the section's column headings "
+                                f"(they end with {_LAST_HEADING[section]!r})"))
 
 
 def _check_promised(text: str, rows: dict[str, list], last: int, source: str, problems: list[Problem]) -> None:
