@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from cache_support import rewrite_entry
+from cache_support import rewrite_entry, use_fresh_cache
 from express.base.diagnostics import ModelWarning
 from express.base.limits import read_input_text
 from express.io import cache
@@ -252,3 +252,23 @@ def test_a_pipe_is_not_read_for_the_warm_entry(fresh, tmp_path):
     os.mkfifo(fifo)
     assert warm.find_warm(fifo, True) is None  # returns at once: nothing read
     assert not list(cache.cache_directory().glob("*.json"))
+
+
+def test_a_warm_vehicle_does_not_read_a_model_edited_after_loading(tmp_path, monkeypatch):
+    """Issue 36 item 6: a warm vehicle's ``with_values`` (which goes through the symbolic
+    model) read the file as edited after the load and gave another vehicle's numbers; now
+    it says the file changed."""
+    from express.base.diagnostics import ArgumentError
+    from express.numeric.statespace import load_vehicle
+
+    use_fresh_cache(tmp_path, monkeypatch)
+    path = tmp_path / "car.toml"
+    path.write_bytes((ROOT / "examples" / "conventional.toml").read_bytes())
+    load_vehicle(path)  # cold: fills the cache
+    statespace._GENERATED.clear()
+    warm._READ.clear()
+    vehicle = load_vehicle(path)
+    assert vehicle.origin.cached
+    path.write_text(path.read_text().replace('mc = { value = 30000.0', 'mc = { value = 35000.0', 1))
+    with pytest.raises(ArgumentError, match="changed since this vehicle was loaded"):
+        vehicle.with_values({"Gamma": 0.1})

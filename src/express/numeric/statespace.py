@@ -558,7 +558,8 @@ def load_vehicle(
     if base is None and found is not None:
         warm = read_warm_vehicle(found)
         if warm is not None:
-            base = _remember(found.vehicle_key, _warm_vehicle(warm, str(path), lambda: _symbolic_twin(path, with_rail)))
+            key = found.vehicle_key
+            base = _remember(key, _warm_vehicle(warm, str(path), lambda: _symbolic_twin(path, with_rail, key)))
     if base is not None and found is not None and reemit(found, str(path)):
         return base.with_values(overrides) if overrides else base
     from express.io.cache import entry_key
@@ -608,13 +609,23 @@ def _read_model(path: str | Path, repeat_warnings: bool = True) -> tuple[Model, 
     return model, reads, caught
 
 
-def _symbolic_twin(path: str | Path, with_rail: bool) -> VehicleModel:
+def _symbolic_twin(path: str | Path, with_rail: bool, key: str) -> VehicleModel:
     """The vehicle of ``path`` through its symbolic model (the derivation from the cache):
-    what a warm vehicle builds when something asks for its model or equations."""
+    what a warm vehicle builds when something asks for its model or equations.
+
+    Raises
+    ------
+    ArgumentError
+        When the files the vehicle was loaded from changed since (``key`` is no longer
+        theirs): the symbolic side would be another vehicle's.
+    """
     from express.io.cache import entry_key
 
     model, reads, _ = _read_model(path, repeat_warnings=False)
-    derivation = _derivation(model, with_rail, entry_key("vehicle", reads, {"with_rail": with_rail}))
+    if entry_key("vehicle", reads, {"with_rail": with_rail}) != key:
+        raise ArgumentError(f"{path}: the model (or a file it reads) changed since this vehicle was loaded; "
+                            "load it again (express.load_vehicle)")
+    derivation = _derivation(model, with_rail, key)
     return _evaluate_vehicle(model, *derivation)
 
 
