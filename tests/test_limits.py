@@ -382,3 +382,21 @@ def test_check_model_refuses_a_wheelset_listed_twice_in_a_model_built_in_python(
     car = load_model(CONVENTIONAL)
     rail = replace(car.rail, wheelsets=car.rail.wheelsets + car.rail.wheelsets[:1])
     assert [str(p) for p in check_model(replace(car, rail=rail))] == [f"{CONVENTIONAL}:89: wheelset W1: listed twice"]
+
+
+def test_a_huge_model_file_is_refused_before_it_is_read_or_hashed_whole(tmp_path):
+    """Issue 36 item 3: a 2 GB model file was hashed whole for the cache's key (2.1 GB of
+    memory, 12 s) before the 16 MB refusal; now the size is checked first (a sparse file:
+    no disk is used)."""
+    import resource
+    import subprocess
+    import sys
+
+    path = tmp_path / "huge.toml"
+    with open(path, "wb") as stream:
+        stream.truncate(2 * 1024**3)
+    run = subprocess.run([sys.executable, "-m", "express", "eigen", str(path)], capture_output=True, text=True,
+                         timeout=120)
+    assert run.returncode == 2 and "file larger than the limit of 16 MB" in run.stderr
+    peak_kb = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
+    assert peak_kb < 600 * 1024, f"{peak_kb} kB"

@@ -147,11 +147,20 @@ def _model_key(path: str | Path, with_rail: bool) -> str | None:
 
 def file_digest(path: str) -> str | None:
     """SHA-256 of a regular file's bytes; None for anything else (a pipe is read once, by
-    the model reader: ``express eigen <(cat model.toml)``) or an unreadable file."""
+    the model reader: ``express eigen <(cat model.toml)``), an unreadable file, or one
+    beyond the input size limit (``EXPRESS_MAX_FILE_MB``: the model reader refuses it
+    before reading it whole; it is never hashed whole first)."""
+    from express.base.limits import limit
+
     try:
-        if not stat.S_ISREG(os.stat(path).st_mode):
+        status = os.stat(path)
+        if not stat.S_ISREG(status.st_mode) or status.st_size > limit("file_mb") * 1024 * 1024:
             return None
-        return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+        digest = hashlib.sha256()
+        with open(path, "rb") as stream:
+            for block in iter(lambda: stream.read(1 << 20), b""):
+                digest.update(block)
+        return digest.hexdigest()
     except OSError:
         return None
 
