@@ -244,11 +244,10 @@ def _free_port() -> int:
         return probe.getsockname()[1]
 
 
-@pytest.mark.slow
-def test_dask_scheduler_and_worker_on_localhost_give_the_same_results(tmp_path: Path, slow_reference) -> None:
-    """A real ``dask scheduler`` and ``dask worker`` (2 processes) on localhost: the file of
-    the local run; then again with one worker process killed mid-study."""
-    study, reference = slow_reference
+@contextlib.contextmanager
+def _dask_cluster(tmp_path: Path, workers: int):
+    """A real ``dask scheduler`` and ``dask worker --nworkers N`` on localhost: yields the
+    scheduler's address and the worker command's process; both ended afterwards."""
     port = _free_port()
     address = f"tcp://127.0.0.1:{port}"
     environment = dict(os.environ, PYTHONPATH=str(ROOT / "src") + os.pathsep + os.environ.get("PYTHONPATH", ""))
@@ -257,13 +256,30 @@ def test_dask_scheduler_and_worker_on_localhost_give_the_same_results(tmp_path: 
                                  env=environment, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     worker = None
     try:
-        worker = subprocess.Popen([sys.executable, "-m", "distributed.cli.dask_worker", address, "--nworkers", "2",
-                                   "--nthreads", "1", "--dashboard-address", ":0", "--local-directory", str(tmp_path)],
-                                  env=environment, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        worker = subprocess.Popen([sys.executable, "-m", "distributed.cli.dask_worker", address, "--nworkers",
+                                   str(workers), "--nthreads", "1", "--dashboard-address", ":0", "--local-directory",
+                                   str(tmp_path)], env=environment, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         from distributed import Client
 
         with Client(address, timeout="60s") as client:
-            client.wait_for_workers(2, timeout=120)
+            client.wait_for_workers(workers, timeout=120)
+        yield address, worker
+    finally:
+        for process in (worker, scheduler):
+            if process is not None:
+                process.terminate()
+                try:
+                    process.wait(timeout=30)
+                except subprocess.TimeoutExpired:
+                    process.kill()
+
+
+@pytest.mark.slow
+def test_dask_scheduler_and_worker_on_localhost_give_the_same_results(tmp_path: Path, slow_reference) -> None:
+    """A real ``dask scheduler`` and ``dask worker`` (2 processes) on localhost: the file of
+    the local run; then again with one worker process killed mid-study."""
+    study, reference = slow_reference
+    with _dask_cluster(tmp_path, 2) as (address, worker):
         output = tmp_path / "dask.csv"
         run = _express(["study", str(study), "-o", str(output), "--scheduler", address, "--json"])
         out, err = run.communicate(timeout=600)
@@ -282,14 +298,27 @@ def test_dask_scheduler_and_worker_on_localhost_give_the_same_results(tmp_path: 
         assert run.returncode == 0, err
         assert json.loads(out)["failed"] == 0 and not victims[0].is_running()
         assert output.read_bytes() == reference
-    finally:
-        for process in (worker, scheduler):
-            if process is not None:
-                process.terminate()
-                try:
-                    process.wait(timeout=30)
-                except subprocess.TimeoutExpired:
-                    process.kill()
+
+
+@pytest.mark.slow
+def test_the_only_dask_worker_killed_loses_nothing(tmp_path: Path, slow_reference) -> None:
+    """Issue 36 item 2: with the only worker killed by ``kill -9`` the study exited 0 with
+    most rows NaN ("cancelled for reason: already forgotten": the study's task had been
+    scattered to that worker alone) and removed its checkpoint.  Now the lost chunks are
+    submitted again (the task scattered anew) to the worker the nanny restarts, and the file
+    is the undisturbed run's."""
+    study, reference = slow_reference
+    with _dask_cluster(tmp_path, 1) as (address, worker):
+        output = tmp_path / "only-worker-killed.csv"
+        run = _express(["study", str(study), "-o", str(output), "--scheduler", address, "--json"])
+        _wait_for_lines(checkpoint_path(output), 1 + 20, run)
+        (victim,) = _dask_worker_processes(worker.pid)
+        victim.send_signal(signal.SIGKILL)
+        assert _lines(checkpoint_path(output)) < 1 + 144  # killed mid-study
+        out, err = run.communicate(timeout=600)
+        assert run.returncode == 0, err
+        assert json.loads(out)["failed"] == 0
+        assert output.read_bytes() == reference
 
 
 def test_local_check_gives_the_grid_check_file_across_a_low_speed_window(tmp_path: Path) -> None:
@@ -350,3 +379,31 @@ frf_points = 50
         assert table["least_damping_ratio"][row] == ratios.min()
         assert table["least_damping_frequency"][row] == pytest.approx(abs(eigenvalues[np.argmin(ratios)].imag) / (2 * np.pi))
     assert table["error"] == ["", ""]
+
+
+def test_points_lost_to_the_machinery_end_with_exit_1_and_resume_completes(tmp_path: Path, monkeypatch) -> None:
+    """Issue 36 item 2: points a worker could not return (here: marked lost by the engine,
+    as after a worker died each time) are not results — the study ends with status 1 and
+    the reason, the checkpoint keeps the points done, and ``--resume`` computes the rest to
+    the file of an undisturbed run."""
+    from express.base.diagnostics import AnalysisError
+
+    spec = read_study(_study(tmp_path, GRID))
+    reference = tmp_path / "reference.csv"
+    run_study(spec, reference, workers=1)
+    original = runner.Engine.run
+
+    def losing(self, indices, vectors):
+        for records in original(self, indices, vectors):
+            yield [runner._failed([r["point"]], [r["values"]], len(r["outputs"]), "the worker died")[0]
+                   if r["point"] in (1, 4) else r for r in records]
+
+    monkeypatch.setattr(runner.Engine, "run", losing)
+    output = tmp_path / "lost.csv"
+    with pytest.raises(AnalysisError, match="2 of 6 points could not be evaluated .the worker died.*--resume"):
+        run_study(spec, output, workers=1)
+    assert not output.exists() and checkpoint_path(output).exists()
+    monkeypatch.setattr(runner.Engine, "run", original)
+    summary = run_study(spec, output, workers=1, resume=True)
+    assert summary.computed == 2 and output.read_bytes() == reference.read_bytes()
+    assert not checkpoint_path(output).exists()

@@ -298,6 +298,16 @@ def run_study(
                         engine.parallel, {**extra, "files": files})
 
 
+def raise_lost(lost: list[dict], checkpoint: Path, count: int) -> None:
+    """End a study whose points were lost to the machinery: exit status 1, the reason, the
+    checkpoint kept (``--resume`` computes the lost points again)."""
+    from express.base.diagnostics import AnalysisError
+
+    reasons = sorted({record["error"] for record in lost})
+    raise AnalysisError(f"{len(lost)} of {count} points could not be evaluated ({'; '.join(reasons)[:300]}); the "
+                        f"checkpoint {checkpoint} keeps the others: run the study again with --resume to compute them")
+
+
 def _digest(data: bytes) -> str:
     return hashlib.sha256(data).hexdigest()
 
@@ -321,15 +331,19 @@ def _evaluate(engine: Engine, checkpoint: Checkpoint, points: np.ndarray, spec: 
     if count > CALIBRATE_ABOVE and len(todo):
         check_cost(estimate_cost(engine, todo, points[todo]), max_hours)
     bar = _progress(count, count - len(todo), progress)
+    lost: list[dict] = []
     try:
         for records in engine.run(todo.tolist(), points[todo]):
-            checkpoint.append(records)
+            lost += [record for record in records if record.get("lost")]
+            checkpoint.append([record for record in records if not record.get("lost")])
             if bar is not None:
                 bar.update(len(records))
     finally:
         if bar is not None:
             bar.close()
     checkpoint.close()
+    if lost:
+        raise_lost(lost, checkpoint.path, count)
     for record in checkpoint.records():
         table.add(record)
     return table, len(todo)

@@ -263,8 +263,11 @@ def _stop_pool(pool: Any) -> None:
 
 
 def _failed(indices: Sequence[int], vectors: Sequence[Sequence[float]], outputs: int, message: str) -> list[dict]:
-    return [{"point": int(i), "values": [float(x) for x in v], "outputs": [None] * outputs, "error": message}
-            for i, v in zip(indices, vectors, strict=True)]
+    """Records of points *lost* to the machinery (a worker that died each time, a task the
+    cluster dropped): marked ``lost``, they are no results — the study keeps them out of its
+    checkpoint, ends with exit status 1 and ``--resume`` computes them again."""
+    return [{"point": int(i), "values": [float(x) for x in v], "outputs": [None] * outputs, "error": message,
+             "lost": True} for i, v in zip(indices, vectors, strict=True)]
 
 
 class Engine:
@@ -428,15 +431,34 @@ class Engine:
 
         first = [f for f in (submit() for _ in range(window)) if f is not None]
         futures = as_completed(first, loop=client.loop)  # our client is not the default one
+        attempts: dict[int, int] = {}
         for future in futures:
             part, part_vectors = parts.pop(future.key)
+            self._futures.discard(future)
             try:
                 records = future.result()
-            except Exception as error:  # KilledWorker after repeated deaths, or a lost connection
-                records = _failed(part, part_vectors, len(self.task.outputs), f"Dask task failed: {_message(error)}")
-            self._futures.discard(future)
+            except Exception as error:  # a worker lost (KilledWorker, a dropped task), a lost connection
+                attempts[part[0]] = attempts.get(part[0], 0) + 1
+                if attempts[part[0]] < MAX_ATTEMPTS:
+                    futures.add(self._resubmit(part, part_vectors, parts))
+                    continue
+                records = _failed(part, part_vectors, len(self.task.outputs),
+                                  f"Dask task failed {MAX_ATTEMPTS} times: {_message(error)}")
             yield records
             future.release()
             following = submit()
             if following is not None:
                 futures.add(following)
+
+    def _resubmit(self, part: list[int], vectors: list[list[float]], parts: dict) -> Any:
+        """Submit a lost chunk again; the study's task scattered anew when the cluster lost
+        it with the worker that held it (an only worker killed: its dependents were
+        cancelled, "already forgotten")."""
+        client = self._client
+        assert client is not None
+        if self._task_future.status != "finished":
+            self._task_future = client.scatter(self.task, broadcast=True, hash=False)
+        future = client.submit(evaluate_points, self._task_future, part, vectors, pure=False)
+        parts[future.key] = (part, vectors)
+        self._futures.add(future)
+        return future
