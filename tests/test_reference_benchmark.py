@@ -205,19 +205,23 @@ def test_number_format_is_fixed():
 
 
 def _same_files(made: Path) -> None:
-    """Every regenerated file is the stored one byte for byte, except the one number the
-    docs call this machine's (``precision.max_error_double_precision_library``: LAPACK's
-    rounding on this processor), which must stay within three times the stored value."""
+    """Every regenerated file is the stored one byte for byte, except the error estimates of
+    its ``precision`` block (``max_error_*``, two digits): the double-precision library's
+    error is this machine's LAPACK rounding (the docs say so), and the 30-digit check's
+    starts from double-precision brackets; on an AMD EPYC with OpenBLAS's Haswell kernels
+    they moved in their second digit (the lever's eigenvalues 7.7e-16 against 1.3e-15, the
+    conventional car's critical speeds 6.3e-29 against 6.4e-29).  Each must stay within three
+    times the stored value; every value the files publish must be the same."""
     for path in sorted(made.iterdir()):
         new, old = path.read_bytes(), (REFERENCE / path.name).read_bytes()
         if path.suffix != ".json" or new == old:
             assert new == old, path.name
             continue
         fresh, stored = json.loads(new), json.loads(old)
-        machine = "max_error_double_precision_library"
-        for quantity, value in fresh["precision"].pop(machine).items():
-            assert float(value) <= 3 * float(stored["precision"][machine][quantity]) + 1e-15, (path.name, quantity)
-        stored["precision"].pop(machine)
+        for block in [k for k in stored["precision"] if k.startswith("max_error_")]:
+            for quantity, value in fresh["precision"].pop(block).items():
+                assert float(value) <= 3 * float(stored["precision"][block][quantity]) + 1e-15, (path.name, quantity)
+            stored["precision"].pop(block)
         assert fresh == stored, path.name
 
 
