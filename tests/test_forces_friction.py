@@ -257,11 +257,8 @@ label = "centre-bowl friction torque"
 """
 
 
-def test_a_vehicle_with_friction_runs_on_the_command_line(tmp_path):
-    """The conventional car with a friction torque between car body and bogie 1 (a
-    centre bowl): `express simulate` writes its torque and slip with units, the torque
-    never beyond the limit; at the default 5 ms step it warns that the pre-slip spring is
-    not resolved, at a step that resolves it it does not."""
+def _friction_car(tmp_path: Path) -> Path:
+    """The conventional car with a centre-bowl friction torque between car body and bogie 1."""
     text = (ROOT / "examples" / "conventional.toml").read_text()
     model = parse_toml_model(text, "conventional.toml")
     body_point = next(p.id for p in model.points if p.host == "CB")
@@ -269,6 +266,31 @@ def test_a_vehicle_with_friction_runs_on_the_command_line(tmp_path):
     path = tmp_path / "friction.toml"
     parameters = '[parameters]\nkbowl = "2 MN*m/rad"\nTbowl = "5 kN*m"\n'
     path.write_text(text.replace("[parameters]\n", parameters, 1) + FRICTION_YAW.format(a=body_point, b=bogie_point))
+    return path
+
+
+@pytest.mark.parametrize("command", ["eigen", "critical-speed"])
+def test_the_linear_analyses_say_they_see_the_friction_stuck(tmp_path, command):
+    """Issue 31 item 6: every linear output says how it saw the nonlinear elements — here
+    the friction element stuck, its pre-slip spring in K — on standard error and in the
+    JSON (``linearisation``), and the model without friction says nothing."""
+    import json
+
+    path = _friction_car(tmp_path)
+    for model, expected in ((path, {"T1_yaw_friction"}), (ROOT / "examples" / "conventional.toml", set())):
+        run = subprocess.run([sys.executable, "-m", "express", command, str(model), "--json"], capture_output=True,
+                             text=True, timeout=600)
+        assert run.returncode == 0, run.stderr
+        assert set(json.loads(run.stdout)["linearisation"]) == expected
+        assert ("seen stuck by this linear analysis" in run.stderr) == bool(expected)
+
+
+def test_a_vehicle_with_friction_runs_on_the_command_line(tmp_path):
+    """The conventional car with a friction torque between car body and bogie 1 (a
+    centre bowl): `express simulate` writes its torque and slip with units, the torque
+    never beyond the limit; at the default 5 ms step it warns that the pre-slip spring is
+    not resolved, at a step that resolves it it does not."""
+    path = _friction_car(tmp_path)
     out = tmp_path / "run.csv"
     run = subprocess.run([sys.executable, "-m", "express", "simulate", str(path), "--track", "R400", "-o", str(out)],
                          capture_output=True, text=True, timeout=600)

@@ -283,6 +283,23 @@ def load_rail_vehicle(model: Path, overrides: dict[str, str], command: str) -> A
     return vehicle
 
 
+def linearisation(vehicle: Any) -> dict[str, str]:
+    """How the linear analyses see the model's nonlinear elements, by element (empty when
+    it has none): friction elements stuck, their pre-slip springs in K (the tangent at
+    the static state, ``docs/model-format.md``, "Friction elements")."""
+    facts = vehicle.facts
+    return {name: "stuck (pre-slip spring in K: the tangent at the static state)" for name in facts.stuck}
+
+
+def note_linearisation(vehicle: Any) -> dict[str, str]:
+    """:func:`linearisation`, said once on standard error when there is anything to say."""
+    seen = linearisation(vehicle)
+    if seen:
+        note(f"friction elements seen stuck by this linear analysis (their pre-slip springs in K, the tangent at "
+             f"the static state): {', '.join(seen)}")
+    return seen
+
+
 def running_speed(vehicle: Any, speed: float | None) -> float:
     """``--speed`` if given, else the model's own speed, checked against :data:`SPEED`'s range [m/s]."""
     if speed is not None:

@@ -133,7 +133,8 @@ def run(
             _figure(vehicle, plot, vmin, vmax, result, conicities, parameter, sweep)
     for path in [p for p in (output, plot) if p is not None and str(p) != "-"]:
         common.note(f"wrote {path}")
-    summary = {"model": str(model), "v_min": vmin, "v_max": vmax, **_fields(result)}
+    summary = {"model": str(model), "v_min": vmin, "v_max": vmax, **_fields(result),
+               "linearisation": common.note_linearisation(vehicle)}
     if conicities is not None and sweep is not None:
         from express.analysis.stability import sweep_as_dict
 

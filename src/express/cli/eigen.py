@@ -86,9 +86,11 @@ def _table(model: Path, overrides: dict[str, str], speed: float | None, as_json:
         raise AnalysisError(f"eigen: {error}") from None
     eigenvalues = result.eigenvalues  # every one, from the same eig as the modes
     name = vehicle.name
+    seen = common.note_linearisation(vehicle)
     if as_json:
         common.print_json({
             "model": str(model), "speed": v, "speed_kmh": v / common.KMH if v is not None else None,
+            "linearisation": seen,
             "stable": bool(result.stable),
             "eigenvalues": [[float(z.real), float(z.imag)] for z in eigenvalues],
             "modes": [

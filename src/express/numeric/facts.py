@@ -83,6 +83,9 @@ class VehicleFacts:
         inertia are known and positive.
     outputs : tuple of OutputPoint
         The rail output points, in the model's order.
+    stuck : tuple of str
+        The friction elements, which the linear analyses see stuck (their pre-slip springs
+        in ``K``: the tangent at the static state), in the model's order.
     """
 
     source: str
@@ -90,6 +93,7 @@ class VehicleFacts:
     topology: Topology
     gyration: dict[str, float]
     outputs: tuple[OutputPoint, ...] = ()
+    stuck: tuple[str, ...] = ()
 
 
 def facts_of(model: Model, values: Mapping[str, float]) -> VehicleFacts:
@@ -117,7 +121,8 @@ def facts_of(model: Model, values: Mapping[str, float]) -> VehicleFacts:
         lx, lz = expression_value(point.offset[0], values), expression_value(point.offset[2], values)
         lateral = tuple((f"{body.id}.{dof}", c) for dof, c in (("y", 1.0), ("rz", lx), ("rx", -lz)) if dof in body.dofs)
         outputs.append(OutputPoint(point.name, point.body, lateral))
-    return VehicleFacts(model.source, tuple(sorted(model.parameters)), topology, gyration, tuple(outputs))
+    stuck = tuple(e.id for e in model.elements if getattr(e, "sliding", False))
+    return VehicleFacts(model.source, tuple(sorted(model.parameters)), topology, gyration, tuple(outputs), stuck)
 
 
 def facts_data(facts: VehicleFacts) -> dict[str, Any]:
@@ -132,6 +137,7 @@ def facts_data(facts: VehicleFacts) -> dict[str, Any]:
         "bogies": list(topology.bogies),
         "gyration": dict(facts.gyration),
         "outputs": [[point.name, point.body, [list(pair) for pair in point.lateral]] for point in facts.outputs],
+        "stuck": list(facts.stuck),
     }
 
 
@@ -161,7 +167,8 @@ def read_facts(data: Any) -> VehicleFacts:
     source = data.get("source")
     if not isinstance(source, str):
         raise ProgramError("bad vehicle facts")
-    return VehicleFacts(source, tuple(checked_strings(data.get("parameters"))), topology, dict(gyration), tuple(outputs))
+    return VehicleFacts(source, tuple(checked_strings(data.get("parameters"))), topology, dict(gyration), tuple(outputs),
+                        tuple(checked_strings(data.get("stuck"))))
 
 
 def _number(value: Any) -> bool:
