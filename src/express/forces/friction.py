@@ -77,6 +77,16 @@ def return_mapping(delta, slider, stiffness, limit):
 
 
 @njit(cache=True)
+def _replay(delta, slider, stiffness, limit, out):
+    """The committed slider positions at every kept state (the march's return mappings
+    again, in the same order): ``out[k, f]``."""
+    for k in range(delta.shape[0]):
+        for f in range(delta.shape[1]):
+            slider[f] = return_mapping(delta[k, f], slider[f], stiffness[f], limit[f])
+            out[k, f] = slider[f]
+
+
+@njit(cache=True)
 def friction_forces(x, k, law, z, commit):
     """``z = k s`` of every friction element (the module docstring) into ``z[law.first:]``."""
     for f in range(law.limit.size):
@@ -183,13 +193,10 @@ class FrictionElement(ForceElement):
     def history_of(self, states: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The sliders and forces at every kept state, the march's return mapping replayed:
         ``(slider, force)``, each shape (steps + 1, n_f)."""
-        delta = states @ self.rows.T + self.offset[: states.shape[0]]
+        delta = np.ascontiguousarray(states @ self.rows.T + self.offset[: states.shape[0]])
         sliders = np.zeros_like(delta)
-        slider = self.slider.copy()
-        for k in range(delta.shape[0]):
-            for f in range(delta.shape[1]):
-                slider[f] = return_mapping(delta[k, f], slider[f], self.stiffness[f], self.limit[f])
-            sliders[k] = slider
+        _replay(delta, self.slider.copy(), np.ascontiguousarray(self.stiffness, dtype=float),
+                np.ascontiguousarray(self.limit, dtype=float), sliders)
         return sliders, self.stiffness * (delta - sliders)
 
     def outputs(self, states: np.ndarray, history: np.ndarray) -> dict[str, np.ndarray]:
