@@ -407,3 +407,33 @@ def test_points_lost_to_the_machinery_end_with_exit_1_and_resume_completes(tmp_p
     summary = run_study(spec, output, workers=1, resume=True)
     assert summary.computed == 2 and output.read_bytes() == reference.read_bytes()
     assert not checkpoint_path(output).exists()
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("address, words, seconds", [
+    ("silent", "no answer from a Dask scheduler within 30 s", 60),
+    ("garbage", "not a Dask scheduler address", 15),
+], ids=["a port that accepts and never answers", "not an address"])
+def test_a_scheduler_that_cannot_serve_is_a_clear_error_in_bounded_time(tmp_path: Path, address, words, seconds):
+    """Issue 36 items 2 and 6: a port that accepts but never answers held ``--scheduler``
+    for good (after SIGTERM a further 40 s in ``Client.__del__``, with its traceback);
+    ``--scheduler garbage`` printed its error, then that traceback 40-60 s later.  Now:
+    exit 2, one error line, within the bound, no traceback."""
+    import threading
+
+    study = _study(tmp_path, GRID)
+    server = socket.socket()
+    server.bind(("127.0.0.1", 0))
+    server.listen(8)
+    accepted: list = []
+    threading.Thread(target=lambda: [accepted.append(server.accept()) for _ in range(8)], daemon=True).start()
+    target = f"tcp://127.0.0.1:{server.getsockname()[1]}" if address == "silent" else address
+    started = time.monotonic()
+    run = _express(["study", str(study), "-o", str(tmp_path / "out.csv"), "--scheduler", target])
+    try:
+        _, err = run.communicate(timeout=seconds + 30)
+    finally:
+        server.close()
+    assert run.returncode == 2 and words in err and "Traceback" not in err, err
+    assert time.monotonic() - started < seconds
+    assert not (tmp_path / "out.csv").exists()

@@ -262,6 +262,49 @@ def _stop_pool(pool: Any) -> None:
                 process.join(STOP_SECONDS)
 
 
+#: How long a scheduler may take to answer before ``--scheduler`` is an error [s].
+CONNECT_SECONDS = 30.0
+
+
+def _bounded_client(client_class: Any, address: str) -> Any:
+    """A Dask client of ``address``, or a clear error within :data:`CONNECT_SECONDS`.
+
+    ``Client(timeout=...)`` bounds the TCP connection, not the handshake: a port that
+    accepts and never answers held it forever (issue 36).  So the client is made in a
+    daemon thread and waited for; one that never answers is left behind (its thread ends
+    with the process), never closed (its ``__del__`` would wait 40 s more)."""
+    import threading
+
+    from distributed.comm.addressing import parse_address, parse_host_port
+
+    try:  # checked before a Client exists: a half-made one waits 60 s in __del__ and prints a traceback
+        scheme, location = parse_address(address, strict=True)
+        if scheme in ("tcp", "tls"):
+            parse_host_port(location)
+    except ValueError as error:
+        raise UsageError(f"--scheduler {address}: not a Dask scheduler address such as tcp://HOST:8786 ({error})") from None
+    made: dict[str, Any] = {}
+
+    def connect() -> None:
+        try:
+            made["client"] = client_class(address, timeout=f"{CONNECT_SECONDS:g}s", set_as_default=False)
+        except BaseException as error:  # reported below, in the calling thread
+            made["error"] = error
+
+    thread = threading.Thread(target=connect, name="express-dask-connect", daemon=True)
+    thread.start()
+    thread.join(CONNECT_SECONDS + 5.0)
+    if "client" in made:
+        return made["client"]
+    failure = made.get("error")
+    if failure is None:
+        raise UsageError(f"--scheduler {address}: no answer from a Dask scheduler within {CONNECT_SECONDS:g} s "
+                         "(is it a Dask scheduler's address?)")
+    if isinstance(failure, (OSError, TimeoutError, ValueError)):
+        raise UsageError(f"--scheduler {address}: cannot connect to the Dask scheduler ({failure})") from None
+    raise failure
+
+
 def _failed(indices: Sequence[int], vectors: Sequence[Sequence[float]], outputs: int, message: str) -> list[dict]:
     """Records of points *lost* to the machinery (a worker that died each time, a task the
     cluster dropped): marked ``lost``, they are no results — the study keeps them out of its
@@ -332,10 +375,8 @@ class Engine:
             from distributed import Client
         except ImportError:  # pragma: no cover - distributed is a dependency
             raise UsageError("--scheduler needs the dask[distributed] package") from None
-        try:
-            self._client = Client(self.scheduler, timeout="20s", set_as_default=False)
-        except (OSError, TimeoutError, ValueError) as error:
-            raise UsageError(f"--scheduler {self.scheduler}: cannot connect to the Dask scheduler ({error})") from None
+        assert self.scheduler is not None
+        self._client = _bounded_client(Client, self.scheduler)
         self._task_future = self._client.scatter(self.task, broadcast=True, hash=False)
 
     def run(self, indices: Sequence[int], vectors: np.ndarray) -> Iterator[list[dict]]:
