@@ -437,3 +437,21 @@ def test_a_scheduler_that_cannot_serve_is_a_clear_error_in_bounded_time(tmp_path
     assert run.returncode == 2 and words in err and "Traceback" not in err, err
     assert time.monotonic() - started < seconds
     assert not (tmp_path / "out.csv").exists()
+
+
+@pytest.mark.slow
+def test_killing_the_study_ends_its_worker_processes(tmp_path: Path, slow_reference) -> None:
+    """Issue 36 item 4: after ``kill -9`` of a study's own process (not its group) its
+    worker processes ran on (38 s later); now the kernel ends them with it."""
+    import psutil
+
+    study, _ = slow_reference
+    output = tmp_path / "orphans.csv"
+    process = _express(["study", str(study), "-o", str(output), "--workers", "2"], start_new_session=True)
+    _wait_for_lines(checkpoint_path(output), 1 + 5, process)
+    children = [c for c in psutil.Process(process.pid).children() if "resource_tracker" not in " ".join(c.cmdline())]
+    assert children, "no worker processes"
+    process.send_signal(signal.SIGKILL)  # the study alone: its workers are not signalled
+    process.communicate()
+    _gone, alive = psutil.wait_procs(children, timeout=10)
+    assert not alive, [c.pid for c in alive]

@@ -262,6 +262,18 @@ def _stop_pool(pool: Any) -> None:
                 process.join(STOP_SECONDS)
 
 
+def _end_with_parent() -> None:
+    """In a worker process: be killed when the study's process dies, even by ``kill -9``
+    (Linux's ``PR_SET_PDEATHSIG``; elsewhere the pool's own shutdown is all there is)."""
+    import ctypes
+    import signal
+    import sys
+
+    if sys.platform.startswith("linux"):
+        with contextlib.suppress(OSError):
+            ctypes.CDLL("libc.so.6", use_errno=True).prctl(1, int(signal.SIGKILL), 0, 0, 0)  # 1: PR_SET_PDEATHSIG
+
+
 #: How long a scheduler may take to answer before ``--scheduler`` is an error [s].
 CONNECT_SECONDS = 30.0
 
@@ -401,7 +413,8 @@ class Engine:
 
         methods = multiprocessing.get_all_start_methods()
         context = multiprocessing.get_context("fork" if "fork" in methods else "spawn")
-        return concurrent.futures.ProcessPoolExecutor(max_workers=self.workers, mp_context=context)
+        return concurrent.futures.ProcessPoolExecutor(max_workers=self.workers, mp_context=context,
+                                                      initializer=_end_with_parent)
 
     def _run_local(self, chunks: Iterable[tuple[list[int], list[list[float]]]]) -> Iterator[list[dict]]:
         import concurrent.futures
