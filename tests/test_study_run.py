@@ -452,6 +452,8 @@ def test_killing_the_study_ends_its_worker_processes(tmp_path: Path, slow_refere
     children = [c for c in psutil.Process(process.pid).children() if "resource_tracker" not in " ".join(c.cmdline())]
     assert children, "no worker processes"
     process.send_signal(signal.SIGKILL)  # the study alone: its workers are not signalled
-    process.communicate()
+    process.wait(timeout=60)  # not communicate(): orphans would hold its pipes open
     _gone, alive = psutil.wait_procs(children, timeout=10)
+    for orphan in alive:
+        orphan.kill()
     assert not alive, [c.pid for c in alive]
