@@ -288,7 +288,7 @@ def linearisation(vehicle: Any) -> dict[str, str]:
     it has none): friction elements stuck, their pre-slip springs in K (the tangent at
     the static state, ``docs/model-format.md``, "Friction elements")."""
     facts = vehicle.facts
-    return {name: "stuck (pre-slip spring in K: the tangent at the static state)" for name in facts.stuck}
+    return dict.fromkeys(facts.stuck, "stuck (pre-slip spring in K: the tangent at the static state)")
 
 
 def note_linearisation(vehicle: Any) -> dict[str, str]:
