@@ -27,7 +27,7 @@ from numba import njit, types
 from numba.extending import overload
 
 from express.assembly.equations import EquationsOfMotion
-from express.forces.element import ForceElement
+from express.forces.element import ForceElement, sparse_rows
 from express.forces.law import force_law
 from express.model.parameters import expression_value
 
@@ -194,12 +194,7 @@ class BumpStopElement(ForceElement):
         return np.column_stack(columns) if columns else np.zeros((self.force.shape[0], 0))
 
     def law(self, first: int) -> BumpStopLaw:
-        width = max([1] + [int(np.count_nonzero(row)) for row in self.rows])
-        index = np.zeros((self.rows.shape[0], width), dtype=np.int64)
-        coefficient = np.zeros((self.rows.shape[0], width))
-        for s, row in enumerate(self.rows):  # the few nonzero terms of each deflection
-            nonzero = np.flatnonzero(row)
-            index[s, : nonzero.size], coefficient[s, : nonzero.size] = nonzero, row[nonzero]
+        index, coefficient = sparse_rows(self.rows)
         d = self.data
         return BumpStopLaw(first, index, coefficient, self.offset,
                            *(np.ascontiguousarray(a, dtype=float) for a in (d.gap, d.stiffness, d.progressive)))

@@ -22,7 +22,20 @@ import numpy as np
 
 from express.forces.law import NoForces
 
-__all__ = ["ForceElement", "ForceSet"]
+__all__ = ["ForceElement", "ForceSet", "sparse_rows"]
+
+
+def sparse_rows(rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The few nonzero terms of each row of ``rows`` (n_rows, N), for a compiled law:
+    ``(places, coefficients)``, each (n_rows, width), padded with zeros (place 0, factor
+    0), so that ``row . x = sum coefficients[r, :] x[places[r, :]]``."""
+    width = max([1] + [int(np.count_nonzero(row)) for row in rows])
+    places = np.zeros((rows.shape[0], width), dtype=np.int64)
+    coefficients = np.zeros((rows.shape[0], width))
+    for r, row in enumerate(rows):
+        nonzero = np.flatnonzero(row)
+        places[r, : nonzero.size], coefficients[r, : nonzero.size] = nonzero, row[nonzero]
+    return places, coefficients
 
 
 class ForceElement(ABC):

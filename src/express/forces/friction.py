@@ -39,7 +39,7 @@ import numpy as np
 from numba import njit, types
 from numba.extending import overload
 
-from express.forces.element import ForceElement
+from express.forces.element import ForceElement, sparse_rows
 from express.forces.law import force_law
 from express.model.parameters import expression_value
 
@@ -154,12 +154,7 @@ class FrictionElement(ForceElement):
         return np.column_stack([self.force[:, :n] @ row for row in self.gradient])
 
     def law(self, first: int) -> FrictionLaw:
-        width = max([1] + [int(np.count_nonzero(row)) for row in self.rows])
-        index = np.zeros((self.rows.shape[0], width), dtype=np.int64)
-        coefficient = np.zeros((self.rows.shape[0], width))
-        for f, row in enumerate(self.rows):
-            nonzero = np.flatnonzero(row)
-            index[f, : nonzero.size], coefficient[f, : nonzero.size] = nonzero, row[nonzero]
+        index, coefficient = sparse_rows(self.rows)
         return FrictionLaw(first, index, coefficient, self.offset, np.ascontiguousarray(self.stiffness, dtype=float),
                            np.ascontiguousarray(self.limit, dtype=float), self.slider.copy())
 
