@@ -121,6 +121,30 @@ def test_a_chain_of_3000_derived_parameters_is_evaluated_without_recursion(capsy
     assert status == 0, err
 
 
+MASS = 'mc = { value = 30000.0, unit = "kg" }'
+
+
+def test_a_chain_of_9000_definitions_that_feeds_a_mass_is_read(capsys, tmp_path: Path) -> None:
+    """Issue 36: the unit inference went backwards from the mass by recursion (exit 70)."""
+    text = Path(CONVENTIONAL).read_text()
+    assert MASS in text
+    chain = "\n".join(f'p{k} = "p{k + 1}*1"' for k in range(9000)) + '\np9000 = { value = 30000.0, unit = "kg" }'
+    model = tmp_path / "chain.toml"
+    model.write_text(text.replace(MASS, 'mc = "p0"\n' + chain, 1))
+    status, out, err = run(capsys, "eigen", model, "--no-cache")
+    assert status == 0, err
+    assert "23 modes" in out
+
+
+def test_a_cycle_of_2000_definitions_that_feeds_a_mass_is_refused_as_a_cycle(capsys, tmp_path: Path) -> None:
+    text = Path(CONVENTIONAL).read_text()
+    cycle = "\n".join(f'q{k} = "q{(k + 1) % 2000}*1"' for k in range(2000))
+    model = tmp_path / "cycle.toml"
+    model.write_text(text.replace(MASS, 'mc = "q0"\n' + cycle, 1))
+    err = assert_input_error(capsys, "eigen", model, "--no-cache", mentions="2000 definitions in the cycle")
+    assert len(err.splitlines()) == 1
+
+
 @pytest.mark.parametrize("content", [b"\x7fELF\x02\x01\x01\x00" + bytes(range(256)) * 4, b'\x80\x81{"format": 1}\n', b"[1, 2]\n"])
 def test_a_file_that_is_not_a_checkpoint_is_refused_as_such(capsys, tmp_path: Path, content: bytes) -> None:
     study = tmp_path / "study.toml"

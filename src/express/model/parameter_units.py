@@ -136,6 +136,8 @@ class _Inference:
         self.problems: list[Problem] = []
         self.reporting = False
         self.seen: set[tuple] = set()
+        self.pending: list[tuple] = []
+        self.draining = False
         for name, parameter in self.parameters.items():
             if parameter.is_primary and parameter.unit.strip() not in ("",):
                 try:
@@ -245,8 +247,19 @@ class _Inference:
         self.dims[name] = wanted
         line = f", line {site.line}" if site.line is not None else ""
         self.why[name] = f"is used as {_words(wanted, unit=False)} ({site.where}{line})"
-        if parameter.expression is not None:
-            self.expect(parameter.expression, wanted, UseSite(parameter.expression, wanted, f"parameter {name}", "", parameter.line))
+        if parameter.expression is None:
+            return
+        # a chain of thousands of parameters goes backwards through a work list, not the stack
+        self.pending.append((parameter.expression, wanted, UseSite(parameter.expression, wanted, f"parameter {name}", "",
+                                                                   parameter.line)))
+        if self.draining:
+            return
+        self.draining = True
+        try:
+            while self.pending:
+                self.expect(*self.pending.pop())
+        finally:
+            self.draining = False
 
     def blame(self, expression: sp.Expr, found: Dimension, wanted: Dimension, site: UseSite) -> None:
         named = isinstance(site.dimension, str) and DIMENSIONS.get(site.dimension) == wanted
