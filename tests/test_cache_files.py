@@ -20,6 +20,7 @@ import pytest
 
 from cache_support import entries, rewrite_entry, use_fresh_cache
 from express.io import cache, cache_files
+from express.numeric import statespace
 from express.numeric.statespace import load_vehicle
 
 EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "conventional.toml"
@@ -172,6 +173,24 @@ def test_a_folder_of_another_user_is_refused(model, monkeypatch):
     monkeypatch.setattr(os, "geteuid", lambda: os.stat(cache.cache_directory()).st_uid + 1)
     folder = cache_files.open_folder(cache.cache_directory(), create=False)
     assert folder.refused == "is owned by another user" and not folder.usable
+
+
+def test_a_folder_this_user_cannot_read_is_refused_with_one_warning(model, capsys, monkeypatch):
+    """Issue 36: an unreadable folder was an internal error (PermissionError); the tests run
+    as root, whom permissions do not stop, so ``os.access`` answers as for another user."""
+    load_vehicle(model)
+    folder = str(cache.cache_directory())
+    access = os.access
+    monkeypatch.setattr(os, "access", lambda path, mode, **kw: False if str(path) == folder else access(path, mode, **kw))
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        statespace._GENERATED.clear()  # as a new process: nothing reused in memory
+        load_vehicle(model)
+    assert [str(w.message) for w in caught] == [
+        f"derivation cache: {folder} cannot be read by this user (permission denied); working without the cache"]
+    from express.cli import main
+    assert main(["cache", "info"]) == 0
+    assert "cannot be read by this user" in capsys.readouterr().out
 
 
 def test_a_linked_folder_is_refused(model, tmp_path, monkeypatch):

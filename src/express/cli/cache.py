@@ -28,6 +28,8 @@ def run(action: str) -> int:
         return 0
     info = cache_info()
     state = "on" if info.enabled else "off (EXPRESS_NO_CACHE)"
+    if info.refused is not None:
+        state = f"not used: the folder {info.refused}"
     print(f"place: {info.directory}")
     print(f"state: {state}")
     print(f"size: {_megabytes(info.size)} in {info.entries} entr{'y' if info.entries == 1 else 'ies'} "

@@ -62,8 +62,8 @@ class Folder:
     writable : bool
         Whether entries can be written.
     refused : str or None
-        Why the folder may not be used at all (a link, another owner, other writers);
-        None for a usable folder.
+        Why the folder may not be used at all (a link, another owner, other writers,
+        no permission to read it); None for a usable folder.
     """
 
     path: Path
@@ -89,6 +89,8 @@ def open_folder(path: Path, *, create: bool) -> Folder:
     except OSError:  # missing, or a path through a file: nothing to read, nowhere to write
         return Folder(path, None, False)
     refused = _unsafe(status, "is a symbolic link") or _unsafe_parent(path.parent)
+    if not refused and not os.access(path, os.R_OK | os.X_OK):
+        refused = "cannot be read by this user (permission denied)"
     if refused:
         return Folder(path, None, False, refused)
     writable = os.access(path, os.W_OK | os.X_OK)
