@@ -11,13 +11,14 @@ import os
 import re
 import stat
 import threading
+import time
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 from express.base.diagnostics import AnalysisError, InputError, OutputError
-from express.io import archives
+from express.io import archives, output
 from express.io.output import (
     check_destination,
     column_name,
@@ -183,6 +184,29 @@ def test_a_full_device_is_an_output_error_and_stays_a_device():
     with pytest.raises(OutputError, match="/dev/full"):
         write_text("/dev/full", "x" * 10000)
     assert stat.S_ISCHR(os.stat("/dev/full").st_mode)
+
+
+def test_a_fifo_that_no_process_reads_is_an_error_within_the_wait_not_a_hang(tmp_path, monkeypatch):
+    """Issue 36: the open of a FIFO without a reader blocked for ever."""
+    monkeypatch.setattr(output, "FIFO_WAIT", 0.3)
+    fifo = tmp_path / "pipe"
+    os.mkfifo(fifo)
+    started = time.monotonic()
+    with pytest.raises(OutputError, match=r"pipe: a FIFO that no process opened for reading within 0\.3 s; nothing was written"):
+        write_text(fifo, "nobody listens\n")
+    assert time.monotonic() - started < 5
+    assert stat.S_ISFIFO(os.stat(fifo).st_mode)
+
+
+def test_a_reader_that_opens_the_fifo_late_still_gets_everything(tmp_path):
+    fifo = tmp_path / "pipe"
+    os.mkfifo(fifo)
+    received = []
+    reader = threading.Timer(0.5, lambda: received.append(fifo.read_bytes()))
+    reader.start()
+    write_text(fifo, "x" * 200_000)  # more than a pipe holds: the writes wait on the reader
+    reader.join(timeout=30)
+    assert received == [b"x" * 200_000]
 
 
 def test_a_fifo_is_written_into_not_replaced(tmp_path):

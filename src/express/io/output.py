@@ -10,8 +10,9 @@ Guarantees (``docs/cli.md``, "Outputs"):
   last rename wins).
 - **Special files are written into, never replaced.**  A FIFO, a character device
   (``/dev/null``, a terminal) or ``/dev/stdout`` receives the bytes; it is not turned
-  into a regular file.  ``-`` is standard output (text formats only).  Block devices and
-  sockets are refused.
+  into a regular file; a FIFO that no process opens for reading within
+  :data:`FIFO_WAIT` is an error, not a hang.  ``-`` is standard output (text formats
+  only).  Block devices and sockets are refused.
 - **Inputs are never overwritten** (compared by file identity, so hard and symbolic links
   count).
 - **Several outputs are a transaction** (:func:`output_transaction`): every destination
@@ -33,11 +34,13 @@ from __future__ import annotations
 import contextlib
 import contextvars
 import csv
+import errno
 import io
 import math
 import os
 import stat
 import sys
+import time
 from collections.abc import Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -391,11 +394,40 @@ def _write_stream(destination: Destination, data: bytes) -> None:
         return
     assert destination.path is not None
     try:
-        handle = os.open(destination.path, os.O_WRONLY | getattr(os, "O_NOCTTY", 0))
+        handle = _open_special(destination.path)
         with os.fdopen(handle, "wb") as stream:
             stream.write(data)
     except OSError as error:
+        if error.errno == errno.ENXIO:
+            raise OutputError(f"{destination.given}: a FIFO that no process opened for reading within "
+                              f"{FIFO_WAIT:g} s; nothing was written") from None
         raise OutputError(f"{destination.given}: cannot write ({error.strerror or error})") from None
+
+
+#: Longest wait for a process to open an output FIFO for reading [s].
+FIFO_WAIT = 10.0
+
+
+def _open_special(path: Path) -> int:
+    """A descriptor to write into a special file.  A FIFO is opened without blocking (with
+    no reader the open fails with ENXIO), retried for :data:`FIFO_WAIT` seconds so that a
+    reader started beside the command can attach; then the writes wait on the reader as
+    in a pipe."""
+    flags = os.O_WRONLY | getattr(os, "O_NOCTTY", 0)
+    if not stat.S_ISFIFO(os.stat(path).st_mode):
+        return os.open(path, flags)
+    flags |= os.O_NONBLOCK
+    deadline = time.monotonic() + FIFO_WAIT
+    while True:
+        try:
+            handle = os.open(path, flags)
+        except OSError as error:
+            if error.errno != errno.ENXIO or time.monotonic() > deadline:
+                raise
+            time.sleep(0.05)
+            continue
+        os.set_blocking(handle, True)
+        return handle
 
 
 def _fsync_directory(directory: Path) -> None:
