@@ -193,6 +193,20 @@ def test_a_folder_this_user_cannot_read_is_refused_with_one_warning(model, capsy
     assert "cannot be read by this user" in capsys.readouterr().out
 
 
+def test_an_entry_larger_than_the_file_limit_is_neither_parsed_nor_written(model, monkeypatch):
+    """Issue 36: a 22 MB entry was parsed on every warm run (38 s); entries are smaller than
+    the model files they derive from, so the input file limit bounds them."""
+    big = {"name": "big", "data": "x" * 1_500_000}
+    cache.write_entry("ab" * 32, big)
+    assert cache.read_entry("ab" * 32) == big
+    monkeypatch.setenv("EXPRESS_MAX_FILE_MB", "1")
+    assert cache.entry_bound() == 1024 * 1024
+    with pytest.warns(UserWarning, match=r"ignored the damaged or foreign entry .*\(larger than the bound \(1500\d\d\d bytes\)\)"):
+        assert cache.read_entry("ab" * 32) is None
+    cache.write_entry("cd" * 32, big)
+    assert not (cache.cache_directory() / f"{'cd' * 32}.json").exists()
+
+
 def test_a_linked_folder_is_refused(model, tmp_path, monkeypatch):
     elsewhere = tmp_path / "elsewhere"
     elsewhere.mkdir(mode=0o700)

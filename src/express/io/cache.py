@@ -48,6 +48,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from express.base.limits import limit
 from express.io.cache_files import (
     Folder,
     entry_signature,
@@ -67,6 +68,7 @@ __all__ = [
     "cache_info",
     "clear_cache",
     "disabled",
+    "entry_bound",
     "entry_key",
     "has_entry",
     "memoized_values",
@@ -184,6 +186,16 @@ def _folder(*, write: bool) -> Folder:
     return folder
 
 
+def entry_bound() -> int:
+    """The largest entry read or written [bytes]: the input file size limit
+    (``EXPRESS_MAX_FILE_MB``, :mod:`express.base.limits`), within the cache's bound.
+
+    An entry is smaller than the model file it derives from (the 100-car train's: 0.53 MB),
+    so a larger one is not this program's and is not parsed.
+    """
+    return min(size_bound(), limit("file_mb") * 1024 * 1024)
+
+
 def read_entry(key: str) -> Any:
     """The payload stored under ``key``, or ``None`` (no entry, the cache off, or an entry
     that is damaged, foreign or not a regular file of this user: then one warning, and
@@ -195,7 +207,7 @@ def read_entry(key: str) -> Any:
         return None
     assert folder.secret is not None
     path = folder.path / f"{key}{_SUFFIX}"
-    data = read_private(path, size_bound())
+    data = read_private(path, entry_bound())
     if data is None:
         return None
     payload = _payload(data, key, folder.secret) if isinstance(data, bytes) else None
@@ -248,6 +260,8 @@ def write_entry(key: str, payload: Any) -> None:
     if folder.refused is not None:
         return
     body = json.dumps(payload, separators=(",", ":"), sort_keys=True).encode()
+    if len(body) + 200 > entry_bound():  # it would never be read back
+        return
     try:
         if folder.secret is None or not folder.writable:
             raise PermissionError("the folder cannot be written")
@@ -347,7 +361,7 @@ def cache_info() -> CacheInfo:
 def _entry_name(folder: Folder, name: str) -> str:
     """The model name recorded in an entry (read back as data; ``?`` when unreadable),
     printable characters only."""
-    data = read_private(folder.path / name, size_bound()) if folder.usable else None
+    data = read_private(folder.path / name, entry_bound()) if folder.usable else None
     payload = _payload(data, name[: -len(_SUFFIX)], folder.secret) if isinstance(data, bytes) and folder.secret else None
     recorded = payload.get("name") if isinstance(payload, dict) else None
     return "".join(c if c.isprintable() else "?" for c in recorded) if isinstance(recorded, str) else "?"
