@@ -212,7 +212,17 @@ DAMAGES = {
     "bad wheelset": lambda path: rewrite_entry(path, lambda p: p["wheelsets"][0].__setitem__(1, 10**6)),
     "bad warnings": lambda path: rewrite_entry(path, lambda p: p.update(warnings=[["SystemExit", "x"]])),
     "bad reads": lambda path: rewrite_entry(path, lambda p: p.update(reads="everything")),
+    # issue 36: a stiffness of 1e300 (kx1 there) from a warm entry passed the range check that refuses it from a file
+    "a value outside its valid range": lambda path: rewrite_entry(path, lambda p: _set_value(p, "k", 1e300)),
+    "a negative mass": lambda path: rewrite_entry(path, lambda p: _set_value(p, "m", -1.0)),
+    "bad bounds": lambda path: rewrite_entry(path, lambda p: p["bounds"][0].__setitem__(2, "1e15")),
+    "no bounds": lambda path: rewrite_entry(path, lambda p: p.pop("bounds")),
 }
+
+
+def _set_value(payload: dict, name: str, value: float) -> None:
+    (pair,) = [pair for pair in payload["values"] if pair[0] == name]
+    pair[1] = value
 
 
 @pytest.mark.parametrize("how", list(DAMAGES))

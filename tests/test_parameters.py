@@ -585,3 +585,25 @@ def test_the_library_never_applies_the_command_lines_km_h():
     common.add_model_arguments(parser)
     typed = parser.parse_args(["m.toml", "--set", "v=30"]).overrides
     assert vehicle.with_values(typed).speed == pytest.approx(30 / 3.6)
+
+
+def test_parameter_bounds_are_the_ranges_a_file_is_checked_against():
+    """The warm entry's bounds (express.model.parameter_ranges.parameter_bounds): the
+    intersection of a parameter's uses, and a value just beyond one is what the file's
+    range check refuses."""
+    from express.model.parameter_ranges import parameter_bounds
+
+    model = parse_toml_model(FORCED_TEXT, "f.toml")
+    bounds = parameter_bounds(model)
+    assert bounds["mc"] == (0.0, 1e8, False)
+    assert bounds["kx1"] == (-1e15, 1e15, False)
+    assert bounds["mu"] == (0.0, 1.0, True)
+    assert bounds["Gamma"] == (0.0, 1.0, False)
+    primary = [name for name in bounds if model.parameters[name].expression is None]
+    assert len(primary) > 30
+    for name in primary:
+        low, high, _ = bounds[name]
+        with pytest.raises(ModelError, match=rf"parameter {name}\b"):
+            with_values(model, {name: high * 1.5 + 1.0})
+        with pytest.raises(ModelError):  # named, or refused by the derivation it feeds first
+            with_values(model, {name: low * 1.5 - 1.0})

@@ -56,7 +56,7 @@ from express.base.units import KMH, format_quantity, unit_factor
 from express.model.parameter_units import UseSite, use_sites
 from express.model.records import Model
 
-__all__ = ["ValidRange", "check_ranges", "range_problems"]
+__all__ = ["ValidRange", "check_ranges", "parameter_bounds", "range_problems"]
 
 MASS_MAX = 1e8  # kg
 INERTIA_MAX = 1e11  # kg m^2
@@ -320,3 +320,31 @@ def check_ranges(model: Model, overridden: Mapping[str, object] | None = None) -
         raise ModelError(problems)
     for note in notes:
         warnings.warn(note, ModelWarning, stacklevel=3)
+
+
+def parameter_bounds(model: Model) -> dict[str, tuple[float, float, bool]]:
+    """The valid range of each parameter used by name, from every use of it:
+    ``(low, high, open_low)`` in SI, the intersection of its uses' ranges.
+
+    A vehicle read back without its model file (the warm entry of
+    :mod:`express.numeric.warm`) checks its values against these, so that a value the
+    model file could not give is never used.  A series element's locked damper
+    (``inf``) is left out, as :func:`range_problems` leaves it.
+    """
+    locked = {f"TSD {element.id}" for element in model.elements if element.series}
+    bounds: dict[str, tuple[float, float, bool]] = {}
+    skipped: set[str] = set()
+    for check in _checks(model).checks:
+        expression = check.expression
+        if not (expression.is_Symbol and expression.name in model.parameters):
+            continue
+        name, valid = expression.name, check.valid
+        if check.site.what == "damping" and check.site.item in locked:
+            skipped.add(name)
+            continue
+        low, high, open_low = bounds.get(name, (-math.inf, math.inf, False))
+        if valid.low > low or (valid.low == low and valid.open_low):
+            low, open_low = valid.low, valid.open_low
+        bounds[name] = (low, min(high, valid.high), open_low)
+    return {name: bound for name, bound in bounds.items() if name not in skipped}
+

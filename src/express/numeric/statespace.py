@@ -579,7 +579,7 @@ def load_vehicle(
             # e.g. a singular M at the file's values that the overrides cure
             return _evaluate_vehicle(with_values(model, values), *derivation)
         _remember(key, base)  # and the warm entry, new or replacing a stale or damaged one:
-        write_warm_entry(path, with_rail, key, _warm_data(base, reads, caught))
+        write_warm_entry(path, with_rail, key, _warm_data(base, model, reads, caught))
     return base.with_values(values) if values else base
 
 
@@ -629,8 +629,10 @@ def _symbolic_twin(path: str | Path, with_rail: bool, key: str) -> VehicleModel:
     return _evaluate_vehicle(model, *derivation)
 
 
-def _warm_data(vehicle: VehicleModel, reads: list[tuple[str, str]], caught: list) -> dict[str, Any] | None:
+def _warm_data(vehicle: VehicleModel, model: Model, reads: list[tuple[str, str]], caught: list) -> dict[str, Any] | None:
     """The warm entry of a vehicle evaluated from its symbolic model (:func:`express.numeric.warm.warm_entry`)."""
+    from express.model.parameter_ranges import parameter_bounds
+
     evaluation = vehicle.evaluation
     if evaluation is None:
         return None
@@ -638,5 +640,5 @@ def _warm_data(vehicle: VehicleModel, reads: list[tuple[str, str]], caught: list
     return warm_entry(
         vehicle.name, reads, vehicle.values, evaluation.speed_name,
         [tuple(item) for item in rail_numbers.wheelsets] if rail_numbers is not None else [],
-        vehicle.layout, vehicle.station_positions.tolist(), vehicle.facts, caught,
+        vehicle.layout, vehicle.station_positions.tolist(), vehicle.facts, caught, parameter_bounds(model),
     )

@@ -142,7 +142,7 @@ def _model_key(path: str | Path, with_rail: bool) -> str | None:
     digest = file_digest(os.fspath(path))
     if digest is None:
         return None
-    return entry_key("vehicle warm", [(os.path.abspath(path), digest)], {"with_rail": with_rail})
+    return entry_key("vehicle warm", [(os.path.abspath(path), digest)], {"with_rail": with_rail, "warm_format": 2})
 
 
 def file_digest(path: str) -> str | None:
@@ -248,6 +248,7 @@ def _warm_vehicle(payload: dict, vehicle_key: str, part: CompiledVehicle) -> War
                and math.isfinite(p[1]) for p in pairs):
         raise ProgramError("bad values")
     values = dict(pairs)
+    _check_bounds(values, payload.get("bounds"))
     speed_name = payload.get("speed_name")
     if not (speed_name is None or isinstance(speed_name, str)):
         raise ProgramError("bad speed")
@@ -264,6 +265,23 @@ def _warm_vehicle(payload: dict, vehicle_key: str, part: CompiledVehicle) -> War
         raise ProgramError("bad name")
     return WarmVehicle(vehicle_key, name, part.dofs, part.inputs, dict(values), speed_name, part.compiled,
                        part.rail_numbers, wheelsets, layout, read_facts(payload.get("facts")))
+
+
+def _bound(value: float) -> float | None:
+    return float(value) if math.isfinite(value) else None  # JSON has no infinity
+
+
+def _check_bounds(values: dict[str, float], data: Any) -> None:
+    """Every value within the valid range the model's reading gave it (the same ranges a
+    model file's values are checked against: a value no file could give is not used)."""
+    for item in checked_list(data):
+        if not (isinstance(item, list) and len(item) == 4 and isinstance(item[0], str) and item[0] in values
+                and all(v is None or type(v) is float for v in item[1:3]) and type(item[3]) is bool):
+            raise ProgramError("bad bounds")
+        name, low, high, open_low = item
+        value = values[name]
+        if (low is not None and (value <= low if open_low else value < low)) or (high is not None and value > high):
+            raise ProgramError(f"{name} = {value!r} outside its valid range")
 
 
 def reemit(found: WarmRead, source: str) -> bool:
@@ -307,9 +325,12 @@ def warm_entry(
     name: str, reads: Sequence[tuple[str, str]], values: dict[str, float], speed_name: str | None,
     wheelsets: Sequence[tuple[str, int, int]], layout: RailLayout | None, station_positions: Sequence[float],
     facts: VehicleFacts, caught: Sequence[warnings.WarningMessage],
+    bounds: dict[str, tuple[float, float, bool]] | None = None,
 ) -> dict[str, Any] | None:
     """The warm entry's data, or None when it cannot repeat the load exactly (a value
-    not finite, a warning of another category)."""
+    not finite, a warning of another category).  ``bounds``: the valid range of each
+    parameter (:func:`express.model.parameter_ranges.parameter_bounds`), checked again
+    when the entry is read."""
     items = warning_items(caught)
     if items is None or not all(math.isfinite(v) for v in values.values()):
         return None
@@ -318,6 +339,8 @@ def warm_entry(
         "kind": "vehicle warm",
         "reads": [list(read) for read in reads],
         "values": [[key, float(value)] for key, value in values.items()],
+        "bounds": [[key, _bound(low), _bound(high), bool(open_low)]
+                   for key, (low, high, open_low) in sorted((bounds or {}).items())],
         "speed_name": speed_name,
         "wheelsets": [list(item) for item in wheelsets],
         "layout": None if layout is None else {
