@@ -62,6 +62,24 @@ def test_ride_json_on_a_3d_car_gives_vertical_comfort_and_wheel_loads(capsys, tw
     assert w1["yq_level"]["L"] > 3 * w1["y_rms"] / w1["wheel_load"]  # the dynamic load only adds
 
 
+def test_a_wheel_that_unloads_at_3_sigma_is_a_result_not_an_error(capsys, tmp_path, two_axle):
+    """Issue 36: the Y/Q level is unbounded where 3 s_Q >= Q0; ride printed half its table
+    and exited 1 naming a JSON path.  Now the level is told as "unloads", with its figures."""
+    rough = _table(tmp_path, "rough.csv", "n [1/m],alignment [m^3],vertical [m^3]\n0.01,1e-3,1e-2\n1,1e-3,1e-2\n")
+    data = run_json(capsys, "ride", two_axle, "--track", rough, "--points", "200")
+    w1 = data["wheelsets"]["W1"]
+    assert 3 * w1["dq_rms"]["L"] >= w1["wheel_load"]
+    assert w1["unloads"] == {"L": True, "R": True} and w1["yq_level"] == {"L": None, "R": None}
+    assert any(note.startswith("W1 L: 3 standard deviations of the dynamic wheel load") for note in data["notes"])
+    status, out, err = run(capsys, "ride", two_axle, "--track", rough, "--points", "200")
+    assert status == 0, err
+    (row,) = [line for line in out.splitlines() if line.strip().startswith("W1 ")]
+    assert "unloads/unloads" in row
+    assert "Y/Q has no 3-sigma level" in err
+    gentle = run_json(capsys, "ride", two_axle, "--track", "erri_low", "--points", "200")["wheelsets"]["W1"]
+    assert gentle["unloads"] == {"L": False, "R": False} and gentle["yq_level"]["L"] > 0
+
+
 @pytest.mark.parametrize("speed", ["120", "120 km/h", "33.3333333333 m/s"])
 def test_ride_speed_units(capsys, speed):
     data = run_json(capsys, "ride", CONVENTIONAL, "--track", "ERRI-low", "--speed", speed, "--points", "100")

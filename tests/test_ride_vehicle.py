@@ -304,6 +304,19 @@ def test_y_over_q_level_is_exceeded_with_the_normal_tail_probability(sigma_y, si
     assert y_over_q_level(sigma_y, q0, 0.0, q0) == math.inf  # unloads one time in a thousand or more
 
 
+@pytest.mark.parametrize(("dq", "unloads"), [(49_999.0 / 3, False), (50_000.0 / 3, True), (20_000.0, True)])
+def test_a_side_unloads_where_z_sigmas_of_the_dynamic_load_reach_the_static_load(dq, unloads):
+    from express.analysis.ride.summaries import WheelForces
+
+    level = y_over_q_level(5e3, dq, 0.0, 5e4, z=3.0)
+    forces = WheelForces("W1", 5e4, 5e3, {"L": dq, "R": 0.0}, 0.1, {"L": level, "R": 0.3}, 3.0, 1e-3, 6e-3, True)
+    assert forces.unloads == {"L": unloads, "R": False}
+    assert (level == math.inf) == unloads  # the level is unbounded exactly where the wheel unloads
+    data = forces.as_dict()
+    assert data["yq_level"]["L"] == (None if unloads else level) and data["yq_level"]["R"] == 0.3
+    assert len(forces.notes()) == unloads
+
+
 # --- time domain -------------------------------------------------------------------------
 
 

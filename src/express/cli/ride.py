@@ -95,7 +95,7 @@ def run(
         common.print_json(summary)
     else:
         _print_table(vehicle.equations.name, summary, sys.stderr if output == "-" else sys.stdout)
-    for line in response.notes:
+    for line in summary["notes"]:
         common.note(f"note: {line}")
     return 0
 
@@ -222,7 +222,7 @@ def _summary(model: Path, track: str, response: Any, comfort: dict, wheels: dict
     return {
         "model": str(model), "track": track, "speed": response.speed, "speed_kmh": response.speed / common.KMH,
         "frequency_band_hz": [float(f[0]), float(f[-1])], "points": int(f.size),
-        "components": list(response.components), "notes": list(response.notes),
+        "components": list(response.components), "notes": [*response.notes, *(line for w in wheels.values() for line in w.notes())],
         "output_points": {name: c.as_dict() for name, c in comfort.items()},
         "wheelsets": {name: w.as_dict() for name, w in wheels.items()},
         "units": {"rms": "m/s^2", "weighted_rms": "m/s^2", "a_p95": "m/s^2", "wheel_load": "N", "y_rms": "N",
@@ -245,7 +245,7 @@ def _print_table(name: str, summary: dict, stream) -> None:
     print(f"  {'':<10} {'[kN]':>7} {'[kN]':>15} {'':>9} {'(dynamic Q)':>17} {'[mm]':>9}", file=stream)
     for wheelset, w in summary["wheelsets"].items():
         dq = f"{w['dq_rms']['L'] / 1e3:.2f}/{w['dq_rms']['R'] / 1e3:.2f}" if w["dynamic_q"] else "-"
-        levels = f"{w['yq_level']['L']:.3f}/{w['yq_level']['R']:.3f}"
+        levels = "/".join("unloads" if w["unloads"][side] else f"{w['yq_level'][side]:.3f}" for side in "LR")
         print(f"  {wheelset:<10} {w['y_rms'] / 1e3:7.2f} {dq:>15} {w['yq_rms']:9.4f} {levels:>17} "
               f"{w['y_rel_rms'] * 1e3:9.2f}", file=stream)
 

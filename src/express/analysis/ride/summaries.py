@@ -167,7 +167,7 @@ class WheelForces:
         RMS of ``Y / Q0`` (static load).
     yq_level : dict of str to float
         ``Y / Q`` with the dynamic load exceeded with probability ``1 - Phi(z)`` per side
-        (:func:`y_over_q_level`).
+        (:func:`y_over_q_level`); ``inf`` where the wheel unloads (:attr:`unloads`).
     z : float
         The number of standard deviations used.
     y_rel_rms : float
@@ -188,11 +188,27 @@ class WheelForces:
     flange_clearance: float
     dynamic_q: bool
 
+    @property
+    def unloads(self) -> dict[str, bool]:
+        """Per side, whether ``z`` standard deviations of the dynamic wheel load reach the
+        static load (``z s_Q >= Q0``): the wheel unloads more often than the level's
+        probability, and ``Y / Q`` has no such level."""
+        return {side: self.z * self.dq_rms[side] >= self.wheel_load for side in self.dq_rms}
+
     def as_dict(self) -> dict:
-        """The forces as plain data (SI: N, m); ``yq_sigmas`` is :attr:`z`."""
+        """The forces as plain data (SI: N, m); ``yq_sigmas`` is :attr:`z`; ``yq_level`` is
+        None on a side that unloads (``unloads``)."""
+        levels = {side: None if self.unloads[side] else level for side, level in self.yq_level.items()}
         return {"wheel_load": self.wheel_load, "y_rms": self.y_rms, "dq_rms": self.dq_rms, "dynamic_q": self.dynamic_q,
-                "yq_rms": self.yq_rms, "yq_level": self.yq_level, "yq_sigmas": self.z, "y_rel_rms": self.y_rel_rms,
-                "flange_clearance": self.flange_clearance}
+                "yq_rms": self.yq_rms, "yq_level": levels, "unloads": self.unloads, "yq_sigmas": self.z,
+                "y_rel_rms": self.y_rel_rms, "flange_clearance": self.flange_clearance}
+
+    def notes(self) -> list[str]:
+        """One sentence per side that unloads, with the figures."""
+        return [f"{self.wheelset} {side}: {self.z:g} standard deviations of the dynamic wheel load "
+                f"({self.z:g} x {self.dq_rms[side] / 1e3:.2f} kN) reach the static load {self.wheel_load / 1e3:.2f} kN: "
+                f"the wheel unloads more often than that; Y/Q has no {self.z:g}-sigma level"
+                for side, unloads in self.unloads.items() if unloads]
 
 
 def wheel_forces(response: RideResponse, vehicle: VehicleModel, z: float = 3.0) -> dict[str, WheelForces]:
