@@ -457,3 +457,31 @@ def test_killing_the_study_ends_its_worker_processes(tmp_path: Path, slow_refere
     for orphan in alive:
         orphan.kill()
     assert not alive, [c.pid for c in alive]
+
+
+@pytest.mark.slow
+def test_killing_the_study_ends_its_tasks_on_a_dask_cluster(tmp_path: Path, slow_reference) -> None:
+    """Issue 36 item 2: killing the study's process ends its cluster's work too.  The
+    scheduler sees the client's connection close, forgets its tasks (the pending ones never
+    run) and the worker finishes at most the chunk it holds; nothing is left queued."""
+    from distributed import Client
+
+    study, _ = slow_reference
+    with _dask_cluster(tmp_path, 1) as (address, _worker):
+        output = tmp_path / "cluster-orphans.csv"
+        process = _express(["study", str(study), "-o", str(output), "--scheduler", address], start_new_session=True)
+        _wait_for_lines(checkpoint_path(output), 1 + 5, process)
+        with Client(address, timeout="60s") as client:
+            assert client.run_on_scheduler(_task_count) > 0  # the study's work is on the cluster
+            process.send_signal(signal.SIGKILL)
+            process.wait(timeout=60)
+            deadline = time.monotonic() + 30
+            while client.run_on_scheduler(_task_count) and time.monotonic() < deadline:
+                time.sleep(0.2)
+            assert client.run_on_scheduler(_task_count) == 0
+            assert client.run_on_scheduler(_client_count) == 1  # this one: the study's client is gone
+
+
+# lambdas: pickled by value (the scheduler cannot import this test module)
+_task_count = lambda dask_scheduler: len(dask_scheduler.tasks)  # noqa: E731
+_client_count = lambda dask_scheduler: len([c for c in dask_scheduler.clients if not c.startswith("fire-and-forget")])  # noqa: E731
