@@ -145,7 +145,8 @@ def test_a_cycle_of_2000_definitions_that_feeds_a_mass_is_refused_as_a_cycle(cap
     assert len(err.splitlines()) == 1
 
 
-@pytest.mark.parametrize("content", [b"\x7fELF\x02\x01\x01\x00" + bytes(range(256)) * 4, b'\x80\x81{"format": 1}\n', b"[1, 2]\n"])
+@pytest.mark.parametrize("content", [b"\x7fELF\x02\x01\x01\x00" + bytes(range(256)) * 4, b'\x80\x81{"format": 1}\n', b"[1, 2]\n",
+                                     b"[" * 100_000 + b"\n"])  # nested beyond the JSON parser: was exit 70
 def test_a_file_that_is_not_a_checkpoint_is_refused_as_such(capsys, tmp_path: Path, content: bytes) -> None:
     study = tmp_path / "study.toml"
     study.write_text(f'[study]\nmodel = "{STEERED}"\nkind = "grid"\noutputs = ["critical_speed"]\n'

@@ -485,3 +485,20 @@ def test_killing_the_study_ends_its_tasks_on_a_dask_cluster(tmp_path: Path, slow
 # lambdas: pickled by value (the scheduler cannot import this test module)
 _task_count = lambda dask_scheduler: len(dask_scheduler.tasks)  # noqa: E731
 _client_count = lambda dask_scheduler: len([c for c in dask_scheduler.clients if not c.startswith("fire-and-forget")])  # noqa: E731
+
+
+def test_a_checkpoint_record_nested_beyond_the_json_parser_is_skipped(tmp_path: Path) -> None:
+    """Issue 36 item 5: a record of 100 000 nested arrays was an internal error on --resume."""
+    from express.analysis.study.results import Checkpoint
+
+    path = tmp_path / "out.csv.checkpoint.jsonl"
+    checkpoint = Checkpoint(path, {"study": "s"})
+    checkpoint.open(resume=False)
+    checkpoint.append([{"point": 0, "values": [1.0]}])
+    checkpoint.close()
+    with open(path, "a", encoding="utf-8") as stream:
+        stream.write("[" * 100_000 + "\n" + json.dumps({"point": 1, "values": [2.0]}) + "\n")
+    again = Checkpoint(path, {"study": "s"})
+    again.open(resume=True)
+    assert [record["point"] for record in again.records()] == [0, 1]
+    again.close()

@@ -115,7 +115,7 @@ class Checkpoint:
             return "torn" if self._header_bytes().startswith(first) else None
         try:
             header = json.loads(first.decode("utf-8"))
-        except (UnicodeDecodeError, json.JSONDecodeError):
+        except (UnicodeDecodeError, json.JSONDecodeError, RecursionError):  # nested beyond the parser: not ours
             return None
         return header if isinstance(header, dict) else None
 
@@ -150,7 +150,7 @@ class Checkpoint:
                     break
                 try:
                     record = json.loads(line)
-                except json.JSONDecodeError:
+                except (json.JSONDecodeError, RecursionError):
                     continue
                 if isinstance(record, dict) and isinstance(record.get("point"), int):
                     yield record
