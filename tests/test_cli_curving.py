@@ -90,13 +90,15 @@ def test_simulate_says_which_track_and_speed(capsys, tmp_path):
     assert status == 0 and "overridden" in out
 
 
-def test_simulate_derailment_exits_1_and_keeps_history(capsys, tmp_path):
+def test_simulate_derailment_exits_3_and_keeps_history(capsys, tmp_path):
+    """A derailment is a result judged, not the absence of one: status 3 (issue 32 item 6)."""
     table = tmp_path / "run.csv"
     # mu = 1: Nadal's limit at 70 degrees falls to 0.47, below the leading wheel's flanging Y/Q
-    status, _, err = run(capsys, "simulate", CONVENTIONAL, "--track", "R250", "--speed", "90", "--assess",
+    status, out, err = run(capsys, "simulate", CONVENTIONAL, "--track", "R250", "--speed", "90", "--assess",
                            "--dt", "0.01", "--set", "mu=1.0", "-o", table)
-    assert status == 1, err
-    assert "derails" in err and table.exists()
+    assert status == 3, err
+    assert "derails" in err and table.exists() and "FAIL" in out
+    assert "the assessment fails: " in err and "_nadal" in err.split("the assessment fails: ")[1]
 
 
 def test_report_takes_a_track_and_assesses(capsys, tmp_path):
@@ -130,3 +132,14 @@ def test_a_curve_too_fast_for_the_track_exits_2(capsys, tmp_path, command):
     err = assert_input_error(capsys, command, CONVENTIONAL, "--track", track, "--set", "v=160", "-o", target,
                              mentions="unbalanced acceleration")
     assert "curve 1 of the track" in err and not target.exists()
+
+
+def test_simulate_assess_gives_the_instability_criterion_of_every_wheelset(capsys):
+    """EN 14363's ΣY rms over 100 m against (ΣY)lim / 2 (issue 32 item 4), beside (ΣY)2m."""
+    data = run_json(capsys, "simulate", CONVENTIONAL, "--track", "R1000", "--speed", "100", "--assess", "--dt", "0.01")
+    criteria = {c["name"]: c for c in data["assessment"]["criteria"]}
+    for j in range(1, 5):
+        rms, peak = criteria[f"SY{j}_rms"], criteria[f"SY{j}"]
+        assert rms["limit"] == pytest.approx(peak["limit"] / 2, rel=1e-12) and rms["unit"] == "N"
+        assert 0 <= rms["value"] < peak["value"] and rms["passed"] is True
+        assert "over 100 m" in rms["quantity"]

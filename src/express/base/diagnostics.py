@@ -27,6 +27,7 @@ from dataclasses import dataclass
 
 __all__ = [
     "EXIT_ANALYSIS",
+    "EXIT_ASSESSMENT",
     "EXIT_INPUT",
     "EXIT_INTERNAL",
     "EXIT_OK",
@@ -44,8 +45,9 @@ __all__ = [
     "excerpt",
 ]
 
-#: Exit statuses of the command line (``docs/cli.md``); 70 is ``EX_SOFTWARE`` of sysexits.h.
-EXIT_OK, EXIT_ANALYSIS, EXIT_INPUT, EXIT_INTERNAL = 0, 1, 2, 70
+#: Exit statuses of the command line (``docs/cli.md``); 70 is ``EX_SOFTWARE`` of sysexits.h;
+#: 3: a result was given and its assessment fails (``simulate --assess``).
+EXIT_OK, EXIT_ANALYSIS, EXIT_INPUT, EXIT_ASSESSMENT, EXIT_INTERNAL = 0, 1, 2, 3, 70
 
 
 @dataclass(frozen=True)

@@ -84,7 +84,7 @@ def build_parser() -> argparse.ArgumentParser:
         description="Exact symbolic equations of motion and dynamics of rail vehicles.",
         epilog="A bare number is SI, except speeds (km/h) and --amplitude (mm); any quantity may carry "
         "a unit ('30 m/s', '2 mm'). Exit status: 0 success, 1 no valid result, 2 bad input, "
-        "70 internal error. See docs/cli.md.",
+        "3 a failed assessment (simulate --assess), 70 internal error. See docs/cli.md.",
     )
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     parser.add_argument("--debug", action="store_true", help="show the traceback of an internal error")

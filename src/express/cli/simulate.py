@@ -5,7 +5,9 @@ non-finite, or a wheelset moves more than ten flange clearances
 from its rail, the command exits with status 1, names the time, the track position and
 the least-damped eigenvalue at the speed, leaves the requested outputs untouched and
 keeps the history up to that point in ``<name>.diverged<suffix>`` beside each of them
-(:mod:`express.analysis.time.divergence` finds the step).
+(:mod:`express.analysis.time.divergence` finds the step).  With ``--assess`` a run whose
+assessment fails (a criterion beyond its limit, a derailment) exits with status 3 after
+writing everything: a result, judged.
 """
 
 from __future__ import annotations
@@ -16,7 +18,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from express.base.diagnostics import AnalysisError, UsageError
+from express.base.diagnostics import EXIT_ASSESSMENT, AnalysisError, UsageError
 from express.cli import common
 
 __all__ = ["MAX_STEPS", "add_parser", "run"]
@@ -54,8 +56,9 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--plot", type=common.figure_path, metavar="FILE", help="figure of the run (.png, .svg or .pdf)")
     parser.add_argument("--assess", action="store_true",
                         help="EN 14363 running safety: (Y/Q)2m against 0.8 and Nadal, (ΣY)2m against Prud'homme, "
-                        "ΔQ/Q0, each with its limit and pass/fail (docs/curving.md); the per-wheel outputs join the "
-                        "histories; exit status 1 when the vehicle derails (the histories are still written)")
+                        "the instability criterion (ΣY rms over 100 m against (ΣY)lim/2), ΔQ/Q0, each with its "
+                        "limit and pass/fail (docs/curving.md); the per-wheel outputs join the histories; exit "
+                        "status 3 when a criterion fails or the vehicle derails (the histories are still written)")
     common.add_json_option(parser)
     parser.set_defaults(handler=run, numeric=True)
 
@@ -124,9 +127,14 @@ def run(
         _print_summary(vehicle.equations.name, summary, track, stream)
         if assessment is not None:
             _print_assessment(assessment, stream)
-    if assessment is not None and assessment.derailment is not None:
-        raise AnalysisError(f"simulate: the vehicle derails: {assessment.derailment}; the histories were written")
-    return 0
+    if assessment is None or (assessment.passed and assessment.derailment is None):
+        return 0
+    failed = [c.name for c in assessment.criteria if c.passed is False]
+    if assessment.derailment is not None:
+        common.note(f"error: simulate: the vehicle derails: {assessment.derailment}; the histories were written")
+    if failed:
+        common.note(f"error: simulate: the assessment fails: {', '.join(failed)} beyond their limits")
+    return EXIT_ASSESSMENT
 
 
 def _speed_and_source(vehicle: Any, speed: float | None, road: Any, where: str) -> tuple[float, str]:

@@ -13,6 +13,9 @@ along the distance run (``docs/curving.md``, "Running safety"):
 * ``(ΣY)2m`` of every wheelset: the largest 2 m sliding mean of the track shift force's
   size against Prud'homme's ``alpha (10 kN + 2 Q0 / 3)``, ``Q0`` the static wheel load
   and ``alpha = 1`` (the factor for other vehicle kinds is a parameter);
+* of a time run of 100 m or more, EN 14363's instability criterion of every wheelset
+  (``SY1_rms``: the sliding rms over 100 m of ``ΣY`` filtered at ``f0 ± 2 Hz`` against
+  ``(ΣY)lim / 2``, :mod:`express.analysis.curving.instability`);
 * ``ΔQ/Q0`` of the vehicle: the largest wheel unloading, against
   :data:`UNLOADING_LIMIT` (0.6; a value the public material we read does not state for
   running, see ``docs/curving.md``).
@@ -106,7 +109,7 @@ class Criterion:
     Attributes
     ----------
     name : str
-        ``YQ1L``, ``YQ1L_nadal``, ``SY1``, ``dQQ0``.
+        ``YQ1L``, ``YQ1L_nadal``, ``SY1``, ``SY1_rms``, ``dQQ0``.
     quantity : str
         What it is, in words.
     value : float
@@ -152,7 +155,7 @@ def _check(name: str, quantity: str, value: float, limit: float | None, unit: st
 
 
 def assess(outputs: WheelRailOutputs, distance, *, radius: float, friction: float, flange_angle: float,
-           alpha: float = 1.0) -> Assessment:
+           alpha: float = 1.0, speed: float | None = None) -> Assessment:
     """The running-safety criteria of ``outputs`` (module docstring).
 
     Parameters
@@ -169,6 +172,10 @@ def assess(outputs: WheelRailOutputs, distance, *, radius: float, friction: floa
         The wheel's flange angle [rad] for Nadal's limit.
     alpha : float
         Factor of Prud'homme's limit.
+    speed : float, optional
+        The running speed of a time run [m/s]: adds the instability criterion of every
+        wheelset (:mod:`express.analysis.curving.instability`) when the run is at least
+        100 m long.
     """
     d = np.atleast_1d(np.asarray(distance, dtype=float))
     y_over_q = sliding_mean(d, outputs.y_over_q)  # (windows, n, 2)
@@ -188,9 +195,26 @@ def assess(outputs: WheelRailOutputs, distance, *, radius: float, friction: floa
         criteria.append(_check(f"SY{j + 1}", f"(ΣY)2m of wheelset {j + 1} against Prud'homme",
                                float(np.abs(shift[:, j]).max()), prudhomme_limit(float(outputs.static_load[j]), alpha),
                                "N"))
+    if speed is not None:
+        criteria += _instability(outputs, d, speed, alpha)
     criteria.append(_check("dQQ0", "wheel unloading ΔQ/Q0 of the vehicle", float(outputs.vehicle_unloading.max()),
                            UNLOADING_LIMIT))
     return Assessment(tuple(criteria), _derailment(outputs, d, climbing, nadal))
+
+
+def _instability(outputs: WheelRailOutputs, distance: np.ndarray, speed: float, alpha: float) -> list[Criterion]:
+    """EN 14363's instability criterion of every wheelset: the filtered sliding rms of
+    ``ΣY`` over 100 m against half Prud'homme's limit (none for a run under 100 m)."""
+    from express.analysis.curving.instability import HALF_WIDTH, WINDOW, instability_rms
+
+    criteria = []
+    for j in range(outputs.wheelsets):
+        found = instability_rms(distance, speed, outputs.track_shift_force[:, j])
+        if found is not None:
+            limit = 0.5 * prudhomme_limit(float(outputs.static_load[j]), alpha)
+            criteria.append(_check(f"SY{j + 1}_rms", f"ΣY rms over {WINDOW:g} m ({found.frequency:.2f} ± {HALF_WIDTH:g} Hz) "
+                                   f"of wheelset {j + 1} against (ΣY)lim / 2 (instability)", found.largest, limit, "N"))
+    return criteria
 
 
 def _derailment(outputs: WheelRailOutputs, distance: np.ndarray, y_over_q: np.ndarray, nadal: float) -> str | None:
@@ -242,7 +266,7 @@ def assess_run(vehicle, track, result) -> tuple[WheelRailOutputs, Assessment]:
     friction = min(w.friction for w in vehicle.wheelsets)
     angle = flange_angle_of(contact, DEFAULT_FLANGE_ANGLE)
     return outputs, assess(outputs, result.distance, radius=smallest_radius(track), friction=friction,
-                           flange_angle=angle)
+                           flange_angle=angle, speed=float(result.speed))
 
 
 def assess_steady(vehicle, steady) -> Assessment:
