@@ -83,3 +83,30 @@ def test_coach_report_renders_in_a_1400_px_window_without_overflow(tmp_path, coa
     assert seen["overflow_px"] <= 0  # the equations scroll inside their box instead
     assert "`" not in seen["text"]  # no literal Markdown
     assert len(seen["figures"]) >= 6 and all(w > 300 and h > 150 for w, h in seen["figures"])
+
+
+def _text(html: str) -> str:
+    import html as markup
+    import re
+
+    return markup.unescape(re.sub("<[^>]+>", " ", re.sub(r"<svg.*?</svg>", "", html, flags=re.S)))
+
+
+def test_a_vehicle_unstable_at_the_report_speed_gets_every_valid_section():
+    """Issue 32 item 6: the report failed whole on an unstable vehicle (its frequency
+    response has no steady state); ``speed`` now is the speed of every section, and a
+    section without a result at it says why."""
+    from pathlib import Path
+
+    from express.base.units import KMH
+
+    vehicle = load_vehicle(Path(__file__).resolve().parents[1] / "examples" / "conventional.toml")
+    text = _text(report_html(vehicle, speed=450 * KMH))  # its linear critical speed: 420.8 km/h
+    assert "Not given at 450.0 km/h: the vehicle is unstable at 450.0 km/h" in text
+    modes = text.split("Modes")[2].split("Stability")[0]  # [0]: before the contents, [1]: the contents
+    assert "at 450.0 km/h" in modes  # the modes table at that speed
+    assert "(the report's speed)" in text  # the curving section at it too
+    for title in ("Model", "Parameters", "Equations", "Stability", "Curving", "Frequency response"):
+        assert title in text
+    stable = _text(report_html(vehicle, speed=300 * KMH))
+    assert "Not given" not in stable and "peak acceleration" in stable

@@ -18,7 +18,9 @@ def add_parser(subparsers) -> None:
         "model speed and, with rail data, the stability map, curving and frequency-response summaries.",
     )
     common.add_model_arguments(parser)
-    parser.add_argument("--speed", type=common.SPEED, metavar="SPEED", help=common.SPEED.help("speed of the modes table", "the model's speed"))
+    parser.add_argument("--speed", type=common.SPEED, metavar="SPEED", help=common.SPEED.help(
+        "speed of the report: the modes table, the curving run (over the track's own speed) and the frequency response",
+        "the model's speed (the curving run: the track's speed when it has one)"))
     parser.add_argument("--track", metavar="NAME|FILE", help="track of the curving section: a bundled curve (R250, R400, "
                         "R600, R1000, R3000, paper) or a track file, run at its speed (else the model's); default: "
                         "the paper's curve, said so in the report")
@@ -42,9 +44,9 @@ def run(model: Path, overrides: dict[str, str], *, output: str, speed: float | N
         vehicle = load_vehicle(model, overrides)
         if track is not None:
             from express.analysis.curving.steady import track_problems
+            from express.report.build import curving_speed
 
-            speed_on_track = road.speed if road.speed is not None else vehicle.speed
-            problems = track_problems(vehicle, road, speed_on_track)
+            problems = track_problems(vehicle, road, curving_speed(vehicle, road, speed)[0])
             if problems:
                 raise UsageError("\n".join(f"report: {problem}" for problem in problems))
         readable = load_generation(model, overrides).equations  # factored for people (docs/cache.md)

@@ -155,11 +155,23 @@ def _stability_section(vehicle: VehicleModel) -> Section:
     return Section("Stability", (f"Hunting: {text}.", Figure(svg_of(figure), "Real parts of the eigenvalues against speed.")))
 
 
-def _curving_section(vehicle: VehicleModel, track=None, track_name: str = "") -> Section:
-    """A run along ``track`` (default: the paper's curve) at the track's speed (else the
-    model's), with its EN 14363 running-safety assessment."""
+def curving_speed(vehicle: VehicleModel, track, speed: float | None) -> tuple[float, str]:
+    """The speed of the curving run and how it was chosen: the report's ``speed`` when
+    given (as ``simulate --speed``), else the track's, else the model's."""
+    if speed is not None:
+        return speed, "the report's speed"
+    if track is not None and track.speed is not None:
+        return track.speed, "the track's speed"
+    return vehicle.speed, "the model's speed"
+
+
+def _curving_section(vehicle: VehicleModel, track=None, track_name: str = "", speed: float | None = None) -> Section:
+    """A run along ``track`` (default: the paper's curve) at :func:`curving_speed`, with
+    its EN 14363 running-safety assessment; a run that diverges (a vehicle unstable at
+    that speed) is told, not raised."""
     from express.analysis.curving.assessment import assess_run
     from express.analysis.curving.steady import track_problems
+    from express.analysis.time.divergence import divergence_message, find_divergence
     from express.analysis.time.simulate import simulate
     from express.rail.track.named import named_track
 
@@ -167,13 +179,16 @@ def _curving_section(vehicle: VehicleModel, track=None, track_name: str = "") ->
         track, _ = named_track("paper")
         track = replace(track, speed=None)
         track_name = "no track given: the paper's Fig. 9 curve (R = 400 m, 95 mm cant, 95 m sine transitions)"
-    speed = track.speed if track.speed is not None else vehicle.speed
-    said = "the track's speed" if track.speed is not None else "the model's speed"
+    speed, said = curving_speed(vehicle, track, speed)
     problems = track_problems(vehicle, track, speed)
     if problems:
         return Section("Curving", (f"Track: {track_name}. Not run at {speed / KMH:.0f} km/h ({said}): "
                                    + "; ".join(problems) + ". Give a track that suits the vehicle (--track).",))
     run = simulate(vehicle, track, speed=speed, progress=False)
+    divergence = find_divergence(run, vehicle)
+    if divergence is not None:
+        return Section("Curving", (f"Track: {track_name}. Run at {speed / KMH:.0f} km/h ({said}): no result, "
+                                   f"{divergence_message(run, vehicle, divergence)}.",))
     wheel_rail, assessment = assess_run(vehicle, track, run)
     run.outputs.update({k: v for k, v in wheel_rail.columns().items() if k not in run.outputs})
     units = run.units()
@@ -200,16 +215,22 @@ def _curving_section(vehicle: VehicleModel, track=None, track_name: str = "") ->
     ))
 
 
-def _frequency_section(vehicle: VehicleModel) -> Section | None:
+def _frequency_section(vehicle: VehicleModel, speed: float) -> Section | None:
+    """The response at the output points at ``speed``; for a vehicle unstable there, the
+    instability (the steady response does not exist) instead of an error."""
     from express.analysis.frequency import frequency_response
     from express.analysis.plots import figure_frequency_response
+    from express.base.diagnostics import AnalysisError
 
     rail = _model_of(vehicle).rail
     points = [p.name for p in rail.outputs] if rail is not None else []
     if not points:
         return None
     frequencies = np.geomspace(0.1, 20.0, 200)
-    response = frequency_response(vehicle, frequencies)
+    try:
+        response = frequency_response(vehicle, frequencies, speed=speed)
+    except AnalysisError as error:
+        return Section("Frequency response", (f"Not given at {speed / KMH:.1f} km/h: {error}.",))
     curves, rows = [], []
     for name in points:
         amplitude = np.abs(np.asarray(response.acceleration_of(name)))
@@ -234,11 +255,14 @@ def report_html(
     vehicle : VehicleModel
         Numerical vehicle with its model (``express.numeric.statespace.load_vehicle``).
     speed : float, optional
-        Speed of the modes table [m/s]; the model's speed by default (1 m/s for a model
-        without rail data, whose matrices do not depend on it).
+        Speed of the report [m/s]: of the modes table, the curving run and the frequency
+        response (as ``--speed`` of the other commands); by default the model's speed (1 m/s
+        for a model without rail data, whose matrices do not depend on it) and, for the
+        curving run, the track's own speed when it has one.  A section that has no result
+        at that speed (an unstable vehicle's frequency response, a diverged run) says so,
+        and the other sections are given.
     track : Track, optional
-        The track of the curving section (default: the paper's curve, said so); run at
-        its own speed when it has one, else at the model's.
+        The track of the curving section (default: the paper's curve, said so).
     track_name : str
         How the report names the track.
     equations : EquationsOfMotion, optional
@@ -249,13 +273,14 @@ def report_html(
     if vehicle.model is None:
         raise ValueError("the vehicle has no model to report on")
     rail = vehicle.layout is not None and bool(vehicle.wheelsets)
+    given = speed
     if speed is None:
         speed = vehicle.speed if rail and np.isfinite(vehicle.speed) else 1.0
     sections = [_model_section(vehicle), _parameters_section(vehicle), _equations_section(vehicle, equations),
                 _modes_section(vehicle, speed)]
     if rail:
-        sections += [_stability_section(vehicle), _curving_section(vehicle, track, track_name)]
-        frequency = _frequency_section(vehicle)
+        sections += [_stability_section(vehicle), _curving_section(vehicle, track, track_name, given)]
+        frequency = _frequency_section(vehicle, speed)
         if frequency is not None:
             sections.append(frequency)
     title = f"EXPRESS report: {vehicle.equations.name}"
