@@ -140,3 +140,44 @@ def test_stations_of_a_train_are_those_of_the_pairwise_definition(tmp_path):
     grouped = stations(train)
     assert [s.bodies for s in grouped] == _pairwise_groups(train)
     assert len(grouped) == 3 * len(stations(MODEL))
+
+
+def test_yaw_term_is_minus_the_turn_of_the_track():
+    """The yaw of the car-body CP above the front bogie (lx = lT), seen in the track
+    frame at its station, is the car body's less the track's turn over lT:
+    ``-(theta(s + lT) - theta(s))``, within 1 % of its steady value along the curve."""
+    track = paper_curve()
+    s = np.linspace(-20.0, track.length, 3001)
+    generated = _generated_offset("CB_T1L", 5, track, s)
+    exact = -(np.asarray(track.heading(s + 7.2)) - np.asarray(track.heading(s)))
+    assert np.max(np.abs(generated - exact)) < 0.01 * 7.2 / 400.0
+
+
+def test_a_yaw_element_turns_in_a_curve_as_the_side_bearers_it_stands_for(tmp_path):
+    """Issue 31: a rotational rz element between the car body's seat above a bogie and
+    the bogie put no moment into a curve (no curvature column), while the same stiffness
+    as two longitudinal springs at +-b2 did.  The Manchester car's secondary yaw element
+    (kpsi = 2 kb2) against the springs kb2 / b2^2 at each air spring: the same curvature
+    columns of P and the same yaw block of K, to the last bit (achieved: equal)."""
+    from pathlib import Path
+
+    from express.numeric.statespace import load_vehicle
+
+    text = (Path(__file__).resolve().parents[1] / "examples" / "manchester.toml").read_text()
+    element = ('yaw = { from = "seat_S", to = "stop", direction = "rz", stiffness = "2*kb2", '
+               'label = "secondary yaw stiffness (both sides)" }')
+    assert element in text
+    bearers = ('bxL = { from = "seat_L", to = "sL", direction = "x", stiffness = "kb2/b2^2" }\n'
+               'bxR = { from = "seat_R", to = "sR", direction = "x", stiffness = "kb2/b2^2" }')
+    (tmp_path / "yaw.toml").write_text(text)
+    (tmp_path / "bearers.toml").write_text(text.replace(element, bearers))
+    yaw, springs = load_vehicle(tmp_path / "yaw.toml"), load_vehicle(tmp_path / "bearers.toml")
+    assert yaw.inputs == springs.inputs and yaw.dofs == springs.dofs
+    curvature = [j for j, name in enumerate(yaw.inputs) if name.endswith(".rho")]
+    p_yaw, p_springs = np.asarray(yaw.forcing(yaw.speed)), np.asarray(springs.forcing(yaw.speed))
+    np.testing.assert_array_equal(p_yaw[:, curvature], p_springs[:, curvature])
+    front = yaw.dof_index("T1.rz"), yaw.inputs.index("CB.rho")
+    assert p_yaw[front] != 0.0  # the car body's curvature turns the bogie against its yaw stiffness
+    rz = [i for i, dof in enumerate(yaw.dofs) if dof.endswith(".rz")]
+    k_yaw, k_springs = np.asarray(yaw.stiffness), np.asarray(springs.stiffness)
+    np.testing.assert_array_equal(k_yaw[np.ix_(rz, rz)], k_springs[np.ix_(rz, rz)])

@@ -60,6 +60,7 @@ class AddedTerms:
     point_inputs : dict
         ``(cp_id, axis) -> {input: coefficient}``: extra motion of a CP driven by an
         input (the curvature terms of ``rail.md``); enters every element on the CP.
+        ``axis`` 0-2 are its displacements, 3-5 its rotations about x, y, z.
     stiffness, damping : list of (str, str, sympy.Expr)
         ``(row DOF, column DOF, value)`` added to K or C (need not be symmetric).
     forces, rate_forces : list of (str, str, sympy.Expr)
@@ -313,9 +314,8 @@ def _deflections(model: Model, added: AddedTerms, domain: ExactDomain, pin_eleme
         if key not in motion_cache:
             dofs, inputs = end_motion(model, point_id, axis, rotational)
             inputs = dict(inputs)
-            if not rotational:
-                for name, value in added.point_inputs.get((point_id, axis), {}).items():
-                    inputs[name] = inputs.get(name, 0) + value
+            for name, value in added.point_inputs.get((point_id, axis + 3 * rotational), {}).items():
+                inputs[name] = inputs.get(name, 0) + value
             motion_cache[key] = (
                 {d: conv(v) for d, v in dofs.items()},
                 {u: conv(v) for u, v in inputs.items()},

@@ -27,7 +27,7 @@ import sympy as sp
 from express.model.records import Model
 from express.rail.layout import Station
 
-__all__ = ["Station", "cant_deficiency_forces", "curvature_point_inputs", "stations"]
+__all__ = ["ROTATION", "Station", "cant_deficiency_forces", "curvature_point_inputs", "stations"]
 
 
 def stations(model: Model) -> list[Station]:
@@ -60,8 +60,14 @@ def station_of(model: Model) -> dict[str, Station]:
     return {body: station for station in stations(model) for body in station.bodies}
 
 
+#: Key offset of a CP's rotations in :func:`curvature_point_inputs`: ``(cp, ROTATION + k)``
+#: is its rotation about axis ``k`` (0 x, 1 y, 2 z), ``(cp, k)`` its displacement.
+ROTATION = 3
+
+
 def curvature_point_inputs(model: Model) -> dict[tuple[str, int], dict[str, sp.Expr]]:
-    """Curvature terms of every CP on a body: ``(cp, axis) -> {rho input: coefficient}``.
+    """Curvature terms of every CP on a body: ``(cp, axis) -> {rho input: coefficient}``,
+    ``axis`` 0, 1 for the displacements and ``ROTATION + 2`` for the yaw.
 
     When the CP sits at another station (``s_m + lx`` equals a station ``s_n``, as
     for a car-body CP above a bogie centre), the curvature is taken at both ends, which
@@ -73,6 +79,12 @@ def curvature_point_inputs(model: Model) -> dict[tuple[str, int], dict[str, sp.E
     Otherwise the body's own curvature is used (``rail.md``): ``+ rho_m lx Y`` and
     ``- rho_m lx**2 / 2``.  In a steady curve both forms are the same; inside a
     transition the two-station form is the more accurate (``docs/rail.md``).
+
+    The CP's yaw, seen in the track frame at its own station, is the body's less the
+    track's turn between the two stations: ``- lx (rho_m + rho_n) / 2`` (exact for a
+    clothoid), ``- rho_m lx`` on one station.  So a rotational ``rz`` element between a
+    car body's seat above a bogie and the bogie turns in a curve as the pair of
+    longitudinal springs it stands for (issue 31: it put no moment into a curve).
     """
     all_stations = stations(model)
     by_body = {body: station for station in all_stations for body in station.bodies}
@@ -100,6 +112,7 @@ def curvature_point_inputs(model: Model) -> dict[tuple[str, int], dict[str, sp.E
         if longitudinal != 0:
             terms[(point.id, 0)] = {rho: w_long * longitudinal for rho, (w_long, _) in weights.items()}
         terms[(point.id, 1)] = {rho: -w_lat * lx**2 for rho, (_, w_lat) in weights.items()}
+        terms[(point.id, ROTATION + 2)] = {rho: -w_long * lx for rho, (w_long, _) in weights.items()}
     return terms
 
 
