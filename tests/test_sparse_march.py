@@ -196,3 +196,14 @@ def test_cold_warm_and_no_cache_runs_write_the_same_file(which, tmp_path, monkey
         assert main(["simulate", str(model), "--linear", "-o", str(out), "--json", *extra]) == 0
         written.append(out.read_bytes())
     assert written[0] == written[1] == written[2]
+
+
+def test_the_taylor_bounds_are_scipys_table():
+    """The θ_m table of the sparse march is a copy (issue 35 item 7: SciPy keeps it in a
+    private module, ``scipy.sparse.linalg._expm_multiply._theta``, not an API to build on):
+    it must stay SciPy's, value for value, and the SciPy this project pins gives it."""
+    from scipy.sparse.linalg import _expm_multiply
+
+    from express.analysis.time import sparse_march
+
+    assert sparse_march._THETA == _expm_multiply._theta
