@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import pytest
 
+from express.base.diagnostics import ModelError
 from express.rail.track.named import NAMED_CURVES, named_track
 
 #: name -> cant deficiency [mm] on a 1500 mm base, as docs/curving.md tabulates it
@@ -29,3 +30,19 @@ def test_paper_and_unknown_names():
     assert "Fig. 9" in description and track.length == pytest.approx(460.0)
     with pytest.raises(KeyError, match="R250"):
         named_track("R123")
+
+
+@pytest.mark.parametrize("name", ["R250", "R400", "R600", "R1000", "R3000", "paper"])
+def test_load_track_takes_a_bundled_name_as_the_command_line_does(name, tmp_path, monkeypatch):
+    """Issue 35 item 4: ``express.load_track("R400")`` failed though ``--track R400`` works;
+    a bundled name comes before a file of that name, as on the command line, and a Path
+    is always a file."""
+    from pathlib import Path
+
+    from express.rail.track import load_track
+
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / name).write_text("not a track", encoding="utf-8")
+    assert load_track(name) == named_track(name)[0]
+    with pytest.raises(ModelError):
+        load_track(Path(name))

@@ -350,12 +350,15 @@ def _read_text(path: Path, limit: int, item: str, encoding: str) -> str:
 
 
 def load_track(path: str | Path) -> Track:
-    """Read a TOML track file (format in ``docs/track.md``).
+    """Read a TOML track file (format in ``docs/track.md``), or give a bundled track.
 
     Parameters
     ----------
     path : str or Path
-        The track file, a regular file of at most :data:`MAX_TRACK_FILE_BYTES`.
+        The track file, a regular file of at most :data:`MAX_TRACK_FILE_BYTES`; or, as a
+        str, the name of a bundled track (``"R250"``, ``"R400"``, ``"R600"``, ``"R1000"``,
+        ``"R3000"``, ``"paper"``: :mod:`express.rail.track.named`), which is taken before
+        a file of that name, as ``--track`` takes it.
 
     Returns
     -------
@@ -367,6 +370,11 @@ def load_track(path: str | Path) -> Track:
         If the file cannot be read or parsed, or describes a bad track; one problem per
         line, ``<file>:<line>: <item>: <what is wrong>``, every problem at once.
     """
+    if isinstance(path, str):
+        from express.rail.track.named import NAMED_CURVES, named_track
+
+        if path in NAMED_CURVES or path == "paper":
+            return named_track(path)[0]
     path = Path(path)
     source = str(path)
     text = _read_text(path, MAX_TRACK_FILE_BYTES, "track", "utf-8-sig")
