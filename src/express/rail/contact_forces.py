@@ -31,7 +31,10 @@ simulation"):
   polach`) at ``N = Q / cos(delta)``, the last by the chosen law (Polach or FASTSIM,
   :func:`express.rail.creep_law.fastsim`) at the corrected ``N`` and balanced rotation;
 * on the wheelset: ``Y = sum(-sigma N sin(delta) + T cos(delta))`` and
-  ``M = sum(-sigma l Fx) + sum(x_s Y_s)``.
+  ``M = sum(-sigma l Fx) + sum(x_s Y_s)``;
+* per contact, the frictional power per unit rolling distance
+  ``Tgamma = |Fx xi + T eta|`` at the balanced rotation (no spin moment: neither law
+  gives one) and the patch area ``pi a b`` (``docs/wear.md``).
 
 The vertical load of each wheel is an argument: the static load
 (:func:`quasi_static_forces`' default, as the Manchester benchmark's case A) or the
@@ -90,7 +93,10 @@ __all__ = [
 
 #: Entries of the output vector of :func:`profile_wheelset_forces`.
 OUTPUTS = ("Y", "M", "N_left", "N_right", "Y_left", "Y_right", "Fx_left", "Fx_right", "u_left", "u_right",
-           "angle_left", "angle_right", "beyond", "Q_left", "Q_right", "Mx")
+           "angle_left", "angle_right", "beyond", "Q_left", "Q_right", "Mx",
+           # energy (issue 37): the creepages and the lateral creep force the law gave, Tgamma, the patch
+           "xi_left", "xi_right", "eta_left", "eta_right", "phi_left", "phi_right", "T_left", "T_right",
+           "Tgamma_left", "Tgamma_right", "area_left", "area_right")
 #: Creep laws of :func:`profile_wheelset_forces`, by named constant and by name.
 POLACH, FASTSIM = 0, 1
 LAWS = {"polach": POLACH, "fastsim": FASTSIM}
@@ -106,6 +112,8 @@ def _sides(name: str) -> tuple[int, int]:
 _OUT_Y, _OUT_M, _OUT_BEYOND, _OUT_ROLL = (OUTPUTS.index(name) for name in ("Y", "M", "beyond", "Mx"))
 _OUT_NORMAL, _OUT_LATERAL, _OUT_FX, _OUT_U, _OUT_ANGLE, _OUT_LOAD = (
     _sides(name) for name in ("N", "Y", "Fx", "u", "angle", "Q"))
+_OUT_XI, _OUT_ETA, _OUT_PHI, _OUT_CREEP_Y, _OUT_TGAMMA, _OUT_AREA = (
+    _sides(name) for name in ("xi", "eta", "phi", "T", "Tgamma", "area"))
 #: Newton iterations (at most) of the wheel's rotation on the pitch balance.
 _NEWTON = 3
 #: Newton on the pitch balance stops after a step below this (after one on the corrected
@@ -306,7 +314,11 @@ def profile_wheelset_forces(contacts, j, load_left, load_right, y, psi, y_dot, p
     position ``u`` on the rail (lateral, from the centred wheelset's contact point, +y left;
     the rail's own deflection not included), contact angle, the overshoot beyond the tables [m], its vertical
     load ``Q``, and the roll moment ``Mx`` [N m] of the rails' forces about the wheelset
-    centre, ``sum(sigma l Q + r Y_wheel)`` (roll positive lifting the left wheel).
+    centre, ``sum(sigma l Q + r Y_wheel)`` (roll positive lifting the left wheel); then
+    each contact's creepages ``xi``, ``eta``, ``phi`` [-, -, 1/m] at the balanced rotation,
+    its lateral creep force ``T`` in the contact plane [N], the frictional power per unit
+    rolling distance ``Tgamma = |Fx xi + T eta|`` [N] and the Hertz patch's area [m^2]
+    (:func:`_energy`).
 
     ``contacts`` is a :class:`ContactSet`; ``load_left``, ``load_right`` [N] the vertical
     wheel loads Q (``contacts.wheel_load[j]`` each for the static ones; a wheel with
@@ -358,7 +370,7 @@ def profile_wheelset_forces(contacts, j, load_left, load_right, y, psi, y_dot, p
     _creep_pass(work, POLACH, rate, q, friction, shear_modulus, loads, False)
     rate = _balanced_rate(work, rate, q, friction, shear_modulus)
     _creep_pass(work, contacts.law, rate, q, friction, shear_modulus, loads, True)
-    _close_pitch_balance(work)
+    rate += _close_pitch_balance(work)
     total_y = 0.0
     total_m = 0.0
     total_roll = 0.0
@@ -380,10 +392,28 @@ def profile_wheelset_forces(contacts, j, load_left, load_right, y, psi, y_dot, p
         out[_OUT_U[side]] = work[side, _U] + sigma * (arm - contacts.centred_arm[j, side])
         out[_OUT_ANGLE[side]] = work[side, ANGLE]
         out[_OUT_LOAD[side]] = load_left if side == 0 else load_right
+        _energy(work, side, rate, q, out)
     out[_OUT_Y] = total_y - contacts.wall[j] * extra
     out[_OUT_M] = total_m
     out[_OUT_ROLL] = total_roll
     out[_OUT_BEYOND] = extra
+
+
+@njit(cache=True)
+def _energy(work, side, rate, q, out):
+    """The creepages of contact ``side`` at the balanced rotation ``rate``, its lateral
+    creep force ``T`` (in the contact plane), the frictional power per unit rolling
+    distance ``Tgamma = |Fx xi + T eta|`` [N] (the spin moment's share ``Mz phi`` is
+    not included: neither law gives ``Mz``; ``docs/wear.md``) and the Hertz patch's area
+    ``pi a b`` at the final normal force [m^2] into ``out``."""
+    xi, eta, phi = _creepages(work, side, rate, q)
+    fx, fy = work[side, _FX], work[side, _LATERAL]
+    out[_OUT_XI[side]] = xi
+    out[_OUT_ETA[side]] = eta
+    out[_OUT_PHI[side]] = phi
+    out[_OUT_CREEP_Y[side]] = fy
+    out[_OUT_TGAMMA[side]] = abs(fx * xi + fy * eta)
+    out[_OUT_AREA[side]] = math.pi * work[side, SEMI_A] * work[side, SEMI_B] * work[side, _NORMAL] ** (2.0 / 3.0)
 
 
 @njit(cache=True)
@@ -466,12 +496,15 @@ def _close_pitch_balance(work):
     the chosen law's forces at the corrected normal forces leave a residual pitch moment
     (another law than the balance's, another N); the rotation's change
     ``-residual / sum(k r^2)`` moves each wheel's ``Fx`` by ``k r`` times it (``k`` the
-    tangent stiffnesses of the balance)."""
+    tangent stiffnesses of the balance); returns that change of ``omega / v`` (0 without
+    a slope)."""
     residual, slope = _pitch_moment(work)
+    change = 0.0
     if slope > 0.0:
         change = -residual / slope
         for side in range(2):
             work[side, _FX] += work[side, _F11] * work[side, RADIUS] * change
+    return change
 
 
 @njit(cache=True)
