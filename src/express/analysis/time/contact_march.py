@@ -46,7 +46,8 @@ def contact_force_history(q, q_dot, iy, ipsi, y_rail, rho, speed, contact: Conta
 def contact_wheel_outputs(vehicle, history: np.ndarray, q: np.ndarray, loads: str) -> WheelRailOutputs:
     """The per-wheel record (:class:`~express.analysis.curving.outputs.WheelRailOutputs`)
     of a march from its contact forces ``history`` (recorded by :class:`express.forces.contact.ContactElement`): each wheel's
-    Q, Y, Fx, contact position and angle as the contact used them; the angle of attack is
+    Q, Y, Fx, contact position and angle as the contact used them, its frictional power
+    Tgamma and patch area (the wear and RCF columns); the angle of attack is
     each wheelset's yaw ``q[:, psi]``; ``loads`` says where Q came from."""
     column = {name: k for k, name in enumerate(OUTPUTS)}
 
@@ -56,7 +57,8 @@ def contact_wheel_outputs(vehicle, history: np.ndarray, q: np.ndarray, loads: st
     return WheelRailOutputs(
         vertical_load=pair("Q"), lateral_force=pair("Y"), longitudinal_force=pair("Fx"), contact_position=pair("u"),
         contact_angle=pair("angle"), angle_of_attack=q[:, [w.psi for w in vehicle.wheelsets]],
-        static_load=np.array([w.wheel_load for w in vehicle.wheelsets], dtype=float), loads=loads)
+        static_load=np.array([w.wheel_load for w in vehicle.wheelsets], dtype=float), loads=loads,
+        frictional_power=pair("Tgamma"), patch_area=pair("area"))
 
 
 def contact_rhs(vehicle, track, contacts: list[WheelsetContact], *, speed: float | None = None, start: float = 0.0,
