@@ -48,7 +48,7 @@ class UsfdFunction(NamedTuple):
 #: R8T wheel steel on UIC60 900A rail (Braghin et al. 2006, Table 1, from Lewis &
 #: Dwyer-Joyce 2004): K1 = 5.3 x, K2 = 55.0, K3 = 61.9 x - 4778.7 with the boundaries
 #: 10.4 and 77.2 N/mm^2.  As published the third branch starts near zero at 77.2 (not at
-#: the plateau's 55.0); ``docs/wear.md``, "Limits".
+#: the plateau's 55.0, which it passes at 78.09); ``docs/wear.md``, "Limits".
 USFD_R8T = UsfdFunction(5.3, 10.4, 55.0, 77.2, 61.9, 4778.7)
 
 
@@ -70,7 +70,8 @@ BURSTOW = BurstowFunction(15.0, 65.0, 175.0, 1.0e-5)
 
 def usfd_wear_rate(specific_power: ArrayLike, function: UsfdFunction = USFD_R8T) -> FloatArray:
     """Wear rate [ug/(m mm^2)] at ``Tgamma / A`` = ``specific_power`` [N/mm^2] (any
-    shape; negative values count as zero).
+    shape; negative values count as zero).  The published third branch is negative just
+    beyond 77.2 N/mm^2 (by 0.02 at most, up to 77.2003): it is clamped at zero.
 
     Examples
     --------
@@ -79,8 +80,8 @@ def usfd_wear_rate(specific_power: ArrayLike, function: UsfdFunction = USFD_R8T)
     """
     x = np.maximum(np.asarray(specific_power, dtype=float), 0.0)
     f = function
-    return np.where(x < f.mild_end, f.mild_slope * x,
-                    np.where(x <= f.severe_end, f.severe, f.catastrophic_slope * x - f.catastrophic_offset))
+    catastrophic = np.maximum(f.catastrophic_slope * x - f.catastrophic_offset, 0.0)
+    return np.where(x < f.mild_end, f.mild_slope * x, np.where(x <= f.severe_end, f.severe, catastrophic))
 
 
 def burstow_damage(tgamma: ArrayLike, function: BurstowFunction = BURSTOW) -> FloatArray:
