@@ -10,7 +10,7 @@ import math
 import numpy as np
 import pytest
 
-from express.rail.contact_forces import quasi_static_forces, wheelset_contact
+from express.rail.contact_forces import patch_area, quasi_static_forces, wheelset_contact
 from express.rail.contact_geometry import ContactSetup, contact_geometry
 from express.rail.contact_tables import contact_tables
 from express.rail.profiles import standard_profile
@@ -117,14 +117,17 @@ def test_tgamma_is_creep_forces_times_creepages(contact, law, y, psi):
 
 
 def test_patch_area_is_the_hertz_ellipse(contact):
-    """``pi a b`` with the semi-axes of 1 N scaled by ``N^(1/3)`` each (the final normal
-    force): 1e-12 relative (achieved: equal)."""
-    y = _grid_node(contact, 2e-3)
-    f = quasi_static_forces(contact, y, law="fastsim")
-    tables = contact.tables
-    k = round((y - tables.start) / tables.step)
+    """``pi a b`` with the semi-axes of 1 N scaled by ``N^(1/3)`` each, at the final normal
+    force: 1e-12 relative (achieved: equal); a lifted wheel (N <= 0) has none."""
     from express.rail.contact_tables import SEMI_A, SEMI_B
 
-    for row, side in enumerate(("left", "right")):
-        a, b = tables.data[SEMI_A, row, k], tables.data[SEMI_B, row, k]
-        assert f[f"area_{side}"] == pytest.approx(math.pi * a * b * f[f"N_{side}"] ** (2 / 3), rel=1e-12)
+    tables = contact.tables
+    for y in (2e-3, 8e-3):
+        y = _grid_node(contact, y)
+        f = quasi_static_forces(contact, y, law="fastsim")
+        k = round((y - tables.start) / tables.step)
+        for row, side in enumerate(("left", "right")):
+            a, b = tables.data[SEMI_A, row, k], tables.data[SEMI_B, row, k]
+            area = patch_area(f[f"unit_area_{side}"], f[f"N_{side}"])
+            assert area == pytest.approx(math.pi * a * b * f[f"N_{side}"] ** (2 / 3), rel=1e-12)
+    assert patch_area(1e-6, -5.0) == 0.0

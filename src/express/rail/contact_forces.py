@@ -34,7 +34,7 @@ simulation"):
   ``M = sum(-sigma l Fx) + sum(x_s Y_s)``;
 * per contact, the frictional power per unit rolling distance
   ``Tgamma = |Fx xi + T eta|`` at the balanced rotation (no spin moment: neither law
-  gives one) and the patch area ``pi a b`` (``docs/wear.md``).
+  gives one) and the patch's area per ``N^(2/3)``, ``pi a b`` at 1 N (``docs/wear.md``).
 
 The vertical load of each wheel is an argument: the static load
 (:func:`quasi_static_forces`' default, as the Manchester benchmark's case A) or the
@@ -86,6 +86,7 @@ __all__ = [
     "ContactSet",
     "WheelsetContact",
     "contact_set",
+    "patch_area",
     "profile_wheelset_forces",
     "quasi_static_forces",
     "wheelset_contact",
@@ -96,7 +97,7 @@ OUTPUTS = ("Y", "M", "N_left", "N_right", "Y_left", "Y_right", "Fx_left", "Fx_ri
            "angle_left", "angle_right", "beyond", "Q_left", "Q_right", "Mx",
            # energy (issue 37): the creepages and the lateral creep force the law gave, Tgamma, the patch
            "xi_left", "xi_right", "eta_left", "eta_right", "phi_left", "phi_right", "T_left", "T_right",
-           "Tgamma_left", "Tgamma_right", "area_left", "area_right")
+           "Tgamma_left", "Tgamma_right", "unit_area_left", "unit_area_right")
 #: Creep laws of :func:`profile_wheelset_forces`, by named constant and by name.
 POLACH, FASTSIM = 0, 1
 LAWS = {"polach": POLACH, "fastsim": FASTSIM}
@@ -113,7 +114,7 @@ _OUT_Y, _OUT_M, _OUT_BEYOND, _OUT_ROLL = (OUTPUTS.index(name) for name in ("Y", 
 _OUT_NORMAL, _OUT_LATERAL, _OUT_FX, _OUT_U, _OUT_ANGLE, _OUT_LOAD = (
     _sides(name) for name in ("N", "Y", "Fx", "u", "angle", "Q"))
 _OUT_XI, _OUT_ETA, _OUT_PHI, _OUT_CREEP_Y, _OUT_TGAMMA, _OUT_AREA = (
-    _sides(name) for name in ("xi", "eta", "phi", "T", "Tgamma", "area"))
+    _sides(name) for name in ("xi", "eta", "phi", "T", "Tgamma", "unit_area"))
 #: Newton iterations (at most) of the wheel's rotation on the pitch balance.
 _NEWTON = 3
 #: Newton on the pitch balance stops after a step below this (after one on the corrected
@@ -317,8 +318,8 @@ def profile_wheelset_forces(contacts, j, load_left, load_right, y, psi, y_dot, p
     centre, ``sum(sigma l Q + r Y_wheel)`` (roll positive lifting the left wheel); then
     each contact's creepages ``xi``, ``eta``, ``phi`` [-, -, 1/m] at the balanced rotation,
     its lateral creep force ``T`` in the contact plane [N], the frictional power per unit
-    rolling distance ``Tgamma = |Fx xi + T eta|`` [N] and the Hertz patch's area [m^2]
-    (:func:`_energy`).
+    rolling distance ``Tgamma = |Fx xi + T eta|`` [N] and the Hertz patch's area per
+    ``N^(2/3)`` [m^2 / N^(2/3)] (:func:`_energy`; :func:`patch_area` gives the area).
 
     ``contacts`` is a :class:`ContactSet`; ``load_left``, ``load_right`` [N] the vertical
     wheel loads Q (``contacts.wheel_load[j]`` each for the static ones; a wheel with
@@ -405,7 +406,9 @@ def _energy(work, side, rate, q, out):
     creep force ``T`` (in the contact plane), the frictional power per unit rolling
     distance ``Tgamma = |Fx xi + T eta|`` [N] (the spin moment's share ``Mz phi`` is
     not included: neither law gives ``Mz``; ``docs/wear.md``) and the Hertz patch's area
-    ``pi a b`` at the final normal force [m^2] into ``out``."""
+    per ``N^(2/3)``, ``pi a b`` of the tables' semi-axes of 1 N [m^2 / N^(2/3)] (the area
+    is that times ``N^(2/3)`` of the final normal force: the power is left to NumPy) into
+    ``out``."""
     xi, eta, phi = _creepages(work, side, rate, q)
     fx, fy = work[side, _FX], work[side, _LATERAL]
     out[_OUT_XI[side]] = xi
@@ -413,7 +416,7 @@ def _energy(work, side, rate, q, out):
     out[_OUT_PHI[side]] = phi
     out[_OUT_CREEP_Y[side]] = fy
     out[_OUT_TGAMMA[side]] = abs(fx * xi + fy * eta)
-    out[_OUT_AREA[side]] = math.pi * work[side, SEMI_A] * work[side, SEMI_B] * work[side, _NORMAL] ** (2.0 / 3.0)
+    out[_OUT_AREA[side]] = math.pi * work[side, SEMI_A] * work[side, SEMI_B]
 
 
 @njit(cache=True)
@@ -531,6 +534,12 @@ def _lateral_pitch_arm(sigma, psi, r, values):
     ahead = psi * (values[LEAD_RATE] + sigma * values[ARM])
     sin_axle = values[SIN_AXLE]
     return sigma * ahead * sin_axle + psi * r * math.sqrt(max(1.0 - sin_axle * sin_axle, 0.0))
+
+
+def patch_area(unit_area, normal):
+    """Hertz patch area [m^2] from the kernel's ``unit_area`` [m^2 / N^(2/3)] and the
+    normal force ``normal`` [N] (arrays broadcast; a lifted wheel's N <= 0 gives 0)."""
+    return np.asarray(unit_area, dtype=float) * np.maximum(np.asarray(normal, dtype=float), 0.0) ** (2.0 / 3.0)
 
 
 def quasi_static_forces(contact: WheelsetContact, y: float, psi: float = 0.0, y_dot: float = 0.0,

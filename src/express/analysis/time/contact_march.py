@@ -13,7 +13,14 @@ from numba import njit
 from express.analysis.curving.outputs import WheelRailOutputs
 from express.analysis.time.track_inputs import track_inputs
 from express.forces.contact import contact_arrays, linear_coefficients, linear_wheel_rail
-from express.rail.contact_forces import OUTPUTS, WORK_FIELDS, ContactSet, WheelsetContact, profile_wheelset_forces
+from express.rail.contact_forces import (
+    OUTPUTS,
+    WORK_FIELDS,
+    ContactSet,
+    WheelsetContact,
+    patch_area,
+    profile_wheelset_forces,
+)
 from express.rail.options import CreepLaw
 
 __all__ = ["contact_force_history", "contact_rhs", "contact_wheel_outputs"]
@@ -58,7 +65,7 @@ def contact_wheel_outputs(vehicle, history: np.ndarray, q: np.ndarray, loads: st
         vertical_load=pair("Q"), lateral_force=pair("Y"), longitudinal_force=pair("Fx"), contact_position=pair("u"),
         contact_angle=pair("angle"), angle_of_attack=q[:, [w.psi for w in vehicle.wheelsets]],
         static_load=np.array([w.wheel_load for w in vehicle.wheelsets], dtype=float), loads=loads,
-        frictional_power=pair("Tgamma"), patch_area=pair("area"))
+        frictional_power=pair("Tgamma"), patch_area=patch_area(pair("unit_area"), pair("N")))
 
 
 def contact_rhs(vehicle, track, contacts: list[WheelsetContact], *, speed: float | None = None, start: float = 0.0,
