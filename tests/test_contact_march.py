@@ -136,6 +136,16 @@ def test_energy_outputs_of_a_run(s1002):
     assert np.all((w.patch_area > 1e-6) & (w.patch_area < 1e-3))  # 1 to 1000 mm^2
     assert np.array_equal(o["wear1R"], wear_rate_of_contact(o["Tgamma1R"], w.patch_area[:, 0, 1]))
     assert len(OUTPUTS) == len(set(OUTPUTS))
+    # the wear across the profile holds the wear rate's mass (rate x A x distance), to 1e-12
+    from express.rail.wear_profile import WHEEL_STEEL_DENSITY, rolled_per_instant
+
+    rolled = rolled_per_instant(run.distance)
+    edges = np.linspace(-0.06, 0.04, 201)
+    depth = w.wheel_wear_depth(rolled, edges, radius=0.46)
+    mass = np.sum(depth * np.diff(edges), axis=-1) * 2 * math.pi * 0.46 * WHEEL_STEEL_DENSITY  # (n, 2)
+    rate = wear_rate_of_contact(w.frictional_power, w.patch_area) * w.patch_area * 1e6
+    assert mass == pytest.approx(np.einsum("k,kjs->js", rolled, rate) * 1e-9, rel=1e-12)
+    assert w.wheel_position[0, 0, 0] < -0.02  # the flange: toward the wheel's inside
     dead = simulate(s1002, TRACK, speed=50.0, dt=0.005, end=50.0, initial_state=state, progress=False,
                     contact="deadband")
     assert not [name for name in dead.outputs if name.startswith(("Tgamma", "wear", "rcf"))]

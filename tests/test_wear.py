@@ -131,3 +131,21 @@ def test_patch_area_is_the_hertz_ellipse(contact):
             area = patch_area(f[f"unit_area_{side}"], f[f"N_{side}"])
             assert area == pytest.approx(math.pi * a * b * f[f"N_{side}"] ** (2 / 3), rel=1e-12)
     assert patch_area(1e-6, -5.0) == 0.0
+
+
+@pytest.mark.parametrize(("positions", "tolerance"), [
+    ((-3e-3, 1e-3, 2e-3, 4e-3, 5.5e-3), 2.2e-7),  # tread: achieved 1.7e-7 m
+    ((6.5e-3, 8e-3, 9.5e-3), 1.2e-4),  # flange: achieved 8.9e-5 m (0.09 mm)
+])
+def test_contact_position_on_the_wheel(contact, positions, tolerance):
+    """The kernel's ``wheel_u`` (the track-plane arm turned back by the roll, less the
+    centred contact's) against the contact geometry's position on the wheel profile, both
+    from the centred wheelset's contact point; positive toward the field side."""
+    wheel, rail = standard_profile("S1002"), standard_profile("60E1")
+    centred = np.asarray(contact_geometry(wheel, rail, np.array([0.0]), ContactSetup()).at(0.0)["wheel_position"])
+    for y in positions:
+        y = _grid_node(contact, y)
+        f = quasi_static_forces(contact, y, law="fastsim")
+        geometry = contact_geometry(wheel, rail, np.array([y]), ContactSetup()).at(y)
+        expected = np.asarray(geometry["wheel_position"], dtype=float) - centred
+        assert abs(f["wheel_u_left"] - expected[0]) < tolerance and abs(f["wheel_u_right"] - expected[1]) < tolerance

@@ -66,3 +66,22 @@ def test_bad_inputs_are_refused():
         profile_wear_depth([0, 0], 0, B, N, GAMMA, D, coefficient=K, hardness=H, radius=R)
     with pytest.raises(ValueError, match="semi_b"):
         profile_wear_depth([0, 1], 0, 0.0, N, GAMMA, D, coefficient=K, hardness=H, radius=R)
+
+
+def test_usfd_wear_on_the_profile_holds_the_mass():
+    """The USFD wear rate's mass (rate x A x distance) equals the profile's depth x width x
+    2 pi R x density, to 1e-13 (achieved: rounding); the trapezoid weights of a run's
+    distances sum to its length."""
+    from express.rail.wear import wear_rate_of_contact
+    from express.rail.wear_profile import WHEEL_STEEL_DENSITY, rolled_per_instant, usfd_profile_wear
+
+    distance = np.linspace(0.0, 30.0, 7)
+    rolled = rolled_per_instant(distance)
+    assert float(np.sum(rolled)) == pytest.approx(30.0, rel=1e-15)
+    tgamma, area = np.array([5.0, 50.0, 120.0, 150.0, 0.0, 80.0, 90.0]), np.full(7, 30e-6)
+    centre = np.linspace(-0.01, 0.01, 7)
+    edges = np.linspace(-0.03, 0.03, 61)
+    depth = usfd_profile_wear(edges, centre, B, tgamma, area, rolled, radius=R)
+    mass = float(np.sum(depth * np.diff(edges)) * 2 * math.pi * R * WHEEL_STEEL_DENSITY)
+    expected = float(np.sum(wear_rate_of_contact(tgamma, area) * area * 1e6 * rolled) * 1e-9)
+    assert mass == pytest.approx(expected, rel=1e-13)

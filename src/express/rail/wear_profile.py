@@ -15,7 +15,9 @@ the wheel's circumference ``2 pi R``.  For the two pressure distributions here:
 
 :func:`profile_wear_depth` integrates ``q`` over each cell of a lateral grid exactly (its
 antiderivative), so that the volume on the profile equals the patch's to rounding
-whatever the grid.  Sources and limits: ``docs/wear.md``, "Wear across the profile".
+whatever the grid.  :func:`usfd_profile_wear` spreads the USFD wear rate of a run's
+contacts (:mod:`express.rail.wear`) the same way, the mass as a volume of steel.  Sources
+and limits: ``docs/wear.md``, "Wear across the profile".
 """
 
 from __future__ import annotations
@@ -26,12 +28,16 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from express.base.diagnostics import ArgumentError
+from express.rail.wear import wear_rate_of_contact
 
-__all__ = ["PRESSURES", "archard_volume", "profile_wear_depth"]
+__all__ = ["PRESSURES", "WHEEL_STEEL_DENSITY", "archard_volume", "profile_wear_depth", "rolled_per_instant",
+           "spread_volume", "usfd_profile_wear"]
 
 FloatArray = NDArray[np.float64]
 #: The pressure distributions of :func:`profile_wear_depth`.
 PRESSURES = ("hertz", "uniform")
+#: Density of wheel steel [kg/m^3] (carbon steel; an assumption, not a measured R8T value).
+WHEEL_STEEL_DENSITY = 7850.0
 
 
 def archard_volume(coefficient: float, normal: ArrayLike, sliding: ArrayLike, hardness: float) -> FloatArray:
@@ -49,10 +55,33 @@ def _load_fraction(t: FloatArray, pressure: str) -> FloatArray:
     return 0.5 + (t * np.sqrt(1.0 - t * t) + np.arcsin(t)) / math.pi
 
 
+def spread_volume(edges: ArrayLike, centre: ArrayLike, semi_b: ArrayLike, volume: ArrayLike, *, radius: float,
+                  pressure: str = "hertz") -> FloatArray:
+    """Mean depth [m] of each cell of a lateral grid (``edges``, shape (M + 1,), [m],
+    increasing) when contacts remove ``volume`` [m^3] each (shape (K,), broadcast with
+    ``centre`` and ``semi_b`` [m]) in proportion to their line load (``pressure``, module
+    docstring), spread over the circumference ``2 pi radius``; shape (M,)."""
+    if pressure not in PRESSURES:
+        raise ArgumentError(f"pressure {pressure!r}: use one of {', '.join(PRESSURES)}")
+    edges = np.asarray(edges, dtype=float)
+    width = np.diff(edges)
+    if edges.ndim != 1 or width.size < 1 or not np.all(width > 0):
+        raise ArgumentError("edges must be at least two increasing lateral coordinates")
+    if not radius > 0:
+        raise ArgumentError("the radius must be positive")
+    centre, semi_b, volume = np.broadcast_arrays(*(np.atleast_1d(np.asarray(v, dtype=float))
+                                                   for v in (centre, semi_b, volume)))
+    if np.any(semi_b <= 0):
+        raise ArgumentError("semi_b must be positive")
+    share = np.diff(_load_fraction((edges[None, :] - centre[:, None]) / semi_b[:, None], pressure), axis=1)
+    return (volume @ share) / (2.0 * math.pi * radius * width)
+
+
 def profile_wear_depth(edges: ArrayLike, centre: ArrayLike, semi_b: ArrayLike, normal: ArrayLike, slip: ArrayLike,
                        distance: ArrayLike, *, coefficient: float, hardness: float, radius: float,
                        pressure: str = "hertz") -> FloatArray:
-    """Depth worn off each cell of a lateral grid of the wheel profile [m] by contacts.
+    """Depth worn off each cell of a lateral grid of the wheel profile [m] by contacts,
+    by Archard's law.
 
     Parameters
     ----------
@@ -77,18 +106,37 @@ def profile_wear_depth(edges: ArrayLike, centre: ArrayLike, semi_b: ArrayLike, n
         Mean depth of each cell [m]; ``sum(depth * width) 2 pi R`` is the Archard volume of
         the contacts' parts inside the grid.
     """
-    if pressure not in PRESSURES:
-        raise ArgumentError(f"pressure {pressure!r}: use one of {', '.join(PRESSURES)}")
-    edges = np.asarray(edges, dtype=float)
-    width = np.diff(edges)
-    if edges.ndim != 1 or width.size < 1 or not np.all(width > 0):
-        raise ArgumentError("edges must be at least two increasing lateral coordinates")
-    if not (coefficient >= 0 and hardness > 0 and radius > 0):
-        raise ArgumentError("the wear coefficient must be >= 0, the hardness and the radius > 0")
-    centre, semi_b, normal, slip, distance = np.broadcast_arrays(
-        *(np.atleast_1d(np.asarray(v, dtype=float)) for v in (centre, semi_b, normal, slip, distance)))
-    if np.any(semi_b <= 0):
-        raise ArgumentError("semi_b must be positive")
-    volume = archard_volume(coefficient, np.maximum(normal, 0.0), np.abs(slip) * distance, hardness)  # (K,)
-    share = np.diff(_load_fraction((edges[None, :] - centre[:, None]) / semi_b[:, None], pressure), axis=1)
-    return (volume @ share) / (2.0 * math.pi * radius * width)
+    if not (coefficient >= 0 and hardness > 0):
+        raise ArgumentError("the wear coefficient must be >= 0, the hardness > 0")
+    normal, slip, distance = np.broadcast_arrays(*(np.atleast_1d(np.asarray(v, dtype=float))
+                                                   for v in (normal, slip, distance)))
+    volume = archard_volume(coefficient, np.maximum(normal, 0.0), np.abs(slip) * distance, hardness)
+    return spread_volume(edges, centre, semi_b, volume, radius=radius, pressure=pressure)
+
+
+def usfd_profile_wear(edges: ArrayLike, centre: ArrayLike, semi_b: ArrayLike, tgamma: ArrayLike, area: ArrayLike,
+                      rolled: ArrayLike, *, radius: float, density: float = WHEEL_STEEL_DENSITY,
+                      pressure: str = "hertz") -> FloatArray:
+    """Depth worn off each cell of a lateral grid of the wheel profile [m] by the USFD
+    wear rate of contacts (:func:`express.rail.wear.wear_rate_of_contact`: Tgamma [N],
+    patch area [m^2]) over the distances ``rolled`` [m] (all shape (K,), broadcast; the
+    patch centres ``centre`` and lateral semi-axes ``semi_b`` [m]): the mass
+    ``rate x A x rolled`` [ug] as a volume of steel of ``density`` [kg/m^3], spread by
+    :func:`spread_volume`; shape (M,)."""
+    if not density > 0:
+        raise ArgumentError("the density must be positive")
+    area = np.asarray(area, dtype=float)
+    mass = wear_rate_of_contact(tgamma, area) * (area * 1e6) * np.asarray(rolled, dtype=float) * 1e-9  # kg
+    return spread_volume(edges, centre, np.where(np.asarray(semi_b) > 0, semi_b, 1.0), mass / density,
+                         radius=radius, pressure=pressure)
+
+
+def rolled_per_instant(distance: ArrayLike) -> FloatArray:
+    """The distance each instant of a run stands for [m] (trapezoidal weights of the
+    distances ``distance``, shape (N,)): half the interval on each side; they sum to the
+    run's length."""
+    d = np.asarray(distance, dtype=float)
+    if d.size < 2:
+        raise ArgumentError("a run of at least two instants")
+    step = np.diff(d)
+    return np.concatenate([[0.5 * step[0]], 0.5 * (step[:-1] + step[1:]), [0.5 * step[-1]]])

@@ -53,6 +53,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from express.base.diagnostics import ArgumentError
 from express.rail.wear import burstow_damage, wear_rate_of_contact
+from express.rail.wear_profile import WHEEL_STEEL_DENSITY, usfd_profile_wear
 
 __all__ = ["FLANGE_CONTACT_ANGLE", "SIDES", "WheelRailOutputs", "column_unit"]
 
@@ -101,6 +102,10 @@ class WheelRailOutputs:
         Tgamma of each contact [N] (the contact tables' runs; ``None`` otherwise).
     patch_area : numpy.ndarray, shape (N, n, 2), optional
         Area of each Hertz patch [m^2], with ``frictional_power``.
+    wheel_position, patch_semi_b : numpy.ndarray, shape (N, n, 2), optional
+        Each contact's position on the wheel profile from the centred wheelset's contact,
+        positive toward the field side [m], and its patch's lateral semi-axis [m] (the
+        contact tables' runs): for :meth:`wheel_wear_depth`.
     """
 
     vertical_load: FloatArray
@@ -113,10 +118,12 @@ class WheelRailOutputs:
     loads: str = "quasi-static estimate"
     frictional_power: FloatArray | None = None
     patch_area: FloatArray | None = None
+    wheel_position: FloatArray | None = None
+    patch_semi_b: FloatArray | None = None
 
     def __post_init__(self) -> None:
         shape = _per_wheel(self.vertical_load, "vertical_load").shape
-        energy = ("frictional_power", "patch_area")
+        energy = ("frictional_power", "patch_area", "wheel_position", "patch_semi_b")
         if (self.frictional_power is None) != (self.patch_area is None):
             raise ArgumentError("frictional_power and patch_area come together")
         for name in ("lateral_force", "longitudinal_force", "contact_position", "contact_angle", *energy):
@@ -196,6 +203,26 @@ class WheelRailOutputs:
         """Burstow's RCF damage index of each wheel [-], shape (N, n, 2); ``None``
         without the frictional power."""
         return None if self.frictional_power is None else burstow_damage(self.frictional_power)
+
+    def wheel_wear_depth(self, rolled: ArrayLike, edges: ArrayLike, radius: float,
+                         density: float = WHEEL_STEEL_DENSITY) -> FloatArray:
+        """Depth worn off each wheel's profile by the USFD wear rate over the run [m],
+        shape (n, 2, M): on the cells ``edges`` (shape (M + 1,)) of the position on the
+        wheel profile from the centred wheelset's contact, positive toward the field side
+        [m]; ``rolled`` the distance each instant stands for [m], shape (N,)
+        (:func:`express.rail.wear_profile.rolled_per_instant` of a run's distances);
+        ``radius`` the rolling radius [m]; each patch's mass spread by its Hertz line
+        load (``docs/wear.md``)."""
+        if self.frictional_power is None or self.wheel_position is None or self.patch_semi_b is None:
+            raise ArgumentError("the wear across the profile needs the contact tables' record")
+        weights = np.asarray(rolled, dtype=float)
+        if weights.shape != self.frictional_power.shape[:1]:
+            raise ArgumentError(f"rolled must have shape ({self.frictional_power.shape[0]},), got {weights.shape}")
+        assert self.patch_area is not None
+        return np.array([[usfd_profile_wear(edges, self.wheel_position[:, j, k], self.patch_semi_b[:, j, k],
+                                            self.frictional_power[:, j, k], self.patch_area[:, j, k], weights,
+                                            radius=radius, density=density) for k in range(2)]
+                         for j in range(self.wheelsets)])
 
     def _energy_columns(self) -> dict[str, FloatArray]:
         out: dict[str, FloatArray] = {}
