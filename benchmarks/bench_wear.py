@@ -13,8 +13,8 @@ bundled curve R400 (150 mm cant, 580 m) at 80 km/h with the contact tables (FAST
 ``simulate()`` call timed in CPU time (``time.process_time``: the machine is shared; wall
 time printed too): the march (the kernel now also computes each contact's creepages,
 Tgamma and patch area) and the per-wheel columns (the wear and RCF functions on the
-record); and the force kernel alone over the run's states (``contact_force_history``,
-static loads).  Each measurement is a fresh process of one source tree (this one, or the
+record); the force kernel alone over the run's states (``contact_force_history``,
+static loads); and the record's columns (``WheelRailOutputs.columns``, 30 times).  Each measurement is a fresh process of one source tree (this one, or the
 baseline's), a warm-up run (Numba's cache), then ``--runs`` timed runs (the kernel
 ``3 x --runs``), their median; the two trees alternate for ``--rounds`` rounds, so that a
 change of the machine's load falls on both.  Printed: every round's medians, then the
@@ -80,9 +80,16 @@ for _ in range(3 * runs):
     begin = time.process_time()
     kernel()
     alone.append(time.process_time() - begin)
+# the per-wheel columns of the record (the wear and RCF functions on it)
+columns = []
+for _ in range(30):
+    begin = time.process_time()
+    result.wheel_rail.columns()
+    columns.append(time.process_time() - begin)
 print(json.dumps({"source": express.__file__, "wall": statistics.median(wall), "cpu": statistics.median(cpu),
                   "kernel": statistics.median(alone), "cpu_min": min(cpu), "kernel_min": min(alone),
-                  "steps": len(result.time) - 1, "columns": len(result.outputs)}))
+                  "columns": statistics.median(columns),
+                  "steps": len(result.time) - 1, "names": len(result.outputs)}))
 """
 
 
@@ -112,11 +119,12 @@ def main() -> None:
         base, new = measure(options.baseline_src, runs), measure(here, runs)
         for key, found in ratios.items():
             found.append(new[key] / base[key])
-        print(f"round {k + 1} ({new['steps']} steps; {base['columns']} -> {new['columns']} columns): "
+        print(f"round {k + 1} ({new['steps']} steps; {base['names']} -> {new['names']} columns): "
               f"simulate() CPU {base['cpu'] * 1e3:.1f} -> {new['cpu'] * 1e3:.1f} ms (ratio {ratios['cpu'][-1]:.3f}), "
               f"wall {base['wall'] * 1e3:.1f} -> {new['wall'] * 1e3:.1f} ms; the kernel alone over the run's "
               f"states, CPU {base['kernel'] * 1e3:.2f} -> {new['kernel'] * 1e3:.2f} ms "
-              f"(ratio {ratios['kernel'][-1]:.3f})")
+              f"(ratio {ratios['kernel'][-1]:.3f}); the record's columns {base['columns'] * 1e3:.2f} -> "
+              f"{new['columns'] * 1e3:.2f} ms")
     ratio = statistics.median(ratios["cpu"])
     print(f"median ratios over the rounds: simulate() CPU {ratio:.3f}, wall {statistics.median(ratios['wall']):.3f}, "
           f"kernel alone {statistics.median(ratios['kernel']):.3f}; of the fastest runs (minima): simulate() CPU "
