@@ -60,9 +60,7 @@ def contact_wheel_outputs(vehicle, history: np.ndarray, q: np.ndarray, loads: st
     column = {name: k for k, name in enumerate(OUTPUTS)}
 
     def pair(name: str) -> np.ndarray:
-        left = column[f"{name}_left"]  # the right one follows it in OUTPUTS: a view, not a copy
-        assert column[f"{name}_right"] == left + 1
-        return history[:, :, left:left + 2]
+        return history[:, :, [column[f"{name}_left"], column[f"{name}_right"]]]
 
     return WheelRailOutputs(
         vertical_load=pair("Q"), lateral_force=pair("Y"), longitudinal_force=pair("Fx"), contact_position=pair("u"),
