@@ -234,3 +234,24 @@ def test_a_profile_read_by_the_track_is_an_input(capsys, tmp_path):
     before = profile.read_bytes()
     assert_input_error(capsys, "simulate", CONVENTIONAL, "--track", track, "-o", profile, mentions="refusing")
     assert profile.read_bytes() == before
+
+
+def test_assess_reports_wear_and_rcf_per_wheel(capsys, short_track, tmp_path):
+    """With the contact tables, ``--assess`` gives each wheel's largest and mean Tgamma,
+    USFD wear rate and RCF index (``assessment.wear`` in JSON, a table in the text), and
+    the CSV has their columns with units (docs/wear.md)."""
+    from cli_support import EXAMPLES
+
+    model = str(EXAMPLES / "manchester-s1002.toml")
+    table = tmp_path / "run.csv"
+    data = run_json(capsys, "simulate", model, "--track", str(short_track), "--speed", "60", "--assess", "-o",
+                    str(table))
+    wear = data["assessment"]["wear"]
+    assert [w["wheel"] for w in wear] == [f"{j}{s}" for j in range(1, 5) for s in "LR"]
+    for w in wear:
+        assert 0.0 <= w["tgamma_mean"] <= w["tgamma_max"] and 0.0 <= w["wear_mean"] <= w["wear_max"]
+        assert 0.0 <= w["rcf_mean"] <= w["rcf_max"] <= 1e-5
+    header = table.read_text().splitlines()[0].split(",")
+    assert {"Tgamma1L_N", "wear4R_ug_m_mm2", "rcf2L"} <= set(header)
+    status, out, _ = run(capsys, "simulate", model, "--track", str(short_track), "--speed", "60", "--assess")
+    assert status == 0 and "wear and RCF per wheel" in out and "\n  4R " in out

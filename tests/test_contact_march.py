@@ -115,6 +115,42 @@ def test_outputs_and_options(s1002):
         simulate(s1002, TRACK, speed=50.0, end=50.0, progress=False, creep_law="coulomb")
 
 
+def test_energy_outputs_of_a_run(s1002):
+    """Tgamma, the USFD wear rate and Burstow's index of every wheel (docs/wear.md) are
+    columns of a contact-tables run, with units: the flanging wheel dissipates more
+    than the other; the wear and RCF columns are the functions of the recorded Tgamma and
+    patch area (bit for bit); the dead-band run has none."""
+    from express.rail.contact_forces import OUTPUTS
+    from express.rail.wear import burstow_damage, wear_rate_of_contact
+
+    state = np.zeros(s1002.form.size)
+    state[0] = 9e-3
+    run = simulate(s1002, TRACK, speed=50.0, dt=0.005, end=50.0, initial_state=state, progress=False)
+    o, units = run.outputs, run.units()
+    assert (units["Tgamma1L"], units["wear1L"], units["rcf1R"]) == ("N", "ug/m/mm^2", "")
+    assert o["Tgamma1L"][0] > 1.5 * o["Tgamma1R"][0] > 0.0  # on the flange (153 N), the other on its tread (86 N)
+    w = run.wheel_rail
+    assert w is not None and w.frictional_power is not None
+    assert np.array_equal(o["Tgamma1L"], w.frictional_power[:, 0, 0])
+    assert np.array_equal(o["rcf1L"], burstow_damage(o["Tgamma1L"]))
+    assert np.all((w.patch_area > 1e-6) & (w.patch_area < 1e-3))  # 1 to 1000 mm^2
+    assert np.array_equal(o["wear1R"], wear_rate_of_contact(o["Tgamma1R"], w.patch_area[:, 0, 1]))
+    assert len(OUTPUTS) == len(set(OUTPUTS))
+    # the wear across the profile holds the wear rate's mass (rate x A x distance), to 1e-12
+    from express.rail.wear_profile import WHEEL_STEEL_DENSITY, rolled_per_instant
+
+    rolled = rolled_per_instant(run.distance)
+    edges = np.linspace(-0.06, 0.04, 201)
+    depth = w.wheel_wear_depth(rolled, edges, radius=0.46)
+    mass = np.sum(depth * np.diff(edges), axis=-1) * 2 * math.pi * 0.46 * WHEEL_STEEL_DENSITY  # (n, 2)
+    rate = wear_rate_of_contact(w.frictional_power, w.patch_area) * w.patch_area * 1e6
+    assert mass == pytest.approx(np.einsum("k,kjs->js", rolled, rate) * 1e-9, rel=1e-12)
+    assert w.wheel_position[0, 0, 0] < -0.02  # the flange: toward the wheel's inside
+    dead = simulate(s1002, TRACK, speed=50.0, dt=0.005, end=50.0, initial_state=state, progress=False,
+                    contact="deadband")
+    assert not [name for name in dead.outputs if name.startswith(("Tgamma", "wear", "rcf"))]
+
+
 def test_linear_coefficients_follow_the_speed(s1002):
     slow, fast = linear_coefficients(s1002, 20.0), linear_coefficients(s1002, 40.0)
     assert slow[0, 2] == pytest.approx(2 * fast[0, 2])  # C ~ 1/v

@@ -60,3 +60,27 @@ def test_flange_threshold_is_documented_value():
 def test_bad_shapes_are_refused(field, value, match):
     with pytest.raises(ValueError, match=match):
         _record(**{field: value})
+
+
+def test_energy_columns_come_with_the_frictional_power():
+    """Tgamma, the USFD wear rate at Tgamma / A and Burstow's index per wheel, after the
+    other columns, with units; none without the frictional power (the dead-band model)."""
+    assert not [name for name in _record().columns() if name.startswith(("Tgamma", "wear", "rcf"))]
+    power = np.array([[[100.0, 40.0], [5.0, 0.0]]])
+    area = np.array([[[20e-6, 40e-6], [50e-6, 0.0]]])  # 20, 40, 50 mm^2 and a lifted wheel's none
+    out = _record(frictional_power=power, patch_area=area)
+    columns, units = out.columns(), out.units()
+    assert list(columns)[-12:-9] == ["Tgamma1L", "Tgamma1R", "wear1L"]
+    assert columns["wear1L"].tolist() == pytest.approx([26.5], rel=1e-15)  # 100 N / 20 mm^2 = 5 N/mm^2, mild: 5.3 x 5
+    assert columns["wear1R"].tolist() == pytest.approx([5.3 * 1.0])  # 40 N / 40 mm^2
+    assert columns["wear2R"].tolist() == [0.0]
+    assert columns["rcf1L"].tolist() == pytest.approx([1e-5 * (175 - 100) / 110], rel=1e-12)
+    assert columns["rcf2L"].tolist() == [0.0]
+    assert (units["Tgamma1L"], units["wear2R"], units["rcf1R"]) == ("N", "ug/m/mm^2", "")
+
+
+def test_frictional_power_and_area_come_together():
+    with pytest.raises(ValueError, match="together"):
+        _record(frictional_power=np.zeros((1, 2, 2)))
+    with pytest.raises(ValueError, match="shape"):
+        _record(frictional_power=np.zeros((1, 2, 3)), patch_area=np.zeros((1, 2, 3)))

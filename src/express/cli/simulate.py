@@ -169,6 +169,12 @@ def _print_assessment(assessment: Any, stream: Any) -> None:
         print(f"  {c.name:<12} {c.value * scale:9.3f}{unit}  limit {limit:<12} {verdict}", file=stream)
     if assessment.derailment is not None:
         print(f"  DERAILMENT: {assessment.derailment}", file=stream)
+    if assessment.wear:
+        print("wear and RCF per wheel (docs/wear.md; max / mean over the run):", file=stream)
+        print(f"  {'wheel':<6} {'Tgamma [N]':>17} {'wear [ug/(m mm^2)]':>19} {'RCF index [-]':>21}", file=stream)
+        for w in assessment.wear:
+            print(f"  {w.wheel:<6} {w.tgamma_max:8.2f} {w.tgamma_mean:8.2f} {w.wear_max:9.3f} {w.wear_mean:9.3f} "
+                  f"{w.rcf_max:10.3e} {w.rcf_mean:10.3e}", file=stream)
 
 
 def _files_read_by(road: Any) -> list[str]:
@@ -237,6 +243,12 @@ def _with_unit(name: str, value: float) -> str:
     from express.analysis.time.simulate import output_unit
 
     unit = output_unit(name)
+    if name.startswith("Tgamma"):
+        return f"{value:10.3f} N"
+    if name.startswith("wear"):
+        return f"{value:10.4f} ug/(m mm^2)"
+    if name.startswith("rcf"):
+        return f"{value:10.3e}"
     if unit == "N":
         return f"{value / 1e3:10.3f} kN"
     if unit == "rad":

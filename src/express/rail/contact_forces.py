@@ -31,7 +31,10 @@ simulation"):
   polach`) at ``N = Q / cos(delta)``, the last by the chosen law (Polach or FASTSIM,
   :func:`express.rail.creep_law.fastsim`) at the corrected ``N`` and balanced rotation;
 * on the wheelset: ``Y = sum(-sigma N sin(delta) + T cos(delta))`` and
-  ``M = sum(-sigma l Fx) + sum(x_s Y_s)``.
+  ``M = sum(-sigma l Fx) + sum(x_s Y_s)``;
+* per contact, the frictional power per unit rolling distance
+  ``Tgamma = |Fx xi + T eta|`` at the balanced rotation (no spin moment: neither law
+  gives one) and the patch's area per ``N^(2/3)``, ``pi a b`` at 1 N (``docs/wear.md``).
 
 The vertical load of each wheel is an argument: the static load
 (:func:`quasi_static_forces`' default, as the Manchester benchmark's case A) or the
@@ -60,6 +63,7 @@ from express.rail.contact_tables import (
     FIELDS,
     LEAD_RATE,
     RADIUS,
+    ROLL,
     ROLL_SLOPE,
     SECANT_CBRT,
     SEMI_A,
@@ -83,6 +87,7 @@ __all__ = [
     "ContactSet",
     "WheelsetContact",
     "contact_set",
+    "patch_area",
     "profile_wheelset_forces",
     "quasi_static_forces",
     "wheelset_contact",
@@ -90,7 +95,11 @@ __all__ = [
 
 #: Entries of the output vector of :func:`profile_wheelset_forces`.
 OUTPUTS = ("Y", "M", "N_left", "N_right", "Y_left", "Y_right", "Fx_left", "Fx_right", "u_left", "u_right",
-           "angle_left", "angle_right", "beyond", "Q_left", "Q_right", "Mx")
+           "angle_left", "angle_right", "beyond", "Q_left", "Q_right", "Mx",
+           # energy (issue 37): the creepages and the lateral creep force the law gave, Tgamma, the patch
+           "xi_left", "xi_right", "eta_left", "eta_right", "phi_left", "phi_right", "T_left", "T_right",
+           "Tgamma_left", "Tgamma_right", "unit_area_left", "unit_area_right", "unit_b_left", "unit_b_right",
+           "wheel_u_left", "wheel_u_right")
 #: Creep laws of :func:`profile_wheelset_forces`, by named constant and by name.
 POLACH, FASTSIM = 0, 1
 LAWS = {"polach": POLACH, "fastsim": FASTSIM}
@@ -106,6 +115,8 @@ def _sides(name: str) -> tuple[int, int]:
 _OUT_Y, _OUT_M, _OUT_BEYOND, _OUT_ROLL = (OUTPUTS.index(name) for name in ("Y", "M", "beyond", "Mx"))
 _OUT_NORMAL, _OUT_LATERAL, _OUT_FX, _OUT_U, _OUT_ANGLE, _OUT_LOAD = (
     _sides(name) for name in ("N", "Y", "Fx", "u", "angle", "Q"))
+_OUT_XI, _OUT_ETA, _OUT_PHI, _OUT_CREEP_Y, _OUT_TGAMMA, _OUT_AREA, _OUT_SEMI_B, _OUT_WHEEL_U = (
+    _sides(name) for name in ("xi", "eta", "phi", "T", "Tgamma", "unit_area", "unit_b", "wheel_u"))
 #: Newton iterations (at most) of the wheel's rotation on the pitch balance.
 _NEWTON = 3
 #: Newton on the pitch balance stops after a step below this (after one on the corrected
@@ -306,7 +317,13 @@ def profile_wheelset_forces(contacts, j, load_left, load_right, y, psi, y_dot, p
     position ``u`` on the rail (lateral, from the centred wheelset's contact point, +y left;
     the rail's own deflection not included), contact angle, the overshoot beyond the tables [m], its vertical
     load ``Q``, and the roll moment ``Mx`` [N m] of the rails' forces about the wheelset
-    centre, ``sum(sigma l Q + r Y_wheel)`` (roll positive lifting the left wheel).
+    centre, ``sum(sigma l Q + r Y_wheel)`` (roll positive lifting the left wheel); then
+    each contact's creepages ``xi``, ``eta``, ``phi`` [-, -, 1/m] at the balanced rotation,
+    its lateral creep force ``T`` in the contact plane [N], the frictional power per unit
+    rolling distance ``Tgamma = |Fx xi + T eta|`` [N] and the Hertz patch's area per
+    ``N^(2/3)`` [m^2 / N^(2/3)] (:func:`_energy`; :func:`patch_area` gives the area), its
+    lateral semi-axis per ``N^(1/3)`` [m / N^(1/3)], and the contact's position on the
+    wheel profile from the centred wheelset's contact [m], positive toward the field side.
 
     ``contacts`` is a :class:`ContactSet`; ``load_left``, ``load_right`` [N] the vertical
     wheel loads Q (``contacts.wheel_load[j]`` each for the static ones; a wheel with
@@ -358,7 +375,7 @@ def profile_wheelset_forces(contacts, j, load_left, load_right, y, psi, y_dot, p
     _creep_pass(work, POLACH, rate, q, friction, shear_modulus, loads, False)
     rate = _balanced_rate(work, rate, q, friction, shear_modulus)
     _creep_pass(work, contacts.law, rate, q, friction, shear_modulus, loads, True)
-    _close_pitch_balance(work)
+    rate += _close_pitch_balance(work)
     total_y = 0.0
     total_m = 0.0
     total_roll = 0.0
@@ -380,10 +397,43 @@ def profile_wheelset_forces(contacts, j, load_left, load_right, y, psi, y_dot, p
         out[_OUT_U[side]] = work[side, _U] + sigma * (arm - contacts.centred_arm[j, side])
         out[_OUT_ANGLE[side]] = work[side, ANGLE]
         out[_OUT_LOAD[side]] = load_left if side == 0 else load_right
+        _energy(work, side, rate, q, out)
+        out[_OUT_WHEEL_U[side]] = _along_axle(sigma, arm, work[side, RADIUS], work[side, ROLL]) - contacts.centred_arm[j, side]
     out[_OUT_Y] = total_y - contacts.wall[j] * extra
     out[_OUT_M] = total_m
     out[_OUT_ROLL] = total_roll
     out[_OUT_BEYOND] = extra
+
+
+@njit(cache=True)
+def _energy(work, side, rate, q, out):
+    """The creepages of contact ``side`` at the balanced rotation ``rate``, its lateral
+    creep force ``T`` (in the contact plane), the frictional power per unit rolling
+    distance ``Tgamma = |Fx xi + T eta|`` [N] (the spin moment's share ``Mz phi`` is
+    not included: neither law gives ``Mz``; ``docs/wear.md``) and the Hertz patch's area
+    per ``N^(2/3)``, ``pi a b`` of the tables' semi-axes of 1 N [m^2 / N^(2/3)] (the area
+    is that times ``N^(2/3)`` of the final normal force: the power is left to NumPy) into
+    ``out``."""
+    xi, eta, phi = _creepages(work, side, rate, q)
+    fx, fy = work[side, _FX], work[side, _LATERAL]
+    out[_OUT_XI[side]] = xi
+    out[_OUT_ETA[side]] = eta
+    out[_OUT_PHI[side]] = phi
+    out[_OUT_CREEP_Y[side]] = fy
+    out[_OUT_TGAMMA[side]] = abs(fx * xi + fy * eta)
+    out[_OUT_AREA[side]] = math.pi * work[side, SEMI_A] * work[side, SEMI_B]
+    out[_OUT_SEMI_B[side]] = work[side, SEMI_B]
+
+
+@njit(cache=True)
+def _along_axle(sigma, arm, radius, roll):
+    """The contact's lateral place on the wheel, along the axle from the wheelset centre
+    [m]: the track-plane arm turned back by the roll, ``arm cos(roll) - sigma r sin(roll)``
+    (to fourth order in the roll, below 2e-9 relative at the tables' 15 mrad).  Less the
+    centred contact's (no roll there) it is the position on the wheel profile, positive
+    toward the field side."""
+    square = roll * roll
+    return arm * (1.0 - 0.5 * square) - sigma * radius * roll * (1.0 - square / 6.0)
 
 
 @njit(cache=True)
@@ -466,12 +516,15 @@ def _close_pitch_balance(work):
     the chosen law's forces at the corrected normal forces leave a residual pitch moment
     (another law than the balance's, another N); the rotation's change
     ``-residual / sum(k r^2)`` moves each wheel's ``Fx`` by ``k r`` times it (``k`` the
-    tangent stiffnesses of the balance)."""
+    tangent stiffnesses of the balance); returns that change of ``omega / v`` (0 without
+    a slope)."""
     residual, slope = _pitch_moment(work)
+    change = 0.0
     if slope > 0.0:
         change = -residual / slope
         for side in range(2):
             work[side, _FX] += work[side, _F11] * work[side, RADIUS] * change
+    return change
 
 
 @njit(cache=True)
@@ -498,6 +551,12 @@ def _lateral_pitch_arm(sigma, psi, r, values):
     ahead = psi * (values[LEAD_RATE] + sigma * values[ARM])
     sin_axle = values[SIN_AXLE]
     return sigma * ahead * sin_axle + psi * r * math.sqrt(max(1.0 - sin_axle * sin_axle, 0.0))
+
+
+def patch_area(unit_area, normal):
+    """Hertz patch area [m^2] from the kernel's ``unit_area`` [m^2 / N^(2/3)] and the
+    normal force ``normal`` [N] (arrays broadcast; a lifted wheel's N <= 0 gives 0)."""
+    return np.asarray(unit_area, dtype=float) * np.maximum(np.asarray(normal, dtype=float), 0.0) ** (2.0 / 3.0)
 
 
 def quasi_static_forces(contact: WheelsetContact, y: float, psi: float = 0.0, y_dot: float = 0.0,

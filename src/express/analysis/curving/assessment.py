@@ -25,6 +25,10 @@ A steady state is one window: its sliding means are its values.  A run **derails
 exceeds Nadal's limit, or a wheel lifts (Q <= 0).  The standard's 20 Hz filtering and the
 percentiles of on-track tests are not applied: a simulation without irregularities is
 assessed by its largest values.
+
+With the contact tables the assessment also carries each wheel's energy and damage
+numbers (:class:`WheelDamage`: Tgamma, the USFD wear rate, Burstow's RCF index, largest
+and mean; ``docs/wear.md``), without limits.
 """
 
 from __future__ import annotations
@@ -47,6 +51,7 @@ __all__ = [
     "YQ_LIMIT_RADIUS",
     "Assessment",
     "Criterion",
+    "WheelDamage",
     "assess",
     "assess_run",
     "assess_steady",
@@ -55,6 +60,7 @@ __all__ = [
     "prudhomme_limit",
     "sliding_mean",
     "smallest_radius",
+    "wheel_damage",
 ]
 
 #: Length of the sliding mean [m] and the spacing of its windows [m].
@@ -134,11 +140,32 @@ class Criterion:
 
 
 @dataclass(frozen=True)
+class WheelDamage:
+    """The energy and damage numbers of one wheel over a run (``docs/wear.md``): the
+    largest and the mean (over the instants, equally spaced in distance) of its
+    frictional power Tgamma [N], USFD wear rate [ug/(m mm^2)] and Burstow RCF damage
+    index per passage [-].  No limits: they are not running-safety criteria."""
+
+    wheel: str
+    tgamma_max: float
+    tgamma_mean: float
+    wear_max: float
+    wear_mean: float
+    rcf_max: float
+    rcf_mean: float
+
+    def as_dict(self) -> dict:
+        return dict(self.__dict__)
+
+
+@dataclass(frozen=True)
 class Assessment:
-    """Every :class:`Criterion` of a run, and whether (and why) it derailed."""
+    """Every :class:`Criterion` of a run, and whether (and why) it derailed; with the
+    contact tables also each wheel's :class:`WheelDamage` (not a criterion)."""
 
     criteria: tuple[Criterion, ...]
     derailment: str | None = None
+    wear: tuple[WheelDamage, ...] = ()
 
     @property
     def passed(self) -> bool:
@@ -146,8 +173,23 @@ class Assessment:
         return all(c.passed is not False for c in self.criteria)
 
     def as_dict(self) -> dict:
-        return {"passed": self.passed, "derailment": self.derailment,
-                "criteria": [c.as_dict() for c in self.criteria]}
+        found = {"passed": self.passed, "derailment": self.derailment,
+                 "criteria": [c.as_dict() for c in self.criteria]}
+        if self.wear:
+            found["wear"] = [w.as_dict() for w in self.wear]
+        return found
+
+
+def wheel_damage(outputs: WheelRailOutputs) -> tuple[WheelDamage, ...]:
+    """Each wheel's :class:`WheelDamage` (none without the frictional power: the
+    dead-band contact)."""
+    if outputs.frictional_power is None:
+        return ()
+    tgamma, wear, rcf = outputs.frictional_power, outputs.wear_rate, outputs.rcf_damage
+    assert wear is not None and rcf is not None
+    return tuple(WheelDamage(f"{j + 1}{side}", *(float(f(values[:, j, k])) for values in (tgamma, wear, rcf)
+                                                 for f in (np.max, np.mean)))
+                 for j in range(outputs.wheelsets) for k, side in enumerate(SIDES))
 
 
 def _check(name: str, quantity: str, value: float, limit: float | None, unit: str = "") -> Criterion:
@@ -199,7 +241,7 @@ def assess(outputs: WheelRailOutputs, distance, *, radius: float, friction: floa
         criteria += _instability(outputs, d, speed, alpha)
     criteria.append(_check("dQQ0", "wheel unloading ΔQ/Q0 of the vehicle", float(outputs.vehicle_unloading.max()),
                            UNLOADING_LIMIT))
-    return Assessment(tuple(criteria), _derailment(outputs, d, climbing, nadal))
+    return Assessment(tuple(criteria), _derailment(outputs, d, climbing, nadal), wheel_damage(outputs))
 
 
 def _instability(outputs: WheelRailOutputs, distance: np.ndarray, speed: float, alpha: float) -> list[Criterion]:

@@ -23,6 +23,20 @@ so their columns are the same (``docs/curving.md``, "Outputs").  Per wheel (``L`
 ``flanging{n}{s}`` [-]
     1 when the contact angle exceeds :data:`FLANGE_CONTACT_ANGLE` (flange contact), else 0.
 
+With the contact tables (not the dead-band model) each wheel also has, after the
+other columns (``docs/wear.md``):
+
+``Tgamma{n}{s}`` [N]
+    the contact's frictional power per unit rolling distance, ``|Fx xi + T eta|`` (the
+    spin moment's share left out: the creep laws give no spin moment);
+``wear{n}{s}`` [ug/m/mm^2]
+    the USFD wear rate of R8T wheel steel at ``Tgamma / A`` (:func:`express.rail.wear.
+    usfd_wear_rate`, ``A`` the Hertz patch's area): mass lost per metre rolled per mm^2
+    of contact;
+``rcf{n}{s}`` [-]
+    Burstow's RCF damage index per passage at ``Tgamma`` (:func:`express.rail.wear.
+    burstow_damage`).
+
 Per wheelset: ``SY{n}`` [N], the track shift force ``Y_L + Y_R`` (Prud'homme's ΣY,
 +y left); ``aoa{n}`` [rad], the angle of attack (the wheelset's yaw from the track
 tangent at its station, positive turning the front to the left). Per vehicle: ``dQQ0``
@@ -38,6 +52,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from express.base.diagnostics import ArgumentError
+from express.rail.wear import burstow_damage, wear_rate_of_contact
+from express.rail.wear_profile import WHEEL_STEEL_DENSITY, usfd_profile_wear
 
 __all__ = ["FLANGE_CONTACT_ANGLE", "SIDES", "WheelRailOutputs", "column_unit"]
 
@@ -82,6 +98,14 @@ class WheelRailOutputs:
     loads : str
         Where Q comes from: ``"dynamic"`` (the model's vertical contact),
         ``"quasi-static estimate"`` (:mod:`express.rail.load_transfer`) or ``"static"``.
+    frictional_power : numpy.ndarray, shape (N, n, 2), optional
+        Tgamma of each contact [N] (the contact tables' runs; ``None`` otherwise).
+    patch_area : numpy.ndarray, shape (N, n, 2), optional
+        Area of each Hertz patch [m^2], with ``frictional_power``.
+    wheel_position, patch_semi_b : numpy.ndarray, shape (N, n, 2), optional
+        Each contact's position on the wheel profile from the centred wheelset's contact,
+        positive toward the field side [m], and its patch's lateral semi-axis [m] (the
+        contact tables' runs): for :meth:`wheel_wear_depth`.
     """
 
     vertical_load: FloatArray
@@ -92,10 +116,19 @@ class WheelRailOutputs:
     angle_of_attack: FloatArray
     static_load: FloatArray
     loads: str = "quasi-static estimate"
+    frictional_power: FloatArray | None = None
+    patch_area: FloatArray | None = None
+    wheel_position: FloatArray | None = None
+    patch_semi_b: FloatArray | None = None
 
     def __post_init__(self) -> None:
         shape = _per_wheel(self.vertical_load, "vertical_load").shape
-        for name in ("lateral_force", "longitudinal_force", "contact_position", "contact_angle"):
+        energy = ("frictional_power", "patch_area", "wheel_position", "patch_semi_b")
+        if (self.frictional_power is None) != (self.patch_area is None):
+            raise ArgumentError("frictional_power and patch_area come together")
+        for name in ("lateral_force", "longitudinal_force", "contact_position", "contact_angle", *energy):
+            if name in energy and getattr(self, name) is None:
+                continue
             if _per_wheel(getattr(self, name), name).shape != shape:
                 raise ArgumentError(f"{name} must have the shape of vertical_load {shape}")
         if np.shape(self.angle_of_attack) != shape[:2]:
@@ -153,6 +186,51 @@ class WheelRailOutputs:
             out[f"SY{j + 1}"] = self.track_shift_force[:, j]
             out[f"aoa{j + 1}"] = self.angle_of_attack[:, j]
         out["dQQ0"] = self.vehicle_unloading
+        if self.frictional_power is not None:
+            out.update(self._energy_columns())
+        return out
+
+    @property
+    def wear_rate(self) -> FloatArray | None:
+        """USFD wear rate of each wheel [ug/(m mm^2)], shape (N, n, 2); ``None`` without
+        the frictional power."""
+        if self.frictional_power is None:
+            return None
+        return wear_rate_of_contact(self.frictional_power, self.patch_area)
+
+    @property
+    def rcf_damage(self) -> FloatArray | None:
+        """Burstow's RCF damage index of each wheel [-], shape (N, n, 2); ``None``
+        without the frictional power."""
+        return None if self.frictional_power is None else burstow_damage(self.frictional_power)
+
+    def wheel_wear_depth(self, rolled: ArrayLike, edges: ArrayLike, radius: float,
+                         density: float = WHEEL_STEEL_DENSITY) -> FloatArray:
+        """Depth worn off each wheel's profile by the USFD wear rate over the run [m],
+        shape (n, 2, M): on the cells ``edges`` (shape (M + 1,)) of the position on the
+        wheel profile from the centred wheelset's contact, positive toward the field side
+        [m]; ``rolled`` the distance each instant stands for [m], shape (N,)
+        (:func:`express.rail.wear_profile.rolled_per_instant` of a run's distances);
+        ``radius`` the rolling radius [m]; each patch's mass spread by its Hertz line
+        load (``docs/wear.md``)."""
+        if self.frictional_power is None or self.wheel_position is None or self.patch_semi_b is None:
+            raise ArgumentError("the wear across the profile needs the contact tables' record")
+        weights = np.asarray(rolled, dtype=float)
+        if weights.shape != self.frictional_power.shape[:1]:
+            raise ArgumentError(f"rolled must have shape ({self.frictional_power.shape[0]},), got {weights.shape}")
+        assert self.patch_area is not None
+        return np.array([[usfd_profile_wear(edges, self.wheel_position[:, j, k], self.patch_semi_b[:, j, k],
+                                            self.frictional_power[:, j, k], self.patch_area[:, j, k], weights,
+                                            radius=radius, density=density) for k in range(2)]
+                         for j in range(self.wheelsets)])
+
+    def _energy_columns(self) -> dict[str, FloatArray]:
+        out: dict[str, FloatArray] = {}
+        per_wheel = (("Tgamma", self.frictional_power), ("wear", self.wear_rate), ("rcf", self.rcf_damage))
+        for j in range(self.wheelsets):
+            for prefix, values in per_wheel:
+                for k, side in enumerate(SIDES):
+                    out[f"{prefix}{j + 1}{side}"] = values[:, j, k]
         return out
 
     def units(self) -> dict[str, str]:
@@ -161,7 +239,7 @@ class WheelRailOutputs:
 
 
 #: Units of the columns by name prefix (longest prefixes first).
-_UNITS = (("flanging", ""), ("gamma", "rad"), ("dQQ0", ""), ("aoa", "rad"), ("YQ", ""), ("Fx", "N"), ("SY", "N"),
+_UNITS = (("Tgamma", "N"), ("wear", "ug/m/mm^2"), ("rcf", ""), ("flanging", ""), ("gamma", "rad"), ("dQQ0", ""), ("aoa", "rad"), ("YQ", ""), ("Fx", "N"), ("SY", "N"),
           ("Q", "N"), ("Y", "N"), ("u", "m"))
 
 

@@ -13,7 +13,14 @@ from numba import njit
 from express.analysis.curving.outputs import WheelRailOutputs
 from express.analysis.time.track_inputs import track_inputs
 from express.forces.contact import contact_arrays, linear_coefficients, linear_wheel_rail
-from express.rail.contact_forces import OUTPUTS, WORK_FIELDS, ContactSet, WheelsetContact, profile_wheelset_forces
+from express.rail.contact_forces import (
+    OUTPUTS,
+    WORK_FIELDS,
+    ContactSet,
+    WheelsetContact,
+    patch_area,
+    profile_wheelset_forces,
+)
 from express.rail.options import CreepLaw
 
 __all__ = ["contact_force_history", "contact_rhs", "contact_wheel_outputs"]
@@ -46,7 +53,9 @@ def contact_force_history(q, q_dot, iy, ipsi, y_rail, rho, speed, contact: Conta
 def contact_wheel_outputs(vehicle, history: np.ndarray, q: np.ndarray, loads: str) -> WheelRailOutputs:
     """The per-wheel record (:class:`~express.analysis.curving.outputs.WheelRailOutputs`)
     of a march from its contact forces ``history`` (recorded by :class:`express.forces.contact.ContactElement`): each wheel's
-    Q, Y, Fx, contact position and angle as the contact used them; the angle of attack is
+    Q, Y, Fx, contact position and angle as the contact used them, its frictional power
+    Tgamma and patch area (the wear and RCF columns), its position on the wheel and the
+    patch's lateral semi-axis (the wear across the profile); the angle of attack is
     each wheelset's yaw ``q[:, psi]``; ``loads`` says where Q came from."""
     column = {name: k for k, name in enumerate(OUTPUTS)}
 
@@ -56,7 +65,9 @@ def contact_wheel_outputs(vehicle, history: np.ndarray, q: np.ndarray, loads: st
     return WheelRailOutputs(
         vertical_load=pair("Q"), lateral_force=pair("Y"), longitudinal_force=pair("Fx"), contact_position=pair("u"),
         contact_angle=pair("angle"), angle_of_attack=q[:, [w.psi for w in vehicle.wheelsets]],
-        static_load=np.array([w.wheel_load for w in vehicle.wheelsets], dtype=float), loads=loads)
+        static_load=np.array([w.wheel_load for w in vehicle.wheelsets], dtype=float), loads=loads,
+        frictional_power=pair("Tgamma"), patch_area=patch_area(pair("unit_area"), pair("N")),
+        wheel_position=pair("wheel_u"), patch_semi_b=pair("unit_b") * np.cbrt(np.maximum(pair("N"), 0.0)))
 
 
 def contact_rhs(vehicle, track, contacts: list[WheelsetContact], *, speed: float | None = None, start: float = 0.0,

@@ -163,7 +163,7 @@ class SimulationResult:
 
 #: Units of the derived outputs by name prefix (longest prefixes first).
 _OUTPUT_UNITS = (
-    ("QP", ""), ("Qtot", "N"), ("Q", "N"), ("flanging", ""), ("flange", "N"), ("NL", "N"), ("NR", "N"),
+    ("Tgamma", "N"), ("wear", "ug/m/mm^2"), ("rcf", ""), ("QP", ""), ("Qtot", "N"), ("Q", "N"), ("flanging", ""), ("flange", "N"), ("NL", "N"), ("NR", "N"),
     ("psi_TW", "rad"), ("theta_", "rad"), ("dy", "m"), ("dQQ0", ""), ("rho", "1/m"), ("SY", "N"), ("S", "m"),
     ("stop_", "N"), ("YQ", ""), ("Y", "N"), ("Fx", "N"), ("gamma", "rad"), ("aoa", "rad"), ("u", "m"),
 )
