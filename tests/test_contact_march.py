@@ -316,8 +316,9 @@ def test_the_statics_of_a_canted_curve_close(manchester, speed):
     * bogie: its wheelsets carry its lever-rule share; achieved 0.61 % (tolerance 0.7 %);
     * wheelset: within a bogie the moment divides with the lateral forces, at the primary
       suspension's height h1, and with the couple of the load from above (N, on the
-      primary springs) on the wheelsets' own lateral shifts; achieved 1.15 % (tolerance
-      1.5 %);
+      primary springs) on the wheelsets' own lateral shifts; achieved 1.51 % (tolerance
+      2 %; 1.15 % before the secondary yaw element was turned by the curve, issue 31: the
+      rule leaves out the bogie's yaw moment, which the wheelsets react);
     * the suspension's roll is real: it adds 42-43 % (30 m/s) and 29-30 % (10 m/s) to
       the rigid estimate (asserted: more than 25 %).
     """
@@ -351,7 +352,7 @@ def test_the_statics_of_a_canted_curve_close(manchester, speed):
         from_above = 2 * run.wheel_rail.static_load[members] - mass * g
         split = (estimate[members] - h1 * (lateral[members] - lateral[members].mean())
                  + from_above * (shift - shift.mean()))
-        np.testing.assert_allclose(contact[members], split, rtol=0.015)
+        np.testing.assert_allclose(contact[members], split, rtol=0.02)
 
 
 def test_the_contact_rolls_a_3d_wheelset(manchester):
