@@ -1,0 +1,176 @@
+"""Creep forces and spin moment of one Hertzian contact from tables of Kalker's exact
+theory: the package table ``data/creep_table.npz`` (made by CONTACT, ``tools/``) and its
+compiled interpolation.
+
+For a Hertzian ellipse (semi-axes ``a`` along the rolling direction and ``b``), the exact
+steady-rolling forces relative to ``mu N`` depend only on ``a/b``, Poisson's ratio and the
+normalised creepages (``c = sqrt(ab)``, Kalker's ``C11, C22, C23`` at ``a/b``)::
+
+    u_x = G ab C11 xi / (3 mu N),  u_y = G ab C22 eta / (3 mu N),
+    u_phi = G (ab)^1.5 C23 phi / (3 mu N)
+
+in which Kalker's linear theory reads ``Fx / (mu N) = -3 u_x``,
+``Fy / (mu N) = -3 (u_y + u_phi)``.  The table holds ``(Fx, Fy) / (mu N)`` and
+``Mz / (mu N c)`` over ``log(a/b)`` (0.2...5), the direction of ``u`` (its angle
+``theta`` from the ``+u_phi`` axis and its azimuth ``alpha`` in ``(u_x, u_y)``, 0...pi/2)
+and ``r = |u| / (1 + |u|)``: ``r = 0`` holds Kalker's linear slopes, ``r = 1`` the
+full-slip limit, CONTACT the nodes between (``docs/contact.md``, "Creep forces from tables
+of the exact theory").  The half-space's symmetries give the other quadrants:
+``(xi, eta, phi) -> (xi, -eta, -phi)`` turns ``(Fx, Fy, Mz)`` into ``(Fx, -Fy, -Mz)``, and
+``xi -> -xi`` (all creepages negated, then reflected) turns it into ``(-Fx, Fy, Mz)``.
+
+Interpolation is multilinear in ``(log(a/b), theta, alpha, r)``, except between ``r = 0``
+and the first node, where ``F / |u|`` is linear in ``r`` (so the law tends to Kalker's
+linear theory).  Beyond 0.2...5 the table's edge ratio is used (the normalisation keeps
+the linear limit exact).  The table is for ``nu = 0.3`` (:data:`TABLE_POISSON`); through
+the ``C_ij`` the linear limit is exact at any ``nu``.  Signs: the forces on the wheel
+oppose the creepages, as in :mod:`express.rail.creep_law`.
+"""
+
+from __future__ import annotations
+
+import math
+from importlib import resources
+
+import numpy as np
+from numba import njit
+
+__all__ = ["TABLE_GRID", "TABLE_POISSON", "load_table", "tabulated", "tabulated_forces", "tabulated_with_moment"]
+
+
+def load_table() -> dict[str, np.ndarray]:
+    """The package table's arrays: ``ratios``, ``thetas``, ``alphas``, ``radii`` (nodes) and
+    ``values`` of shape ``(ratio, theta, alpha, radius, 3)``; ``poisson``, ``grid``."""
+    with resources.files("express").joinpath("data").joinpath("creep_table.npz").open("rb") as handle:
+        with np.load(handle) as data:
+            return {name: np.asarray(data[name]) for name in data.files}
+
+
+_TABLE = load_table()
+#: Poisson's ratio of the table's CONTACT runs [-].
+TABLE_POISSON = float(_TABLE["poisson"])
+#: Nodes of the table: ratios a/b, angles theta and alpha, radii r.
+TABLE_GRID = tuple(int(_TABLE[name].size) for name in ("ratios", "thetas", "alphas", "radii"))
+_VALUES = np.ascontiguousarray(_TABLE["values"], dtype=np.float64)
+_LOG_RATIO0 = float(np.log(_TABLE["ratios"][0]))
+_LOG_RATIO_STEP = float(np.log(_TABLE["ratios"][1] / _TABLE["ratios"][0]))
+_THETA_STEP = float(_TABLE["thetas"][1])
+_ALPHA_STEP = float(_TABLE["alphas"][1])
+_RADIUS_STEP = float(_TABLE["radii"][1])
+
+
+@njit(cache=True)
+def _cell(value, step, nodes):
+    """Index of the cell holding ``value`` on uniform nodes ``0, step, ...`` (clamped to
+    the grid) and the weight of its upper node."""
+    t = min(max(value / step, 0.0), nodes - 1.0)
+    k = min(int(t), nodes - 2)
+    return k, t - k
+
+
+@njit(cache=True)
+def _node_value(values, m, i, j, k, w, s, out):
+    """Add ``w`` times the table's ``(Fx, Fy) / (mu N), Mz / (mu N c)`` at node
+    ``(m, i, j)`` for ``|u| = s`` (radius cell ``k``) to ``out``."""
+    r = s / (1.0 + s)
+    t = r / _RADIUS_STEP - k
+    if k == 0:  # F / |u| linear in r between the linear slope and the first node
+        s1 = _RADIUS_STEP / (1.0 - _RADIUS_STEP)
+        for q in range(3):
+            out[q] += w * s * ((1.0 - t) * values[m, i, j, 0, q] + t * values[m, i, j, 1, q] / s1)
+    else:
+        for q in range(3):
+            out[q] += w * ((1.0 - t) * values[m, i, j, k, q] + t * values[m, i, j, k + 1, q])
+
+
+@njit(cache=True)
+def _interpolate(values, ratio, ux, uy, up):
+    """``(Fx, Fy) / (mu N)``, ``Mz / (mu N c)`` at ``a/b = ratio`` and the normalised
+    creepage ``(ux >= 0, uy >= 0, up)``, ``|u| > 0``."""
+    s = math.sqrt(ux * ux + uy * uy + up * up)
+    shape = values.shape
+    m, wm = _cell(math.log(ratio) - _LOG_RATIO0, _LOG_RATIO_STEP, shape[0])
+    i, wi = _cell(math.acos(min(max(up / s, -1.0), 1.0)), _THETA_STEP, shape[1])
+    j, wj = _cell(math.atan2(uy, ux), _ALPHA_STEP, shape[2])
+    k, _ = _cell(s / (1.0 + s), _RADIUS_STEP, shape[3])
+    out = np.zeros(3)
+    for dm in range(2):
+        for di in range(2):
+            for dj in range(2):
+                w = (wm if dm else 1.0 - wm) * (wi if di else 1.0 - wi) * (wj if dj else 1.0 - wj)
+                if w > 0.0:
+                    _node_value(values, m + dm, i + di, j + dj, k, w, s, out)
+    return out[0], out[1], out[2]
+
+
+@njit(cache=True)
+def _tabulated(values, normal, friction, a, b, shear_modulus, c11, c22, c23, xi, eta, phi):
+    if not normal > 0.0:
+        return 0.0, 0.0, 0.0
+    limit = friction * normal
+    area = shear_modulus * a * b / (3.0 * limit)
+    size = math.sqrt(a * b)
+    ux = area * c11 * xi
+    uy = area * c22 * eta
+    up = area * size * c23 * phi
+    sign_y = 1.0
+    if uy < 0.0:
+        uy, up, sign_y = -uy, -up, -1.0
+    sign_x = 1.0
+    if ux < 0.0:
+        ux, sign_x = -ux, -1.0
+    if ux == 0.0 and uy == 0.0 and up == 0.0:
+        return 0.0, 0.0, 0.0
+    fx, fy, mz = _interpolate(values, a / b, ux, uy, up)
+    return sign_x * fx * limit, sign_y * fy * limit, sign_y * mz * limit * size
+
+
+@njit(cache=True)
+def tabulated_with_moment(normal, friction, a, b, shear_modulus, c11, c22, c23, xi, eta, phi):
+    """Tangential forces ``(Fx, Fy)`` [N] and spin moment ``Mz`` [N m] on the wheel from
+    the table of the exact theory.
+
+    Parameters
+    ----------
+    normal : float
+        Normal force N [N] (> 0; 0 gives no force).
+    friction : float
+        Coefficient of friction mu [-].
+    a, b : float
+        Semi-axes of the contact ellipse along and across the rolling direction [m].
+    shear_modulus : float
+        G [Pa].
+    c11, c22, c23 : float
+        Kalker's coefficients for a/b and Poisson's ratio [-].
+    xi, eta : float
+        Longitudinal and lateral creepage [-].
+    phi : float
+        Spin creepage [1/m].
+
+    Returns
+    -------
+    fx, fy, mz : float
+        Forces [N] and moment about the contact normal [N m], in Kalker's linear limit
+        ``-f11 xi``, ``-f22 eta - f23 phi``, ``f23 eta - f33 phi`` (``f33`` of the table's
+        Poisson's ratio).
+    """
+    return _tabulated(_VALUES, normal, friction, a, b, shear_modulus, c11, c22, c23, xi, eta, phi)
+
+
+@njit(cache=True)
+def tabulated(normal, friction, a, b, shear_modulus, c11, c22, c23, xi, eta, phi):
+    """Tangential forces ``(Fx, Fy)`` [N] on the wheel from the table of the exact theory;
+    arguments as :func:`tabulated_with_moment` (and :func:`express.rail.creep_law.fastsim`)."""
+    fx, fy, _ = _tabulated(_VALUES, normal, friction, a, b, shear_modulus, c11, c22, c23, xi, eta, phi)
+    return fx, fy
+
+
+def tabulated_forces(normal, friction, a, b, shear_modulus, c11, c22, c23, xi, eta, phi):
+    """:func:`tabulated_with_moment` over arrays (broadcast); returns ``(Fx, Fy, Mz)`` as
+    float arrays [N, N, N m]."""
+    arrays = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in
+                                   (normal, friction, a, b, shear_modulus, c11, c22, c23, xi, eta, phi)))
+    out = np.empty((3, *arrays[0].shape))
+    for index in np.ndindex(arrays[0].shape):
+        out[(slice(None), *index)] = tabulated_with_moment(*(float(v[index]) for v in arrays))
+    return out[0], out[1], out[2]
