@@ -43,7 +43,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "src"))
 
-from express.rail.contact import kalker_coefficients  # noqa: E402
+from express.rail.contact import kalker_coefficients
 
 POISSON = 0.3
 SHEAR = 82000.0  # N/mm^2
@@ -171,7 +171,7 @@ def main() -> None:
             for label, row, force in zip(labels, cases, forces, strict=True):
                 out.write(",".join([label, *(f"{v:.9g}" for v in (*row, *force))]) + "\n")
         return
-    from creep_table_build import build_table  # noqa: PLC0415
+    from creep_table_build import build_table
 
     build_table(Path(args.out), lambda cases: run_parallel(exe, cases, args.grid or 40, args.jobs, cache=cache),
                 args.grid or 40)

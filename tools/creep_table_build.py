@@ -20,7 +20,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "src"))
 
-from express.rail.contact import kalker_coefficients  # noqa: E402
+from express.rail.contact import kalker_coefficients
 
 POISSON = 0.3
 RATIOS = np.geomspace(0.2, 5.0, 9)
@@ -67,6 +67,25 @@ def full_slip(ratio: float, unit: np.ndarray, n: int = 400) -> np.ndarray:
     return np.array([-(p * wx).sum(), -(p * wy).sum(), -(p * (x * wy - y * wx)).sum()])
 
 
+#: Ratios of the fine series of the spin moment's linear slopes per table interval.
+FINE = 8
+
+
+def moment_slopes(values: np.ndarray) -> np.ndarray:
+    """The spin moment's linear slopes ``(C23 / C22, C33 / C23)`` on ``FINE`` times finer
+    ratios than the table's, shape ``(2, FINE (n - 1) + 1)``: the kernel corrects the
+    table's linear Mz by them.  Where Kalker's C33 is missing, the table's own slope (from
+    CONTACT's first node) interpolated between its ratios."""
+    fine = np.exp(np.linspace(np.log(RATIOS[0]), np.log(RATIOS[-1]), FINE * (RATIOS.size - 1) + 1))
+    coarse_phi = -values[:, 0, 0, 0, 2] / 3.0  # the +u_phi pole's linear Mz slope, per table ratio
+    out = np.empty((2, fine.size))
+    for k, ratio in enumerate(fine):
+        _, c22, c23, c33 = kalker_coefficients(math.sqrt(ratio), 1.0 / math.sqrt(ratio), POISSON)
+        out[0, k] = c23 / c22
+        out[1, k] = c33 / c23 if np.isfinite(c33) else np.interp(np.log(ratio), np.log(RATIOS), coarse_phi)
+    return out
+
+
 def table_cases() -> np.ndarray:
     """CONTACT's cases ``(a/b, u_x, u_y, u_phi)`` of the inner radii, shape ``(n, 4)``, in the
     order ratio, theta, alpha, radius; the poles' repeated azimuths are run once."""
@@ -82,24 +101,48 @@ def table_cases() -> np.ndarray:
 
 def build_table(out: Path, contact: Callable[[np.ndarray], np.ndarray], grid: int) -> None:
     """Run ``contact`` on :func:`table_cases` and write the table ``out`` (``.npz``): nodes,
-    and ``values[ratio, theta, alpha, radius, k]``: ``(Fx, Fy) / (mu N)``, ``Mz / (mu N c)``,
-    except at ``r = 0``, which holds the linear slopes (:func:`linear_limit`)."""
+    the spin moment's linear slopes (:func:`moment_slopes`) and
+    ``values[ratio, theta, alpha, radius, k]``: the excess of ``(Fx, Fy) / (mu N)`` and
+    ``Mz / (mu N c)`` over ``w(r)`` times the linear theory's slopes (:func:`linear_limit`
+    with those slopes), ``w`` piecewise linear through 0, ``r1``, 0 at the first three radii
+    and zero beyond: the excess is zero at ``r = 0``, and only the first node has one.  The
+    forces' excess is stored along and across the direction ``beta`` of ``(xi, eta)`` at the
+    node (so that a translational creepage's full-slip force, ``mu N`` against it,
+    interpolates exactly)."""
     cases = table_cases()
     results = contact(cases)
     units = directions()
-    values = np.zeros((RATIOS.size, THETAS.size, ALPHAS.size, RADII.size, 3))
+    raw = np.zeros((RATIOS.size, THETAS.size, ALPHAS.size, RADII.size, 3))
     k = 0
     inner = RADII.size - 2
     for m, ratio in enumerate(RATIOS):
         for i in range(THETAS.size):
             pole = not 0 < i < THETAS.size - 1
             for j in range(1 if pole else ALPHAS.size):
-                values[m, i, j, 1:-1] = results[k:k + inner]
+                raw[m, i, j, 1:-1] = results[k:k + inner]
                 k += inner
-                values[m, i, j, 0] = linear_limit(ratio, units[i, j])
-                values[m, i, j, -1] = full_slip(ratio, units[i, j])
+                raw[m, i, j, 0] = linear_limit(ratio, units[i, j])
+                if not np.isfinite(raw[m, i, j, 0, 2]):  # no C33 (slender, long rolling axis): CONTACT's
+                    raw[m, i, j, 0, 2] = raw[m, i, j, 1, 2] * (1.0 - RADII[1]) / RADII[1]
+                raw[m, i, j, -1] = full_slip(ratio, units[i, j])
             if pole:
-                values[m, i, 1:] = values[m, i, 0]
+                raw[m, i, 1:] = raw[m, i, 0]
+    slopes = moment_slopes(raw)
+    values = raw.copy()
+    for m in range(RATIOS.size):
+        k_eta, k_phi = slopes[:, m * FINE]
+        for i in range(THETAS.size):
+            for j in range(ALPHAS.size):
+                ux, uy, up = units[i, j]
+                slope = np.array([-3.0 * ux, -3.0 * (uy + up), 3.0 * (uy * k_eta - up * k_phi)])
+                values[m, i, j, 1] -= RADII[1] * slope  # the linear part's weight: r, r1, 0 at the first three nodes
+    values[:, :, :, 0] = 0.0
+    for m, ratio in enumerate(RATIOS):  # the forces along and across the direction of (xi, eta)
+        c11, c22, _, _ = kalker_coefficients(math.sqrt(ratio), 1.0 / math.sqrt(ratio), POISSON)
+        beta = np.arctan2(np.sin(ALPHAS) / c22, np.cos(ALPHAS) / c11)[None, :, None]
+        fx, fy = values[m, ..., 0].copy(), values[m, ..., 1].copy()
+        values[m, ..., 0] = fx * np.cos(beta) + fy * np.sin(beta)
+        values[m, ..., 1] = -fx * np.sin(beta) + fy * np.cos(beta)
     np.savez_compressed(out, ratios=RATIOS, thetas=THETAS, alphas=ALPHAS, radii=RADII,
-                        values=values.astype(np.float32), poisson=POISSON, grid=grid)
+                        values=values.astype(np.float32), poisson=POISSON, grid=grid, moment_slopes=slopes)
     print(f"{len(cases)} CONTACT cases; table {values.shape} -> {out} ({out.stat().st_size} bytes)")

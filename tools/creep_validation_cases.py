@@ -27,7 +27,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from contact_creep_runs import COLUMNS, physical  # noqa: E402
+from contact_creep_runs import COLUMNS, physical
 
 PER_REGIME = 50
 SEED = 33

@@ -11,7 +11,7 @@ normalised creepages (``c = sqrt(ab)``, Kalker's ``C11, C22, C23`` at ``a/b``)::
 
 in which Kalker's linear theory reads ``Fx / (mu N) = -3 u_x``,
 ``Fy / (mu N) = -3 (u_y + u_phi)``.  The table holds ``(Fx, Fy) / (mu N)`` and
-``Mz / (mu N c)`` over ``log(a/b)`` (0.2...5), the direction of ``u`` (its angle
+``Mz / (mu N c)`` (as below) over ``log(a/b)`` (0.2...5), the direction of ``u`` (its angle
 ``theta`` from the ``+u_phi`` axis and its azimuth ``alpha`` in ``(u_x, u_y)``, 0...pi/2)
 and ``r = |u| / (1 + |u|)``: ``r = 0`` holds Kalker's linear slopes, ``r = 1`` the
 full-slip limit, CONTACT the nodes between (``docs/contact.md``, "Creep forces from tables
@@ -19,10 +19,17 @@ of the exact theory").  The half-space's symmetries give the other quadrants:
 ``(xi, eta, phi) -> (xi, -eta, -phi)`` turns ``(Fx, Fy, Mz)`` into ``(Fx, -Fy, -Mz)``, and
 ``xi -> -xi`` (all creepages negated, then reflected) turns it into ``(-Fx, Fy, Mz)``.
 
-Interpolation is multilinear in ``(log(a/b), theta, alpha, r)``, except between ``r = 0``
-and the first node, where ``F / |u|`` is linear in ``r`` (so the law tends to Kalker's
-linear theory).  Beyond 0.2...5 the table's edge ratio is used (the normalisation keeps
-the linear limit exact).  The table is for ``nu = 0.3`` (:data:`TABLE_POISSON`); through
+The table stores each node's excess over ``w(r)`` times Kalker's linear slopes (``-3 u / |u|``
+for the forces; ``3 (u_y C23 / C22 - u_phi C33 / C23) / |u|`` for the moment, from a series
+8 times finer in ``a/b`` held with the table; the forces' excess along and across the
+direction of ``(xi, eta)`` at its node, so that a translational creepage's full-slip force, against
+it, interpolates exactly); the law is ``w(r)`` times the slopes at the
+asked direction and ratio plus the excess interpolated multilinearly in
+``(log(a/b), theta, alpha, r)`` — quadratically in ``r`` between ``r = 0`` (no excess)
+and the first node, so the law tends to Kalker's linear theory exactly.  ``w`` is
+piecewise linear through ``0, r1, 0`` at the first three radii, zero beyond (between
+nodes it is what the interpolation makes of its node values: no error from its shape).  Beyond 0.2...5
+the table's edge ratio is used (the normalisation keeps the forces' linear limit exact).  The table is for ``nu = 0.3`` (:data:`TABLE_POISSON`); through
 the ``C_ij`` the linear limit is exact at any ``nu``.  Signs: the forces on the wheel
 oppose the creepages, as in :mod:`express.rail.creep_law`.
 """
@@ -40,10 +47,11 @@ __all__ = ["TABLE_GRID", "TABLE_POISSON", "load_table", "tabulated", "tabulated_
 
 def load_table() -> dict[str, np.ndarray]:
     """The package table's arrays: ``ratios``, ``thetas``, ``alphas``, ``radii`` (nodes) and
-    ``values`` of shape ``(ratio, theta, alpha, radius, 3)``; ``poisson``, ``grid``."""
-    with resources.files("express").joinpath("data").joinpath("creep_table.npz").open("rb") as handle:
-        with np.load(handle) as data:
-            return {name: np.asarray(data[name]) for name in data.files}
+    ``values`` of shape ``(ratio, theta, alpha, radius, 3)``, ``moment_slopes``; ``poisson``,
+    ``grid`` (CONTACT's elements along each axis)."""
+    path = resources.files("express").joinpath("data").joinpath("creep_table.npz")
+    with path.open("rb") as handle, np.load(handle) as data:
+        return {name: np.asarray(data[name]) for name in data.files}
 
 
 _TABLE = load_table()
@@ -57,6 +65,7 @@ _LOG_RATIO_STEP = float(np.log(_TABLE["ratios"][1] / _TABLE["ratios"][0]))
 _THETA_STEP = float(_TABLE["thetas"][1])
 _ALPHA_STEP = float(_TABLE["alphas"][1])
 _RADIUS_STEP = float(_TABLE["radii"][1])
+_SLOPES = np.ascontiguousarray(_TABLE["moment_slopes"], dtype=np.float64)
 
 
 @njit(cache=True)
@@ -69,42 +78,51 @@ def _cell(value, step, nodes):
 
 
 @njit(cache=True)
-def _node_value(values, m, i, j, k, w, s, out):
-    """Add ``w`` times the table's ``(Fx, Fy) / (mu N), Mz / (mu N c)`` at node
-    ``(m, i, j)`` for ``|u| = s`` (radius cell ``k``) to ``out``."""
-    r = s / (1.0 + s)
-    t = r / _RADIUS_STEP - k
-    if k == 0:  # F / |u| linear in r between the linear slope and the first node
-        s1 = _RADIUS_STEP / (1.0 - _RADIUS_STEP)
+def _node_value(values, m, i, j, k, t, w, out):
+    """Add ``w`` times the table's excess over ``w(r)`` times the linear slopes at node
+    ``(m, i, j)``, radius cell ``k`` at ``t`` in it, to ``out``."""
+    if k == 0:  # the excess is O(|u|^2): quadratic in r between r = 0 and the first node
         for q in range(3):
-            out[q] += w * s * ((1.0 - t) * values[m, i, j, 0, q] + t * values[m, i, j, 1, q] / s1)
+            out[q] += w * t * t * values[m, i, j, 1, q]
     else:
         for q in range(3):
             out[q] += w * ((1.0 - t) * values[m, i, j, k, q] + t * values[m, i, j, k + 1, q])
 
 
 @njit(cache=True)
-def _interpolate(values, ratio, ux, uy, up):
+def _interpolate(values, slopes, ratio, ux, uy, up, c11, c22):
     """``(Fx, Fy) / (mu N)``, ``Mz / (mu N c)`` at ``a/b = ratio`` and the normalised
-    creepage ``(ux >= 0, uy >= 0, up)``, ``|u| > 0``."""
+    creepage ``(ux >= 0, uy >= 0, up)``, ``|u| > 0`` (``c11, c22`` Kalker's): ``w(r)`` times Kalker's linear slopes
+    (the moment's from the fine series ``slopes``) plus the table's excess."""
     s = math.sqrt(ux * ux + uy * uy + up * up)
+    r = s / (1.0 + s)
     shape = values.shape
-    m, wm = _cell(math.log(ratio) - _LOG_RATIO0, _LOG_RATIO_STEP, shape[0])
+    log_ratio = math.log(ratio) - _LOG_RATIO0
+    m, wm = _cell(log_ratio, _LOG_RATIO_STEP, shape[0])
     i, wi = _cell(math.acos(min(max(up / s, -1.0), 1.0)), _THETA_STEP, shape[1])
-    j, wj = _cell(math.atan2(uy, ux), _ALPHA_STEP, shape[2])
-    k, _ = _cell(s / (1.0 + s), _RADIUS_STEP, shape[3])
+    alpha = math.atan2(uy, ux)
+    j, wj = _cell(alpha, _ALPHA_STEP, shape[2])
+    k, t = _cell(r, _RADIUS_STEP, shape[3])
     out = np.zeros(3)
     for dm in range(2):
         for di in range(2):
             for dj in range(2):
                 w = (wm if dm else 1.0 - wm) * (wi if di else 1.0 - wi) * (wj if dj else 1.0 - wj)
                 if w > 0.0:
-                    _node_value(values, m + dm, i + di, j + dj, k, w, s, out)
-    return out[0], out[1], out[2]
+                    _node_value(values, m + dm, i + di, j + dj, k, t, w, out)
+    f, wf = _cell(log_ratio, _LOG_RATIO_STEP * (shape[0] - 1) / (slopes.shape[1] - 1), slopes.shape[1])
+    k_eta = (1.0 - wf) * slopes[0, f] + wf * slopes[0, f + 1]
+    k_phi = (1.0 - wf) * slopes[1, f] + wf * slopes[1, f + 1]
+    scale = 3.0 * min(r, max(2.0 * _RADIUS_STEP - r, 0.0)) / s  # w(r)
+    beta = math.atan2(uy / c22, ux / c11)  # the direction of (xi, eta)
+    cos, sin = math.cos(beta), math.sin(beta)
+    fx = out[0] * cos - out[1] * sin  # the excess along and across it, turned back
+    fy = out[0] * sin + out[1] * cos
+    return fx - scale * ux, fy - scale * (uy + up), out[2] + scale * (uy * k_eta - up * k_phi)
 
 
 @njit(cache=True)
-def _tabulated(values, normal, friction, a, b, shear_modulus, c11, c22, c23, xi, eta, phi):
+def _tabulated(values, slopes, normal, friction, a, b, shear_modulus, c11, c22, c23, xi, eta, phi):
     if not normal > 0.0:
         return 0.0, 0.0, 0.0
     limit = friction * normal
@@ -121,7 +139,7 @@ def _tabulated(values, normal, friction, a, b, shear_modulus, c11, c22, c23, xi,
         ux, sign_x = -ux, -1.0
     if ux == 0.0 and uy == 0.0 and up == 0.0:
         return 0.0, 0.0, 0.0
-    fx, fy, mz = _interpolate(values, a / b, ux, uy, up)
+    fx, fy, mz = _interpolate(values, slopes, a / b, ux, uy, up, c11, c22)
     return sign_x * fx * limit, sign_y * fy * limit, sign_y * mz * limit * size
 
 
@@ -154,14 +172,14 @@ def tabulated_with_moment(normal, friction, a, b, shear_modulus, c11, c22, c23, 
         ``-f11 xi``, ``-f22 eta - f23 phi``, ``f23 eta - f33 phi`` (``f33`` of the table's
         Poisson's ratio).
     """
-    return _tabulated(_VALUES, normal, friction, a, b, shear_modulus, c11, c22, c23, xi, eta, phi)
+    return _tabulated(_VALUES, _SLOPES, normal, friction, a, b, shear_modulus, c11, c22, c23, xi, eta, phi)
 
 
 @njit(cache=True)
 def tabulated(normal, friction, a, b, shear_modulus, c11, c22, c23, xi, eta, phi):
     """Tangential forces ``(Fx, Fy)`` [N] on the wheel from the table of the exact theory;
     arguments as :func:`tabulated_with_moment` (and :func:`express.rail.creep_law.fastsim`)."""
-    fx, fy, _ = _tabulated(_VALUES, normal, friction, a, b, shear_modulus, c11, c22, c23, xi, eta, phi)
+    fx, fy, _ = _tabulated(_VALUES, _SLOPES, normal, friction, a, b, shear_modulus, c11, c22, c23, xi, eta, phi)
     return fx, fy
 
 
