@@ -114,23 +114,30 @@ def _errors(rows, law):
 #: Asserted (median, 90th percentile, max) of the table's relative error per regime, near
 #: the achieved ones written beside them.
 TOLERANCES = {
-    "linear": (None, None, None),
-    "partial": (None, None, None),
-    "full": (None, None, None),
-    "spin": (None, None, None),
-    "flange": (None, None, None),
+    "linear": (0.020, 0.035, 0.070),  # achieved 1.5, 2.6, 5.5 % (CONTACT's mesh: 1-2 % above Kalker's C_ij)
+    "partial": (0.022, 0.050, 0.080),  # achieved 1.7, 3.8, 6.4 %
+    "full": (0.005, 0.022, 0.055),  # achieved 0.32, 1.6, 4.2 %
+    "spin": (0.035, 0.095, 0.170),  # achieved 2.7, 7.4, 13 %
+    "flange": (0.013, 0.065, 0.180),  # achieved 0.99, 5.1, 14 %
 }
+#: Asserted largest error of the table's force as a share of mu N, per regime (achieved
+#: 0.48, 3.9, 4.1, 2.7, 4.8 %).
+OF_LIMIT = {"linear": 0.007, "partial": 0.05, "full": 0.055, "spin": 0.035, "flange": 0.062}
 
 
 @pytest.mark.parametrize("regime", list(TOLERANCES))
 def test_table_against_contact(regime):
-    """Against CONTACT (60 x 60 elements) on 50 cases per regime off the table's grid."""
+    """Against CONTACT (60 x 60 elements) on 50 cases per regime off the table's grid: the
+    median, 90th percentile and largest relative error of the tangential force, and the
+    largest as a share of mu N, within TOLERANCES and OF_LIMIT (about 1.3 times what is
+    achieved; the goal of issue 33 is 3 %, 10 %, 25 %)."""
     labels, rows = _validation()
-    rel, _ = _errors(rows[labels == regime], tabulated)
+    rel, of_limit = _errors(rows[labels == regime], tabulated)
     median, p90, worst = TOLERANCES[regime]
     assert np.median(rel) < median
     assert np.percentile(rel, 90) < p90
     assert rel.max() < worst
+    assert of_limit.max() < OF_LIMIT[regime]
 
 
 def test_contact_data_covers_the_regimes():

@@ -11,6 +11,7 @@ direction at every point, a quadrature); CONTACT fills the nodes between.
 
 from __future__ import annotations
 
+import hashlib
 import math
 import sys
 from collections.abc import Callable
@@ -145,4 +146,6 @@ def build_table(out: Path, contact: Callable[[np.ndarray], np.ndarray], grid: in
         values[m, ..., 1] = -fx * np.sin(beta) + fy * np.cos(beta)
     np.savez_compressed(out, ratios=RATIOS, thetas=THETAS, alphas=ALPHAS, radii=RADII,
                         values=values.astype(np.float32), poisson=POISSON, grid=grid, moment_slopes=slopes)
-    print(f"{len(cases)} CONTACT cases; table {values.shape} -> {out} ({out.stat().st_size} bytes)")
+    digest = hashlib.sha256(out.read_bytes()).hexdigest()[:16]
+    print(f"{len(cases)} CONTACT cases; table {values.shape} -> {out} ({out.stat().st_size} bytes, digest {digest}: "
+          "TABLE_DIGEST of express/rail/creep_table.py)")

@@ -36,6 +36,8 @@ oppose the creepages, as in :mod:`express.rail.creep_law`.
 
 from __future__ import annotations
 
+import hashlib
+import io
 import math
 from importlib import resources
 
@@ -45,12 +47,23 @@ from numba import njit
 __all__ = ["TABLE_GRID", "TABLE_POISSON", "load_table", "tabulated", "tabulated_forces", "tabulated_with_moment"]
 
 
+#: The first 16 hex digits of the package table's SHA-256.  Numba freezes the table into the
+#: cached kernels, and its cache follows this file's changes only: a new table must come
+#: with its digest here (``tools/contact_creep_runs.py table`` prints it).
+TABLE_DIGEST = "e41e05c245d1d31a"
+
+
 def load_table() -> dict[str, np.ndarray]:
     """The package table's arrays: ``ratios``, ``thetas``, ``alphas``, ``radii`` (nodes) and
     ``values`` of shape ``(ratio, theta, alpha, radius, 3)``, ``moment_slopes``; ``poisson``,
     ``grid`` (CONTACT's elements along each axis)."""
     path = resources.files("express").joinpath("data").joinpath("creep_table.npz")
-    with path.open("rb") as handle, np.load(handle) as data:
+    content = path.read_bytes()
+    digest = hashlib.sha256(content).hexdigest()[:16]
+    if digest != TABLE_DIGEST:
+        raise RuntimeError(f"data/creep_table.npz has digest {digest}, not {TABLE_DIGEST}: set TABLE_DIGEST in "
+                           "express/rail/creep_table.py to the new table's (which recompiles the cached kernels)")
+    with np.load(io.BytesIO(content)) as data:
         return {name: np.asarray(data[name]) for name in data.files}
 
 
@@ -80,36 +93,70 @@ def _cell(value, step, nodes):
 @njit(cache=True)
 def _node_value(values, m, i, j, k, t, w, out):
     """Add ``w`` times the table's excess over ``w(r)`` times the linear slopes at node
-    ``(m, i, j)``, radius cell ``k`` at ``t`` in it, to ``out``."""
+    ``(m, i, j)``, radius cell ``k`` at ``t`` in it, to ``out``: Catmull-Rom's cubic through
+    the cell's nodes and their neighbours (the last cell's outer neighbour extrapolated
+    linearly)."""
     if k == 0:  # the excess is O(|u|^2): quadratic in r between r = 0 and the first node
         for q in range(3):
             out[q] += w * t * t * values[m, i, j, 1, q]
-    else:
-        for q in range(3):
-            out[q] += w * ((1.0 - t) * values[m, i, j, k, q] + t * values[m, i, j, k + 1, q])
+        return
+    last = values.shape[3] - 1
+    t2 = t * t
+    t3 = t2 * t
+    c0 = -0.5 * t3 + t2 - 0.5 * t
+    c1 = 1.5 * t3 - 2.5 * t2 + 1.0
+    c2 = -1.5 * t3 + 2.0 * t2 + 0.5 * t
+    c3 = 0.5 * t3 - 0.5 * t2
+    for q in range(3):
+        p1 = values[m, i, j, k, q]
+        p2 = values[m, i, j, k + 1, q]
+        p3 = values[m, i, j, k + 2, q] if k + 2 <= last else 2.0 * p2 - p1
+        out[q] += w * (c0 * values[m, i, j, k - 1, q] + c1 * p1 + c2 * p2 + c3 * p3)
+
+
+@njit(cache=True)
+def _cubic_weights(t, k, nodes):
+    """Catmull-Rom's weights of nodes ``k - 1 ... k + 2`` at ``t`` in cell ``k`` of
+    ``nodes`` nodes; beyond an end the missing node is extrapolated linearly from the two
+    inside (its weight moved onto them)."""
+    t2 = t * t
+    t3 = t2 * t
+    w = np.array([-0.5 * t3 + t2 - 0.5 * t, 1.5 * t3 - 2.5 * t2 + 1.0, -1.5 * t3 + 2.0 * t2 + 0.5 * t,
+                  0.5 * t3 - 0.5 * t2])
+    if k == 0:
+        w[1] += 2.0 * w[0]
+        w[2] -= w[0]
+        w[0] = 0.0
+    if k + 2 > nodes - 1:
+        w[2] += 2.0 * w[3]
+        w[1] -= w[3]
+        w[3] = 0.0
+    return w
 
 
 @njit(cache=True)
 def _interpolate(values, slopes, ratio, ux, uy, up, c11, c22):
     """``(Fx, Fy) / (mu N)``, ``Mz / (mu N c)`` at ``a/b = ratio`` and the normalised
-    creepage ``(ux >= 0, uy >= 0, up)``, ``|u| > 0`` (``c11, c22`` Kalker's): ``w(r)`` times Kalker's linear slopes
-    (the moment's from the fine series ``slopes``) plus the table's excess."""
+    creepage ``(ux >= 0, uy >= 0, up)``, ``|u| > 0`` (``c11, c22`` Kalker's): ``w(r)`` times
+    Kalker's linear slopes (the moment's from the fine series ``slopes``) plus the table's
+    excess, linear in ``log(a/b)`` and cubic (Catmull-Rom) in ``theta``, ``alpha``, ``r``."""
     s = math.sqrt(ux * ux + uy * uy + up * up)
     r = s / (1.0 + s)
     shape = values.shape
     log_ratio = math.log(ratio) - _LOG_RATIO0
     m, wm = _cell(log_ratio, _LOG_RATIO_STEP, shape[0])
-    i, wi = _cell(math.acos(min(max(up / s, -1.0), 1.0)), _THETA_STEP, shape[1])
-    alpha = math.atan2(uy, ux)
-    j, wj = _cell(alpha, _ALPHA_STEP, shape[2])
+    i, ti = _cell(math.acos(min(max(up / s, -1.0), 1.0)), _THETA_STEP, shape[1])
+    j, tj = _cell(math.atan2(uy, ux), _ALPHA_STEP, shape[2])
     k, t = _cell(r, _RADIUS_STEP, shape[3])
+    wi = _cubic_weights(ti, i, shape[1])
+    wj = _cubic_weights(tj, j, shape[2])
     out = np.zeros(3)
     for dm in range(2):
-        for di in range(2):
-            for dj in range(2):
-                w = (wm if dm else 1.0 - wm) * (wi if di else 1.0 - wi) * (wj if dj else 1.0 - wj)
-                if w > 0.0:
-                    _node_value(values, m + dm, i + di, j + dj, k, t, w, out)
+        for di in range(4):
+            for dj in range(4):
+                w = (wm if dm else 1.0 - wm) * wi[di] * wj[dj]
+                if w != 0.0:
+                    _node_value(values, m + dm, i + di - 1, j + dj - 1, k, t, w, out)
     f, wf = _cell(log_ratio, _LOG_RATIO_STEP * (shape[0] - 1) / (slopes.shape[1] - 1), slopes.shape[1])
     k_eta = (1.0 - wf) * slopes[0, f] + wf * slopes[0, f + 1]
     k_phi = (1.0 - wf) * slopes[1, f] + wf * slopes[1, f + 1]
