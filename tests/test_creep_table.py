@@ -116,7 +116,7 @@ def _errors(rows, law):
 TOLERANCES = {
     "linear": (0.020, 0.035, 0.070),  # achieved 1.5, 2.6, 5.5 % (CONTACT's mesh: 1-2 % above Kalker's C_ij)
     "partial": (0.022, 0.050, 0.080),  # achieved 1.7, 3.8, 6.4 %
-    "full": (0.005, 0.022, 0.055),  # achieved 0.32, 1.6, 4.2 %
+    "full": (0.004, 0.022, 0.055),  # achieved 0.28, 1.6, 4.2 %
     "spin": (0.035, 0.095, 0.170),  # achieved 2.7, 7.4, 13 %
     "flange": (0.013, 0.065, 0.180),  # achieved 0.99, 5.1, 14 %
 }
@@ -152,8 +152,11 @@ def test_contact_data_covers_the_regimes():
 
 
 def test_table_is_a_law_of_the_wheelset_forces():
-    """The wheelset kernel takes "table": on a centred wheelset in a small yaw the forces
-    are FASTSIM's to 3 % (linear regime, both tend to Kalker's theory)."""
+    """The wheelset kernel takes "table": a centred S1002/60E1 wheelset nearly at rest
+    (y = 0.1 mm, yaw 1e-5) has the same yaw moment and longitudinal force by the table,
+    FASTSIM 3 x 5 and Polach to 12 % (achieved: table -392 N m, FASTSIM -359, Polach -419;
+    the tread's spin, about 0.07 1/m, is as large as the translational creepages here,
+    where the laws differ, docs/validation.md)."""
     assert LAWS["table"] == 2
     from express.rail.contact_forces import wheelset_contact
     from express.rail.contact_geometry import ContactSetup
@@ -162,8 +165,8 @@ def test_table_is_a_law_of_the_wheelset_forces():
 
     contact = wheelset_contact(contact_tables(standard_profile("S1002"), standard_profile("60E1"), ContactSetup()),
                                50e3, 0.3)
-    table = quasi_static_forces(contact, 1e-3, 2e-4, speed=30.0, law="table")
-    base = quasi_static_forces(contact, 1e-3, 2e-4, speed=30.0, law="fastsim")
-    assert table["M"] == pytest.approx(base["M"], rel=0.03)
-    assert table["Fx_left"] == pytest.approx(base["Fx_left"], rel=0.03)
-
+    table = quasi_static_forces(contact, 1e-4, 1e-5, speed=30.0, law="table")
+    for law in ("fastsim", "polach"):
+        other = quasi_static_forces(contact, 1e-4, 1e-5, speed=30.0, law=law)
+        assert table["M"] == pytest.approx(other["M"], rel=0.12)
+        assert table["Fx_left"] == pytest.approx(other["Fx_left"], rel=0.12)

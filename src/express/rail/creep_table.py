@@ -187,6 +187,10 @@ def _tabulated(values, slopes, normal, friction, a, b, shear_modulus, c11, c22, 
     if ux == 0.0 and uy == 0.0 and up == 0.0:
         return 0.0, 0.0, 0.0
     fx, fy, mz = _interpolate(values, slopes, a / b, ux, uy, up, c11, c22)
+    size2 = fx * fx + fy * fy
+    if size2 > 1.0:  # the cubics may overshoot full slip by ~1e-5: the force is at most mu N
+        fx /= math.sqrt(size2)
+        fy /= math.sqrt(size2)
     return sign_x * fx * limit, sign_y * fy * limit, sign_y * mz * limit * size
 
 
