@@ -91,55 +91,35 @@ def _cell(value, step, nodes):
 
 
 @njit(cache=True)
-def _node_value(values, m, i, j, k, t, w, out):
-    """Add ``w`` times the table's excess over ``w(r)`` times the linear slopes at node
-    ``(m, i, j)``, radius cell ``k`` at ``t`` in it, to ``out``: Catmull-Rom's cubic through
-    the cell's nodes and their neighbours (the last cell's outer neighbour extrapolated
-    linearly)."""
-    if k == 0:  # the excess is O(|u|^2): quadratic in r between r = 0 and the first node
-        for q in range(3):
-            out[q] += w * t * t * values[m, i, j, 1, q]
-        return
-    last = values.shape[3] - 1
-    t2 = t * t
-    t3 = t2 * t
-    c0 = -0.5 * t3 + t2 - 0.5 * t
-    c1 = 1.5 * t3 - 2.5 * t2 + 1.0
-    c2 = -1.5 * t3 + 2.0 * t2 + 0.5 * t
-    c3 = 0.5 * t3 - 0.5 * t2
-    for q in range(3):
-        p1 = values[m, i, j, k, q]
-        p2 = values[m, i, j, k + 1, q]
-        p3 = values[m, i, j, k + 2, q] if k + 2 <= last else 2.0 * p2 - p1
-        out[q] += w * (c0 * values[m, i, j, k - 1, q] + c1 * p1 + c2 * p2 + c3 * p3)
-
-
-@njit(cache=True)
 def _cubic_weights(t, k, nodes):
     """Catmull-Rom's weights of nodes ``k - 1 ... k + 2`` at ``t`` in cell ``k`` of
     ``nodes`` nodes; beyond an end the missing node is extrapolated linearly from the two
     inside (its weight moved onto them)."""
     t2 = t * t
     t3 = t2 * t
-    w = np.array([-0.5 * t3 + t2 - 0.5 * t, 1.5 * t3 - 2.5 * t2 + 1.0, -1.5 * t3 + 2.0 * t2 + 0.5 * t,
-                  0.5 * t3 - 0.5 * t2])
+    w0 = -0.5 * t3 + t2 - 0.5 * t
+    w1 = 1.5 * t3 - 2.5 * t2 + 1.0
+    w2 = -1.5 * t3 + 2.0 * t2 + 0.5 * t
+    w3 = 0.5 * t3 - 0.5 * t2
     if k == 0:
-        w[1] += 2.0 * w[0]
-        w[2] -= w[0]
-        w[0] = 0.0
+        w1 += 2.0 * w0
+        w2 -= w0
+        w0 = 0.0
     if k + 2 > nodes - 1:
-        w[2] += 2.0 * w[3]
-        w[1] -= w[3]
-        w[3] = 0.0
-    return w
+        w2 += 2.0 * w3
+        w1 -= w3
+        w3 = 0.0
+    return (w0, w1, w2, w3)
 
 
 @njit(cache=True)
-def _interpolate(values, slopes, ratio, ux, uy, up, c11, c22):
-    """``(Fx, Fy) / (mu N)``, ``Mz / (mu N c)`` at ``a/b = ratio`` and the normalised
-    creepage ``(ux >= 0, uy >= 0, up)``, ``|u| > 0`` (``c11, c22`` Kalker's): ``w(r)`` times
-    Kalker's linear slopes (the moment's from the fine series ``slopes``) plus the table's
-    excess, linear in ``log(a/b)`` and cubic (Catmull-Rom) in ``theta``, ``alpha``, ``r``."""
+def _interpolate(values, slopes, ratio, ux, uy, up, c11, c22, moment):
+    """``(Fx, Fy) / (mu N)``, ``Mz / (mu N c)`` (0 unless ``moment``) at ``a/b = ratio`` and
+    the normalised creepage ``(ux >= 0, uy >= 0, up)``, ``|u| > 0`` (``c11, c22``
+    Kalker's): ``w(r)`` times Kalker's linear slopes (the moment's from the fine series
+    ``slopes``) plus the table's excess, linear in ``log(a/b)`` and cubic (Catmull-Rom) in
+    ``theta``, ``alpha`` and ``r`` — except between ``r = 0`` and the first node, where the
+    excess, ``O(|u|^2)``, is quadratic in ``r``."""
     s = math.sqrt(ux * ux + uy * uy + up * up)
     r = s / (1.0 + s)
     shape = values.shape
@@ -150,26 +130,41 @@ def _interpolate(values, slopes, ratio, ux, uy, up, c11, c22):
     k, t = _cell(r, _RADIUS_STEP, shape[3])
     wi = _cubic_weights(ti, i, shape[1])
     wj = _cubic_weights(tj, j, shape[2])
-    out = np.zeros(3)
+    wr = (0.0, 0.0, t * t, 0.0) if k == 0 else _cubic_weights(t, k, shape[3])
+    along = 0.0
+    across = 0.0
+    spin = 0.0
     for dm in range(2):
+        w_m = wm if dm else 1.0 - wm
         for di in range(4):
+            w_i = w_m * wi[di]
+            if w_i == 0.0:
+                continue
             for dj in range(4):
-                w = (wm if dm else 1.0 - wm) * wi[di] * wj[dj]
-                if w != 0.0:
-                    _node_value(values, m + dm, i + di - 1, j + dj - 1, k, t, w, out)
+                w_j = w_i * wj[dj]
+                if w_j == 0.0:
+                    continue
+                for dr in range(4):
+                    w = w_j * wr[dr]
+                    if w != 0.0:
+                        a, b, c, d = m + dm, i + di - 1, j + dj - 1, k + dr - 1
+                        along += w * values[a, b, c, d, 0]
+                        across += w * values[a, b, c, d, 1]
+                        if moment:
+                            spin += w * values[a, b, c, d, 2]
     f, wf = _cell(log_ratio, _LOG_RATIO_STEP * (shape[0] - 1) / (slopes.shape[1] - 1), slopes.shape[1])
     k_eta = (1.0 - wf) * slopes[0, f] + wf * slopes[0, f + 1]
     k_phi = (1.0 - wf) * slopes[1, f] + wf * slopes[1, f + 1]
     scale = 3.0 * min(r, max(2.0 * _RADIUS_STEP - r, 0.0)) / s  # w(r)
     beta = math.atan2(uy / c22, ux / c11)  # the direction of (xi, eta)
     cos, sin = math.cos(beta), math.sin(beta)
-    fx = out[0] * cos - out[1] * sin  # the excess along and across it, turned back
-    fy = out[0] * sin + out[1] * cos
-    return fx - scale * ux, fy - scale * (uy + up), out[2] + scale * (uy * k_eta - up * k_phi)
+    fx = along * cos - across * sin  # the excess along and across it, turned back
+    fy = along * sin + across * cos
+    return fx - scale * ux, fy - scale * (uy + up), (spin + scale * (uy * k_eta - up * k_phi)) if moment else 0.0
 
 
 @njit(cache=True)
-def _tabulated(values, slopes, normal, friction, a, b, shear_modulus, c11, c22, c23, xi, eta, phi):
+def _tabulated(values, slopes, normal, friction, a, b, shear_modulus, c11, c22, c23, xi, eta, phi, moment):
     if not normal > 0.0:
         return 0.0, 0.0, 0.0
     limit = friction * normal
@@ -186,7 +181,7 @@ def _tabulated(values, slopes, normal, friction, a, b, shear_modulus, c11, c22, 
         ux, sign_x = -ux, -1.0
     if ux == 0.0 and uy == 0.0 and up == 0.0:
         return 0.0, 0.0, 0.0
-    fx, fy, mz = _interpolate(values, slopes, a / b, ux, uy, up, c11, c22)
+    fx, fy, mz = _interpolate(values, slopes, a / b, ux, uy, up, c11, c22, moment)
     size2 = fx * fx + fy * fy
     if size2 > 1.0:  # the cubics may overshoot full slip by ~1e-5: the force is at most mu N
         fx /= math.sqrt(size2)
@@ -223,14 +218,15 @@ def tabulated_with_moment(normal, friction, a, b, shear_modulus, c11, c22, c23, 
         ``-f11 xi``, ``-f22 eta - f23 phi``, ``f23 eta - f33 phi`` (``f33`` of the table's
         Poisson's ratio).
     """
-    return _tabulated(_VALUES, _SLOPES, normal, friction, a, b, shear_modulus, c11, c22, c23, xi, eta, phi)
+    return _tabulated(_VALUES, _SLOPES, normal, friction, a, b, shear_modulus, c11, c22, c23, xi, eta, phi, True)
 
 
 @njit(cache=True)
 def tabulated(normal, friction, a, b, shear_modulus, c11, c22, c23, xi, eta, phi):
     """Tangential forces ``(Fx, Fy)`` [N] on the wheel from the table of the exact theory;
     arguments as :func:`tabulated_with_moment` (and :func:`express.rail.creep_law.fastsim`)."""
-    fx, fy, _ = _tabulated(_VALUES, _SLOPES, normal, friction, a, b, shear_modulus, c11, c22, c23, xi, eta, phi)
+    fx, fy, _ = _tabulated(_VALUES, _SLOPES, normal, friction, a, b, shear_modulus, c11, c22, c23, xi, eta, phi,
+                           False)
     return fx, fy
 
 
