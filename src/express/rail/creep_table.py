@@ -156,8 +156,9 @@ def _interpolate(values, slopes, ratio, ux, uy, up, c11, c22, moment):
     k_eta = (1.0 - wf) * slopes[0, f] + wf * slopes[0, f + 1]
     k_phi = (1.0 - wf) * slopes[1, f] + wf * slopes[1, f + 1]
     scale = 3.0 * min(r, max(2.0 * _RADIUS_STEP - r, 0.0)) / s  # w(r)
-    beta = math.atan2(uy / c22, ux / c11)  # the direction of (xi, eta)
-    cos, sin = math.cos(beta), math.sin(beta)
+    dx, dy = ux / c11, uy / c22  # the direction of (xi, eta)
+    length = math.sqrt(dx * dx + dy * dy)
+    cos, sin = (dx / length, dy / length) if length > 0.0 else (1.0, 0.0)
     fx = along * cos - across * sin  # the excess along and across it, turned back
     fy = along * sin + across * cos
     return fx - scale * ux, fy - scale * (uy + up), (spin + scale * (uy * k_eta - up * k_phi)) if moment else 0.0
