@@ -2,8 +2,8 @@
 
 It tends to Kalker's linear theory (f11, f22, f23 and the spin moment's f23, f33 of
 express.rail.contact) for small creepages, keeps the half-space's symmetries, saturates at
-mu N, and against CONTACT's exact results on 250 cases off the table's grid
-(tests/data/contact_exact/validation.csv, five regimes) stays within the stated errors;
+mu N, and against CONTACT's exact results on 280 cases off the table's grid
+(tests/data/contact_exact/validation.csv, six regimes) stays within the stated errors;
 FASTSIM 3 x 5 and Polach are measured on the same cases (docs/validation.md)."""
 
 from __future__ import annotations
@@ -37,7 +37,7 @@ def test_linear_limit_is_kalker(a, b, xi, eta, phi):
     """Small creepages: Fx = -f11 xi, Fy = -f22 eta - f23 phi to 1e-5 relative to the
     linear force's size (the first interval is linear in F / |u|, and the normalisation
     by the C_ij makes the slopes the same at every a/b: exact also for the ellipse
-    0.36 x 8.6 mm beyond the table's a/b), and Mz = f23 eta - f33 phi
+    0.36 x 8.6 mm), and Mz = f23 eta - f33 phi
     (f_ij = G (ab)^k C_ij) to 5e-2 of the moment's size (achieved 3.9e-2, at a/b = 0.5):
     its slopes C23 / C22 and C33 / C23 vary with a/b (C33 as b / a for a short rolling
     axis) and are interpolated linearly between the table's ratios, 1.5 apart."""
@@ -49,7 +49,7 @@ def test_linear_limit_is_kalker(a, b, xi, eta, phi):
     scale = math.hypot(f11 * xi, math.hypot(f22 * eta, f23 * phi))
     assert np.abs(np.array([fx, fy]) - want).max() <= 1e-5 * scale
     moment = f23 * eta - f33 * phi
-    if 0.2 <= a / b <= 5.0:
+    if np.isfinite(c33):  # Kalker gives no C33 for slender ellipses long in the rolling direction
         assert abs(mz - moment) <= 5e-2 * math.hypot(f23 * eta, f33 * phi)
 
 
@@ -119,15 +119,16 @@ TOLERANCES = {
     "full": (0.004, 0.022, 0.055),  # achieved 0.28, 1.6, 4.2 %
     "spin": (0.035, 0.095, 0.170),  # achieved 2.7, 7.4, 13 %
     "flange": (0.013, 0.065, 0.180),  # achieved 0.99, 5.1, 14 %
+    "slender": (0.14, 0.32, 0.42),  # achieved 11, 25, 32 %: a/b 5...25, beyond issue 33's range
 }
 #: Asserted largest error of the table's force as a share of mu N, per regime (achieved
-#: 0.48, 3.9, 4.1, 2.7, 4.8 %).
-OF_LIMIT = {"linear": 0.007, "partial": 0.05, "full": 0.055, "spin": 0.035, "flange": 0.062}
+#: 0.48, 3.9, 4.1, 2.7, 4.8, 5.9 %).
+OF_LIMIT = {"linear": 0.007, "partial": 0.05, "full": 0.055, "spin": 0.035, "flange": 0.062, "slender": 0.077}
 
 
 @pytest.mark.parametrize("regime", list(TOLERANCES))
 def test_table_against_contact(regime):
-    """Against CONTACT (60 x 60 elements) on 50 cases per regime off the table's grid: the
+    """Against CONTACT (60 x 60 elements) on 50 cases per regime (30 slender) off the table's grid: the
     median, 90th percentile and largest relative error of the tangential force, and the
     largest as a share of mu N, within TOLERANCES and OF_LIMIT (about 1.3 times what is
     achieved; the goal of issue 33 is 3 %, 10 %, 25 %)."""
@@ -141,11 +142,15 @@ def test_table_against_contact(regime):
 
 
 def test_contact_data_covers_the_regimes():
-    """250 cases, 50 per regime, a/b over 0.2...5, both signs of eta against spin in flange contact."""
+    """280 cases, 50 per regime (30 slender flange roots, a/b 5...25), a/b over 0.2...5
+    elsewhere, both signs of eta against spin in flange contact."""
     labels, rows = _validation()
-    assert len(rows) == 250
-    assert {regime: int((labels == regime).sum()) for regime in TOLERANCES} == dict.fromkeys(TOLERANCES, 50)
-    ratio = rows[:, 0] / rows[:, 1]
+    assert len(rows) == 280
+    counts = {regime: int((labels == regime).sum()) for regime in TOLERANCES}
+    assert counts == {**dict.fromkeys(TOLERANCES, 50), "slender": 30}
+    slender = rows[labels == "slender"]
+    assert (slender[:, 0] / slender[:, 1]).min() > 5.0 and (slender[:, 0] / slender[:, 1]).max() > 20.0
+    ratio = rows[labels != "slender", 0] / rows[labels != "slender", 1]
     assert ratio.min() < 0.25 and ratio.max() > 4.0
     flange = rows[labels == "flange"]
     assert 10 < int((np.sign(flange[:, 6]) != np.sign(flange[:, 7])).sum()) < 40

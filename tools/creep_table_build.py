@@ -1,7 +1,7 @@
 """The grid of EXPRESS's table of the exact theory (:mod:`express.rail.creep_table`) and
 its assembly from CONTACT's results (run by ``tools/contact_creep_runs.py table``).
 
-Nodes: ``a/b`` log-spaced over 0.2...5; the direction of the normalised creepage
+Nodes: ``a/b`` log-spaced over 0.2...25; the direction of the normalised creepage
 ``u = (u_x, u_y, u_phi)`` by its angle ``theta`` from the ``+u_phi`` axis (0...pi) and
 its azimuth ``alpha`` in the ``(u_x, u_y)`` plane (0...pi/2: the symmetries of the
 half-space give the other quadrants); its size ``|u|`` by ``r = |u| / (1 + |u|)``.
@@ -24,7 +24,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "src"))
 from express.rail.contact import kalker_coefficients
 
 POISSON = 0.3
-RATIOS = np.geomspace(0.2, 5.0, 9)
+RATIOS = np.geomspace(0.2, 25.0, 13)  # 1.495 apart: 0.2 ... 5 (9 nodes), then to 25 (flange ellipses)
 THETAS = np.linspace(0.0, math.pi, 11)
 ALPHAS = np.linspace(0.0, 0.5 * math.pi, 6)
 RADII = np.linspace(0.0, 1.0, 11)

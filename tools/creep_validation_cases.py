@@ -14,7 +14,10 @@ except in flange contact):
 * ``spin``: ``|u|`` 0.1...30, spin at least twice the translational part;
 * ``flange``: ``xi = 1e-3``, ``eta`` 5e-3...1e-2, spin 2...6 1/m, the signs of ``eta``
   and the spin independent (they oppose in half the cases), ``N`` 20...120 kN,
-  ``sqrt(ab)`` 4...8 mm, ``mu`` 0.25...0.4, ``G = 80.8 GPa``.
+  ``sqrt(ab)`` 4...8 mm, ``mu`` 0.25...0.4, ``G = 80.8 GPa``;
+* ``slender`` (30 cases, seed 34, after the others): the flange's creepages on the long,
+  narrow ellipses of a flange root, ``a/b`` 5...25, ``sqrt(ab)`` 1.5...3 mm, ``N``
+  10...60 kN.
 """
 
 from __future__ import annotations
@@ -54,6 +57,16 @@ def _flange(rng: np.random.Generator) -> tuple[float, ...]:
     return (aa, bb, rng.uniform(2e4, 1.2e5), rng.uniform(0.25, 0.4), 80800.0, 1e-3, eta, phi)
 
 
+def _slender(rng: np.random.Generator) -> tuple[float, ...]:
+    """A flange-root case: the flange's creepages on an ellipse long in the rolling direction."""
+    ratio = math.exp(rng.uniform(math.log(5.0), math.log(25.0)))
+    size = rng.uniform(1.5, 3.0)
+    aa, bb = size * math.sqrt(ratio), size / math.sqrt(ratio)
+    eta = rng.uniform(5e-3, 1e-2) * rng.choice((-1.0, 1.0))
+    phi = rng.uniform(2.0, 6.0) * rng.choice((-1.0, 1.0)) * 1e-3  # rad/mm
+    return (aa, bb, rng.uniform(1e4, 6e4), rng.uniform(0.25, 0.4), 80800.0, 1e-3, eta, phi)
+
+
 def cases() -> list[tuple[str, np.ndarray]]:
     """``(regime, row of COLUMNS)`` of every validation case."""
     rng = np.random.default_rng(SEED)
@@ -63,6 +76,8 @@ def cases() -> list[tuple[str, np.ndarray]]:
         rows = physical(np.array([_normalised(rng, size, spin) for _ in range(PER_REGIME)]))
         out += [(regime, row) for row in rows]
     out += [("flange", np.array(_flange(rng))) for _ in range(PER_REGIME)]
+    slender = np.random.default_rng(SEED + 1)
+    out += [("slender", np.array(_slender(slender))) for _ in range(30)]
     return out
 
 

@@ -23,7 +23,7 @@ from express.rail.contact import kalker_coefficients  # noqa: E402
 from express.rail.creep_law import fastsim, polach  # noqa: E402
 from express.rail.creep_table import tabulated_with_moment  # noqa: E402
 
-REGIMES = ("linear", "partial", "full", "spin", "flange")
+REGIMES = ("linear", "partial", "full", "spin", "flange", "slender")
 POISSON = 0.3
 
 

@@ -11,7 +11,7 @@ normalised creepages (``c = sqrt(ab)``, Kalker's ``C11, C22, C23`` at ``a/b``)::
 
 in which Kalker's linear theory reads ``Fx / (mu N) = -3 u_x``,
 ``Fy / (mu N) = -3 (u_y + u_phi)``.  The table holds ``(Fx, Fy) / (mu N)`` and
-``Mz / (mu N c)`` (as below) over ``log(a/b)`` (0.2...5), the direction of ``u`` (its angle
+``Mz / (mu N c)`` (as below) over ``log(a/b)`` (0.2...25), the direction of ``u`` (its angle
 ``theta`` from the ``+u_phi`` axis and its azimuth ``alpha`` in ``(u_x, u_y)``, 0...pi/2)
 and ``r = |u| / (1 + |u|)``: ``r = 0`` holds Kalker's linear slopes, ``r = 1`` the
 full-slip limit, CONTACT the nodes between (``docs/contact.md``, "Creep forces from tables
@@ -26,9 +26,10 @@ direction of ``(xi, eta)`` at its node, so that a translational creepage's full-
 it, interpolates exactly); the law is ``w(r)`` times the slopes at the
 asked direction and ratio plus the excess interpolated multilinearly in
 ``(log(a/b), theta, alpha, r)`` — quadratically in ``r`` between ``r = 0`` (no excess)
-and the first node, so the law tends to Kalker's linear theory exactly.  ``w`` is
+and the first node, so the law tends to Kalker's linear theory exactly (the moment's where
+Kalker gives C33).  ``w`` is
 piecewise linear through ``0, r1, 0`` at the first three radii, zero beyond (between
-nodes it is what the interpolation makes of its node values: no error from its shape).  Beyond 0.2...5
+nodes it is what the interpolation makes of its node values: no error from its shape).  Beyond 0.2...25
 the table's edge ratio is used (the normalisation keeps the forces' linear limit exact).  The table is for ``nu = 0.3`` (:data:`TABLE_POISSON`); through
 the ``C_ij`` the linear limit is exact at any ``nu``.  Signs: the forces on the wheel
 oppose the creepages, as in :mod:`express.rail.creep_law`.
@@ -50,7 +51,7 @@ __all__ = ["TABLE_GRID", "TABLE_POISSON", "load_table", "tabulated", "tabulated_
 #: The first 16 hex digits of the package table's SHA-256.  Numba freezes the table into the
 #: cached kernels, and its cache follows this file's changes only: a new table must come
 #: with its digest here (``tools/contact_creep_runs.py table`` prints it).
-TABLE_DIGEST = "e41e05c245d1d31a"
+TABLE_DIGEST = "182d336602d1662d"
 
 
 def load_table() -> dict[str, np.ndarray]:
