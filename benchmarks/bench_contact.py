@@ -22,7 +22,13 @@ Measured (medians of ``--runs`` runs after a warm-up; garbage collector off whil
    turning points by search, the wavelength integral by a Riemann sum of dy / psi;
    its results are compared.
 
-The last line is ``contact_geometry_s=<x> conicity_ms=<y> speedups=<a>,<b>``.  A missed
+3. One creep-law evaluation (``express.rail.creep_table.tabulated``, the tables of the
+   exact theory) on 20000 contacts (a/b 0.2...5, creepages from the linear range to full
+   slip, spin up to 6 1/m), in a compiled loop.  Baseline, same run: FASTSIM 3 x 5
+   (``express.rail.creep_law.fastsim``, the production law) in the same loop; Polach for
+   information.  Printed: ns per evaluation, the ratio table / FASTSIM.
+
+The last line is ``contact_geometry_s=<x> conicity_ms=<y> speedups=<a>,<b> law_ratio=<c>``.  A missed
 target prints ``TARGET MISSED`` (exit code 0 all the same).
 """
 
@@ -44,11 +50,15 @@ from importlib import resources  # noqa: E402
 from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402
+from numba import njit  # noqa: E402
 from scipy.optimize import brentq  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from express.rail.conicity import equivalent_conicity, read_delta_r  # noqa: E402
+from express.rail.contact import kalker_coefficients  # noqa: E402
 from express.rail.contact_geometry import ContactSetup, contact_geometry, prepare_surfaces  # noqa: E402
+from express.rail.creep_law import fastsim, polach  # noqa: E402
+from express.rail.creep_table import tabulated  # noqa: E402
 from express.rail.profiles import standard_profile  # noqa: E402
 from machine import cpu_name, usable_cores  # noqa: E402
 
@@ -120,6 +130,46 @@ def naive_conicity(y, delta_r, amplitudes, dy=1e-5) -> np.ndarray:
     return np.interp(amplitudes, found_a, found_t)
 
 
+# --- 3: one creep-law evaluation ----------------------------------------------------------
+
+
+def _law_loop(law):
+    @njit(cache=False)
+    def loop(cases):
+        total = 0.0
+        for k in range(cases.shape[0]):
+            c = cases[k]
+            fx, fy = law(c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7], c[8], c[9], c[10])
+            total += fx + fy
+        return total
+    return loop
+
+
+def law_cases(count: int = 20000) -> np.ndarray:
+    """Rows ``(N, mu, a, b, G, C11, C22, C23, xi, eta, phi)`` of random contacts (seeded)."""
+    rng = np.random.default_rng(1)
+    rows = np.empty((count, 11))
+    for k in range(count):
+        ratio = math.exp(rng.uniform(math.log(0.2), math.log(5.0)))
+        size = rng.uniform(3e-3, 7e-3)
+        a, b = size * math.sqrt(ratio), size / math.sqrt(ratio)
+        creep = 10.0 ** rng.uniform(-5, -2)
+        rows[k] = (rng.uniform(2e4, 1e5), 0.3, a, b, 8.08e10, *kalker_coefficients(a, b, 0.3)[:3],
+                   creep * rng.uniform(-1, 1), creep * rng.uniform(-1, 1), rng.uniform(-6.0, 6.0))
+    return rows
+
+
+def law_costs(runs: int) -> dict[str, float]:
+    """Median ns per evaluation of each law on :func:`law_cases`."""
+    cases = law_cases()
+    out = {}
+    for name, law in (("table", tabulated), ("fastsim", fastsim), ("polach", polach)):
+        loop = _law_loop(law)
+        seconds, _ = median_time(lambda loop=loop: loop(cases), runs)
+        out[name] = seconds / len(cases) * 1e9
+    return out
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--quick", action="store_true", help="fewer runs, baselines on a subset")
@@ -165,10 +215,15 @@ def main() -> int:
               f"speedup {t_slow / t_fast:.0f}x; results differ by at most {np.abs(fast - slow).max():.4f}")
         if t_fast >= 0.05:
             missed.append(f"conicity {label}")
+    costs = law_costs(runs)
+    ratio = costs["table"] / costs["fastsim"]
+    print(f"one creep-law evaluation (20000 contacts, compiled loop): table {costs['table']:.0f} ns; "
+          f"baseline FASTSIM 3 x 5 {costs['fastsim']:.0f} ns, ratio table / FASTSIM {ratio:.2f}; "
+          f"Polach {costs['polach']:.0f} ns")
     if missed:
         print("TARGET MISSED: " + ", ".join(missed))
     print(f"contact_geometry_s={t_geometry:.4f} conicity_ms={max(t_conicity) * 1e3:.2f} "
-          f"speedups={speedup_geometry:.0f},{min(speedups):.0f}")
+          f"speedups={speedup_geometry:.0f},{min(speedups):.0f} law_ratio={ratio:.2f}")
     return 0
 
 

@@ -27,7 +27,8 @@ Numba kernels (their compile time is reported separately):
    250 km/h, for information.
 3. Named baseline, same run: the same calls with ``contact="deadband"`` — the dead-band
    flange spring and Shen-Hedrick-Elkins saturation the tables replace.  Printed: the
-   ratio tables / dead-band wall time, and the Polach law's time for information.
+   ratio tables / dead-band wall time, and the Polach law's and the table law's
+   (``creep_law="table"``, the tables of the exact theory) times for information.
 
 The last line is exactly ``realtime_factor=<x> ratio_vs_deadband=<y>`` for item 1.
 Exit code 0 even when the target is missed (``TARGET MISSED`` is printed).
@@ -109,6 +110,8 @@ def case(name: str, vehicle, speed_kmh: float, travel: float, runs: int) -> dict
     first = time.perf_counter() - begin
     tables, result = timed(run, runs)
     polach, _ = timed(lambda: run(creep_law="polach"), runs)
+    run(creep_law="table")
+    exact, _ = timed(lambda: run(creep_law="table"), runs)
     run(contact="deadband")
     deadband, _ = timed(lambda: run(contact="deadband"), runs)
     amplitude = float(np.abs(result.q[-len(result.time) // 3:, vehicle.wheelsets[0].y]).max())
@@ -118,6 +121,8 @@ def case(name: str, vehicle, speed_kmh: float, travel: float, runs: int) -> dict
     print(f"  contact tables, FASTSIM: median {tables * 1e3:.1f} ms -> {travel / tables:.0f}x real time "
           f"({tables / (len(result.time) - 1) * 1e6:.1f} us per step)")
     print(f"  contact tables, Polach:  median {polach * 1e3:.1f} ms -> {travel / polach:.0f}x real time")
+    print(f"  contact tables, table law (exact theory): median {exact * 1e3:.1f} ms -> {travel / exact:.0f}x "
+          f"real time; ratio table / FASTSIM = {exact / tables:.2f}")
     print(f"  baseline dead-band flange + saturation: median {deadband * 1e3:.1f} ms -> "
           f"{travel / deadband:.0f}x real time; ratio tables / dead-band = {tables / deadband:.2f}")
     print(f"  limit cycle: leading wheelset amplitude {amplitude * 1e3:.2f} mm, "

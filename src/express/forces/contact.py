@@ -4,7 +4,7 @@ wheel loads that press it (issue 12, item 5).
 When a model's conicity comes from profiles (:mod:`express.rail.profile_contact`), the
 dead-band flange spring and the creep saturation give way to the contact forces of
 :func:`express.rail.contact_forces.profile_wheelset_forces`: normal forces from the
-geometry, Hertz ellipses, creep forces by FASTSIM (or Polach), elastic rails.  The linear
+geometry, Hertz ellipses, creep forces by FASTSIM (or Polach, or the tables of the exact theory), elastic rails.  The linear
 part of the motion stays in ``A``; the difference between the contact forces and the
 linear wheel/rail terms of the model (:func:`express.rail.wheelrail.wheelset_terms`,
 evaluated at the run's speed) is fed back on each wheelset's lateral and yaw

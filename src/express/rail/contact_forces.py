@@ -28,8 +28,9 @@ simulation"):
   ``omega / v = sum f11 r (1 - sigma l q) / sum f11 r^2`` starts Newton's method with
   Polach's longitudinal force and its tangent stiffness (at most 3 steps);
 * tangential forces: a first pass by Polach's method (:func:`express.rail.creep_law.
-  polach`) at ``N = Q / cos(delta)``, the last by the chosen law (Polach or FASTSIM,
-  :func:`express.rail.creep_law.fastsim`) at the corrected ``N`` and balanced rotation;
+  polach`) at ``N = Q / cos(delta)``, the last by the chosen law (Polach, FASTSIM,
+  :func:`express.rail.creep_law.fastsim`, or the tables of the exact theory,
+  :func:`express.rail.creep_table.tabulated`) at the corrected ``N`` and balanced rotation;
 * on the wheelset: ``Y = sum(-sigma N sin(delta) + T cos(delta))`` and
   ``M = sum(-sigma l Fx) + sum(x_s Y_s)``;
 * per contact, the frictional power per unit rolling distance
@@ -76,6 +77,7 @@ from express.rail.contact_tables import (
     rail_deflection_map,
 )
 from express.rail.creep_law import fastsim, polach_longitudinal, polach_with_slope
+from express.rail.creep_table import tabulated
 from express.rail.options import CreepLaw
 
 __all__ = [
@@ -83,6 +85,7 @@ __all__ = [
     "LAWS",
     "OUTPUTS",
     "POLACH",
+    "TABLE",
     "WORK_FIELDS",
     "ContactSet",
     "WheelsetContact",
@@ -101,8 +104,8 @@ OUTPUTS = ("Y", "M", "N_left", "N_right", "Y_left", "Y_right", "Fx_left", "Fx_ri
            "Tgamma_left", "Tgamma_right", "unit_area_left", "unit_area_right", "unit_b_left", "unit_b_right",
            "wheel_u_left", "wheel_u_right")
 #: Creep laws of :func:`profile_wheelset_forces`, by named constant and by name.
-POLACH, FASTSIM = 0, 1
-LAWS = {"polach": POLACH, "fastsim": FASTSIM}
+POLACH, FASTSIM, TABLE = 0, 1, 2
+LAWS = {"polach": POLACH, "fastsim": FASTSIM, "table": TABLE}
 #: Wall stiffness beyond the tables when the rails are rigid [N/m].
 _RIGID_WALL = 1e8
 
@@ -459,6 +462,8 @@ def _creep_pass(work, law, rate, q, friction, shear_modulus, loads, final):
                 work[side, C11], work[side, C22], work[side, C23], xi, eta, phi)
         if law == FASTSIM:
             fx, fy = fastsim(*args)
+        elif law == TABLE:
+            fx, fy = tabulated(*args)
         else:
             fx, fy, work[side, _F11] = polach_with_slope(*args)  # the tangent, for the pitch balance
         work[side, _FX] = fx
@@ -563,7 +568,7 @@ def quasi_static_forces(contact: WheelsetContact, y: float, psi: float = 0.0, y_
                         psi_dot: float = 0.0, rho: float = 0.0, speed: float = 1.0, law: CreepLaw = "polach",
                         loads: tuple[float, float] | None = None) -> dict[str, float]:
     """:func:`profile_wheelset_forces` of one state, by name (:data:`OUTPUTS`); SI units; ``law``
-    ``"polach"`` or ``"fastsim"``; ``loads`` the wheel loads (left, right) [N], the static
+    ``"polach"``, ``"fastsim"`` or ``"table"``; ``loads`` the wheel loads (left, right) [N], the static
     ``contact.wheel_load`` by default."""
     left, right = (contact.wheel_load, contact.wheel_load) if loads is None else loads
     out = np.zeros(len(OUTPUTS))

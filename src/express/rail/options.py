@@ -7,8 +7,9 @@ from typing import Literal, get_args
 
 __all__ = ["CONTACT_MODELS", "CREEP_LAWS", "PROFILE_KINDS", "ContactModel", "CreepLaw", "ProfileKind"]
 
-#: The tangential contact law of the nonlinear contact (``rail/creep_law.py``).
-CreepLaw = Literal["fastsim", "polach"]
+#: The tangential contact law of the nonlinear contact (``rail/creep_law.py``; ``"table"``:
+#: the tables of the exact theory, ``rail/creep_table.py``).
+CreepLaw = Literal["fastsim", "polach", "table"]
 #: Wheel/rail contact of a time march: the profiles' tables or the linear dead band.
 ContactModel = Literal["tables", "deadband"]
 #: What a profile describes.

@@ -214,7 +214,7 @@ class SteadyCurvingSolver:
     contact : {"tables", "deadband"}, optional
         As :func:`express.analysis.time.simulate.simulate` (tables when the model's contact
         comes from profiles).
-    creep_law : {"fastsim", "polach"}
+    creep_law : {"fastsim", "polach", "table"}
         Creep law of the contact tables.
     flange, saturation : bool
         The dead-band model's flange contact and creep saturation (both off: the

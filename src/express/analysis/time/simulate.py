@@ -273,7 +273,7 @@ def simulate(
         model's conicity comes from profiles), ``"deadband"`` is the flange spring and
         creep saturation of :mod:`express.rail.nonlinear`.  A linear run (``flange`` and
         ``saturation`` off) uses neither.
-    creep_law : {"fastsim", "polach"}
+    creep_law : {"fastsim", "polach", "table"}
         The creep law of the contact tables.
     route : {"auto", "dense", "sparse"}
         How the linear part of a step is taken (the same exact discretization and time
