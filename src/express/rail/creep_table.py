@@ -237,7 +237,7 @@ def tabulated_forces(normal, friction, a, b, shear_modulus, c11, c22, c23, xi, e
     float arrays [N, N, N m]."""
     arrays = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in
                                    (normal, friction, a, b, shear_modulus, c11, c22, c23, xi, eta, phi)))
-    out = np.empty((3, *arrays[0].shape))
+    out = np.empty((3,) + arrays[0].shape)
     for index in np.ndindex(arrays[0].shape):
-        out[(slice(None), *index)] = tabulated_with_moment(*(float(v[index]) for v in arrays))
+        out[(slice(None),) + index] = tabulated_with_moment(*(float(v[index]) for v in arrays))
     return out[0], out[1], out[2]

@@ -194,7 +194,7 @@ class WheelRailOutputs:
     def wear_rate(self) -> FloatArray | None:
         """USFD wear rate of each wheel [ug/(m mm^2)], shape (N, n, 2); ``None`` without
         the frictional power."""
-        if self.frictional_power is None:
+        if self.frictional_power is None or self.patch_area is None:
             return None
         return wear_rate_of_contact(self.frictional_power, self.patch_area)
 
@@ -229,6 +229,8 @@ class WheelRailOutputs:
         per_wheel = (("Tgamma", self.frictional_power), ("wear", self.wear_rate), ("rcf", self.rcf_damage))
         for j in range(self.wheelsets):
             for prefix, values in per_wheel:
+                if values is None:  # a record without the frictional power: no energy columns
+                    continue
                 for k, side in enumerate(SIDES):
                     out[f"{prefix}{j + 1}{side}"] = values[:, j, k]
         return out
