@@ -202,14 +202,14 @@ MODES = {
         (31.006, -129.50, "wheelset yaw, *"),  # W1.rz 24%, W3.rz 24%, W2.rz 21%
         (45.036, -75.71, "bogie frame yaw, *"),  # T1.rz 22%, T2.rz 20%, W1.rz 15%
         (45.036, -75.71, "bogie frame yaw, *"),  # T1.rz 22%, T2.rz 21%, W1.rz 15%
-        (174.887, -3.59, "wheelset roll, *"),  # W4.rx 25%, W3.rx 25%, W1.rx 25%
-        (174.887, -3.59, "wheelset roll, *"),  # W4.rx 25%, W2.rx 25%, W3.rx 25%
-        (174.891, -3.57, "wheelset roll, *"),  # W3.rx 50%, W4.rx 50%, W2.rx 0%
-        (174.891, -3.57, "wheelset roll, *"),  # W2.rx 49%, W1.rx 49%, W4.rx 1%
-        (183.204, -2.22, "wheelset vertical, *"),  # W2.z 48%, W1.z 48%, W4.z 2%
-        (183.204, -2.22, "wheelset vertical, *"),  # W3.z 48%, W4.z 48%, W1.z 2%
-        (183.207, -2.21, "wheelset vertical, *"),  # W1.z 25%, W2.z 25%, W4.z 25%
-        (183.207, -2.21, "wheelset vertical, *"),  # W4.z 25%, W3.z 25%, W1.z 25%
+        (174.682, -53.79, "wheelset roll, *"),  # W4.rx 25%, W3.rx 25%, W1.rx 25%
+        (174.682, -53.79, "wheelset roll, *"),  # W4.rx 25%, W2.rx 25%, W3.rx 25%
+        (174.678, -53.81, "wheelset roll, *"),  # W3.rx 50%, W4.rx 50%, W2.rx 0%
+        (174.678, -53.81, "wheelset roll, *"),  # W2.rx 49%, W1.rx 49%, W4.rx 1%
+        (182.980, -57.37, "wheelset vertical, *"),  # W2.z 48%, W1.z 48%, W4.z 2%
+        (182.980, -57.37, "wheelset vertical, *"),  # W3.z 48%, W4.z 48%, W1.z 2%
+        (182.977, -57.38, "wheelset vertical, *"),  # W1.z 25%, W2.z 25%, W4.z 25%
+        (182.977, -57.38, "wheelset vertical, *"),  # W4.z 25%, W3.z 25%, W1.z 25%
     ],
     "tests/data/coach-series-dampers.toml": [
         (0.000, -29.83, "car body pitch, non-oscillatory"),  # T1.ry 43%, T2.ry 43%, CB.ry 14%

@@ -59,6 +59,11 @@ def add_parser(subparsers) -> None:
                         "the instability criterion (ΣY rms over 100 m against (ΣY)lim/2), ΔQ/Q0, each with its "
                         "limit and pass/fail (docs/curving.md); the per-wheel outputs join the histories; exit "
                         "status 3 when a criterion fails or the vehicle derails (the histories are still written)")
+    parser.add_argument("--no-step-check", dest="step_check", action="store_false",
+                        help="with --assess, do not check the step: by default the assessed run is repeated at twice "
+                             "its step and the step halved (at most 3 times) until every EN 14363 quantity moves by "
+                             "less than 1 %% of its limit; the summary says the step used and its estimated error "
+                             "(docs/curving.md)")
     common.add_json_option(parser)
     parser.set_defaults(handler=run, numeric=True)
 
@@ -66,7 +71,7 @@ def add_parser(subparsers) -> None:
 def run(
     model: Path, overrides: dict[str, str], *, track: str | None = None, speed: float | None = None,
     dt: float = 0.005, linear: bool = False, outputs: list[str] | None = None, plot: Path | None = None,
-    assess: bool = False, as_json: bool = False,
+    assess: bool = False, as_json: bool = False, step_check: bool = True,
 ) -> int:
     """Simulate and write the outputs all together; returns the exit status."""
     from express.io.output import output_transaction
@@ -80,6 +85,7 @@ def run(
     inputs = [model] + ([Path(track)] if track is not None and Path(track).is_file() else [])
     failure = None
     assessment = None
+    check = None
     with output_transaction(inputs) as transaction:
         for path in outputs:
             transaction.declare(path, binary=Path(path).suffix.lower() in (".npz", ".mat"))
@@ -105,6 +111,9 @@ def run(
         if divergence is None:
             if assess:
                 assessment = _assess(vehicle, road, result)
+                if step_check:
+                    result, assessment, check = _step_check(vehicle, road, v, dt, (result, assessment))
+                    dt = check.dt
             _write(result, outputs, plot, f"{vehicle.equations.name}: {v / common.KMH:.0f} km/h, {_track_name(track)}")
         else:
             failure = _diverged(result, vehicle, divergence, [p for p in outputs if p != "-"])
@@ -120,6 +129,8 @@ def run(
     }
     if assessment is not None:
         summary["assessment"] = assessment.as_dict()
+    if check is not None:
+        summary["step_check"] = check.as_dict()
     stream = sys.stderr if "-" in outputs else sys.stdout
     if as_json:
         common.print_json(summary)
@@ -127,6 +138,8 @@ def run(
         _print_summary(vehicle.equations.name, summary, track, stream)
         if assessment is not None:
             _print_assessment(assessment, stream)
+        if check is not None:
+            print(check.sentence(), file=stream)
     if assessment is None or (assessment.passed and assessment.derailment is None):
         return 0
     failed = [c.name for c in assessment.criteria if c.passed is False]
@@ -158,6 +171,20 @@ def _assess(vehicle: Any, road: Any, result: Any) -> Any:
     wheel_rail, assessment = assess_run(vehicle, road, result)
     result.outputs.update({name: values for name, values in wheel_rail.columns().items() if name not in result.outputs})
     return assessment
+
+
+def _step_check(vehicle: Any, road: Any, speed: float, dt: float, first: tuple[Any, Any]) -> tuple[Any, Any, Any]:
+    """The assessed run checked against twice its step, halved until its quantities agree
+    (:func:`express.analysis.time.step_check.checked_run`)."""
+    from express.analysis.time.divergence import find_divergence
+    from express.analysis.time.step_check import checked_run
+
+    def run(step: float) -> tuple[Any, Any] | None:
+        result = _simulate(vehicle, road, speed, step, False)
+        return None if find_divergence(result, vehicle) is not None else (result, _assess(vehicle, road, result))
+
+    smallest = max(1e-5, road.length / (speed * MAX_STEPS))
+    return checked_run(run, dt, first=first, smallest=smallest)
 
 
 def _print_assessment(assessment: Any, stream: Any) -> None:

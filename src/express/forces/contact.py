@@ -51,12 +51,13 @@ from express.rail.curve import station_of
 from express.rail.options import CreepLaw
 from express.rail.profile_contact import contact_terms, profile_nodes
 from express.rail.vertical_contact import vertical_contacts
+from express.rail.wheel_rise import contact_rise
 from express.rail.wheelrail import irregularity_input, wheelset_terms
 
 __all__ = [
     "LINEAR_TERMS", "NO_ROLL", "ContactElement", "ContactFeedback", "WheelLoadModel", "contact_arrays",
-    "contact_feedback", "dynamic_wheel_loads", "linear_coefficients", "linear_wheel_rail", "roll_coordinates",
-    "static_wheel_loads", "wheel_loads_at", "wheel_loads_history",
+    "contact_feedback", "dynamic_wheel_loads", "linear_coefficients", "linear_wheel_rail", "pressed_loads",
+    "roll_coordinates", "static_wheel_loads", "unpressed", "wheel_loads_at", "wheel_loads_history",
 ]
 
 #: The model's linear wheel/rail terms of a wheelset, in the order of the columns of
@@ -167,19 +168,36 @@ class WheelLoadModel(NamedTuple):
         State coordinates the loads depend on.
     gain : numpy.ndarray, shape (steps + 1 or 1, n_places, n_wheelsets, 2)
         [N per unit].
+    stiffness : numpy.ndarray, shape (n_wheelsets, 2)
+        The vertical contact springs under the wheels [N/m], which the wheel's rise on
+        its rail presses (:func:`pressed_loads`); zero for loads that do not come from
+        them.
+    roll : numpy.ndarray of int, shape (n_wheelsets,)
+        Each wheelset's roll coordinate in the state (-1: none).
+    arm : numpy.ndarray, shape (n_wheelsets,)
+        Lateral distance of its vertical springs from its centre [m].
     """
 
     static: np.ndarray
     offset: np.ndarray
     places: np.ndarray
     gain: np.ndarray
+    stiffness: np.ndarray
+    roll: np.ndarray
+    arm: np.ndarray
 
 
 def static_wheel_loads(static: np.ndarray, steps: int) -> WheelLoadModel:
     """A :class:`WheelLoadModel` of the static loads only (``steps + 1`` instants)."""
     count = static.size
     return WheelLoadModel(np.ascontiguousarray(static, dtype=float), np.zeros((steps + 1, count, 2)),
-                          np.zeros(0, dtype=np.int64), np.zeros((1, 0, count, 2)))
+                          np.zeros(0, dtype=np.int64), np.zeros((1, 0, count, 2)), *unpressed(count))
+
+
+def unpressed(count: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The last fields of a :class:`WheelLoadModel` of ``count`` wheelsets whose loads do
+    not come from vertical contact springs."""
+    return np.zeros((count, 2)), np.full(count, -1, dtype=np.int64), np.zeros(count)
 
 
 def dynamic_wheel_loads(vehicle, inputs, static: np.ndarray) -> WheelLoadModel | None:
@@ -198,11 +216,25 @@ def dynamic_wheel_loads(vehicle, inputs, static: np.ndarray) -> WheelLoadModel |
     rows = np.array([spring.dofs for spring in every]).reshape(count, 2, dofs)
     drive = np.array([spring.inputs for spring in every]).reshape(count, 2, -1)
     stiffness = np.array([spring.stiffness for spring in every]).reshape(count, 2)
+    damping = np.array([spring.damping for spring in every]).reshape(count, 2)
     places = np.flatnonzero(np.any(rows != 0, axis=(0, 1)))
     gain = -(stiffness[:, :, None] * rows[:, :, places]).transpose(2, 0, 1)[None]
     offset = -stiffness[None] * np.einsum("jsm,km->kjs", drive, inputs.u)
+    if np.any(damping != 0):
+        # the dampers under the wheels carry load too: -c_z times the deflection's rate,
+        # from the coordinates' velocities in the state and the inputs' rates
+        velocity = {int(i): vehicle.n + j for j, i in enumerate(vehicle.form.massive)}
+        if not all(int(i) in velocity for i in places):
+            raise ArgumentError("a damped vertical contact element moves a coordinate without mass")
+        gain = np.concatenate([gain, -(damping[:, :, None] * rows[:, :, places]).transpose(2, 0, 1)[None]], axis=1)
+        places = np.concatenate([places, [velocity[int(i)] for i in places]])
+        offset = offset - damping[None] * np.einsum("jsm,km->kjs", drive, inputs.u_rate)
+    roll = np.array([vehicle.dof_index(f"{w.name}.rx") if f"{w.name}.rx" in vehicle.dofs else -1
+                     for w in vehicle.wheelsets], dtype=np.int64)
+    arm = np.array([spring.arm for spring in every], dtype=float).reshape(count, 2).mean(axis=1)
     return WheelLoadModel(np.ascontiguousarray(static, dtype=float), np.ascontiguousarray(offset),
-                          places.astype(np.int64), np.ascontiguousarray(gain))
+                          places.astype(np.int64), np.ascontiguousarray(gain), np.ascontiguousarray(stiffness, dtype=float),
+                          roll, arm)
 
 
 @njit(cache=True)
@@ -220,17 +252,41 @@ def wheel_loads_at(loads, x, k, j):
 
 
 @njit(cache=True)
-def _loads_history(loads, states, out):
+def pressed_loads(loads, contacts, x, j, y, psi):
+    """``(left, right)`` [N]: what the wheels of wheelset ``j`` (at displacement ``y`` [m]
+    from the track, yaw ``psi`` [rad], state ``x``) add to the loads of their vertical
+    contact springs by sitting on their rails: ``k (rise + sigma (b - lever) phi)``, the
+    wheel's rise on its rail and the difference between the springs' lever ``b`` and the
+    load's own (:func:`express.rail.wheel_rise.contact_rise`) under the roll
+    ``phi``; zero without such springs."""
+    if loads.stiffness[j, 0] == 0.0 and loads.stiffness[j, 1] == 0.0:
+        return 0.0, 0.0
+    geometry = np.empty((2, 2))
+    contact_rise(contacts, j, y, psi, geometry)
+    phi = x[loads.roll[j]] if loads.roll[j] >= 0 else 0.0
+    arm = loads.arm[j]
+    left = loads.stiffness[j, 0] * (geometry[0, 0] + (arm - geometry[0, 1]) * phi)
+    right = loads.stiffness[j, 1] * (geometry[1, 0] - (arm - geometry[1, 1]) * phi)
+    return left, right
+
+
+@njit(cache=True)
+def _loads_history(loads, states, contacts, y, psi, out):
     for k in range(states.shape[0]):
         for j in range(out.shape[1]):
-            out[k, j, 0], out[k, j, 1] = wheel_loads_at(loads, states[k], k, j)
+            left, right = wheel_loads_at(loads, states[k], k, j)
+            press_left, press_right = pressed_loads(loads, contacts, states[k], j, y[k, j], psi[k, j])
+            out[k, j, 0], out[k, j, 1] = left + press_left, right + press_right
 
 
-def wheel_loads_history(loads: WheelLoadModel, states: np.ndarray) -> np.ndarray:
-    """:func:`wheel_loads_at` of every instant of ``states`` (shape (N, >= n)), shape
-    (N, n_wheelsets, 2), left then right [N]."""
+def wheel_loads_history(loads: WheelLoadModel, states: np.ndarray, contacts: ContactSet, y: np.ndarray,
+                        psi: np.ndarray) -> np.ndarray:
+    """The wheel loads (:func:`wheel_loads_at` and :func:`pressed_loads`) of every instant
+    of ``states`` (shape (N, >= n)) with the wheelsets at ``y`` [m] from the track and yaw
+    ``psi`` [rad] (N, n_wheelsets), shape (N, n_wheelsets, 2), left then right [N]."""
     out = np.zeros((states.shape[0], loads.static.size, 2))
-    _loads_history(loads, np.ascontiguousarray(states, dtype=float), out)
+    _loads_history(loads, np.ascontiguousarray(states, dtype=float), contacts, np.ascontiguousarray(y, dtype=float),
+                   np.ascontiguousarray(psi, dtype=float), out)
     return out
 
 
@@ -254,6 +310,9 @@ class ContactFeedback(NamedTuple):
         empty otherwise.
     arm : numpy.ndarray, shape like ``roll``
         Lateral distance of each wheelset's vertical springs from its centre [m].
+    lift : numpy.ndarray of int, shape like ``roll`` or (0,)
+        The wheelsets' vertical coordinates, on which the wheels' rise on their rails
+        presses the vertical springs (:func:`pressed_loads`); empty without them.
     """
 
     first: int
@@ -263,6 +322,7 @@ class ContactFeedback(NamedTuple):
     loads: WheelLoadModel
     roll: np.ndarray
     arm: np.ndarray
+    lift: np.ndarray
 
 
 @njit(cache=True)
@@ -293,7 +353,9 @@ def contact_feedback(x, k, feedback, z, record):
         y, psi, y_dot, psi_dot = x[w.iy[j]], x[w.ipsi[j]], x[w.ivy[j]], x[w.ivpsi[j]]
         y_rail, rho = w.y_rail[k, j], w.rho[k, j]
         left, right = wheel_loads_at(feedback.loads, x, k, j)
-        profile_wheelset_forces(feedback.contacts, j, left, right, y - y_rail, psi, y_dot, psi_dot, rho, w.speed, work, out)
+        press_left, press_right = pressed_loads(feedback.loads, feedback.contacts, x, j, y - y_rail, psi)
+        profile_wheelset_forces(feedback.contacts, j, left + press_left, right + press_right, y - y_rail, psi, y_dot,
+                                psi_dot, rho, w.speed, work, out)
         lateral, yaw = linear_wheel_rail(feedback.linear[j], y, psi, y_dot, psi_dot, y_rail, rho)
         z[first + j] = out[_OUT_Y] - lateral
         z[first + count + j] = out[_OUT_M] - yaw
@@ -301,6 +363,9 @@ def contact_feedback(x, k, feedback, z, record):
             # the contact's roll moment less that of the model's vertical springs, which
             # carry the load changes at +-arm: b (Q_L - Q_R)
             z[first + 2 * count + j] = out[_OUT_ROLL] - feedback.arm[j] * (left - right)
+        if feedback.lift.size > 0:
+            # the rails hold the wheels up by the rise too (the springs of A do not see it)
+            z[first + 3 * count + j] = press_left + press_right
 
 
 _OUT_Y, _OUT_M, _OUT_ROLL = OUTPUTS.index("Y"), OUTPUTS.index("M"), OUTPUTS.index("Mx")
@@ -359,10 +424,17 @@ class ContactElement(ForceElement):
         # the forces, depend on each wheelset's vertical and roll coordinates too
         self.extra = tuple(np.array([vehicle.dof_index(f"{w.name}.{c}") for w in vehicle.wheelsets])
                            for c in ("z", "rx") if roll[0].size)
+        # damped contact springs: the loads follow those coordinates' velocities too
+        velocity = {int(i): vehicle.n + j for j, i in enumerate(vehicle.form.massive)}
+        self.extra += tuple(rates for rates in (np.array([velocity.get(int(i), -1) for i in column])
+                                                for column in self.extra) if np.isin(rates, loads.places).all())
+        vertical = [f"{w.name}.z" for w in vehicle.wheelsets]
+        self.lift = (np.array([vehicle.dof_index(name) for name in vertical], dtype=np.int64)
+                     if roll[0].size and all(name in vehicle.dofs for name in vertical) else np.zeros(0, dtype=np.int64))
 
     @property
     def names(self) -> tuple[str, ...]:
-        axes = ("y", "rz", "rx") if self.roll[0].size else ("y", "rz")
+        axes = ("y", "rz") + (("rx",) if self.roll[0].size else ()) + (("z",) if self.lift.size else ())
         return tuple(f"{w.name}.{axis} wheel/rail" for axis in axes for w in self.wheelsets)
 
     @property
@@ -373,10 +445,11 @@ class ContactElement(ForceElement):
     def directions(self) -> np.ndarray:
         columns = [self.force[:, w.y] for w in self.wheelsets] + [self.force[:, w.psi] for w in self.wheelsets]
         columns += [self.force[:, int(i)] for i in self.roll[0]]
+        columns += [self.force[:, int(i)] for i in self.lift]
         return np.column_stack(columns)
 
     def law(self, first: int) -> ContactFeedback:
-        return ContactFeedback(first, self.coordinates, self.contacts, self.linear, self.loads, *self.roll)
+        return ContactFeedback(first, self.coordinates, self.contacts, self.linear, self.loads, *self.roll, self.lift)
 
     def record_shape(self) -> tuple[int, ...]:
         return (len(self.wheelsets), len(OUTPUTS))

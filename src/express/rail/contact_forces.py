@@ -71,7 +71,6 @@ from express.rail.contact_tables import (
     SEMI_B,
     SIN_ANGLE,
     SIN_AXLE,
-    YAW_STEP,
     ContactTables,
     RailMap,
     rail_deflection_map,
@@ -79,6 +78,7 @@ from express.rail.contact_tables import (
 from express.rail.creep_law import fastsim, polach_longitudinal, polach_with_slope
 from express.rail.creep_table import tabulated
 from express.rail.options import CreepLaw
+from express.rail.wheel_rise import rail_position, rise_tables, yaw_node
 
 __all__ = [
     "FASTSIM",
@@ -205,6 +205,13 @@ class ContactSet(NamedTuple):
     centred_arm : numpy.ndarray, shape (n, 2)
         ``arm`` of each side of the centred wheelset without yaw [m] (the origin of the
         output ``u``).
+    rise : numpy.ndarray, shape (n, yaw nodes, 2, rows)
+        How far each wheel must rise to stay on its rail as it moves across it, from the
+        centred wheelset, on the tables' grid [m] (:func:`express.rail.wheel_rise.contact_rise`).
+    lever : numpy.ndarray, shape like ``rise``
+        ``l - d tan(delta)`` (``d`` the contact's depth below the centre), where the
+        contact normal meets the axle, from the wheelset centre [m]: the lever of the
+        wheel's load about the centre (:func:`express.rail.wheel_rise.contact_rise`).
     law : int
         :data:`POLACH` or :data:`FASTSIM`.
     """
@@ -223,6 +230,8 @@ class ContactSet(NamedTuple):
     shear_modulus: np.ndarray
     wall: np.ndarray
     centred_arm: np.ndarray
+    rise: np.ndarray
+    lever: np.ndarray
     law: int
 
 
@@ -253,19 +262,8 @@ def contact_set(contacts: list[WheelsetContact], law: CreepLaw = "fastsim") -> C
         each(lambda c: c.wall),
         np.array([[_centred_arm(tables[j], c.tables.start, c.tables.step, side) for side in range(2)]
                   for j, c in enumerate(contacts)], dtype=float),
-        LAWS[law],
+        *rise_tables(tables, [c.tables for c in contacts]), LAWS[law],
     )
-
-
-@njit(cache=True)
-def _yaw_node(psi, count):
-    """Yaw node ``k`` below ``|psi|`` and the weight ``t`` of node ``k + 1``, linear in
-    ``psi^2`` (constant beyond the last of ``count`` nodes)."""
-    if count < 2:
-        return 0, 0.0
-    k = min(int(abs(psi) / YAW_STEP), count - 2)
-    low, high = (k * YAW_STEP) ** 2, ((k + 1) * YAW_STEP) ** 2
-    return k, min((psi * psi - low) / (high - low), 1.0)
 
 
 @njit(cache=True)
@@ -298,21 +296,6 @@ def _centred_arm(data, start, step, side):
 
 
 @njit(cache=True)
-def _map(contact, start, step, count, node, weight, y, side):
-    """``u`` of ``side`` at ``y`` from the rail maps (clamped; yaw nodes ``node``,
-    ``node + 1`` with ``weight``) and the overshoot."""
-    last = start + step * (count - 1)
-    clamped = min(max(y, start), last)
-    f = (clamped - start) / step
-    k = min(max(math.floor(f), 0), count - 2)
-    t = f - k
-    u = (1.0 - t) * contact[node, side, k] + t * contact[node, side, k + 1]
-    if weight > 0.0:
-        u += weight * ((1.0 - t) * contact[node + 1, side, k] + t * contact[node + 1, side, k + 1] - u)
-    return u, y - clamped
-
-
-@njit(cache=True)
 def profile_wheelset_forces(contacts, j, load_left, load_right, y, psi, y_dot, psi_dot, rho, speed, work, out):
     """Forces of the rails on wheelset ``j`` of ``contacts`` (see the module docstring)
     into ``out`` (:data:`OUTPUTS`): lateral force ``Y`` [N] and yaw moment ``M`` [N m] on
@@ -320,7 +303,8 @@ def profile_wheelset_forces(contacts, j, load_left, load_right, y, psi, y_dot, p
     position ``u`` on the rail (lateral, from the centred wheelset's contact point, +y left;
     the rail's own deflection not included), contact angle, the overshoot beyond the tables [m], its vertical
     load ``Q``, and the roll moment ``Mx`` [N m] of the rails' forces about the wheelset
-    centre, ``sum(sigma l Q + r Y_wheel)`` (roll positive lifting the left wheel); then
+    centre, ``sum(sigma l Q + d Y_wheel)``, ``d = r - sigma l phi_g`` the contact's depth below the
+    centre in the track plane (roll positive lifting the left wheel); then
     each contact's creepages ``xi``, ``eta``, ``phi`` [-, -, 1/m] at the balanced rotation,
     its lateral creep force ``T`` in the contact plane [N], the frictional power per unit
     rolling distance ``Tgamma = |Fx xi + T eta|`` [N] and the Hertz patch's area per
@@ -340,10 +324,10 @@ def profile_wheelset_forces(contacts, j, load_left, load_right, y, psi, y_dot, p
                                        contacts.table_count[j])
     friction, shear_modulus = contacts.friction[j], contacts.shear_modulus[j]
     lifted_left, lifted_right = max(load_left, _LIFTED), max(load_right, _LIFTED)
-    node, weight = _yaw_node(psi, contacts.yaw_count[j])
+    node, weight = yaw_node(psi, contacts.yaw_count[j])
     extra = 0.0
     for side in range(2):
-        position, over = _map(contacts.rail_maps[j], contacts.map_start[j], contacts.map_step[j],
+        position, over = rail_position(contacts.rail_maps[j], contacts.map_start[j], contacts.map_step[j],
                               contacts.map_count[j], node, weight, y, side)
         clamped = _interpolate(table, t_start, t_step, t_count, node, weight, position, side, work[side])
         work[side, _U] = clamped
@@ -390,8 +374,10 @@ def profile_wheelset_forces(contacts, j, load_left, load_right, y, psi, y_dot, p
         lead = psi * work[side, LEAD_RATE]
         total_y += force_y
         total_m += -sigma * arm * work[side, _FX] + lead * force_y
-        # roll moment about the wheelset centre of the rail's force at the contact (z up)
-        total_roll += sigma * arm * (load_left if side == 0 else load_right) + work[side, RADIUS] * force_y
+        # roll moment about the wheelset centre of the rail's force at the contact (z up),
+        # the contact ``r - sigma l phi`` below the centre in the track plane
+        depth = work[side, RADIUS] - sigma * arm * work[side, ROLL]
+        total_roll += sigma * arm * (load_left if side == 0 else load_right) + depth * force_y
         out[_OUT_LATERAL[side]] = force_y
         out[_OUT_NORMAL[side]] = normal
         out[_OUT_FX[side]] = work[side, _FX]

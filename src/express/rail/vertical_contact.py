@@ -7,7 +7,7 @@ contact).  The element's deflection is linear in the coordinates and the ground 
 (:func:`express.assembly.kinematics.point_motion`, the same forms the generator
 assembles), so the wheel's vertical load follows the vehicle::
 
-    Q = Q0 - k_z (u_wheel,z - u_rail,z)      (z up: a wheel that rises unloads)
+    Q = Q0 - k_z (u_wheel,z - u_rail,z) - c_z (u_wheel,z - u_rail,z)'      (z up: a wheel that rises unloads)
 
 The wheel is the element's end on the wheelset whose offset is to the left (``y > 0``)
 or to the right; a wheelset with no such element on a side has none (its loads come
@@ -45,6 +45,8 @@ class VerticalContact:
         Its part over the inputs (a driven ground) [m per unit].
     arm : float
         Lateral distance of the wheel's end from the wheelset centre [m].
+    damping : float
+        c_z [N s/m], the element's damping in parallel (the track's under the wheel).
     """
 
     element: str
@@ -52,6 +54,7 @@ class VerticalContact:
     dofs: np.ndarray
     inputs: np.ndarray
     arm: float
+    damping: float = 0.0
 
 
 def _side(model: Model, point_id: str, values: Mapping[str, float]) -> int:
@@ -97,5 +100,6 @@ def _vertical_contacts(model: Model, values: Mapping[str, float], wheelsets: Seq
         key = (model.point(wheel_end).host, _side(model, wheel_end, values))
         arm = abs(expression_value(model.point(wheel_end).offset[1], values))
         row.flags.writeable = drive.flags.writeable = False
-        found[key] = VerticalContact(element.id, expression_value(element.stiffness, values), row, drive, arm)
+        found[key] = VerticalContact(element.id, expression_value(element.stiffness, values), row, drive, arm,
+                                     expression_value(element.damping, values))
     return [tuple(found.get((body, side)) for side in (0, 1)) for body in wheelsets]

@@ -189,7 +189,17 @@ def _curving_section(vehicle: VehicleModel, track=None, track_name: str = "", sp
     if divergence is not None:
         return Section("Curving", (f"Track: {track_name}. Run at {speed / KMH:.0f} km/h ({said}): no result, "
                                    f"{divergence_message(run, vehicle, divergence)}.",))
-    wheel_rail, assessment = assess_run(vehicle, track, run)
+    from express.analysis.time.step_check import checked_run
+
+    def assessed(result):  # ((run, wheel/rail outputs), assessment)
+        wheel_rail, assessment = assess_run(vehicle, track, result)
+        return (result, wheel_rail), assessment
+
+    def again(dt: float):
+        result = simulate(vehicle, track, speed=speed, dt=dt, progress=False)
+        return None if find_divergence(result, vehicle) is not None else assessed(result)
+
+    (run, wheel_rail), assessment, check = checked_run(again, float(run.options["dt"]), first=assessed(run))
     run.outputs.update({k: v for k, v in wheel_rail.columns().items() if k not in run.outputs})
     units = run.units()
     rows = [(name, f"{value:.6g}", units.get(name, "")) for name, value in run.max_abs().items()]
@@ -209,7 +219,8 @@ def _curving_section(vehicle: VehicleModel, track=None, track_name: str = "", sp
                                    "against the distance of the leading wheelset."),
         "Largest absolute values:",
         Table(("output", "max |value|", "unit"), rows),
-        f"EN 14363 running-safety quantities (2 m sliding means; docs/curving.md). {verdict}",
+        f"EN 14363 running-safety quantities (2 m sliding means; docs/curving.md). {verdict} The time "
+        f"{check.sentence()} (docs/curving.md, \"The step is checked\").",
         *([Figure(svg_of(safety), "Each EN 14363 quantity against its limit (1 = the limit).")] if safety else []),
         Table(("criterion", "quantity", "value (SI)", "limit", "verdict"), checks),
     ))

@@ -109,7 +109,7 @@ def estimated_wheel_loads(vehicle, inputs, speed: float, static: np.ndarray) -> 
     TrackInputs`) at ``speed`` [m/s], as changes of the static loads ``static`` [N]; the
     estimate is linear in the bodies' lateral displacements (the wheelsets' own excepted:
     their contact points move with them), whose gains are taken one body at a time."""
-    from express.forces.contact import WheelLoadModel
+    from express.forces.contact import WheelLoadModel, unpressed
 
     body = vehicle_body_loads(vehicle)
     count = inputs.u.shape[0]
@@ -131,7 +131,8 @@ def estimated_wheel_loads(vehicle, inputs, speed: float, static: np.ndarray) -> 
     common = 0.5 * ((base.left + base.right) - (level.left + level.right))
     half_difference = 0.5 * ((base.left - base.right) - (level.left - level.right))
     offset = np.stack([common + half_difference, common - half_difference], axis=2)
-    return WheelLoadModel(np.ascontiguousarray(static, dtype=float), offset, places, gain)
+    return WheelLoadModel(np.ascontiguousarray(static, dtype=float), offset, places, gain,
+                          *unpressed(len(vehicle.wheelsets)))
 
 
 def march_wheel_loads(vehicle: VehicleModel, inputs, speed: float, static: np.ndarray) -> tuple[WheelLoadModel, str]:
@@ -187,8 +188,11 @@ def _table_outputs(vehicle: VehicleModel, q, q_dot, inputs, speed: float, contac
 
     ws = vehicle.wheelsets
     model, kind = march_wheel_loads(vehicle, inputs, speed, contact.wheel_load)
-    history = contact_force_history(q, q_dot, [w.y for w in ws], [w.psi for w in ws], inputs.y_rail,
-                                    inputs.rho_wheelsets, speed, contact, wheel_loads_history(model, q))
+    iy, ipsi = [w.y for w in ws], [w.psi for w in ws]
+    # the loads read the coordinates and, under damped contact springs, their velocities
+    states = np.hstack([q, q_dot[:, vehicle.form.massive]])
+    loads = wheel_loads_history(model, states, contact, q[:, iy] - inputs.y_rail, q[:, ipsi])
+    history = contact_force_history(q, q_dot, iy, ipsi, inputs.y_rail, inputs.rho_wheelsets, speed, contact, loads)
     return contact_wheel_outputs(vehicle, history, q, kind)
 
 

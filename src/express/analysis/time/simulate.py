@@ -301,6 +301,8 @@ def simulate(
                      clearances=flange or saturation if clearances is None else clearances)
     forces = run.forces
     _check_step(forces, vehicle, dt)
+    if run.wheel_loads == "dynamic":
+        _check_contact_damping(vehicle)
     a = vehicle.state_matrix(v)
     selector = forces.selector()
     linear = (_dense_steps if choose_route(a, route) == "dense" else _sparse_steps)(vehicle, a, v, dt, inputs, selector)
@@ -360,6 +362,27 @@ def _check_step(forces, vehicle: VehicleModel, dt: float) -> None:
         warnings.warn(f"the time step {dt * 1e3:g} ms does not resolve the friction elements' pre-slip springs "
                       f"while they slip (at most {resolved * 1e3:.3g} ms): the run is not converged in the step; "
                       "use a smaller dt (--dt)", UserWarning, stacklevel=3)
+
+
+def _check_contact_damping(vehicle: VehicleModel) -> None:
+    """One warning when the wheels stand on vertical contact springs without damping:
+    the wheelsets' vertical and roll modes on them (150-200 Hz on the bundled S1002 car)
+    are then undamped, and the creep forces, proportional to the loads, can drive them
+    (a friction-driven flutter that a step fine enough to follow them shows; ``docs/
+    contact.md``, "Dynamic wheel loads")."""
+    from express.rail.vertical_contact import vertical_contacts
+
+    assert vehicle.model is not None
+    springs = vertical_contacts(vehicle.model, vehicle.values, [w.name for w in vehicle.wheelsets], vehicle.dofs,
+                                vehicle.inputs)
+    bare = [spring.element for pair in springs for spring in pair if spring is not None and not spring.damping > 0]
+    if bare:
+        import warnings
+
+        warnings.warn(f"the vertical contact elements under the wheels ({', '.join(bare)}) have no damping: the "
+                      "wheelsets' vertical and roll modes on them are undamped and the creep forces can drive them, "
+                      "so the run may not converge as the step is refined; give them the track's damping "
+                      "(docs/contact.md, \"Dynamic wheel loads\")", UserWarning, stacklevel=3)
 
 
 def _dense_steps(vehicle: VehicleModel, a: np.ndarray, v: float, dt: float, inputs: TrackInputs,
