@@ -27,7 +27,8 @@ __all__ = ["TomlReader", "check_id", "cut_text", "entries", "read_items", "show_
 
 BODY_KEYS = ("mass", "inertia", "dofs", "position", "label", "outline")
 POINT_KEYS = ("body", "offset")
-ELEMENT_KEYS = ("from", "to", "direction", "stiffness", "damping", "label", "series", "gap", "progressive", "friction")
+ELEMENT_KEYS = ("from", "to", "direction", "stiffness", "damping", "label", "series", "gap", "progressive", "friction",
+                "air_spring")
 PIN_KEYS = ("virtual", "non_virtual")
 DIRECTIONS = {"x": 0, "y": 1, "z": 2, "1": 0, "2": 1, "3": 2}
 ROTATIONS = {"rx": 0, "ry": 1, "rz": 2}
@@ -178,7 +179,13 @@ def read_items(reader: TomlReader, data: dict, base: tuple[str, ...] = ()):
         )
     elements = []
     for element_id, path, item, spec in entries(reader, data.get("elements", {}), "elements", "TSD", ELEMENT_KEYS, base):
-        elements.append(read_element(reader, element_id, path, item, spec))
+        element = read_element(reader, element_id, path, item, spec)
+        if "air_spring" in spec:  # the bag, the reservoir's series branch, the shear elements
+            from express.io.toml_air_springs import read_air_spring
+
+            elements.extend(read_air_spring(reader, element_id, path, item, spec, element))
+        else:
+            elements.append(element)
     pins = []
     for pin_id, path, item, spec in entries(reader, data.get("pins", {}), "pins", "pin", PIN_KEYS, base):
         pins.append(

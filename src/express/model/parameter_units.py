@@ -90,6 +90,8 @@ def use_sites(model: Model) -> Iterator[UseSite]:
         if sp.sympify(friction) != 0:
             yield UseSite(friction, DIMENSIONS["force"] * DIMENSIONS["length"] if rotational else "force", item,
                           "friction limit", element.line)
+        for what, value, dimension, _ in getattr(element, "checked", ()):
+            yield UseSite(value, dimension, item, what, element.line)
     gravity = getattr(model, "gravity", None)
     if gravity is not None:
         yield UseSite(gravity, "acceleration", "gravity", "acceleration", None)

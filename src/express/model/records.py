@@ -187,6 +187,10 @@ class Element:
         The friction limit ``mu N`` [N; N m for a rotational one] of a friction element:
         its pre-slip spring (``stiffness``) carries at most this force, beyond it the
         slider slips (friction elements only).
+    checked : tuple of (str, sympy.Expr, Dimension, bool)
+        The values an element was derived from (an air spring's pressure, area, volumes:
+        ``express.io.toml_air_springs``), each with what it is, its dimension and whether
+        it must be positive; checked on reading with the element's line.
     """
 
     id: str
@@ -202,6 +206,7 @@ class Element:
     gap: sp.Expr = sp.S.Zero
     progressive: sp.Expr = sp.S.Zero
     friction: sp.Expr = sp.S.Zero
+    checked: tuple[tuple[str, sp.Expr, Dimension, bool], ...] = ()
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "direction", Axis(self.direction))
@@ -597,6 +602,10 @@ def _check_element_kinds(model: Model, hosts: dict[str, str], bodies: dict[str, 
                 if number is not None and not number > 0:
                     problems.append(Problem(model.source, element.line, item,
                                             f"a friction element needs a positive {what}, got {number:g}"))
+        for what, value, _, positive in element.checked:
+            number = _numeric_value(value, model.parameters)
+            if positive and number is not None and not number > 0:
+                problems.append(Problem(model.source, element.line, item, f"{what} must be positive, got {number:g}"))
         if element.clearance:
             gap = _numeric_value(element.gap, model.parameters)
             if gap is not None and not gap >= 0:
