@@ -30,11 +30,14 @@ series with (``k_r`` parallel to the orifice), whose three-parameter equivalent 
     c     = R A^2 (Vr / (Vb + Vr))^2              (an ``orifice_resistance`` R [Pa s/m^3])
 
 or ``orifice`` given as ``c`` itself.  Without a reservoir volume the air spring is the bag
-alone, ``n p_abs A^2 / Vb + p_gauge dA/dz``.  Sources: Nishimura's model as summarised in
-Docquier, Fisette & Jeanmart, *Vehicle System Dynamics* 48 (2010) (multiphysical
-modelling of railway air springs), and Berg, *Vehicle System Dynamics* 30 (1998) ("A
-three-dimensional airspring model with friction and orifice damping"); the volumes'
-stiffness ``n p A^2 / V`` from the polytropic law ``p V^n`` constant.
+alone, ``n p_abs A^2 / Vb + p_gauge dA/dz``.  Sources: Berg, "A three-dimensional
+airspring model with friction and orifice damping", *Vehicle System Dynamics* 33 (suppl.,
+1999) 528-539 (its vertical model without the friction part); Bruni, Vinolas, Berg, Polach
+& Stichel, "Modelling of suspension components in a rail vehicle dynamics context",
+*Vehicle System Dynamics* 49 (2011) 1021-1072 (the air spring models, Nishimura's among
+them); the volumes' stiffness ``n p A^2 / V`` from the polytropic law ``p V^n`` constant,
+the three-parameter equivalent of the circuit derived and tested in
+``tests/test_forces_air_spring.py``.
 """
 
 from __future__ import annotations
@@ -101,37 +104,10 @@ def read_air_spring(reader: Any, element_id: str, path: tuple[str, ...], item: s
         bag = value("bag")
         reservoir = value("reservoir") if "reservoir" in table else None
     else:
-        pressures = [key for key in ("gauge_pressure", "absolute_pressure") if key in table]
-        missing = [key for key in ("area", "bag_volume") if key not in table]
-        if len(pressures) != 1 or missing:
-            reader.problem(where, item, "an air spring needs its bag stiffness (bag = ...) or its gas: one of "
-                           "gauge_pressure / absolute_pressure, area and bag_volume"
-                           + (f" (missing {', '.join(missing)})" if missing else "")
-                           + (" (both pressures given)" if len(pressures) > 1 else ""))
+        found = _from_gas(reader, where, item, table, gas, value, orifice, checked)
+        if found is None:
             return [base]
-        if "ambient" in table and "absolute_pressure" in table:
-            reader.problem(where + ("ambient",), item, "ambient goes with a gauge_pressure only")
-        inputs = {key: value(key) for key in gas}
-        for key, expression in inputs.items():
-            checked.append((key.replace("_", " "), expression, *_INPUTS[key]))
-        gauge = inputs.get("gauge_pressure")
-        absolute = inputs["absolute_pressure"] if gauge is None else gauge + inputs.get("ambient", AMBIENT)
-        n = inputs.get("polytropic", sp.Float(1.4))
-        area, bag_volume = inputs["area"], inputs["bag_volume"]
-        effective = (gauge if gauge is not None else absolute - AMBIENT) * inputs.get("area_gradient", sp.S.Zero)
-        gas_stiffness = n * absolute * area**2
-        if "reservoir_volume" in inputs:
-            volume = inputs["reservoir_volume"]
-            bag = gas_stiffness / (bag_volume + volume) + effective
-            reservoir = gas_stiffness * volume / (bag_volume * (bag_volume + volume))
-            if "orifice_resistance" in inputs:
-                if orifice is not None:
-                    reader.problem(where, item, "give orifice (its damping) or orifice_resistance, not both")
-                orifice = inputs["orifice_resistance"] * area**2 * (volume / (bag_volume + volume)) ** 2
-        else:
-            bag, reservoir = gas_stiffness / bag_volume + effective, None
-            if "orifice_resistance" in inputs:
-                reader.problem(where, item, "an orifice needs a reservoir (reservoir_volume = ...)")
+        bag, reservoir, orifice = found
     if reservoir is not None and orifice is None:
         reader.problem(where, item, "an air spring with a reservoir needs its orifice damping (orifice = ...) "
                        "or the orifice_resistance")
@@ -154,3 +130,41 @@ def read_air_spring(reader: Any, element_id: str, path: tuple[str, ...], item: s
                 reader.expression(shear.get("damping", 0), where + (key, "damping"), item, f"{key} damping"),
                 base.s_end, base.t_end, axis, f"{label}: {key} shear", line, motion=Motion.TRANSLATION))
     return elements
+
+
+def _from_gas(reader: Any, where: tuple[str, ...], item: str, table: dict, gas: list[str], value: Any,
+              orifice: sp.Expr | None, checked: list) -> tuple[sp.Expr, sp.Expr | None, sp.Expr | None] | None:
+    """``(k_bag, k_res, c)`` from the gas's pressure, area and volumes (module docstring);
+    the inputs go to ``checked`` with their dimensions; None when the gas is incomplete."""
+    pressures = [key for key in ("gauge_pressure", "absolute_pressure") if key in table]
+    missing = [key for key in ("area", "bag_volume") if key not in table]
+    if len(pressures) != 1 or missing:
+        reader.problem(where, item, "an air spring needs its bag stiffness (bag = ...) or its gas: one of "
+                       "gauge_pressure / absolute_pressure, area and bag_volume"
+                       + (f" (missing {', '.join(missing)})" if missing else "")
+                       + (" (both pressures given)" if len(pressures) > 1 else ""))
+        return None
+    if "ambient" in table and "absolute_pressure" in table:
+        reader.problem(where + ("ambient",), item, "ambient goes with a gauge_pressure only")
+    inputs = {key: value(key) for key in gas}
+    for key, expression in inputs.items():
+        checked.append((key.replace("_", " "), expression, *_INPUTS[key]))
+    gauge = inputs.get("gauge_pressure")
+    absolute = inputs["absolute_pressure"] if gauge is None else gauge + inputs.get("ambient", AMBIENT)
+    n = inputs.get("polytropic", sp.Float(1.4))
+    area, bag_volume = inputs["area"], inputs["bag_volume"]
+    effective = (gauge if gauge is not None else absolute - AMBIENT) * inputs.get("area_gradient", sp.S.Zero)
+    gas_stiffness = n * absolute * area**2
+    if "reservoir_volume" in inputs:
+        volume = inputs["reservoir_volume"]
+        bag = gas_stiffness / (bag_volume + volume) + effective
+        reservoir = gas_stiffness * volume / (bag_volume * (bag_volume + volume))
+        if "orifice_resistance" in inputs:
+            if orifice is not None:
+                reader.problem(where, item, "give orifice (its damping) or orifice_resistance, not both")
+            orifice = inputs["orifice_resistance"] * area**2 * (volume / (bag_volume + volume)) ** 2
+    else:
+        bag, reservoir = gas_stiffness / bag_volume + effective, None
+        if "orifice_resistance" in inputs:
+            reader.problem(where, item, "an orifice needs a reservoir (reservoir_volume = ...)")
+    return bag, reservoir, orifice

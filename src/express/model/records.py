@@ -22,6 +22,7 @@ import sympy as sp
 from express.base.diagnostics import Problem
 from express.base.expressions import expression_value
 from express.base.units import Dimension
+from express.model.characteristics import Characteristic
 
 __all__ = [
     "AXES",
@@ -146,6 +147,9 @@ class ElementKind(Enum):
     #: friction limit (the slider's position a state of the time march; the linear
     #: analyses see it stuck: the spring alone).
     FRICTION = "friction"
+    #: A nonlinear characteristic, force against deflection or velocity (piecewise
+    #: linear; the linear analyses see its tangent at the static state).
+    CHARACTERISTIC = "characteristic"
 
 
 @dataclass(frozen=True)
@@ -191,6 +195,10 @@ class Element:
         The values an element was derived from (an air spring's pressure, area, volumes:
         ``express.io.toml_air_springs``), each with what it is, its dimension and whether
         it must be positive; checked on reading with the element's line.
+    characteristic : Characteristic or None
+        A nonlinear characteristic (:mod:`express.model.characteristics`); its tangent
+        at the static state is the element's ``stiffness`` (force against deflection) or
+        ``damping`` (against velocity).
     """
 
     id: str
@@ -207,6 +215,7 @@ class Element:
     progressive: sp.Expr = sp.S.Zero
     friction: sp.Expr = sp.S.Zero
     checked: tuple[tuple[str, sp.Expr, Dimension, bool], ...] = ()
+    characteristic: Characteristic | None = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "direction", Axis(self.direction))
