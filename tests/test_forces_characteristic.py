@@ -322,3 +322,35 @@ def test_a_vehicle_with_a_blow_off_damper_on_the_command_line(tmp_path):
     column = header.index("force_T1_yaw_blow_off_N")
     force = np.array([float(line.split(",")[column]) for line in out.read_text().splitlines()[1:]])
     assert 0 < np.max(np.abs(force)) <= 12e3 * (1 + 1e-9)
+
+
+def test_under_gravity_a_characteristic_carries_the_weight_as_its_tangent():
+    """With [gravity] the static equilibrium sees the characteristic as the linear analyses
+    do, its tangent: a mass on a bilinear coil is carried (it was refused: no element
+    carried its weight) and K is the tangent."""
+    text = """
+[model]
+name = "coil"
+[parameters]
+m = "1 t"
+g = "9.81 m/s^2"
+[bodies.M]
+mass = "m"
+dofs = ["z"]
+[grounds.G]
+[points.M1]
+body = "M"
+offset = [0, 0, 0]
+[points.G1]
+body = "G"
+offset = [0, 0, 0]
+[elements.coil]
+from = "M1"
+to = "G1"
+direction = "z"
+characteristic = { shape = "bilinear", stiffness = "1e6", knee = 0.01, beyond = "3e6" }
+[gravity]
+acceleration = "g"
+"""
+    vehicle = vehicle_model(parse_toml_model(text, "coil.toml"))
+    assert vehicle.stiffness[0, 0] == pytest.approx(1e6, rel=1e-15)
