@@ -354,3 +354,43 @@ acceleration = "g"
 """
     vehicle = vehicle_model(parse_toml_model(text, "coil.toml"))
     assert vehicle.stiffness[0, 0] == pytest.approx(1e6, rel=1e-15)
+
+
+def test_a_substructure_instance_puts_its_parameters_into_characteristics_and_air_springs():
+    """A formal parameter used by a characteristic's breakpoints and tangent and by an
+    air spring's gas is replaced by the instance's expression (the breakpoints and the
+    derived stiffness are expressions of the parameters like any element value)."""
+    text = """
+[model]
+name = "subs"
+[parameters]
+kfront = "40 kN/m"
+pfront = "500 kPa"
+[bodies.B]
+mass = "100"
+dofs = ["x", "z"]
+[grounds.G]
+[points.B1]
+body = "B"
+offset = [0, 0, 0]
+[points.G1]
+body = "G"
+offset = [0, 0, 0]
+[substructures.mount]
+parameters = ["kc", "p"]
+connectors = ["top", "base"]
+[substructures.mount.elements]
+coil = { from = "top", to = "base", direction = "x", characteristic = { shape = "bilinear", stiffness = "kc", knee = 0.01, beyond = "2*kc" } }
+air = { from = "top", to = "base", direction = "z", air_spring = { gauge_pressure = "p", area = 0.25, bag_volume = 0.06 } }
+[instances.front]
+substructure = "mount"
+prefix = "F_"
+parameters = { kc = "kfront", p = "pfront" }
+connect = { top = "B1", base = "G1" }
+"""
+    vehicle = vehicle_model(parse_toml_model(text, "subs.toml"))
+    term = next(t for t in vehicle.equations.element_terms if t.element == "F_coil")
+    assert str(term.values["tangent"]) == "kfront" and "kfront" in str(term.values["f3"])
+    x, z = vehicle.dof_index("B.x"), vehicle.dof_index("B.z")
+    assert vehicle.stiffness[x, x] == pytest.approx(40e3, rel=1e-15)
+    assert vehicle.stiffness[z, z] == pytest.approx(1.4 * (500e3 + 101325) * 0.25**2 / 0.06, rel=1e-12)

@@ -115,11 +115,18 @@ def read_air_spring(reader: Any, element_id: str, path: tuple[str, ...], item: s
         reader.problem(where, item, "an orifice needs a reservoir (reservoir = ... or reservoir_volume = ...)")
     label = base.label or f"air spring {element_id}"
     line = reader.line(*where)  # messages on the derived elements point at the air spring's own line
+    derived: tuple = ()
+    if checked:  # from the gas: the inputs' dimensions are checked, not the formulas' (bare numbers are SI)
+        damping = DIMENSIONS["damping"]
+        checked.append(("damping", base.damping, damping, False))
+        if "orifice" in table:
+            checked.append(("air_spring orifice", orifice, damping, True))
+        derived = ((f"derived from air spring {element_id}", sp.S.Zero, DIMENSIONS["dimensionless"], False),)
     elements = [Element(element_id, bag, base.damping, base.s_end, base.t_end, base.direction, f"{label}: bag",
                         line, checked=tuple(checked))]
     if reservoir is not None and orifice is not None:
         elements.append(Element(f"{element_id}_reservoir", reservoir, orifice, base.s_end, base.t_end, base.direction,
-                                f"{label}: reservoir and orifice", line, kind=ElementKind.SERIES))
+                                f"{label}: reservoir and orifice", line, kind=ElementKind.SERIES, checked=derived))
     for key, axis in (("lateral", Axis.Y), ("longitudinal", Axis.X)):
         if key in table:
             shear = reader.table(table[key], where + (key,), item)

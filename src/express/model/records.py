@@ -194,7 +194,9 @@ class Element:
     checked : tuple of (str, sympy.Expr, Dimension, bool)
         The values an element was derived from (an air spring's pressure, area, volumes:
         ``express.io.toml_air_springs``), each with what it is, its dimension and whether
-        it must be positive; checked on reading with the element's line.
+        it must be positive; checked on reading with the element's line (the dimensions
+        of a plain or series element that has any are checked through them, not through
+        its derived stiffness and damping).
     characteristic : Characteristic or None
         A nonlinear characteristic (:mod:`express.model.characteristics`); its tangent
         at the static state is the element's ``stiffness`` (force against deflection) or
