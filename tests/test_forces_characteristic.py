@@ -12,6 +12,7 @@ element to a fixed ground ``G``)."""
 from __future__ import annotations
 
 import math
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -394,3 +395,23 @@ connect = { top = "B1", base = "G1" }
     x, z = vehicle.dof_index("B.x"), vehicle.dof_index("B.z")
     assert vehicle.stiffness[x, x] == pytest.approx(40e3, rel=1e-15)
     assert vehicle.stiffness[z, z] == pytest.approx(1.4 * (500e3 + 101325) * 0.25**2 / 0.06, rel=1e-12)
+
+
+def test_a_changed_csv_table_is_read_again_not_taken_from_the_cache(tmp_path):
+    """The derivation cache is keyed by every file a model reads (express.base.reads): a
+    CSV table edited between two runs gives the new tangent (here C 15 -> 105 kN s/m)."""
+    (tmp_path / "damper.csv").write_text(CSV)
+    path = tmp_path / "table.toml"
+    path.write_text(MODEL.format(m="100 kg", k0="40 kN/m", c0="0",
+                                 characteristic='{ shape = "table", of = "velocity", file = "damper.csv" }'))
+    env = {"EXPRESS_CACHE_DIR": str(tmp_path / "cache")}
+
+    def damping() -> str:
+        run = subprocess.run([sys.executable, "-m", "express", "generate", str(path)], capture_output=True, text=True,
+                             timeout=300, env={**os.environ, **env})
+        assert run.returncode == 0, run.stderr
+        return next(line for line in run.stdout.splitlines() if line.strip().startswith("C[M.x, M.x]"))
+
+    assert damping().endswith("= c0 + 15000")
+    (tmp_path / "damper.csv").write_text(CSV.replace("0.1, 2", "0.01, 2"))
+    assert damping().endswith("= c0 + 105000")
