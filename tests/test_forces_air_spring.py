@@ -166,3 +166,31 @@ def test_a_bad_air_spring_on_the_command_line_exits_2_writing_nothing(tmp_path):
     line = next(i for i, text in enumerate(MODEL.splitlines(), 1) if text.startswith("air_spring"))
     assert f"air.toml:{line}" in done.stderr and "reservoir volume must be positive" in done.stderr
     assert not out.exists()
+
+
+def test_a_car_on_air_springs_is_the_plain_car_at_the_orifice_limits():
+    """The conventional car with its secondary vertical springs as air springs (bag kz2,
+    reservoir 300 kN/m, orifice 40 kN s/m; the roll modes feel them): the orifice open
+    (c = 0, the stroke leaves the coordinates) is the car with kz2, the orifice shut
+    (c = inf, the damper locks) the car with kz2 + k_res; eigenvalues at 30 m/s equal to
+    1e-12 (achieved 0: the same numbers)."""
+    from pathlib import Path
+
+    text = (Path(__file__).resolve().parents[1] / "examples" / "conventional.toml").read_text()
+    air = text.replace("[parameters]\n", '[parameters]\nkres = "300 kN/m"\ncor = "40 kN*s/m"\n', 1)
+    for side in "LR":
+        old = (f'sz{side} = {{ label = "secondary z, {side}", from = "seat_{side}", to = "s{side}", direction = "z", '
+               f'stiffness = "kz2", damping = "cz2" }}')
+        assert old in air
+        air = air.replace(old, f'sz{side} = {{ label = "secondary z, {side}", from = "seat_{side}", to = "s{side}", '
+                          'direction = "z", damping = "cz2", air_spring = { bag = "kz2", reservoir = "kres", '
+                          'orifice = "cor" } }')
+    vehicle = vehicle_model(parse_toml_model(air, "air.toml"))
+    assert sum("reservoir.stroke" in dof for dof in vehicle.dofs) == 4
+    plain = vehicle_model(parse_toml_model(text, "conventional.toml"))
+    for orifice, reference in ((0.0, plain), (math.inf, plain.with_values({"kz2": plain.values["kz2"] + 300e3}))):
+        found = np.sort_complex(vehicle.with_values({"cor": orifice}).eigenvalues(30.0))
+        expected = np.sort_complex(reference.eigenvalues(30.0))
+        assert np.max(np.abs(found - expected)) <= 1e-12 * np.max(np.abs(expected))
+    between = np.sort_complex(vehicle.eigenvalues(30.0))
+    assert between.size == expected.size + 4  # the four strokes' first-order roots
