@@ -415,3 +415,28 @@ def test_a_changed_csv_table_is_read_again_not_taken_from_the_cache(tmp_path):
     assert damping().endswith("= c0 + 15000")
     (tmp_path / "damper.csv").write_text(CSV.replace("0.1, 2", "0.01, 2"))
     assert damping().endswith("= c0 + 105000")
+
+
+def test_express_convert_writes_characteristics_and_friction_back():
+    """model_to_toml (``express convert``) writes every characteristic (a keyword shape with
+    its values, a table in SI) and a friction element's limit, and reads back to the same
+    element terms and matrices (they were dropped before: friction silently)."""
+    from express.io import model_to_toml
+
+    shapes = {
+        "part": '{ shape = "bilinear", stiffness = "k1", knee = "d1", beyond = "2*k1", compression_knee = 0.002 }',
+        "damp": '{ shape = "blow-off", damping = "c1", force = "F1", beyond = 100 }',
+        "lift": '{ shape = "contact", stiffness = "k1", gap = "d1", side = "extension" }',
+        "tab": '{ shape = "table", of = "deflection", deflection = [-10, 0, 10], force = [-1, 0, 3], units = ["mm", "kN"] }',
+    }
+    text = MODEL.format(m="100 kg", k0="40 kN/m", c0="0", characteristic=shapes["part"])
+    text = text.replace('c0 = "0"', 'c0 = "0"\nk1 = "40 kN/m"\nd1 = "5 mm"\nc1 = "10 kN*s/m"\nF1 = "1 kN"\nF = "200 N"')
+    for name in ("damp", "lift", "tab"):
+        text += f'[elements.{name}]\nfrom = "M1"\nto = "G1"\ndirection = "x"\ncharacteristic = {shapes[name]}\n'
+    text += '[elements.slider]\nfrom = "M1"\nto = "G1"\ndirection = "x"\nstiffness = "1e6"\nfriction = "F"\n'
+    model = parse_toml_model(text, "table.toml")
+    again = parse_toml_model(model_to_toml(model), "again.toml")
+    first, second = vehicle_model(model), vehicle_model(again)
+    assert second.equations.element_terms == first.equations.element_terms
+    np.testing.assert_array_equal(second.stiffness, first.stiffness)
+    np.testing.assert_array_equal(second.damping(1.0), first.damping(1.0))

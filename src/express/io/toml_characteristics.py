@@ -72,9 +72,12 @@ def read_characteristic(reader: Any, path: tuple[str, ...], item: str, spec: dic
     dims = _dimensions(rotational)
     checked: list[tuple[str, sp.Expr, Any, bool]] = []
 
+    keys: list[tuple[str, sp.Expr | str]] = []
+
     def value(key: str, dimension: str, positive: bool = True) -> sp.Expr:
         expression = reader.expression(table[key], where + (key,), item, f"characteristic {key}")
         checked.append((f"characteristic {key}", expression, dims[dimension], positive))
+        keys.append((key, expression))
         return expression
 
     def need(*keys: str) -> bool:
@@ -91,7 +94,7 @@ def read_characteristic(reader: Any, path: tuple[str, ...], item: str, spec: dic
         low = value("compression_knee", "deflection") if "compression_knee" in table else None
         points, tangent = bilinear(value("stiffness", "stiffness"), value("knee", "deflection"),
                                    value("beyond", "stiffness", positive=False), low)
-        return Characteristic("deflection", shape, points, tangent, reader.source), checked
+        return Characteristic("deflection", shape, points, tangent, reader.source, tuple(keys)), checked
     if shape == "blow-off":
         if not need("damping"):
             return None, []
@@ -104,7 +107,7 @@ def read_characteristic(reader: Any, path: tuple[str, ...], item: str, spec: dic
         v_blow = value("velocity", "velocity") if given == ["velocity"] else value("force", "force") / c
         c2 = value("beyond", "damping", positive=False) if "beyond" in table else sp.S.Zero
         points, tangent = blow_off(c, v_blow, c2)
-        return Characteristic("velocity", shape, points, tangent, reader.source), checked
+        return Characteristic("velocity", shape, points, tangent, reader.source, tuple(keys)), checked
     if not need("stiffness"):
         return None, []
     if "preload" in table and "gap" in table:
@@ -116,7 +119,9 @@ def read_characteristic(reader: Any, path: tuple[str, ...], item: str, spec: dic
     preload = value("preload", "force") if "preload" in table else None
     gap = value("gap", "deflection") if "gap" in table else None
     points, tangent = contact(k, preload, gap, side == "extension")
-    return Characteristic("deflection", shape, points, tangent, reader.source), checked
+    if side == "extension":
+        keys.append(("side", "extension"))
+    return Characteristic("deflection", shape, points, tangent, reader.source, tuple(keys)), checked
 
 
 def _table(reader: Any, where: tuple[str, ...], item: str, table: dict, rotational: bool) -> Characteristic | None:

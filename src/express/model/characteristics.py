@@ -55,6 +55,9 @@ class Characteristic:
         [N s/m] (rotational per rad).
     source : str
         Where the points were given (the model file or a CSV file), for messages.
+    keys : tuple of (str, sympy.Expr or str)
+        A keyword shape's values as given (``("stiffness", k1)``, ``("side", "extension")``),
+        to write it back; empty for a table.
     """
 
     of: str
@@ -62,6 +65,7 @@ class Characteristic:
     points: tuple[tuple[sp.Expr, sp.Expr], ...]
     tangent: sp.Expr
     source: str = ""
+    keys: tuple[tuple[str, sp.Expr | str], ...] = ()
 
     @property
     def velocity(self) -> bool:

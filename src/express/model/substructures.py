@@ -221,7 +221,8 @@ def instantiate(sub: Substructure, instance: Instance, source: str = "<substruct
     def characteristic(found):  # its breakpoints and tangent are expressions of the parameters too
         if found is None:
             return None
-        return replace(found, points=tuple((value(x), value(f)) for x, f in found.points), tangent=value(found.tangent))
+        return replace(found, points=tuple((value(x), value(f)) for x, f in found.points), tangent=value(found.tangent),
+                       keys=tuple((key, v if isinstance(v, str) else value(v)) for key, v in found.keys))
 
     elements = tuple(
         replace(
