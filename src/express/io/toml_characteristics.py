@@ -201,7 +201,8 @@ def _check_points(points: list, of: str, item: str, source: str, problems: list[
         at_zero, _ = table_tangent([p[0] for p in points], [p[1] for p in points])
         largest = max(abs(p[1]) for p in points)
         if abs(at_zero) > THROUGH_ZERO * largest:
-            problems.append(Problem(source, points[0][2], item, f"a damper's table must pass through zero force at "
+            near = min(points, key=lambda point: abs(point[0]))  # the row nearest zero velocity
+            problems.append(Problem(source, near[2], item, f"a damper's table must pass through zero force at "
                                     f"zero velocity, got {at_zero:g} N there"))
 
 
