@@ -37,11 +37,12 @@ from express.model.characteristics import Characteristic, bilinear, blow_off, co
 __all__ = ["CHARACTERISTIC_KEYS", "read_characteristic"]
 
 CHARACTERISTIC_KEYS = ("shape", "of", "deflection", "velocity", "force", "units", "file", "stiffness", "knee",
-                       "compression_knee", "beyond", "damping", "preload", "gap", "side")
+                       "compression_knee", "beyond", "damping", "preload", "gap", "side", "compression_velocity",
+                       "compression_force")
 SHAPES = {
     "table": ("of", "deflection", "velocity", "force", "units", "file"),
     "bilinear": ("stiffness", "knee", "compression_knee", "beyond"),
-    "blow-off": ("damping", "velocity", "force", "beyond"),
+    "blow-off": ("damping", "velocity", "force", "beyond", "compression_velocity", "compression_force"),
     "contact": ("stiffness", "preload", "gap", "side"),
 }
 #: Through zero: a velocity table's F(0) within this fraction of its largest force.
@@ -106,7 +107,12 @@ def read_characteristic(reader: Any, path: tuple[str, ...], item: str, spec: dic
             return None, []
         v_blow = value("velocity", "velocity") if given == ["velocity"] else value("force", "force") / c
         c2 = value("beyond", "damping", positive=False) if "beyond" in table else sp.S.Zero
-        points, tangent = blow_off(c, v_blow, c2)
+        low = [key for key in ("compression_velocity", "compression_force") if key in table]
+        if len(low) > 1:
+            reader.problem(where, item, "give compression_velocity or compression_force, not both")
+        compression = (None if not low else value(low[0], "velocity") if low[0] == "compression_velocity"
+                       else value(low[0], "force") / c)
+        points, tangent = blow_off(c, v_blow, c2, compression)
         return Characteristic("velocity", shape, points, tangent, reader.source, tuple(keys)), checked
     if not need("stiffness"):
         return None, []

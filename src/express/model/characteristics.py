@@ -20,7 +20,8 @@ The keyword shapes (their breakpoints are expressions of the parameters):
 - ``bilinear``: ``k1`` up to the knee ``d`` on either side (``compression_knee`` on the
   negative side, default ``d``), ``k2`` beyond; tangent ``k1``.
 - ``blow-off``: a damper ``c`` up to the blow-off velocity ``v_b`` (or force ``F_b = c
-  v_b``), beyond it ``+-(c v_b + c2 (|v| - v_b))``; tangent ``c``.
+  v_b``), beyond it ``+-(c v_b + c2 (|v| - v_b))``; on the negative (compression) side
+  its own ``compression_velocity`` / ``compression_force`` if given; tangent ``c``.
 - ``contact``: a one-sided contact of stiffness ``k`` on the compression side (``delta <
   0``; ``side = "extension"`` mirrors it), closed with a ``preload`` ``P`` at the reference
   state (lifting off at ``delta = P/k``; tangent ``k``) or open by a ``gap`` ``g`` (closing
@@ -96,10 +97,11 @@ def bilinear(k1: sp.Expr, knee: sp.Expr, k2: sp.Expr, compression_knee: sp.Expr 
     return points, k1
 
 
-def blow_off(c: sp.Expr, v_blow: sp.Expr, c2: sp.Expr) -> tuple:
-    """The breakpoints and tangent of a blow-off damper (module docstring)."""
-    force = c * v_blow
-    points = ((-v_blow - ONE, -force - c2), (-v_blow, -force), (v_blow, force), (v_blow + ONE, force + c2))
+def blow_off(c: sp.Expr, v_blow: sp.Expr, c2: sp.Expr, compression: sp.Expr | None = None) -> tuple:
+    """The breakpoints and tangent of a blow-off damper (module docstring); ``compression``
+    the blow-off velocity on the negative side (default ``v_blow``)."""
+    low = v_blow if compression is None else compression
+    points = ((-low - ONE, -c * low - c2), (-low, -c * low), (v_blow, c * v_blow), (v_blow + ONE, c * v_blow + c2))
     return points, c
 
 
