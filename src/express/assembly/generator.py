@@ -35,6 +35,7 @@ from express.assembly.equations import (
 from express.assembly.gravity import gravity_terms, static_model
 from express.assembly.kinematics import end_motion, generalized_coordinates
 from express.base.diagnostics import ModelError, Problem
+from express.model.characteristics import characteristic_values
 from express.model.parameters import display_unit
 from express.model.records import AXES, DOF_NAMES, Model, check_model
 
@@ -404,6 +405,9 @@ def _assemble(model: Model, added: AddedTerms, domain: ExactDomain, deflections:
         if element.sliding:  # in the matrices stuck (its pre-slip spring), below; slips in the time domain
             parts.element_terms.append(_element_term(element, g, h, reduced, deflections.inputs, domain.readable,
                                                      {"stiffness": element.stiffness, "friction": element.friction}))
+        if element.characteristic is not None:  # in the matrices its tangent (stiffness or damping), below
+            parts.element_terms.append(_element_term(element, g, h, reduced, deflections.inputs, domain.readable,
+                                                     characteristic_values(element.characteristic)))
         if element.series:
             # spring deflection delta - s, damper stroke s (docs/model-format.md)
             stroke = r_index[f"{element.id}.{STROKE}"]

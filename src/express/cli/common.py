@@ -286,17 +286,29 @@ def load_rail_vehicle(model: Path, overrides: dict[str, str], command: str) -> A
 def linearisation(vehicle: Any) -> dict[str, str]:
     """How the linear analyses see the model's nonlinear elements, by element (empty when
     it has none): friction elements stuck, their pre-slip springs in K (the tangent at
-    the static state, ``docs/model-format.md``, "Friction elements")."""
+    the static state, ``docs/model-format.md``, "Friction elements"); characteristics
+    their tangents at the static state in K or C ("Nonlinear characteristics")."""
     facts = vehicle.facts
-    return dict.fromkeys(facts.stuck, "stuck (pre-slip spring in K: the tangent at the static state)")
+    seen = dict.fromkeys(facts.stuck, "stuck (pre-slip spring in K: the tangent at the static state)")
+    for term in getattr(vehicle.equations, "element_terms", ()):
+        if term.kind == "characteristic":
+            rate = term.values["velocity"] == 1
+            seen[term.element] = (f"tangent at the static state (the characteristic's slope at zero "
+                                  f"{'velocity' if rate else 'deflection'}, in {'C' if rate else 'K'})")
+    return seen
 
 
 def note_linearisation(vehicle: Any) -> dict[str, str]:
     """:func:`linearisation`, said once on standard error when there is anything to say."""
     seen = linearisation(vehicle)
-    if seen:
+    stuck = [name for name, text in seen.items() if text.startswith("stuck")]
+    tangents = [name for name in seen if name not in stuck]
+    if stuck:
         note(f"friction elements seen stuck by this linear analysis (their pre-slip springs in K, the tangent at "
-             f"the static state): {', '.join(seen)}")
+             f"the static state): {', '.join(stuck)}")
+    if tangents:
+        note(f"nonlinear characteristics seen by this linear analysis as their tangents at the static state "
+             f"(slope at zero deflection or velocity, in K or C): {', '.join(tangents)}")
     return seen
 
 

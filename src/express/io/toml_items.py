@@ -27,7 +27,8 @@ __all__ = ["TomlReader", "check_id", "cut_text", "entries", "read_items", "show_
 
 BODY_KEYS = ("mass", "inertia", "dofs", "position", "label", "outline")
 POINT_KEYS = ("body", "offset")
-ELEMENT_KEYS = ("from", "to", "direction", "stiffness", "damping", "label", "series", "gap", "progressive", "friction")
+ELEMENT_KEYS = ("from", "to", "direction", "stiffness", "damping", "label", "series", "gap", "progressive", "friction",
+                "air_spring", "characteristic")
 PIN_KEYS = ("virtual", "non_virtual")
 DIRECTIONS = {"x": 0, "y": 1, "z": 2, "1": 0, "2": 1, "3": 2}
 ROTATIONS = {"rx": 0, "ry": 1, "rz": 2}
@@ -178,7 +179,13 @@ def read_items(reader: TomlReader, data: dict, base: tuple[str, ...] = ()):
         )
     elements = []
     for element_id, path, item, spec in entries(reader, data.get("elements", {}), "elements", "TSD", ELEMENT_KEYS, base):
-        elements.append(read_element(reader, element_id, path, item, spec))
+        element = read_element(reader, element_id, path, item, spec)
+        if "air_spring" in spec:  # the bag, the reservoir's series branch, the shear elements
+            from express.io.toml_air_springs import read_air_spring
+
+            elements.extend(read_air_spring(reader, element_id, path, item, spec, element))
+        else:
+            elements.append(element)
     pins = []
     for pin_id, path, item, spec in entries(reader, data.get("pins", {}), "pins", "pin", PIN_KEYS, base):
         pins.append(
@@ -222,19 +229,40 @@ def read_element(reader: TomlReader, element_id: str, path: tuple[str, ...], ite
         if "stiffness" not in spec:
             reader.problem(path, item, "a friction element needs its pre-slip stiffness (stiffness = ...)")
         kind = ElementKind.FRICTION
+    characteristic, checked = None, list[tuple]()
+    if "characteristic" in spec:
+        from express.io.toml_characteristics import read_characteristic
+
+        characteristic, checked = read_characteristic(reader, path, item, spec, rotational)
+        if kind is not ElementKind.PARALLEL:
+            reader.problem(path, item, "a characteristic element cannot be a series, clearance or friction element")
+        kind = ElementKind.CHARACTERISTIC
+    stiffness = reader.expression(spec.get("stiffness", 0), path + ("stiffness",), item, "stiffness")
+    damping = reader.expression(spec.get("damping", 0), path + ("damping",), item, "damping")
+    if characteristic is not None:  # its tangent at the static state, beside the other (linear) part
+        linear = "damping" if characteristic.velocity else "stiffness"
+        if linear in spec:
+            reader.problem(path + (linear,), item, f"the characteristic is the element's {linear}: give the other "
+                           f"part only ({'stiffness' if characteristic.velocity else 'damping'}, in parallel)")
+        if characteristic.velocity:
+            damping = characteristic.tangent
+        else:
+            stiffness = characteristic.tangent
     return Element(
         element_id,
-        reader.expression(spec.get("stiffness", 0), path + ("stiffness",), item, "stiffness"),
-        reader.expression(spec.get("damping", 0), path + ("damping",), item, "damping"),
+        stiffness,
+        damping,
         reader.name(spec.get("from"), path + ("from",), item, "from"),
         reader.name(spec.get("to"), path + ("to",), item, "to"),
         Axis(axis),
         str(spec.get("label", "")),
-        reader.line(*path),
+        reader.line(*path, "characteristic") if characteristic is not None else reader.line(*path),
         motion=Motion.ROTATION if rotational else Motion.TRANSLATION,
         kind=kind,
         gap=gap,
         progressive=reader.expression(spec.get("progressive", 0), path + ("progressive",), item, "progressive"),
         friction=friction,
+        checked=tuple(checked),
+        characteristic=characteristic,
     )
 

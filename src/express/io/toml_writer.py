@@ -148,9 +148,16 @@ def model_to_toml(model: Model) -> str:
             f"from = {_string(element.s_end)}",
             f"to = {_string(element.t_end)}",
             f"direction = {_string(element.axis_name)}",
-            f"stiffness = {value_to_toml(element.stiffness)}",
-            f"damping = {value_to_toml(element.damping)}",
         ]
+        characteristic = element.characteristic
+        if characteristic is None or characteristic.velocity:  # a characteristic is its stiffness or damping
+            lines.append(f"stiffness = {value_to_toml(element.stiffness)}")
+        if characteristic is None or not characteristic.velocity:
+            lines.append(f"damping = {value_to_toml(element.damping)}")
+        if characteristic is not None:
+            lines.append(f"characteristic = {_characteristic(characteristic)}")
+        if element.sliding:
+            lines.append(f"friction = {value_to_toml(element.friction)}")
         if element.series:
             lines.append("series = true")
         if element.clearance:
@@ -169,6 +176,19 @@ def model_to_toml(model: Model) -> str:
     if model.rail is not None:
         lines += _rail_lines(model)
     return "\n".join(lines) + "\n"
+
+
+def _characteristic(characteristic) -> str:
+    """An inline table of a characteristic: a keyword shape with its values, a table
+    (from a file too) with its breakpoints in SI."""
+    if characteristic.shape != "table":
+        items = [f"shape = {_string(characteristic.shape)}"]
+        items += [f"{key} = {_string(value) if isinstance(value, str) else value_to_toml(value)}"
+                  for key, value in characteristic.keys]
+        return "{ " + ", ".join(items) + " }"
+    x = ", ".join(repr(float(point[0])) for point in characteristic.points)
+    f = ", ".join(repr(float(point[1])) for point in characteristic.points)
+    return (f"{{ shape = \"table\", of = {_string(characteristic.of)}, {characteristic.of} = [{x}], force = [{f}] }}")
 
 
 def _rail_lines(model: Model) -> list[str]:

@@ -78,8 +78,12 @@ def use_sites(model: Model) -> Iterator[UseSite]:
     for element in model.elements:
         item = f"TSD {element.id}"
         rotational = getattr(element, "rotational", False)
-        yield UseSite(element.stiffness, "rotational_stiffness" if rotational else "stiffness", item, "stiffness", element.line)
-        yield UseSite(element.damping, "rotational_damping" if rotational else "damping", item, "damping", element.line)
+        checked = getattr(element, "checked", ())
+        if not checked or getattr(element, "characteristic", None) is not None:  # else derived from the checked
+            yield UseSite(element.stiffness, "rotational_stiffness" if rotational else "stiffness", item, "stiffness",
+                          element.line)
+            yield UseSite(element.damping, "rotational_damping" if rotational else "damping", item, "damping",
+                          element.line)
         gap = getattr(element, "gap", None)
         if gap is not None:
             yield UseSite(gap, "angle" if rotational else "length", item, "gap", element.line)
@@ -90,6 +94,8 @@ def use_sites(model: Model) -> Iterator[UseSite]:
         if sp.sympify(friction) != 0:
             yield UseSite(friction, DIMENSIONS["force"] * DIMENSIONS["length"] if rotational else "force", item,
                           "friction limit", element.line)
+        for what, value, dimension, _ in checked:
+            yield UseSite(value, dimension, item, what, element.line)
     gravity = getattr(model, "gravity", None)
     if gravity is not None:
         yield UseSite(gravity, "acceleration", "gravity", "acceleration", None)

@@ -22,6 +22,7 @@ import sympy as sp
 from express.base.diagnostics import Problem
 from express.base.expressions import expression_value
 from express.base.units import Dimension
+from express.model.characteristics import Characteristic
 
 __all__ = [
     "AXES",
@@ -146,6 +147,9 @@ class ElementKind(Enum):
     #: friction limit (the slider's position a state of the time march; the linear
     #: analyses see it stuck: the spring alone).
     FRICTION = "friction"
+    #: A nonlinear characteristic, force against deflection or velocity (piecewise
+    #: linear; the linear analyses see its tangent at the static state).
+    CHARACTERISTIC = "characteristic"
 
 
 @dataclass(frozen=True)
@@ -187,6 +191,16 @@ class Element:
         The friction limit ``mu N`` [N; N m for a rotational one] of a friction element:
         its pre-slip spring (``stiffness``) carries at most this force, beyond it the
         slider slips (friction elements only).
+    checked : tuple of (str, sympy.Expr, Dimension, bool)
+        The values an element was derived from (an air spring's pressure, area, volumes:
+        ``express.io.toml_air_springs``), each with what it is, its dimension and whether
+        it must be positive; checked on reading with the element's line (the dimensions
+        of a plain or series element that has any are checked through them, not through
+        its derived stiffness and damping).
+    characteristic : Characteristic or None
+        A nonlinear characteristic (:mod:`express.model.characteristics`); its tangent
+        at the static state is the element's ``stiffness`` (force against deflection) or
+        ``damping`` (against velocity).
     """
 
     id: str
@@ -202,6 +216,8 @@ class Element:
     gap: sp.Expr = sp.S.Zero
     progressive: sp.Expr = sp.S.Zero
     friction: sp.Expr = sp.S.Zero
+    checked: tuple[tuple[str, sp.Expr, Dimension, bool], ...] = ()
+    characteristic: Characteristic | None = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "direction", Axis(self.direction))
@@ -597,6 +613,10 @@ def _check_element_kinds(model: Model, hosts: dict[str, str], bodies: dict[str, 
                 if number is not None and not number > 0:
                     problems.append(Problem(model.source, element.line, item,
                                             f"a friction element needs a positive {what}, got {number:g}"))
+        for what, value, _, positive in element.checked:
+            number = _numeric_value(value, model.parameters)
+            if positive and number is not None and not number > 0:
+                problems.append(Problem(model.source, element.line, item, f"{what} must be positive, got {number:g}"))
         if element.clearance:
             gap = _numeric_value(element.gap, model.parameters)
             if gap is not None and not gap >= 0:

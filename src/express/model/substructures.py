@@ -218,10 +218,18 @@ def instantiate(sub: Substructure, instance: Instance, source: str = "<substruct
         replace(p, id=rename(p.id), host=rename(p.host), offset=vector(p.offset, station if p.host in grounds else sp.S.Zero))
         for p in sub.points
     )
+    def characteristic(found):  # its breakpoints and tangent are expressions of the parameters too
+        if found is None:
+            return None
+        return replace(found, points=tuple((value(x), value(f)) for x, f in found.points), tangent=value(found.tangent),
+                       keys=tuple((key, v if isinstance(v, str) else value(v)) for key, v in found.keys))
+
     elements = tuple(
         replace(
             e, id=rename(e.id), s_end=rename(e.s_end), t_end=rename(e.t_end), stiffness=value(e.stiffness),
             damping=value(e.damping), gap=value(e.gap), progressive=value(e.progressive),
+            friction=value(e.friction), characteristic=characteristic(e.characteristic),
+            checked=tuple((what, value(v), dim, positive) for what, v, dim, positive in e.checked),
         )
         for e in sub.elements
     )

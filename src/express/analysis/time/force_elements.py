@@ -5,7 +5,8 @@ steady-curving solver alike.
 The wheel/rail element comes first — the contact from the profiles' tables when the
 model's conicity comes from profiles (its wheel loads from
 :func:`express.analysis.curving.measure.march_wheel_loads`), else the paper's dead-band
-flange spring and saturation — then the bump stops and the friction elements.
+flange spring and saturation — then the bump stops, the friction elements and the
+characteristics.
 """
 
 from __future__ import annotations
@@ -15,6 +16,7 @@ from dataclasses import dataclass
 from express.analysis.time.track_inputs import TrackInputs
 from express.base.diagnostics import ArgumentError
 from express.forces.bump_stops import bump_stops_of
+from express.forces.characteristic import characteristic_elements_of
 from express.forces.contact import ContactElement, linear_coefficients, roll_coordinates
 from express.forces.deadband import DeadbandElement
 from express.forces.element import ForceElement, ForceSet
@@ -79,8 +81,9 @@ def run_forces(vehicle: VehicleModel, inputs: TrackInputs, speed: float, *, tabl
     flange, saturation : bool
         The dead-band model's flange contact and creep saturation.
     clearances : bool
-        Include the suspension's nonlinear elements (bump stops, friction); without them
-        friction elements are stuck, as the linear analyses see them.
+        Include the suspension's nonlinear elements (bump stops, friction, characteristics);
+        without them friction elements are stuck and characteristics are their tangents at
+        the static state, as the linear analyses see them.
     """
     coordinates = wheelset_coordinates(vehicle, inputs.y_rail, inputs.rho_wheelsets, speed)
     elements: list[ForceElement] = []
@@ -94,7 +97,8 @@ def run_forces(vehicle: VehicleModel, inputs: TrackInputs, speed: float, *, tabl
     else:
         elements.append(DeadbandElement(vehicle, coordinates, flange=flange, saturation=saturation))
     if clearances:  # the suspension's nonlinear elements
-        for element in (bump_stops_of(vehicle, inputs.u), friction_elements_of(vehicle, inputs.u)):
+        for element in (bump_stops_of(vehicle, inputs.u), friction_elements_of(vehicle, inputs.u),
+                        characteristic_elements_of(vehicle, inputs.u, inputs.u_rate)):
             if element is not None:
                 elements.append(element)
     return RunForces(ForceSet(tuple(elements), vehicle.form.size), kind)

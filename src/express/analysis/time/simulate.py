@@ -58,6 +58,7 @@ from express.analysis.time.track_inputs import TrackInputs, rail_layout, station
 from express.base.diagnostics import ArgumentError
 from express.base.threads import limited_blas
 from express.forces.bump_stops import BumpStopElement, clearance_force, clearances_of
+from express.forces.characteristic import CharacteristicElement
 from express.forces.friction import FrictionElement
 from express.model.topology import Topology, classify_bodies
 from express.numeric.statespace import VehicleModel
@@ -335,6 +336,8 @@ def simulate(
         options["clearances"] = True
     if forces.of_kind(FrictionElement):
         options["friction"] = "slipping (spring-slider)"
+    if forces.of_kind(CharacteristicElement):
+        options["characteristics"] = "piecewise linear (the tables)"
     return SimulationResult(time, distance, vehicle.dofs, q, q_dot, outputs, v, options, record, forces.output_units())
 
 
@@ -354,13 +357,18 @@ def running_speed(vehicle: VehicleModel, track: Track, speed: float | None) -> t
 
 def _check_step(forces, vehicle: VehicleModel, dt: float) -> None:
     """One warning when the step does not resolve a force element's stiffest feedback
-    (a friction element's pre-slip spring while it slips): the run is not converged."""
+    (a friction element's pre-slip spring while it slips, a characteristic's change of
+    slope): the run is not converged."""
     resolved = forces.resolved_step(vehicle.mass)
     if resolved is not None and dt > resolved:
         import warnings
 
-        warnings.warn(f"the time step {dt * 1e3:g} ms does not resolve the friction elements' pre-slip springs "
-                      f"while they slip (at most {resolved * 1e3:.3g} ms): the run is not converged in the step; "
+        kinds = {element.kind for element in forces.elements if element.resolved_step(vehicle.mass) is not None}
+        what = " and ".join(text for kind, text in (
+            ("friction", "the friction elements' pre-slip springs while they slip"),
+            ("characteristic", "the characteristics' changes of slope")) if kind in kinds) or "the force elements"
+        warnings.warn(f"the time step {dt * 1e3:g} ms does not resolve {what} "
+                      f"(at most {resolved * 1e3:.3g} ms): the run is not converged in the step; "
                       "use a smaller dt (--dt)", UserWarning, stacklevel=3)
 
 
