@@ -22,6 +22,7 @@ import sympy as sp
 from express.base.diagnostics import Problem
 from express.base.expressions import expression_value
 from express.base.units import Dimension
+from express.model.modal_body import FlexibleBody, check_flexible
 
 __all__ = [
     "AXES",
@@ -389,6 +390,8 @@ class Model:
     title: str = ""
     gravity: sp.Expr | None = None  # [gravity] acceleration: every body's weight (docs/model-format.md)
     derivations: tuple[Derivation, ...] = ()
+    #: Flexible (modal) bodies: modes beside the rigid motion (:mod:`express.model.modal_body`).
+    flexible: tuple[FlexibleBody, ...] = ()
 
     def __repr__(self) -> str:
         rail = f", {len(self.rail.wheelsets)} wheelsets" if self.rail is not None else ""
@@ -473,6 +476,8 @@ def check_model(model: Model) -> list[Problem]:
     _check_element_kinds(model, hosts, bodies, problems)
     _check_pins(model, hosts, bodies, ground_ids, problems)
     _check_rail_references(model, bodies, problems)
+    if model.flexible:
+        problems.extend(check_flexible(model))
     return problems
 
 
