@@ -15,7 +15,7 @@ from scipy.optimize import brentq
 
 from cli_support import PROBLEM_LINE, assert_input_error
 from express.assembly.generator import generate
-from express.io.toml_model import parse_toml_model
+from express.io.toml_model import parse_toml_model, read_toml_model
 from express.model.beam_modes import bending_shape, free_free_roots, torsion_frequency
 
 #: A uniform 24 m, 40 t car body on two vertical springs 8 m either side of its centre
@@ -81,8 +81,10 @@ vertical = {modes}
 
 
 def frequencies(text: str) -> np.ndarray:
-    """Undamped natural frequencies [Hz] of a model text, ascending."""
-    equations = generate(parse_toml_model(text, "beam.toml")).equations
+    """Undamped natural frequencies [Hz] of a model text (or of a model file ending
+    ``.toml``), ascending."""
+    model = read_toml_model(text) if text.endswith(".toml") else parse_toml_model(text, "beam.toml")
+    equations = generate(model).equations
     values = {sp.Symbol(name): value for name, value in equations.values.items()}
     mass = np.array(equations.M.subs(values), dtype=float)
     stiffness = np.array(equations.K.subs(values), dtype=float)

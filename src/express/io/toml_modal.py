@@ -82,13 +82,13 @@ class _Modes:
         return sp.Symbol(name)
 
     def add(self, name: str, kind: ModeKind, omega: float, zeta: sp.Expr, shapes: dict[str, float],
-            order: int, line: int | None) -> None:
+            order: int, line: int | None, source: str | None = None) -> None:
         prefix = f"{self.body}_{name}"
         w = self.parameter(f"{prefix}_w", omega, "", line)
         if zeta.is_number:
             zeta = self.parameter(f"{prefix}_zeta", float(zeta), "", line)
         values = tuple((point, self.parameter(f"{prefix}_{point}", value, "", line)) for point, value in shapes.items())
-        self.modes.append(FlexibleMode(name, kind, w, zeta, values, order, line))
+        self.modes.append(FlexibleMode(name, kind, w, zeta, values, order, line, source))
 
 
 def _number(reader: TomlReader, model: Model, raw: Any, path: tuple[str, ...], item: str, what: str,
@@ -248,10 +248,11 @@ def read_flexible(reader: TomlReader, table: Any, model: Model) -> tuple[tuple[F
 
             where = Path(reader.source).parent / str(spec["file"])
             for mode in read_modal_data(where, reader.problems):
-                modes.add(mode.name, mode.kind, mode.omega, zeta if mode.zeta is None else sp.Float(mode.zeta),
-                          mode.shapes, mode.order, reader.line(*path))
-        if not modes.modes:
+                damping = zeta if mode.zeta is None else parse_expression(repr(mode.zeta))
+                modes.add(mode.name, mode.kind, mode.omega, damping, mode.shapes, mode.order, mode.line, str(where))
+        if not modes.modes and "file" not in spec:  # a file's problems are its own
             reader.problem(path, item, "no modes: give [flexible.NAME.beam], [flexible.NAME.modes.MODE] or file")
-        bodies.append(FlexibleBody(body, tuple(modes.modes), "beam" if "beam" in spec else "modes", reader.line(*path)))
+        kind = "beam" if "beam" in spec else str(spec["file"]) if "file" in spec else "modes"
+        bodies.append(FlexibleBody(body, tuple(modes.modes), kind, reader.line(*path)))
         parameters.update(modes.parameters)
     return tuple(bodies), parameters

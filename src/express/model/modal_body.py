@@ -86,6 +86,8 @@ class FlexibleMode:
         1 for the first mode of its kind, 2 for the second... (for the mode names).
     line : int or None
         Line in the source file.
+    source : str or None
+        The file that gives the mode (a modal data file), None for the model file.
     """
 
     name: str
@@ -95,6 +97,7 @@ class FlexibleMode:
     shapes: tuple[tuple[str, sp.Expr], ...]
     order: int = 1
     line: int | None = None
+    source: str | None = None  # the file that gives it, when not the model file
 
     def shape(self, point: str) -> sp.Expr | None:
         """The shape value at ``point`` (None if the mode does not give one)."""
@@ -236,23 +239,24 @@ def check_flexible(model) -> list[Problem]:
         names: set[str] = set()
         for mode in flexible.modes:
             where = f"{item} mode {mode.name}"
+            origin = mode.source or source
             if mode.name in names or mode.name in ("x", "y", "z", "rx", "ry", "rz", "stroke"):
-                problems.append(Problem(source, mode.line, where, "mode name repeated or a rigid DOF's name"))
+                problems.append(Problem(origin, mode.line, where, "mode name repeated or a rigid DOF's name"))
             names.add(mode.name)
             omega, zeta = _value(mode.omega, model), _value(mode.zeta, model)
             if omega is not None and not omega > 0:
-                problems.append(Problem(source, mode.line, where,
+                problems.append(Problem(origin, mode.line, where,
                                         f"frequency must be positive, got {omega / (2 * math.pi):g} Hz"))
             if zeta is not None and not zeta >= 0:
-                problems.append(Problem(source, mode.line, where, f"damping ratio must be >= 0, got {zeta:g}"))
+                problems.append(Problem(origin, mode.line, where, f"damping ratio must be >= 0, got {zeta:g}"))
             given = {name for name, _ in mode.shapes}
             missing = [p for p in needed + outputs if p not in given]
             if missing:
-                problems.append(Problem(source, mode.line, where,
+                problems.append(Problem(origin, mode.line, where,
                                         f"no mode shape at {', '.join(missing)} (used by the model)"))
             unknown = sorted(given - set(points) - set(outputs))
             if unknown:
-                problems.append(Problem(source, mode.line, where,
+                problems.append(Problem(origin, mode.line, where,
                                         f"shape at {', '.join(unknown)}: not a CP or output point of body {body.id}"))
         if any(mode.kind is not ModeKind.TORSION for mode in flexible.modes):
             for element in model.elements:
