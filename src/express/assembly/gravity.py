@@ -58,14 +58,15 @@ _PERTURBATION = 0.1
 
 def static_model(model: Model) -> Model:
     """The 3-D static model: all DOFs, no series or clearance elements, wheelsets held,
-    no gravity (its equations, from :func:`express.assembly.generator.generate`, are the
+    flexible bodies rigid (their modes' static deflection is left out of the preloads), no gravity (its equations, from :func:`express.assembly.generator.generate`, are the
     ``static_equations`` argument of :func:`static_preloads` and :func:`gravity_stiffness`)."""
     held = {w.body for w in model.rail.wheelsets} if model.rail is not None else set()
     bodies = tuple(
         replace(b, dofs=tuple(d for d in DOF_NAMES if not (b.id in held and d in ("z", "rx")))) for b in model.bodies
     )
     elements = tuple(e for e in model.elements if e.kind is ElementKind.PARALLEL)
-    return replace(model, bodies=bodies, elements=elements, gravity=None, rail=None)
+    # flexible bodies statically rigid: the preloads of the rigid bodies (docs/model-format.md)
+    return replace(model, bodies=bodies, elements=elements, gravity=None, rail=None, flexible=())
 
 
 def _number_function(symbols: list[sp.Symbol], expressions):

@@ -144,9 +144,16 @@ def read_modal_data(path: str | Path, problems: list[Problem]) -> list[ModeData]
     if found:
         problems.extend(found)
         return []
+    return _modes(source, rows[2:], header, column, points, frequency_factor, mass_factor, normalised, problems)
+
+
+def _modes(source: str, rows: list[tuple[int, list[str]]], header: list[str], column: dict[str, int],
+           points: list[str], frequency_factor: float, mass_factor: float, normalised: bool,
+           problems: list[Problem]) -> list[ModeData]:
+    """The mode rows of a modal data file whose header and units are valid."""
     modes: list[ModeData] = []
     counts: dict[ModeKind, int] = {}
-    for line, cells in rows[2:]:
+    for line, cells in rows:
         cells = cells + [""] * (len(header) - len(cells))
         name = cells[0]
         item = f"modal data mode {name}"

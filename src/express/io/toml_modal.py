@@ -84,6 +84,11 @@ class _Modes:
     def add(self, name: str, kind: ModeKind, omega: float, zeta: sp.Expr, shapes: dict[str, float],
             order: int, line: int | None, source: str | None = None) -> None:
         prefix = f"{self.body}_{name}"
+        unknown = sorted(set(shapes) - set(_point_positions(self.model, self.body)))
+        if unknown:
+            self.reader.problems.append(Problem(
+                source or self.reader.source, line, f"flexible {self.body} mode {name}",
+                f"shape at {', '.join(unknown)}: not a CP or output point of body {self.body}"))
         w = self.parameter(f"{prefix}_w", omega, "", line)
         if zeta.is_number:
             zeta = self.parameter(f"{prefix}_zeta", float(zeta), "", line)

@@ -49,6 +49,7 @@ __all__ = [
     "modal_motion",
     "modal_rotation",
     "modal_terms",
+    "mode_words",
 ]
 
 
@@ -122,6 +123,24 @@ class FlexibleBody:
     def coordinates(self) -> list[str]:
         """The modal coordinates ``<body>.<mode>``, in mode order."""
         return [f"{self.body}.{mode.name}" for mode in self.modes]
+
+
+_ORDINALS = ("first", "second", "third", "fourth", "fifth", "sixth", "seventh", "eighth", "ninth", "tenth")
+_PREFIXES = {"vb": ModeKind.VERTICAL, "lb": ModeKind.LATERAL, "to": ModeKind.TORSION}
+
+
+def mode_words(name: str) -> str:
+    """Words for a mode named by the convention ``vb<n>``, ``lb<n>``, ``to<n>`` (vertical,
+    lateral bending, torsion; the beam's names), else the name itself.
+
+    >>> mode_words("vb1"), mode_words("to2"), mode_words("lb12"), mode_words("m7")
+    ('first vertical bending', 'second torsion', 'lateral bending 12', 'm7')
+    """
+    kind = _PREFIXES.get(name[:2])
+    if kind is None or not name[2:].isdigit() or int(name[2:]) < 1:
+        return name
+    order = int(name[2:])
+    return f"{_ORDINALS[order - 1]} {kind.words}" if order <= len(_ORDINALS) else f"{kind.words} {order}"
 
 
 def flexible_body(model, body_id: str) -> FlexibleBody | None:
@@ -215,9 +234,9 @@ def check_flexible(model) -> list[Problem]:
 
     A flexible body must be a body of the model; mode names are identifiers, unique,
     and not rigid DOF names; ``omega > 0`` and ``zeta >= 0``; every CP of the body that
-    an element uses and every output point on it has a shape in every mode, and every
-    shape names such a point; no rotational element about y or z sits on a body with
-    bending modes (their slopes are not modelled).
+    an element uses and every output point on it has a shape in every mode (the reader
+    refuses a shape at a point that is neither); no rotational element about y (z) sits on a body with
+    vertical (lateral) bending modes (their slopes are not modelled).
     """
     problems: list[Problem] = []
     source = model.source
@@ -254,17 +273,16 @@ def check_flexible(model) -> list[Problem]:
             if missing:
                 problems.append(Problem(origin, mode.line, where,
                                         f"no mode shape at {', '.join(missing)} (used by the model)"))
-            unknown = sorted(given - set(points) - set(outputs))
-            if unknown:
-                problems.append(Problem(origin, mode.line, where,
-                                        f"shape at {', '.join(unknown)}: not a CP or output point of body {body.id}"))
-        if any(mode.kind is not ModeKind.TORSION for mode in flexible.modes):
-            for element in model.elements:
-                if element.rotational and element.direction != 0 and (
-                        element.s_end in points or element.t_end in points):
-                    problems.append(Problem(
-                        source, element.line, f"TSD {element.id}",
-                        f"a rotational element about {element.axis_name} on body {body.id}, which bends: "
-                        "the bending slopes are not modelled (use translational elements)",
-                    ))
+        # a vertical bending mode turns the sections about y, a lateral one about z
+        turning = {1: ModeKind.VERTICAL, 2: ModeKind.LATERAL}
+        kinds = {mode.kind for mode in flexible.modes}
+        for element in model.elements:
+            if element.rotational and turning.get(int(element.direction)) in kinds and (
+                    element.s_end in points or element.t_end in points):
+                problems.append(Problem(
+                    source, element.line, f"TSD {element.id}",
+                    f"a rotational element about {element.axis_name} on body {body.id}, whose "
+                    f"{turning[int(element.direction)].words} modes turn it: the bending slopes are not "
+                    "modelled (use translational elements, or leave those modes out)",
+                ))
     return problems
