@@ -261,3 +261,30 @@ def read_flexible(reader: TomlReader, table: Any, model: Model) -> tuple[tuple[F
         bodies.append(FlexibleBody(body, tuple(modes.modes), kind, reader.line(*path)))
         parameters.update(modes.parameters)
     return tuple(bodies), parameters
+
+
+def flexible_lines(model: Model) -> tuple[list[str], set[str]]:
+    """The ``[flexible]`` section of ``model`` for ``express convert`` (every mode written
+    by value, whatever its source), and the names of the parameters the section makes
+    (left out of ``[parameters]``: reading the section back makes them again)."""
+    lines: list[str] = []
+    made: set[str] = set()
+    values = model.values()
+    for flexible in model.flexible:
+        for mode in flexible.modes:
+            prefix = f"{flexible.body}_{mode.name}"
+            made.add(f"{prefix}_w")
+            zeta = sp.sympify(mode.zeta)
+            if isinstance(zeta, sp.Symbol) and zeta.name == f"{prefix}_zeta":
+                made.add(zeta.name)
+                damping = repr(values[zeta.name])
+            else:
+                damping = '"' + sp.sstr(zeta) + '"'
+            shapes = []
+            for point, value in mode.shapes:
+                made.add(str(value))
+                shapes.append(f"{point} = {values[str(value)]!r}")
+            frequency = values[f"{prefix}_w"] / (2 * math.pi)
+            lines += ["", f"[flexible.{flexible.body}.modes.{mode.name}]", f'kind = "{mode.kind.value}"',
+                      f'frequency = "{frequency!r} Hz"', f"damping = {damping}", "shapes = { " + ", ".join(shapes) + " }"]
+    return lines, made

@@ -32,11 +32,12 @@ import math
 from collections.abc import Iterator
 from dataclasses import dataclass
 from enum import Enum
-
-import sympy as sp
+from typing import TYPE_CHECKING
 
 from express.base.diagnostics import Problem
-from express.base.expressions import expression_value
+
+if TYPE_CHECKING:  # SymPy is imported where expressions are made: the warm analyses use
+    import sympy as sp  # the mode names without it (docs/cache.md)
 
 __all__ = [
     "FlexibleBody",
@@ -163,6 +164,7 @@ def modal_motion(model, body_id: str, point: str, offset, axis: int) -> dict[str
 
     Examples
     --------
+    >>> import sympy as sp
     >>> from types import SimpleNamespace
     >>> mode = FlexibleMode("t1", ModeKind.TORSION, sp.Symbol("w"), 0, (("C1", sp.Symbol("p")),))
     >>> model = SimpleNamespace(flexible=(FlexibleBody("CB", (mode,)),))
@@ -205,6 +207,8 @@ def modal_rotation(model, body_id: str, point: str, axis: int) -> dict[str, sp.E
 def modal_terms(model) -> Iterator[tuple[str, sp.Expr, sp.Expr, sp.Expr]]:
     """``(coordinate, mass, damping, stiffness)`` of every mode: ``1``, ``2 zeta omega``,
     ``omega**2`` (mass-normalised modes)."""
+    import sympy as sp
+
     for flexible in getattr(model, "flexible", ()):
         for mode in flexible.modes:
             omega, zeta = sp.sympify(mode.omega), sp.sympify(mode.zeta)
@@ -213,6 +217,8 @@ def modal_terms(model) -> Iterator[tuple[str, sp.Expr, sp.Expr, sp.Expr]]:
 
 def modal_expressions(model) -> Iterator[sp.Expr]:
     """Every expression of the modes (for collecting the parameter symbols)."""
+    import sympy as sp
+
     for flexible in getattr(model, "flexible", ()):
         for mode in flexible.modes:
             yield sp.sympify(mode.omega)
@@ -222,6 +228,8 @@ def modal_expressions(model) -> Iterator[sp.Expr]:
 
 
 def _value(expression, model) -> float | None:
+    from express.base.expressions import expression_value
+
     try:
         value = expression_value(expression, {name: p.value for name, p in model.parameters.items()})
     except (KeyError, ValueError):
