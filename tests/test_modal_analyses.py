@@ -62,8 +62,9 @@ def test_ride_of_a_stiff_car_body_is_the_rigid_ride(tmp_path, capsys):
     4.9e-6 relative at most: the modes' share falls as 1/EI)."""
     rigid_path = tmp_path / "rigid.toml"
     rigid_path.write_text(rigid_text(), encoding="utf-8")
-    stiff = FLEXIBLE.read_text(encoding="utf-8").replace("value = 3.0e9,", "value = 3.0e13,").replace(
-        "value = 8.0e8,", "value = 8.0e12,")
+    stiff = FLEXIBLE.read_text(encoding="utf-8").replace('"3.0e9 N*m^2"', '"3.0e13 N*m^2"').replace(
+        '"8.0e8 N*m^2"', '"8.0e12 N*m^2"')
+    assert stiff.count("e13 N*m^2") == 1 and stiff.count("e12 N*m^2") == 1
     stiff_path = tmp_path / "stiff.toml"
     stiff_path.write_text(stiff, encoding="utf-8")
     rigid, found = ride(capsys, rigid_path), ride(capsys, stiff_path)
