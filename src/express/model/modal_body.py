@@ -40,10 +40,12 @@ if TYPE_CHECKING:  # SymPy is imported where expressions are made: the warm anal
     import sympy as sp  # the mode names without it (docs/cache.md)
 
 __all__ = [
+    "MODAL_UNIT",
     "FlexibleBody",
     "FlexibleMode",
     "ModeKind",
     "check_flexible",
+    "coordinate_unit",
     "flexible_body",
     "modal_coordinates",
     "modal_expressions",
@@ -124,6 +126,22 @@ class FlexibleBody:
     def coordinates(self) -> list[str]:
         """The modal coordinates ``<body>.<mode>``, in mode order."""
         return [f"{self.body}.{mode.name}" for mode in self.modes]
+
+
+#: SI unit of a mass-normalised modal coordinate: ``q'^2 / 2`` is a kinetic energy [J], so
+#: ``q`` is in sqrt(kg) m (tables and CSV columns).
+MODAL_UNIT = "kg^0.5*m"
+_RIGID_UNITS = {"x": "m", "y": "m", "z": "m", "rx": "rad", "ry": "rad", "rz": "rad", "stroke": "m"}
+
+
+def coordinate_unit(dof: str) -> str:
+    """SI unit of a coordinate ``<body>.<direction>``: ``m`` for a translation and a series
+    element's stroke, ``rad`` for a rotation, :data:`MODAL_UNIT` for a flexible body's mode.
+
+    >>> coordinate_unit("CB.y"), coordinate_unit("CB.rz"), coordinate_unit("CB.vb1")
+    ('m', 'rad', 'kg^0.5*m')
+    """
+    return _RIGID_UNITS.get(dof.rsplit(".", 1)[-1], MODAL_UNIT)
 
 
 _ORDINALS = ("first", "second", "third", "fourth", "fifth", "sixth", "seventh", "eighth", "ninth", "tenth")
