@@ -26,7 +26,8 @@ Two sources (``docs/model-format.md``, "Flexible bodies")::
 Every mode becomes parameters (so ``--set``, studies and sensitivities see them):
 ``<body>_<mode>_w`` its angular frequency [rad/s], ``<body>_<mode>_zeta`` its damping
 ratio (unless a parameter name is given) and ``<body>_<mode>_<point>`` its shape value
-at each point.  The beam's values are computed from the model's values when the file is
+at each point (the beam: one per station, named after its first point, which keeps the
+exact matrices small: ``k*(phi_L + phi_R)`` is ``2*k*phi``).  The beam's values are computed from the model's values when the file is
 read.
 """
 
@@ -82,7 +83,9 @@ class _Modes:
         return sp.Symbol(name)
 
     def add(self, name: str, kind: ModeKind, omega: float, zeta: sp.Expr, shapes: dict[str, float],
-            order: int, line: int | None, source: str | None = None) -> None:
+            order: int, line: int | None, source: str | None = None, same: dict[str, str] | None = None) -> None:
+        """One mode; ``same`` maps a point to the first point at its station (the beam:
+        they share one shape parameter, named after that first point)."""
         prefix = f"{self.body}_{name}"
         unknown = sorted(set(shapes) - set(_point_positions(self.model, self.body)))
         if unknown:
@@ -92,7 +95,14 @@ class _Modes:
         w = self.parameter(f"{prefix}_w", omega, "", line)
         if zeta.is_number:
             zeta = self.parameter(f"{prefix}_zeta", float(zeta), "", line)
-        values = tuple((point, self.parameter(f"{prefix}_{point}", value, "", line)) for point, value in shapes.items())
+        same = same or {}
+        symbols: dict[str, sp.Symbol] = {}
+        for point in shapes:
+            first = same.get(point, point)
+            if first not in symbols:
+                symbols[first] = self.parameter(f"{prefix}_{first}", shapes[first], "", line)
+            symbols[point] = symbols[first]
+        values = tuple((point, symbols[point]) for point in shapes)
         self.modes.append(FlexibleMode(name, kind, w, zeta, values, order, line, source))
 
 
@@ -155,6 +165,8 @@ def _beam(modes: _Modes, spec: dict, path: tuple[str, ...], zeta: sp.Expr) -> No
     if outside:
         reader.problem(path + ("length",), item, f"points {', '.join(outside)} lie beyond the beam's ends")
     s = {name: p[0] / length + 0.5 for name, p in positions.items()}
+    first_at: dict[float, str] = {}  # points at one station share their shape parameters
+    same = {name: first_at.setdefault(x, name) for name, x in s.items()}
     kinds = (("vertical", ModeKind.VERTICAL, "vertical_EI"), ("lateral", ModeKind.LATERAL, "lateral_EI"),
              ("torsion", ModeKind.TORSION, "torsion_GJ"))
     for key, kind, stiffness_key in kinds:
@@ -178,12 +190,13 @@ def _beam(modes: _Modes, spec: dict, path: tuple[str, ...], zeta: sp.Expr) -> No
             scale = math.sqrt(2.0 / (rho_ip * length))
             for n in range(1, count + 1):
                 shapes = {name: float(scale * torsion_shape(n, x)) for name, x in s.items()}
-                modes.add(f"to{n}", kind, torsion_frequency(n, length, stiffness, rho_ip), zeta, shapes, n, line)
+                modes.add(f"to{n}", kind, torsion_frequency(n, length, stiffness, rho_ip), zeta, shapes, n, line,
+                          same=same)
             continue
         for n, root in enumerate(free_free_roots(count), start=1):
             shapes = {name: float(bending_shape(root, x)) / math.sqrt(mass) for name, x in s.items()}
             omega = bending_frequency(root, length, stiffness, mass / length)
-            modes.add(f"{BEAM_NAMES[kind]}{n}", kind, omega, zeta, shapes, n, line)
+            modes.add(f"{BEAM_NAMES[kind]}{n}", kind, omega, zeta, shapes, n, line, same=same)
 
 
 def _given(modes: _Modes, table: dict, path: tuple[str, ...], zeta: sp.Expr) -> None:
