@@ -12,12 +12,13 @@ modes (6 modes), and the same file without its ``[flexible]`` section (rigid).  
 runs on ONE core (BLAS/OpenMP thread counts set to 1 before NumPy is imported, unless set).
 Medians of ``--runs`` runs after one warm-up, in one process:
 
-1. the symbolic generation (``generate_vehicle``, readable, as ``express generate``);
-   target: flexible <= 1.5 x rigid;
+1. the symbolic generation (``generate_vehicle``): readable (factored, as ``express
+   generate`` writes it) and expanded (``readable=False``, what every numerical command
+   derives); target: flexible <= 1.5 x rigid;
 2. the spectral ride (``ride_response`` of ERRI-high at 160 km/h, 2000 frequencies
    0.1-50 Hz, on a loaded vehicle); target: flexible <= 1.2 x rigid.
 
-The last line is ``generate_ratio=<x> ride_ratio=<y>``.
+The last line is ``generate_ratio=<x> expanded_ratio=<y> ride_ratio=<z>``.
 """
 
 from __future__ import annotations
@@ -82,16 +83,19 @@ def main(argv=None) -> int:
             vehicle = load_vehicle(path)
             times[name] = {
                 "generate": median_time(lambda model=model: generate_vehicle(model), args.runs),
+                "expanded": median_time(lambda model=model: generate_vehicle(model, readable=False), args.runs),
                 "ride": median_time(lambda vehicle=vehicle: ride_response(vehicle, spectra, 160 / 3.6, frequencies),
                                     args.runs),
             }
-            print(f"{name:9s} {len(vehicle.dofs):3d} coordinates: generate {times[name]['generate']:.3f} s, "
-                  f"ride {times[name]['ride']:.3f} s")
+            print(f"{name:9s} {len(vehicle.dofs):3d} coordinates: generate {times[name]['generate']:.3f} s "
+                  f"(expanded {times[name]['expanded']:.3f} s), ride {times[name]['ride']:.3f} s")
     generate_ratio = times["flexible"]["generate"] / times["rigid"]["generate"]
+    expanded_ratio = times["flexible"]["expanded"] / times["rigid"]["expanded"]
     ride_ratio = times["flexible"]["ride"] / times["rigid"]["ride"]
-    print(f"targets: generate <= 1.5 x rigid ({'met' if generate_ratio <= 1.5 else 'MISSED'}), "
+    print(f"targets: generate <= 1.5 x rigid ({'met' if generate_ratio <= 1.5 else 'MISSED'}; expanded "
+          f"{'met' if expanded_ratio <= 1.5 else 'MISSED'}), "
           f"ride <= 1.2 x rigid ({'met' if ride_ratio <= 1.2 else 'MISSED'})")
-    print(f"generate_ratio={generate_ratio:.3f} ride_ratio={ride_ratio:.3f}")
+    print(f"generate_ratio={generate_ratio:.3f} expanded_ratio={expanded_ratio:.3f} ride_ratio={ride_ratio:.3f}")
     return 0
 
 
