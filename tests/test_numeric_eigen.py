@@ -29,6 +29,7 @@ MODELS = {
     "forced-steering.toml": [48],
     "forced-steering-yaw-bush.toml": [52],
     "manchester.toml": [42, 20],
+    "manchester-flexible.toml": [44, 24],  # torsion joins the lateral block, bending the vertical
     "manchester-s1002.toml": [42, 20],
 }
 SPEEDS = np.array([1.0, 10.0, 30.0, 83.3, 150.0])

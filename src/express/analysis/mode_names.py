@@ -47,6 +47,7 @@ from express.analysis.mode_energies import (
     series_ranking,
     series_shares,
 )
+from express.model.modal_body import mode_words
 from express.model.topology import Topology
 
 __all__ = ["STROKE", "ModeEnergy", "RoleGroups", "generic_names", "kinematic_frequency", "mode_energy", "mode_names"]
@@ -151,7 +152,7 @@ def kinematic_frequency(speed: float, conicity: float, r0: float, b: float) -> f
 def _motion(parts: dict[str, float], words: dict[str, str]) -> str:
     total = sum(parts.values()) or 1.0
     chosen = [d for d in sorted(parts, key=lambda d: -parts[d]) if parts[d] >= MOTION_SHARE * total][:2]
-    return "/".join(words.get(d, d) for d in chosen)
+    return "/".join(words.get(d) or mode_words(d) for d in chosen)
 
 
 def _is_sway(parts: dict[str, float]) -> bool:
@@ -364,6 +365,6 @@ def generic_names(kinetic: np.ndarray, series: Sequence[tuple[tuple[str, float],
         for body in chosen.tolist():
             rows = rows_of[body]
             direction = groups.directions[rows[int(np.argmax(kinetic[rows, k]))]]
-            parts.append(f"{groups.bodies[body]} {_WORDS.get(direction, direction)}")
+            parts.append(f"{groups.bodies[body]} {_WORDS.get(direction) or mode_words(direction)}")
         names.append(", ".join(parts) + suffix)
     return names

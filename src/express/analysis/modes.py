@@ -300,6 +300,8 @@ def _dof_lengths(vehicle: VehicleModel) -> np.ndarray:
     for i, dof in enumerate(vehicle.dofs):
         if dof.partition(".")[2] in ("rx", "ry", "rz"):
             lengths[i] = gyration.get(dof, REFERENCE_LENGTH)
+        elif dof in gyration:  # a flexible body's mode: 1/sqrt(m) (express.numeric.facts)
+            lengths[i] = gyration[dof]
     return lengths
 
 

@@ -36,6 +36,7 @@ from express.assembly.gravity import gravity_terms, static_model
 from express.assembly.kinematics import end_motion, generalized_coordinates
 from express.base.diagnostics import ModelError, Problem
 from express.model.characteristics import characteristic_values
+from express.model.modal_body import modal_expressions, modal_terms
 from express.model.parameters import display_unit
 from express.model.records import AXES, DOF_NAMES, Model, check_model
 
@@ -97,6 +98,7 @@ def _model_expressions(model: Model, added: AddedTerms):
     for element in model.elements:
         yield element.stiffness
         yield element.damping
+    yield from modal_expressions(model)
     yield from added.expressions()
 
 
@@ -430,6 +432,11 @@ def _assemble(model: Model, added: AddedTerms, domain: ExactDomain, deflections:
             if inertia:
                 row = t_rows[f"{body.id}.{dof}"]
                 _add_outer(parts.mass, row, row, inertia)
+    for dof, mass, damping, stiffness in modal_terms(model):  # mass-normalised modes
+        row = t_rows[dof]
+        for target, value in ((parts.mass, mass), (parts.damping, damping), (parts.stiffness, stiffness)):
+            if value != 0:
+                _add_outer(target, row, row, conv(value))
     for target, terms in ((parts.stiffness, added.stiffness), (parts.damping, added.damping)):
         for row_dof, column_dof, value in terms:
             _add_outer(target, t_rows[row_dof], t_rows[column_dof], conv(value))

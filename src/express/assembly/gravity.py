@@ -58,8 +58,9 @@ _PERTURBATION = 0.1
 
 def static_model(model: Model) -> Model:
     """The 3-D static model: all DOFs, no series, clearance or friction elements (the
-    characteristics as their tangents at the static state), wheelsets held,
-    no gravity (its equations, from :func:`express.assembly.generator.generate`, are the
+    characteristics as their tangents at the static state), wheelsets held, flexible
+    bodies rigid (their modes' static deflection is left out of the preloads), no gravity
+    (its equations, from :func:`express.assembly.generator.generate`, are the
     ``static_equations`` argument of :func:`static_preloads` and :func:`gravity_stiffness`)."""
     held = {w.body for w in model.rail.wheelsets} if model.rail is not None else set()
     bodies = tuple(
@@ -68,7 +69,8 @@ def static_model(model: Model) -> Model:
     # a characteristic carries its static load as the linear analyses see it: its tangent
     elements = tuple(replace(e, kind=ElementKind.PARALLEL, characteristic=None) if e.kind is ElementKind.CHARACTERISTIC
                      else e for e in model.elements if e.kind in (ElementKind.PARALLEL, ElementKind.CHARACTERISTIC))
-    return replace(model, bodies=bodies, elements=elements, gravity=None, rail=None)
+    # flexible bodies statically rigid: the preloads of the rigid bodies (docs/model-format.md)
+    return replace(model, bodies=bodies, elements=elements, gravity=None, rail=None, flexible=())
 
 
 def _number_function(symbols: list[sp.Symbol], expressions):

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import sympy as sp
 
+from express.model.modal_body import modal_coordinates, modal_motion, modal_rotation
 from express.model.records import AXES, Model
 
 __all__ = ["end_motion", "generalized_coordinates", "point_motion", "point_rotation"]
@@ -32,8 +33,11 @@ _ROTATION_TERMS = {
 
 
 def generalized_coordinates(model: Model) -> list[str]:
-    """All DOF names ``<body>.<dof>``: bodies in file order, DOFs x, y, z, rx, ry, rz."""
-    return [name for body in model.bodies for name in body.dof_names()]
+    """All DOF names ``<body>.<dof>``: bodies in file order, DOFs x, y, z, rx, ry, rz, then
+    a flexible body's modal coordinates ``<body>.<mode>`` (:mod:`express.model.modal_body`)."""
+    if not model.flexible:
+        return [name for body in model.bodies for name in body.dof_names()]
+    return [name for body in model.bodies for name in body.dof_names() + modal_coordinates(model, body.id)]
 
 
 def point_motion(model: Model, point_id: str, axis: int) -> tuple[dict[str, sp.Expr], dict[str, sp.Expr]]:
@@ -77,6 +81,8 @@ def point_motion(model: Model, point_id: str, axis: int) -> tuple[dict[str, sp.E
         lever_arm = point.offset[component]
         if rotation in body.dofs and lever_arm != 0:
             coefficients[f"{body.id}.{rotation}"] = sign * lever_arm
+    if model.flexible:  # a flexible body's modes move its points too
+        coefficients.update(modal_motion(model, body.id, point.id, point.offset, axis))
     return coefficients, {}
 
 
@@ -97,9 +103,12 @@ def point_rotation(model: Model, point_id: str, axis: int) -> tuple[dict[str, sp
     body_ids = {body.id for body in model.bodies}
     if point.host not in body_ids:
         return {}, {f"{point.host}.{name}": sp.S.One}
+    rotation: dict[str, sp.Expr] = {}
     if name in model.body(point.host).dofs:
-        return {f"{point.host}.{name}": sp.S.One}, {}
-    return {}, {}
+        rotation[f"{point.host}.{name}"] = sp.S.One
+    if model.flexible:  # the torsion of a flexible body's section at the CP
+        rotation.update(modal_rotation(model, point.host, point.id, axis))
+    return rotation, {}
 
 
 def end_motion(model: Model, point_id: str, axis: int, rotational: bool):

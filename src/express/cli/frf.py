@@ -10,6 +10,7 @@ from typing import Any
 from express.base.diagnostics import AnalysisError, UsageError
 from express.base.names import did_you_mean
 from express.cli import common
+from express.model.modal_body import coordinate_unit
 
 __all__ = ["MAX_POINTS", "add_parser", "run"]
 
@@ -138,7 +139,7 @@ def _series(vehicle: Any, dofs: list[str], frequencies: Any, amplitude: float, s
     response = frequency_response(vehicle, frequencies, amplitude=amplitude, speed=speed)
     series: dict[str, tuple[Any, str]] = {name: (np.asarray(response.acceleration_of(name)), "m/s^2") for name in points}
     for dof in dofs:
-        series[dof] = (np.asarray(response.amplitude_of(dof)), "rad" if dof.split(".")[-1].startswith("r") else "m")
+        series[dof] = (np.asarray(response.amplitude_of(dof)), coordinate_unit(dof))
     for name, (values, _unit) in series.items():
         if not np.all(np.isfinite(values)):
             raise AnalysisError(f"frf: the response of {name} is not finite at some frequency (a resonance "
@@ -184,7 +185,7 @@ def _ground_series(vehicle: Any, dofs: list[str], frequencies: Any, amplitude: f
     series: dict[str, tuple[Any, str]] = {}
     for dof in dofs or vehicle.dofs:
         for name in response.inputs:
-            unit = "rad" if dof.split(".")[-1].startswith("r") else "m"
+            unit = coordinate_unit(dof)
             series[f"{dof}/{name}"] = (amplitude * response.of(dof, name), unit)
     for name, (values, _unit) in series.items():
         if not np.all(np.isfinite(values)):

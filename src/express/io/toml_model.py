@@ -70,7 +70,7 @@ __all__ = ["WHEELSET_KEYS", "parse_toml_model", "read_toml_model"]
 
 _TOP_KEYS = (
     "model", "parameters", "bodies", "grounds", "points", "elements", "pins", "rail", "gravity",
-    "substructures", "instances",
+    "substructures", "instances", "flexible",
 )
 WHEELSET_KEYS = (
     "f1",
@@ -342,6 +342,23 @@ def parse_toml_model(text: str, source: str = "<string>") -> Model:
     if not bodies and not reader.problems:  # an empty or cut-short file is not a model
         problems.append(Problem(source, None, "bodies", "the model has no bodies: give [bodies.NAME] tables or "
                                 "[instances] of substructures (an empty or truncated file?)"))
+    if problems:
+        raise ModelError(problems)
+    model = resolve(model)
+    if "flexible" in data:  # flexible (modal) bodies: express.io.toml_modal
+        model = _flexible(reader, data["flexible"], model)
+    return model
+
+
+def _flexible(reader: TomlReader, table: Any, model: Model) -> Model:
+    """The model with its ``[flexible]`` bodies and their parameters (values needed)."""
+    from dataclasses import replace
+
+    from express.io.toml_modal import read_flexible
+
+    flexible, added = read_flexible(reader, table, model)
+    model = replace(model, flexible=flexible, parameters={**model.parameters, **added})
+    problems = reader.problems + check_model(model)
     if problems:
         raise ModelError(problems)
     return resolve(model)

@@ -110,9 +110,11 @@ def model_to_toml(model: Model) -> str:
     if model.title:
         lines.append(f"title = {_string(model.title)}")
     lines += ["", "[parameters]"]
+    flexible, made = _flexible_lines(model)
     if model.parameters:
         for parameter in model.parameters.values():
-            if parameter.derived_by is None:  # outputs of [rail.creep] are computed on loading
+            if parameter.derived_by is None and parameter.name not in made:  # outputs of [rail.creep] and
+                # the modes' parameters are made again on loading
                 lines.append(_parameter_line(parameter))
     else:
         names = set()
@@ -175,7 +177,16 @@ def model_to_toml(model: Model) -> str:
         lines += ["", "[gravity]", f"acceleration = {value_to_toml(model.gravity)}"]
     if model.rail is not None:
         lines += _rail_lines(model)
-    return "\n".join(lines) + "\n"
+    return "\n".join(lines + flexible) + "\n"
+
+
+def _flexible_lines(model: Model) -> tuple[list[str], set[str]]:
+    """The ``[flexible]`` section (:func:`express.io.toml_modal.flexible_lines`), if any."""
+    if not model.flexible:
+        return [], set()
+    from express.io.toml_modal import flexible_lines
+
+    return flexible_lines(model)
 
 
 def _characteristic(characteristic) -> str:

@@ -110,6 +110,9 @@ def use_sites(model: Model) -> Iterator[UseSite]:
         for output in rail.outputs:
             for value in output.offset:
                 yield UseSite(value, "length", f"output {output.name}", "offset", output.line)
+    for flexible in getattr(model, "flexible", ()):  # express.model.modal_body
+        for mode in flexible.modes:
+            yield UseSite(mode.zeta, "dimensionless", f"flexible {flexible.body} mode {mode.name}", "damping", mode.line)
     for derivation in model.derivations:
         for argument, expression, name in derivation.inputs:
             yield UseSite(expression, name, derivation.item, argument, derivation.line)

@@ -23,6 +23,7 @@ from express.base.diagnostics import Problem
 from express.base.expressions import expression_value
 from express.base.units import Dimension
 from express.model.characteristics import Characteristic
+from express.model.modal_body import FlexibleBody, check_flexible
 
 __all__ = [
     "AXES",
@@ -405,6 +406,8 @@ class Model:
     title: str = ""
     gravity: sp.Expr | None = None  # [gravity] acceleration: every body's weight (docs/model-format.md)
     derivations: tuple[Derivation, ...] = ()
+    #: Flexible (modal) bodies: modes beside the rigid motion (:mod:`express.model.modal_body`).
+    flexible: tuple[FlexibleBody, ...] = ()
 
     def __repr__(self) -> str:
         rail = f", {len(self.rail.wheelsets)} wheelsets" if self.rail is not None else ""
@@ -489,6 +492,8 @@ def check_model(model: Model) -> list[Problem]:
     _check_element_kinds(model, hosts, bodies, problems)
     _check_pins(model, hosts, bodies, ground_ids, problems)
     _check_rail_references(model, bodies, problems)
+    if model.flexible:
+        problems.extend(check_flexible(model))
     return problems
 
 

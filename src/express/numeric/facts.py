@@ -27,6 +27,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
+from express.model.modal_body import modal_coordinates, modal_motion
 from express.model.topology import Topology, classify_bodies
 from express.numeric.program import ProgramError, checked_list, checked_strings
 
@@ -80,7 +81,8 @@ class VehicleFacts:
         bogies ordered by station at the values).
     gyration : dict of str to float
         Rotation DOF -> the body's radius of gyration ``sqrt(I / m)`` [m], where mass and
-        inertia are known and positive.
+        inertia are known and positive; a flexible body's modal coordinate -> ``1/sqrt(m)``
+        [1/sqrt(kg)], the RMS displacement over the body per unit of a mass-normalised mode.
     outputs : tuple of OutputPoint
         The rail output points, in the model's order.
     stuck : tuple of str
@@ -115,11 +117,18 @@ def facts_of(model: Model, values: Mapping[str, float]) -> VehicleFacts:
                 inertia = number(body.inertia[_ROTATIONS[dof]])
                 if mass is not None and inertia is not None and mass > 0 and inertia > 0:
                     gyration[f"{body.id}.{dof}"] = math.sqrt(inertia / mass)
+        if mass is not None and mass > 0:  # a mass-normalised mode: RMS displacement 1/sqrt(m) per unit
+            for name in modal_coordinates(model, body.id):
+                gyration[name] = 1.0 / math.sqrt(mass)
     outputs = []
     for point in model.rail.outputs if model.rail is not None else ():
         body = model.body(point.body)
         lx, lz = expression_value(point.offset[0], values), expression_value(point.offset[2], values)
         lateral = tuple((f"{body.id}.{dof}", c) for dof, c in (("y", 1.0), ("rz", lx), ("rx", -lz)) if dof in body.dofs)
+        if model.flexible:  # the modes of a flexible body move the point too
+            offset = tuple(expression_value(v, values) for v in point.offset)
+            lateral += tuple((dof, expression_value(c, values))
+                             for dof, c in modal_motion(model, body.id, point.name, offset, 1).items())
         outputs.append(OutputPoint(point.name, point.body, lateral))
     stuck = tuple(e.id for e in model.elements if getattr(e, "sliding", False))
     return VehicleFacts(model.source, tuple(sorted(model.parameters)), topology, gyration, tuple(outputs), stuck)

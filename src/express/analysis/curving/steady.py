@@ -37,6 +37,7 @@ from express.analysis.time.simulate import derived_outputs
 from express.analysis.time.track_inputs import TrackInputs
 from express.base.diagnostics import ArgumentError, InputError
 from express.forces.element import ForceSet
+from express.model.modal_body import coordinate_unit
 from express.model.parameters import expression_value
 from express.numeric.statespace import VehicleModel
 from express.rail.options import ContactModel, CreepLaw
@@ -198,7 +199,7 @@ class SteadyCurving:
         """SI unit of every column of :meth:`columns`."""
         units = {"R": "m", "cant": "m", "speed": "m/s", "a_q": "m/s^2", **self.wheel_rail.units()}
         units.update(dict.fromkeys(self.derived, "rad"))
-        units.update({dof: "rad" if dof.rsplit(".", 1)[-1].startswith("r") else "m" for dof in self.dofs})
+        units.update({dof: coordinate_unit(dof) for dof in self.dofs})
         return units
 
 

@@ -265,6 +265,6 @@ def simulation_accelerations(vehicle: VehicleModel, result: Any, track: Any) -> 
         q_ddot = np.gradient(result.q_dot, result.time, axis=0, edge_order=2)
     out = {}
     for point in output_points(vehicle):
-        by_axis = point_rows(vehicle, point.body, point.offset, f"output {point.name}")
+        by_axis = point_rows(vehicle, point.body, point.offset, f"output {point.name}", point.name)
         out[point.name] = {axis: q_ddot @ row for axis, row in by_axis.items()}
     return out

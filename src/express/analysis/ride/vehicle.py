@@ -73,6 +73,7 @@ from express.analysis.ride.spectral import (
 from express.assembly.kinematics import end_motion
 from express.base.diagnostics import AnalysisError, InputError
 from express.base.names import did_you_mean
+from express.model.modal_body import modal_motion
 from express.model.parameters import expression_value
 from express.model.records import ElementKind, Model
 from express.numeric.statespace import VehicleModel
@@ -282,16 +283,19 @@ def _dof_row(vehicle: VehicleModel, coefficients: Mapping[str, Any], what: str) 
     return row
 
 
-def point_rows(vehicle: VehicleModel, body_id: str, offset, what: str) -> dict[str, np.ndarray]:
+def point_rows(vehicle: VehicleModel, body_id: str, offset, what: str, point: str | None = None) -> dict[str, np.ndarray]:
     """Rows over q of the displacement of a point on a body (``offset`` [m], parameter
-    expressions), for each axis along which the body's DOFs move it.
+    expressions), for each axis along which the body's DOFs move it; on a flexible body
+    the modes move the point too (``point``: the CP or output name its shapes are given at,
+    :mod:`express.model.modal_body`).
 
     Raises
     ------
     InputError
         If one of those DOFs was eliminated by a pin.
     """
-    body = _model(vehicle).body(body_id)
+    model = _model(vehicle)
+    body = model.body(body_id)
     rows = {}
     for axis, name in enumerate(AXES):
         terms: dict[str, Any] = {}
@@ -300,6 +304,8 @@ def point_rows(vehicle: VehicleModel, body_id: str, offset, what: str) -> dict[s
         for rotation, sign, component in _ROTATION_TERMS[axis]:
             if rotation in body.dofs:
                 terms[f"{body_id}.{rotation}"] = sign * offset[component]
+        if point is not None and model.flexible:
+            terms.update(modal_motion(model, body_id, point, offset, axis))
         row = _dof_row(vehicle, terms, what)
         if np.any(row != 0):
             rows[name] = row
@@ -348,7 +354,7 @@ def _output_rows(vehicle: VehicleModel, inputs: RailInputs, speed: float) -> tup
     rows = _Rows(vehicle.n, len(vehicle.inputs))
     directions: dict[str, tuple[str, ...]] = {}
     for point in output_points(vehicle):
-        by_axis = point_rows(vehicle, point.body, point.offset, f"output {point.name}")
+        by_axis = point_rows(vehicle, point.body, point.offset, f"output {point.name}", point.name)
         directions[point.name] = tuple(by_axis)
         for axis, row in by_axis.items():
             rows.add(f"{point.name}.a{axis}", ACCELERATION_UNIT, d2=row)

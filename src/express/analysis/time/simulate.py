@@ -60,6 +60,7 @@ from express.base.threads import limited_blas
 from express.forces.bump_stops import BumpStopElement, clearance_force, clearances_of
 from express.forces.characteristic import CharacteristicElement
 from express.forces.friction import FrictionElement
+from express.model.modal_body import coordinate_unit
 from express.model.topology import Topology, classify_bodies
 from express.numeric.statespace import VehicleModel
 from express.rail.nonlinear import wheelset_forces
@@ -132,7 +133,7 @@ class SimulationResult:
         """SI unit of every column of :meth:`series` (``""`` for dimensionless ones)."""
         units = {"time": "s", "d1": "m"}
         for dof in self.dofs:
-            units[dof] = "rad" if dof.rsplit(".", 1)[-1].startswith("r") else "m"
+            units[dof] = coordinate_unit(dof)
         for dof in self.dofs:
             units[f"{dof}_dot"] = f"{units[dof]}/s"
         for name in self.outputs:

@@ -1,0 +1,303 @@
+"""``[flexible.<body>]``: the modes of a flexible body, read from the model file.
+
+Two sources (``docs/model-format.md``, "Flexible bodies")::
+
+    [flexible.CB]
+    damping = 0.02                       # default modal damping ratio of its modes [-]
+
+    [flexible.CB.beam]                   # (a) the analytic free-free beam
+    length = "24 m"
+    vertical_EI = "3.0e9 N*m^2"
+    lateral_EI = "8.0e9 N*m^2"
+    torsion_GJ = "1.5e9 N*m^2"
+    torsional_inertia = "2500 kg*m"      # rho*Ip per length (default: Ix / length)
+    vertical = 2                         # modes kept of each kind
+    lateral = 1
+    torsion = 1
+
+    [flexible.CB.modes.vb1]              # (b) given modes (e.g. from a FE model)
+    kind = "vertical"                    # vertical / lateral / torsion
+    frequency = "9 Hz"
+    damping = 0.02
+    shapes = { C1 = 0.0087, C2 = -0.0041 }   # mass-normalised [1/sqrt(kg)]
+
+    # or file = "coach-modes.csv" (express.io.modal_data)
+
+Every mode becomes parameters (so ``--set``, studies and sensitivities see them):
+``<body>_<mode>_w`` its angular frequency [rad/s], ``<body>_<mode>_zeta`` its damping
+ratio (unless a parameter name is given) and ``<body>_<mode>_<point>`` its shape value
+at each point (the beam: one per station, named after its first point, which keeps the
+exact matrices small: ``k*(phi_L + phi_R)`` is ``2*k*phi``).  The beam's values are computed from the model's values when the file is
+read.
+"""
+
+from __future__ import annotations
+
+import math
+from fractions import Fraction
+from pathlib import Path
+from typing import Any
+
+import sympy as sp
+
+from express.base.diagnostics import Problem
+from express.base.expressions import ExpressionError, expression_value, parse_expression
+from express.base.units import Dimension, UnitError, parse_quantity
+from express.io.toml_items import TomlReader, check_id, show_value
+from express.model.beam_modes import (
+    bending_frequency,
+    bending_shape,
+    free_free_roots,
+    torsion_frequency,
+    torsion_shape,
+)
+from express.model.modal_body import FlexibleBody, FlexibleMode, ModeKind
+from express.model.records import Model, Parameter
+
+__all__ = ["read_flexible"]
+
+_BODY_KEYS = ("damping", "beam", "modes", "file")
+_BEAM_KEYS = ("length", "vertical_EI", "lateral_EI", "torsion_GJ", "torsional_inertia", "vertical", "lateral", "torsion")
+_MODE_KEYS = ("kind", "frequency", "damping", "shapes")
+_LENGTH = Dimension(Fraction(0), Fraction(1), Fraction(0))
+_BENDING = Dimension(Fraction(1), Fraction(3), Fraction(-2))  # N m^2
+_MASS_MOMENT = Dimension(Fraction(1), Fraction(1), Fraction(0))  # kg m (per length)
+_FREQUENCY = Dimension(Fraction(0), Fraction(0), Fraction(-1))
+#: Prefixes of the beam's mode names by kind.
+BEAM_NAMES = {ModeKind.VERTICAL: "vb", ModeKind.LATERAL: "lb", ModeKind.TORSION: "to"}
+
+
+class _Modes:
+    """The modes and parameters being built for one body."""
+
+    def __init__(self, reader: TomlReader, model: Model, body: str):
+        self.reader, self.model, self.body = reader, model, body
+        self.parameters: dict[str, Parameter] = {}
+        self.modes: list[FlexibleMode] = []
+
+    def parameter(self, name: str, value: float, unit: str, line: int | None) -> sp.Symbol:
+        if name in self.model.parameters or name in self.parameters:
+            self.reader.problems.append(Problem(self.reader.source, line, f"flexible {self.body}",
+                                                f"parameter {name} is also given in [parameters]; rename one"))
+        self.parameters[name] = Parameter(name, float(value), unit, line)
+        return sp.Symbol(name)
+
+    def add(self, name: str, kind: ModeKind, omega: float, zeta: sp.Expr, shapes: dict[str, float],
+            order: int, line: int | None, source: str | None = None, same: dict[str, str] | None = None) -> None:
+        """One mode; ``same`` maps a point to the first point at its station (the beam:
+        they share one shape parameter, named after that first point)."""
+        prefix = f"{self.body}_{name}"
+        unknown = sorted(set(shapes) - set(_point_positions(self.model, self.body)))
+        if unknown:
+            self.reader.problems.append(Problem(
+                source or self.reader.source, line, f"flexible {self.body} mode {name}",
+                f"shape at {', '.join(unknown)}: not a CP or output point of body {self.body}"))
+        w = self.parameter(f"{prefix}_w", omega, "", line)
+        if zeta.is_number:
+            zeta = self.parameter(f"{prefix}_zeta", float(zeta), "", line)
+        same = same or {}
+        symbols: dict[str, sp.Symbol] = {}
+        for point in shapes:
+            first = same.get(point, point)
+            if first not in symbols:
+                symbols[first] = self.parameter(f"{prefix}_{first}", shapes[first], "", line)
+            symbols[point] = symbols[first]
+        values = tuple((point, symbols[point]) for point in shapes)
+        self.modes.append(FlexibleMode(name, kind, w, zeta, values, order, line, source))
+
+
+def _number(reader: TomlReader, model: Model, raw: Any, path: tuple[str, ...], item: str, what: str,
+            dimension: Dimension) -> float | None:
+    """A quantity (``"24 m"``, SI number) or an expression of the model's parameters."""
+    if isinstance(raw, bool) or raw is None:
+        reader.problem(path, item, f"{what} must be a quantity, got {show_value(raw)}")
+        return None
+    if isinstance(raw, (int, float)):
+        return float(raw)
+    if not isinstance(raw, str):
+        reader.problem(path, item, f"{what} must be a quantity, got {show_value(raw)}")
+        return None
+    try:
+        return parse_quantity(raw, dimension)[0]
+    except UnitError as unit_error:
+        try:
+            expression = parse_expression(raw)
+            return expression_value(expression, model.values())
+        except (ExpressionError, KeyError, ValueError):
+            reader.problem(path, item, f"{what}: {unit_error}")
+            return None
+
+
+def _point_positions(model: Model, body: str) -> dict[str, tuple[float, float, float]]:
+    """Offset (lx, ly, lz) [m] of every CP and output point of ``body`` (values of the model)."""
+    values = model.values()
+    found = {p.id: p.offset for p in model.points if p.host == body}
+    if model.rail is not None:
+        found.update({o.name: o.offset for o in model.rail.outputs if o.body == body})
+    positions: dict[str, tuple[float, float, float]] = {}
+    for name, offset in found.items():
+        try:
+            lx, ly, lz = (expression_value(v, values) for v in offset)
+        except (KeyError, ValueError):
+            continue  # an undefined offset is reported with its CP
+        positions[name] = (lx, ly, lz)
+    return positions
+
+
+def _beam(modes: _Modes, spec: dict, path: tuple[str, ...], zeta: sp.Expr) -> None:
+    reader, model, body = modes.reader, modes.model, modes.body
+    item = f"flexible {body} beam"
+    reader.unknown_keys(spec, _BEAM_KEYS, path, item)
+    line = reader.line(*path)
+    try:
+        mass = expression_value(model.body(body).mass, model.values())
+        inertia_x = expression_value(model.body(body).inertia[0], model.values())
+    except (KeyError, ValueError):
+        reader.problem(path, item, "the body's mass and inertia need values")
+        return
+    length = _number(reader, model, spec.get("length"), path + ("length",), item, "length", _LENGTH)
+    if length is None or not length > 0:
+        if length is not None:
+            reader.problem(path + ("length",), item, f"length must be positive, got {length:g} m")
+        return
+    positions = _point_positions(model, body)
+    outside = [n for n, p in positions.items() if abs(p[0]) > length / 2 * (1 + 1e-9)]
+    if outside:
+        reader.problem(path + ("length",), item, f"points {', '.join(outside)} lie beyond the beam's ends")
+    s = {name: p[0] / length + 0.5 for name, p in positions.items()}
+    first_at: dict[float, str] = {}  # points at one station share their shape parameters
+    same = {name: first_at.setdefault(x, name) for name, x in s.items()}
+    kinds = (("vertical", ModeKind.VERTICAL, "vertical_EI"), ("lateral", ModeKind.LATERAL, "lateral_EI"),
+             ("torsion", ModeKind.TORSION, "torsion_GJ"))
+    for key, kind, stiffness_key in kinds:
+        count = spec.get(key, 0)
+        if isinstance(count, bool) or not isinstance(count, int) or not 0 <= count <= 20:
+            reader.problem(path + (key,), item, f"{key} must be a number of modes 0...20, got {show_value(count)}")
+            continue
+        if count == 0:
+            continue
+        stiffness = _number(reader, model, spec.get(stiffness_key), path + (stiffness_key,), item, stiffness_key, _BENDING)
+        if stiffness is None or not stiffness > 0:
+            if stiffness is not None:
+                reader.problem(path + (stiffness_key,), item, f"{stiffness_key} must be positive, got {stiffness:g}")
+            continue
+        if kind is ModeKind.TORSION:
+            raw = spec.get("torsional_inertia", inertia_x / length)
+            rho_ip = _number(reader, model, raw, path + ("torsional_inertia",), item, "torsional_inertia", _MASS_MOMENT)
+            if rho_ip is None or not rho_ip > 0:
+                reader.problem(path + ("torsional_inertia",), item, "torsional_inertia (rho*Ip per length) must be positive")
+                continue
+            scale = math.sqrt(2.0 / (rho_ip * length))
+            for n in range(1, count + 1):
+                shapes = {name: float(scale * torsion_shape(n, x)) for name, x in s.items()}
+                modes.add(f"to{n}", kind, torsion_frequency(n, length, stiffness, rho_ip), zeta, shapes, n, line,
+                          same=same)
+            continue
+        for n, root in enumerate(free_free_roots(count), start=1):
+            shapes = {name: float(bending_shape(root, x)) / math.sqrt(mass) for name, x in s.items()}
+            omega = bending_frequency(root, length, stiffness, mass / length)
+            modes.add(f"{BEAM_NAMES[kind]}{n}", kind, omega, zeta, shapes, n, line, same=same)
+
+
+def _given(modes: _Modes, table: dict, path: tuple[str, ...], zeta: sp.Expr) -> None:
+    reader = modes.reader
+    counts: dict[ModeKind, int] = {}
+    for name, raw in table.items():
+        where = path + (name,)
+        item = f"flexible {modes.body} mode {name}"
+        check_id(reader, name, where, item)
+        spec = reader.table(raw, where, item)
+        reader.unknown_keys(spec, _MODE_KEYS, where, item)
+        try:
+            kind = ModeKind(spec.get("kind"))
+        except ValueError:
+            reader.problem(where + ("kind",), item, f"kind must be vertical, lateral or torsion, got {show_value(spec.get('kind'))}")
+            continue
+        frequency = _number(reader, modes.model, spec.get("frequency"), where + ("frequency",), item, "frequency", _FREQUENCY)
+        if frequency is None:
+            continue
+        if not frequency > 0:
+            reader.problem(where + ("frequency",), item, f"frequency must be positive, got {frequency:g} Hz")
+            continue
+        damping = reader.expression(spec["damping"], where + ("damping",), item, "damping") if "damping" in spec else zeta
+        shapes_raw = reader.table(spec.get("shapes", {}), where + ("shapes",), item)
+        shapes = {}
+        for point, value in shapes_raw.items():
+            if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+                reader.problem(where + ("shapes", point), item, f"shape at {point} must be a number [1/sqrt(kg)], got {show_value(value)}")
+                continue
+            shapes[point] = float(value)
+        counts[kind] = counts.get(kind, 0) + 1
+        modes.add(name, kind, 2 * math.pi * frequency, damping, shapes, counts[kind], reader.line(*where))
+
+
+def read_flexible(reader: TomlReader, table: Any, model: Model) -> tuple[tuple[FlexibleBody, ...], dict[str, Parameter]]:
+    """The flexible bodies of ``[flexible]`` and the parameters they add (problems go
+    to ``reader.problems``).
+
+    Parameters
+    ----------
+    reader : TomlReader
+        The model file's reader.
+    table : dict
+        The ``[flexible]`` table.
+    model : Model
+        The model read so far, its parameters resolved (the beam needs values).
+    """
+    bodies = []
+    parameters: dict[str, Parameter] = {}
+    known = {body.id for body in model.bodies}
+    for body, raw in reader.table(table, ("flexible",), "flexible").items():
+        path = ("flexible", body)
+        item = f"flexible {body}"
+        spec = reader.table(raw, path, item)
+        reader.unknown_keys(spec, _BODY_KEYS, path, item)
+        if body not in known:
+            reader.problem(path, item, f'unknown body "{body}"')
+            continue
+        zeta = reader.expression(spec.get("damping", 0), path + ("damping",), item, "damping")
+        modes = _Modes(reader, model, body)
+        if "beam" in spec:
+            _beam(modes, reader.table(spec["beam"], path + ("beam",), item), path + ("beam",), zeta)
+        if "modes" in spec:
+            _given(modes, reader.table(spec["modes"], path + ("modes",), item), path + ("modes",), zeta)
+        if "file" in spec:
+            from express.io.modal_data import read_modal_data
+
+            where = Path(reader.source).parent / str(spec["file"])
+            for mode in read_modal_data(where, reader.problems):
+                damping = zeta if mode.zeta is None else parse_expression(repr(mode.zeta))
+                modes.add(mode.name, mode.kind, mode.omega, damping, mode.shapes, mode.order, mode.line, str(where))
+        if not modes.modes and "file" not in spec:  # a file's problems are its own
+            reader.problem(path, item, "no modes: give [flexible.NAME.beam], [flexible.NAME.modes.MODE] or file")
+        kind = "beam" if "beam" in spec else str(spec["file"]) if "file" in spec else "modes"
+        bodies.append(FlexibleBody(body, tuple(modes.modes), kind, reader.line(*path)))
+        parameters.update(modes.parameters)
+    return tuple(bodies), parameters
+
+
+def flexible_lines(model: Model) -> tuple[list[str], set[str]]:
+    """The ``[flexible]`` section of ``model`` for ``express convert`` (every mode written
+    by value, whatever its source), and the names of the parameters the section makes
+    (left out of ``[parameters]``: reading the section back makes them again)."""
+    lines: list[str] = []
+    made: set[str] = set()
+    values = model.values()
+    for flexible in model.flexible:
+        for mode in flexible.modes:
+            prefix = f"{flexible.body}_{mode.name}"
+            made.add(f"{prefix}_w")
+            zeta = sp.sympify(mode.zeta)
+            if isinstance(zeta, sp.Symbol) and zeta.name == f"{prefix}_zeta":
+                made.add(zeta.name)
+                damping = repr(values[zeta.name])
+            else:
+                damping = '"' + sp.sstr(zeta) + '"'
+            shapes = []
+            for point, value in mode.shapes:
+                made.add(str(value))
+                shapes.append(f"{point} = {values[str(value)]!r}")
+            frequency = values[f"{prefix}_w"] / (2 * math.pi)
+            lines += ["", f"[flexible.{flexible.body}.modes.{mode.name}]", f'kind = "{mode.kind.value}"',
+                      f'frequency = "{frequency!r} Hz"', f"damping = {damping}", "shapes = { " + ", ".join(shapes) + " }"]
+    return lines, made
