@@ -198,3 +198,30 @@ def test_the_bogie_yaw_stiffness_raises_the_leading_wheels_y_over_q_in_a_tight_c
     soft_yq, stiff_yq = (state.columns()["YQ1L"] for state in (soft, stiff))
     assert soft_yq == pytest.approx(0.4046, abs=1e-3) and stiff_yq == pytest.approx(0.6209, abs=1e-3)
     assert stiff.columns()["aoa1"] > soft.columns()["aoa1"]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(("speed_kmh", "radius", "stable"), [(95.0, 400.0, True), (260.0, 3000.0, False)])
+def test_every_equilibrium_says_whether_it_is_stable_as_the_time_run_finds(speed_kmh, radius, stable):
+    """Issue 32 item 5: the S1002 car's steady state carries the largest real part of the
+    eigenvalues of its equations linearised there (-0.46 1/s in R 400 m at 95 km/h; +0.76
+    1/s in R 3000 m at 260 km/h, above the nonlinear critical speed of 174 km/h, below the
+    linear one of 284); a time run started at it with 10 um on the leading wheelset
+    settles back (stable) or moves away (unstable): over 4 s its distance from the state
+    shrinks below half, or grows beyond twice."""
+    vehicle = load_vehicle("examples/manchester-s1002.toml")
+    curve = SteadyCurve(radius, 0.150 if radius < 1000 else 0.100, "right")
+    speed = speed_kmh / 3.6
+    steady = SteadyCurvingSolver(vehicle, speed).solve(curve)
+    assert steady.stable is stable and (steady.growth < -0.1 if stable else steady.growth > 0.1)
+    start = steady.state.copy()
+    start[vehicle.wheelsets[0].y] += 1e-5
+    stations = [w.station for w in vehicle.wheelsets]
+    length = max(stations) - min(stations) + 1.0
+    track = Track((Curve(2 * length + speed * 4.0, radius, "right", curve.cant),))
+    run = simulate(vehicle, track, speed=speed, start=length, end=length + speed * 4.0, initial_state=start,
+                   progress=False)
+    away = np.max(np.abs(run.q - steady.q), axis=1)
+    quarter = away.size // 4
+    early, late = away[:quarter].max(), away[-quarter:].max()
+    assert (late < 0.5 * early) if stable else (late > 2.0 * early)

@@ -117,7 +117,8 @@ def run(
     if as_json:
         common.print_json({"model": str(model), "curves": where, "contact": results[0].contact,
                            "loads": results[0].wheel_rail.loads, "units": units, "results": rows,
-                           "assessments": [a.as_dict() for a in assessments]})
+                           "assessments": [a.as_dict() for a in assessments],
+                           "stability": [{"growth": r.growth, "stable": r.stable} for r in results]})
     elif output != "-":
         _print_table(vehicle.equations.name, where, results, assessments, sys.stdout)
     return 0
@@ -175,3 +176,19 @@ def _print_table(name: str, where: str, results: list, assessments: list, stream
             cells.append(f"| {out.angle_of_attack[0, j] * 1e3:16.3f}  {out.y_over_q[0, j].max():7.3f}  "
                          f"{out.track_shift_force[0, j] / 1e3:7.2f}  {flanging:>6} ")
         print("".join(cells), file=stream)
+    _print_stability(results, stream)
+
+
+def _print_stability(results: list, stream) -> None:
+    """Whether each equilibrium is stable: the largest real part of the eigenvalues of the
+    equations linearised there (docs/curving.md)."""
+    unstable = [r for r in results if r.stable is False]
+    known = [r.growth for r in results if r.growth is not None]
+    if not known:
+        print("stability of the equilibria: not computed (the model is too large)", file=stream)
+    elif not unstable:
+        print(f"every equilibrium is stable (largest growth rate {max(known):.3g} 1/s of the linearisation there)",
+              file=stream)
+    for r in unstable:
+        print(f"UNSTABLE equilibrium at R = {r.curve.radius:g} m, {r.speed / common.KMH:.1f} km/h (growth rate "
+              f"{r.growth:.3g} 1/s): a time run does not stay there (express simulate)", file=stream)

@@ -170,6 +170,10 @@ class SteadyCurving:
         Evaluations of the equations.
     residual : float
         ``|A x + B u + S z| / |B u|`` at the solution.
+    growth : float or None
+        The largest real part of the eigenvalues of the equations linearised at the
+        state, ``A + G dz/dx`` (the time march's own tangent) [1/s]: negative for a stable
+        equilibrium; None where not computed (more than :data:`STABILITY_STATES` states).
     """
 
     curve: SteadyCurve
@@ -183,6 +187,12 @@ class SteadyCurving:
     contact: str = ""
     iterations: int = 0
     residual: float = 0.0
+    growth: float | None = None
+
+    @property
+    def stable(self) -> bool | None:
+        """Whether the equilibrium is stable (``growth < 0``; None when not computed)."""
+        return None if self.growth is None else self.growth < 0.0
 
     def columns(self) -> dict[str, float]:
         """The curve, then every output: ``R``, ``cant``, ``speed``, ``a_q``, the
@@ -331,7 +341,7 @@ class SteadyCurvingSolver:
             raise CurveError(f"no steady state in R = {curve.radius:g} m with {curve.cant * 1e3:g} mm cant at "
                              f"{self.speed * 3.6:.1f} km/h: the vehicle cannot follow this curve (relative residual "
                              f"{residual:.1e} after {evaluations} steps; an unstable vehicle has no steady state)")
-        return self._result(curve, x, inputs, evaluations, residual)
+        return self._result(curve, x, inputs, evaluations, residual, _growth(equations(x)[1]))
 
     def _settle(self, curve: SteadyCurve, x: np.ndarray, seconds: float = 10.0, rounds: int = 8) -> np.ndarray:
         """The time march (:func:`express.analysis.time.simulate.simulate`, the same equations)
@@ -358,7 +368,7 @@ class SteadyCurvingSolver:
         return x
 
     def _result(self, curve: SteadyCurve, x: np.ndarray, inputs: TrackInputs, iterations: int,
-                residual: float) -> SteadyCurving:
+                residual: float, growth: float | None = None) -> SteadyCurving:
         vehicle = self.vehicle
         q = x[: vehicle.n]
         q_dot = vehicle.form.velocities(x[None, :], inputs.u, inputs.u_rate)
@@ -369,7 +379,8 @@ class SteadyCurvingSolver:
                                   saturation=self.saturation)
         angles = {name: float(values[0]) for name, values in derived.items() if name.startswith(("psi_TW", "theta_"))}
         return SteadyCurving(curve, self.speed, curve.unbalanced_acceleration(self.speed, self.cant_base, self.gravity),
-                             vehicle.dofs, q.copy(), x.copy(), wheel_rail, angles, self.contact, iterations, residual)
+                             vehicle.dofs, q.copy(), x.copy(), wheel_rail, angles, self.contact, iterations, residual,
+                             growth)
 
     def _check_on_tables(self, x: np.ndarray, inputs: TrackInputs, curve: SteadyCurve) -> None:
         from express.analysis.time.contact_march import contact_force_history
@@ -383,6 +394,19 @@ class SteadyCurvingSolver:
         if np.any(beyond > 0):
             raise CurveError(f"in R = {curve.radius:g} m a wheel runs {1e3 * float(beyond.max()):.1f} mm beyond its "
                              "contact table (flange climb): the vehicle cannot follow this curve")
+
+
+#: Largest state whose equilibrium's stability is computed (dense eigenvalues).
+STABILITY_STATES = 2000
+
+
+def _growth(tangent) -> float | None:
+    """The largest real part of the eigenvalues of ``tangent`` (dense or sparse, N x N)
+    [1/s]; None above :data:`STABILITY_STATES` states."""
+    if tangent.shape[0] > STABILITY_STATES:
+        return None
+    dense = tangent.toarray() if hasattr(tangent, "toarray") else np.asarray(tangent)
+    return float(np.max(np.linalg.eigvals(dense).real))
 
 
 def curves_of_track(track) -> list[SteadyCurve]:
