@@ -290,11 +290,10 @@ def linearisation(vehicle: Any) -> dict[str, str]:
     their tangents at the static state in K or C ("Nonlinear characteristics")."""
     facts = vehicle.facts
     seen = dict.fromkeys(facts.stuck, "stuck (pre-slip spring in K: the tangent at the static state)")
-    for term in getattr(vehicle.equations, "element_terms", ()):
-        if term.kind == "characteristic":
-            rate = term.values["velocity"] == 1
-            seen[term.element] = (f"tangent at the static state (the characteristic's slope at zero "
-                                  f"{'velocity' if rate else 'deflection'}, in {'C' if rate else 'K'})")
+    for element, matrix in facts.tangents:  # from the facts: a warm command derives nothing
+        rate = matrix == "C"
+        seen[element] = (f"tangent at the static state (the characteristic's slope at zero "
+                         f"{'velocity' if rate else 'deflection'}, in {matrix})")
     return seen
 
 

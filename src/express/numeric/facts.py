@@ -88,6 +88,10 @@ class VehicleFacts:
     stuck : tuple of str
         The friction elements, which the linear analyses see stuck (their pre-slip springs
         in ``K``: the tangent at the static state), in the model's order.
+    tangents : tuple of (str, str)
+        The nonlinear characteristics, which the linear analyses see as their tangents at
+        the static state, and the matrix each goes into (``"K"`` or ``"C"``), in the
+        model's order.
     """
 
     source: str
@@ -96,6 +100,7 @@ class VehicleFacts:
     gyration: dict[str, float]
     outputs: tuple[OutputPoint, ...] = ()
     stuck: tuple[str, ...] = ()
+    tangents: tuple[tuple[str, str], ...] = ()
 
 
 def facts_of(model: Model, values: Mapping[str, float]) -> VehicleFacts:
@@ -131,7 +136,10 @@ def facts_of(model: Model, values: Mapping[str, float]) -> VehicleFacts:
                              for dof, c in modal_motion(model, body.id, point.name, offset, 1).items())
         outputs.append(OutputPoint(point.name, point.body, lateral))
     stuck = tuple(e.id for e in model.elements if getattr(e, "sliding", False))
-    return VehicleFacts(model.source, tuple(sorted(model.parameters)), topology, gyration, tuple(outputs), stuck)
+    tangents = tuple((e.id, "C" if e.characteristic.velocity else "K") for e in model.elements
+                     if getattr(e, "characteristic", None) is not None)
+    return VehicleFacts(model.source, tuple(sorted(model.parameters)), topology, gyration, tuple(outputs), stuck,
+                        tangents)
 
 
 def facts_data(facts: VehicleFacts) -> dict[str, Any]:
@@ -147,6 +155,7 @@ def facts_data(facts: VehicleFacts) -> dict[str, Any]:
         "gyration": dict(facts.gyration),
         "outputs": [[point.name, point.body, [list(pair) for pair in point.lateral]] for point in facts.outputs],
         "stuck": list(facts.stuck),
+        "tangents": [list(pair) for pair in facts.tangents],
     }
 
 
@@ -176,8 +185,11 @@ def read_facts(data: Any) -> VehicleFacts:
     source = data.get("source")
     if not isinstance(source, str):
         raise ProgramError("bad vehicle facts")
+    tangents = checked_list(data.get("tangents", []))
+    if not all(isinstance(p, list) and len(p) == 2 and isinstance(p[0], str) and p[1] in ("K", "C") for p in tangents):
+        raise ProgramError("bad vehicle facts")
     return VehicleFacts(source, tuple(checked_strings(data.get("parameters"))), topology, dict(gyration), tuple(outputs),
-                        tuple(checked_strings(data.get("stuck"))))
+                        tuple(checked_strings(data.get("stuck"))), tuple((p[0], p[1]) for p in tangents))
 
 
 def _number(value: Any) -> bool:
