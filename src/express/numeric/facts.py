@@ -137,7 +137,7 @@ def facts_of(model: Model, values: Mapping[str, float]) -> VehicleFacts:
         outputs.append(OutputPoint(point.name, point.body, lateral))
     stuck = tuple(e.id for e in model.elements if getattr(e, "sliding", False))
     tangents = tuple((e.id, "C" if e.characteristic.velocity else "K") for e in model.elements
-                     if getattr(e, "characteristic", None) is not None)
+                     if e.characteristic is not None)
     return VehicleFacts(model.source, tuple(sorted(model.parameters)), topology, gyration, tuple(outputs), stuck,
                         tangents)
 
