@@ -67,7 +67,9 @@ EXCERPT_CHARS = 60
 MAX_TRACK_SPEED = 1000.0 * KMH
 
 _REQUIRED = object()
-_TOP_KEYS = ("name", "description", "speed", "segment", "irregularity")
+#: Tables of the components besides the alignment (``irregularity``), Track field names.
+_COMPONENT_KEYS = ("vertical", "cross_level", "gauge")
+_TOP_KEYS = ("name", "description", "speed", "segment", "irregularity", *_COMPONENT_KEYS)
 #: Fields of each segment type: key -> (dimension, default); dimension None for a word.
 _SEGMENT_FIELDS: dict[str, dict[str, tuple[str | None, Any]]] = {
     "straight": {"length": ("length", _REQUIRED)},
@@ -78,6 +80,8 @@ _SEGMENT_FIELDS: dict[str, dict[str, tuple[str | None, Any]]] = {
 _SEGMENT_CLASSES: dict[str, type[Straight] | type[Transition] | type[Curve]] = {
     "straight": Straight, "transition": Transition, "curve": Curve,
 }
+#: Types a vertical, cross-level or gauge table may have (spectra: the ride analysis).
+_COMPONENT_TYPES = ("none", "sinusoid", "csv", "points")
 _CHOICES = {"shape": TRANSITION_SHAPES, "direction": DIRECTIONS, "spectrum": tuple(SPECTRA)}
 #: Fields of each irregularity type, as for the segments; ``file`` and ``seed`` are raw.
 _IRREGULARITY_FIELDS: dict[str, dict[str, tuple[str | None, Any]]] = {
@@ -85,6 +89,7 @@ _IRREGULARITY_FIELDS: dict[str, dict[str, tuple[str | None, Any]]] = {
     "sinusoid": {"amplitude": ("length", _REQUIRED), "wavelength": ("length", _REQUIRED),
                  "phase": ("angle", 0.0)},
     "csv": {"file": (None, None)},
+    "points": {"points": (None, _REQUIRED)},
     "spectrum": {"spectrum": (None, _REQUIRED), "seed": (None, 0), "wavelength_min": ("length", 3.0),
                  "wavelength_max": ("length", 120.0), "period": ("length", 10_000.0)},
 }
@@ -215,12 +220,15 @@ def _segments(raw: Any, report: _Report) -> list[Segment] | None:
     return [segment for segment in segments if segment is not None]
 
 
-def _irregularity(table: Any, report: _Report, base_dir: Path) -> Irregularity | None:
-    path: KeyPath = ("irregularity",)
-    kind = _kind(table, _IRREGULARITY_FIELDS, report, path, "irregularity")
+def _irregularity(table: Any, report: _Report, base_dir: Path, name: str = "irregularity") -> Irregularity | None:
+    """The irregularity of the table ``name`` (``irregularity``: the alignment, or one of
+    :data:`_COMPONENT_KEYS`), or None if it is bad (every problem reported)."""
+    path: KeyPath = (name,)
+    kinds = _IRREGULARITY_FIELDS if name == "irregularity" else _COMPONENT_TYPES
+    kind = _kind(table, kinds, report, path, name)
     if kind is None:
         return None
-    item = f"irregularity ({kind})"
+    item = f"{name} ({kind})"
     values, bad = _read_fields(table, _IRREGULARITY_FIELDS[kind], report, path, item)
     if kind == "none":
         return NoIrregularity()
@@ -229,15 +237,35 @@ def _irregularity(table: Any, report: _Report, base_dir: Path) -> Irregularity |
             return None
         return SinusoidIrregularity(**values)
     if kind == "csv":
-        return _csv_irregularity(values["file"], report, base_dir, item)
+        return _csv_irregularity(values["file"], report, base_dir, item, name)
+    if kind == "points":
+        return None if "points" in bad else _points_irregularity(values["points"], report, path, item)
     if _report_field_problems(SpectrumIrregularity.field_problems(**values), bad, report, path, item):
         return None
     return SpectrumIrregularity(get_spectrum(values.pop("spectrum")), **values)
 
 
-def _csv_irregularity(name: Any, report: _Report, base_dir: Path, item: str) -> ProfileIrregularity | None:
+def _points_irregularity(points: Any, report: _Report, path: KeyPath, item: str) -> ProfileIrregularity | None:
+    """``points = [[s, value], ...]`` [m]: a piecewise-linear shape (a cusp, a ramp, a twist)."""
+    if (not isinstance(points, list) or not all(isinstance(p, list) and len(p) == 2 and all(is_number(x) for x in p)
+                                                for p in points)):
+        report.add((*path, "points"), item, "'points' must be an array of [distance, value] pairs of numbers [m], "
+                                            "e.g. [[0, 0], [10, 0.003], [20, 0]]")
+        return None
+    distance = np.array([float(p[0]) for p in points])
+    value = np.array([float(p[1]) for p in points])
+    problems = ProfileIrregularity.field_problems(distance, value)
+    if problems:
+        for _, message in problems:
+            report.add((*path, "points"), item, message.replace("yr", "value"))
+        return None
+    return ProfileIrregularity(distance, value, source=item)
+
+
+def _csv_irregularity(name: Any, report: _Report, base_dir: Path, item: str,
+                      table: str = "irregularity") -> ProfileIrregularity | None:
     if not isinstance(name, str) or not name:
-        report.add(("irregularity", "file"), item, f"'file' must be the path of a CSV file, got {name!r}")
+        report.add((table, "file"), item, f"'file' must be the path of a CSV file, got {name!r}")
         return None
     path = Path(name)
     try:
@@ -298,12 +326,13 @@ def track_from_dict(
     irregularity: Irregularity | None = NoIrregularity()
     if "irregularity" in d:
         irregularity = _irregularity(d["irregularity"], report, base)
+    components = {key: _irregularity(d[key], report, base, key) for key in _COMPONENT_KEYS if key in d}
     if segments is not None:
         for _, message in Track.field_problems(segments):
             report.add(("segment",), "track", message)
     report.raise_if_any()
     assert segments is not None and irregularity is not None  # else a problem was raised
-    return Track(tuple(segments), irregularity, speed)
+    return Track(tuple(segments), irregularity, speed, **components)  # type: ignore[arg-type]
 
 
 def _track_speed(d: Mapping[str, Any], report: _Report) -> float | None:
