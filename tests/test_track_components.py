@@ -5,12 +5,13 @@ exported matrices, and the quasi-static loads on a twist ramp (``express.analysi
 
 from __future__ import annotations
 
+import re
 import warnings
 
 import numpy as np
 import pytest
 
-from cli_support import CONVENTIONAL
+from cli_support import CONVENTIONAL, assert_input_error
 from express.analysis.time.simulate import simulate
 from express.analysis.time.track_inputs import track_inputs
 from express.analysis.twist import quasi_static_loads, twist_ramp, twisted_track
@@ -70,6 +71,46 @@ def test_a_twist_beyond_the_geometry_is_refused():
         twist_ramp(0.005, 30.0)
     with pytest.raises(ArgumentError, match="length > 0"):
         twist_ramp(0.003, 0.0)
+
+
+HEADER = "distance [m], alignment [mm], vertical [mm], cross_level [mm], gauge [mm]\n"
+
+
+def _measured(tmp_path, rows, header=HEADER):
+    (tmp_path / "m.csv").write_text(header + rows, encoding="utf-8")
+    (tmp_path / "m.toml").write_text('[[segment]]\ntype = "straight"\nlength = 100.0\n[measured]\nfile = "m.csv"\n',
+                                     encoding="utf-8")
+    return tmp_path / "m.toml"
+
+
+def test_a_measured_file_gives_the_four_components(tmp_path):
+    track = load_track(_measured(tmp_path, "0, 0, 0, 0, 0\n10, 1.5, -2, 3, 1\n20, 0, 0, 0, 0\n"))
+    assert track.applied_components == ("alignment", "vertical", "cross_level", "gauge")
+    at = {name: track.component(name).value(5.0) for name in track.applied_components}
+    assert at == pytest.approx({"alignment": 0.75e-3, "vertical": -1e-3, "cross_level": 1.5e-3, "gauge": 0.5e-3})
+    # columns in any order, units of each its own
+    other = load_track(_measured(tmp_path, "0, 0, 0, 0, 0\n1000, 3, 0.2, 0, 0\n",
+                                 "distance [cm], gauge [mm], vertical [cm], alignment [m], cross_level [mm]\n"))
+    assert other.gauge.value(10.0) == pytest.approx(3e-3) and other.vertical.value(10.0) == pytest.approx(2e-3)
+
+
+@pytest.mark.parametrize("header, rows, message", [
+    ("distance [m], alignment [mm], vertical [mm], gauge [mm]\n", "0,0,0,0\n", "m.csv:1: measured: missing column "
+     "cross_level (every one of distance, alignment, vertical, cross_level, gauge is needed, with its unit)"),
+    (HEADER.replace("vertical [mm]", "vertical [kg]"), "", "m.csv:1: measured: column 'vertical': unit kg is a mass"),
+    (HEADER, "0,0,0,0,0\n10,1,x,0,0\n20,0,0\n", "m.csv:3: measured: not a number: '10,1,x,0,0'"),
+    (HEADER, "0,0,0,0,0\n10,1,x,0,0\n20,0,0\n", "m.csv:4: measured: expected 5 columns"),
+    (HEADER, "0,0,0,0,0\n10,0,0,200,0\n", "measured: cross_level: |cross_level| reaches 0.2 m"),
+])
+def test_bad_measured_files_are_refused(tmp_path, header, rows, message):
+    with pytest.raises(ModelError, match=re.escape(message)):
+        load_track(_measured(tmp_path, rows, header))
+
+
+def test_a_measured_file_with_a_missing_column_exits_2_from_simulate(capsys, tmp_path):
+    path = _measured(tmp_path, "0,0,0,0\n10,0,0,0\n", "distance [m], alignment [mm], vertical [mm], gauge [mm]\n")
+    assert_input_error(capsys, "simulate", CONVENTIONAL, "--track", str(path), mentions="missing column cross_level")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["m.csv", "m.toml"]  # nothing written
 
 
 # --- the inputs of a run -----------------------------------------------------------------

@@ -69,7 +69,7 @@ MAX_TRACK_SPEED = 1000.0 * KMH
 _REQUIRED = object()
 #: Tables of the components besides the alignment (``irregularity``), Track field names.
 _COMPONENT_KEYS = ("vertical", "cross_level", "gauge")
-_TOP_KEYS = ("name", "description", "speed", "segment", "irregularity", *_COMPONENT_KEYS)
+_TOP_KEYS = ("name", "description", "speed", "segment", "irregularity", *_COMPONENT_KEYS, "measured")
 #: Fields of each segment type: key -> (dimension, default); dimension None for a word.
 _SEGMENT_FIELDS: dict[str, dict[str, tuple[str | None, Any]]] = {
     "straight": {"length": ("length", _REQUIRED)},
@@ -262,6 +262,26 @@ def _points_irregularity(points: Any, report: _Report, path: KeyPath, item: str)
     return ProfileIrregularity(distance, value, source=item)
 
 
+def _measured(table: Any, report: _Report, base_dir: Path, others: list[str]) -> dict[str, Irregularity] | None:
+    """The four components of a ``[measured]`` table's CSV file (:mod:`.measured`)."""
+    from express.rail.track.measured import read_measured_csv
+
+    path: KeyPath = ("measured",)
+    if not isinstance(table, Mapping) or set(table) != {"file"} or not isinstance(table["file"], str) or not table["file"]:
+        report.add(path, "measured", "must be a table with one key, 'file': the path of the CSV file "
+                                     "(distance and the four components, each with its unit)")
+        return None
+    if others:
+        report.add(path, "measured", f"gives every component, so it cannot be combined with [{'], ['.join(others)}]")
+        return None
+    name = Path(table["file"])
+    try:
+        return dict(read_measured_csv(name if name.is_absolute() else base_dir / name))
+    except ModelError as exc:
+        report.extend(exc.problems)
+        return None
+
+
 def _csv_irregularity(name: Any, report: _Report, base_dir: Path, item: str,
                       table: str = "irregularity") -> ProfileIrregularity | None:
     if not isinstance(name, str) or not name:
@@ -327,6 +347,11 @@ def track_from_dict(
     if "irregularity" in d:
         irregularity = _irregularity(d["irregularity"], report, base)
     components = {key: _irregularity(d[key], report, base, key) for key in _COMPONENT_KEYS if key in d}
+    if "measured" in d:
+        measured = _measured(d["measured"], report, base, [key for key in ("irregularity", *_COMPONENT_KEYS) if key in d])
+        if measured is not None:
+            irregularity = measured.pop("alignment")
+            components.update(measured)
     if segments is not None:
         for _, message in Track.field_problems(segments):
             report.add(("segment",), "track", message)
