@@ -11,7 +11,7 @@ import warnings
 import numpy as np
 import pytest
 
-from cli_support import CONVENTIONAL, assert_input_error
+from cli_support import CONVENTIONAL, assert_input_error, run_json
 from express.analysis.time.simulate import simulate
 from express.analysis.time.track_inputs import track_inputs
 from express.analysis.twist import quasi_static_loads, twist_ramp, twisted_track
@@ -245,3 +245,21 @@ def test_quasi_static_twist_loads_match_the_static_solution_and_the_roll_chain(t
     wheel_load = (20000.0 + 2 * 1500.0) * 9.81 / 4
     np.testing.assert_allclose(loads.ratio, expected / wheel_load, rtol=1e-6)
     assert loads.largest_unloading == pytest.approx(abs(moment) / (2 * B0) / wheel_load)
+
+
+def test_the_twist_command(capsys, two_axle, tmp_path):
+    """``express twist``: the largest unloading of each wheel over a 3 mm/m ramp, the
+    diagonal pair (leading left, trailing right) at the roll-chain value; a model without
+    per-rail grounds exits 2."""
+    path = tmp_path / "two_axle.toml"
+    path.write_text(two_axle_toml(contact_damping=CH), encoding="utf-8")
+    data = run_json(capsys, "twist", str(path), "--twist", "3", "--length", "30 m")
+    chain = 1 / (1 / (2 * KH * B0**2) + 1 / (2 * KZ * B1**2))
+    expected = chain * 0.003 * 2 * A / (2 * B0) / 2 / (2 * B0) / ((20000.0 + 2 * 1500.0) * 9.81 / 4)
+    unloading = {(row["wheelset"], row["wheel"]): row["unloading"] for row in data["wheels"]}
+    assert unloading[("W1", "left")] == pytest.approx(expected, rel=1e-9)
+    assert unloading[("W2", "right")] == pytest.approx(expected, rel=1e-9)
+    assert unloading[("W1", "right")] < 1e-9 and unloading[("W2", "left")] < 1e-9  # rounding only
+    assert data["largest_unloading"] == pytest.approx(expected, rel=1e-9) and data["limit"] is None
+    assert_input_error(capsys, "twist", "examples/manchester.toml", mentions="takes no cross level")
+    assert_input_error(capsys, "twist", str(path), "--twist", "0", mentions="non-zero")

@@ -31,7 +31,7 @@ from express.rail.track import Straight, Track
 from express.rail.track.irregularity import MAX_LATERAL_IRREGULARITY, ProfileIrregularity
 from express.rail.vertical_contact import vertical_contacts
 
-__all__ = ["TwistLoads", "quasi_static_loads", "twist_ramp", "twisted_track"]
+__all__ = ["TwistLoads", "quasi_static_loads", "twist_passage", "twist_ramp", "twisted_track"]
 
 
 def twist_ramp(twist: float, length: float, start: float = 0.0) -> ProfileIrregularity:
@@ -104,6 +104,48 @@ class TwistLoads:
         return float(max(0.0, np.nanmax(-self.ratio)))
 
 
+def twist_passage(vehicle: VehicleModel, track: Track, step: float = 0.5,
+                  speed: float | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`quasi_static_loads` at every ``step`` [m] of the leading wheelset from 0 to
+    the track's length plus the vehicle's wheelbase (every wheel over the whole track).
+
+    Returns
+    -------
+    distance : numpy.ndarray, shape (N,)
+        Positions of the leading wheelset [m].
+    delta_q : numpy.ndarray, shape (N, n_wheelsets, 2)
+        Load change of the (left, right) wheels [N].
+    wheel_load : numpy.ndarray, shape (n_wheelsets,)
+        Q0 [N].
+    """
+    if not (np.isfinite(step) and step > 0):
+        raise ArgumentError(f"twist passage: step must be > 0 m, got {step!r}")
+    stations = [w.station for w in vehicle.wheelsets]
+    distance = np.arange(0.0, track.length + max(stations) - min(stations) + step / 2, step)
+    v = vehicle.speed if speed is None else speed
+    u = track_inputs(vehicle, track, distance, v).u
+    try:
+        q = np.linalg.solve(vehicle.stiffness, vehicle.forcing(v) @ u.T).T
+    except np.linalg.LinAlgError:
+        raise ArgumentError(f"{vehicle.name}: K is singular, no static solution on the twist") from None
+    springs = _springs(vehicle)
+    delta = np.full((distance.size, len(springs), 2), np.nan)
+    for i, pair in enumerate(springs):
+        for side, spring in enumerate(pair):
+            if spring is not None:
+                delta[:, i, side] = -spring.stiffness * (q @ spring.dofs + u @ spring.inputs)
+    return distance, delta, np.array([w.wheel_load for w in vehicle.wheelsets], dtype=float)
+
+
+def _springs(vehicle: VehicleModel) -> list:
+    names = [w.name for w in vehicle.wheelsets]
+    springs = vertical_contacts(vehicle.model, vehicle.values, names, vehicle.dofs, vehicle.inputs)
+    if not any(spring is not None for pair in springs for spring in pair):
+        raise ArgumentError(f"{vehicle.name}: no wheel-on-rail vertical spring (an element along z from a wheelset "
+                            "to a ground): no wheel load on the twist")
+    return springs
+
+
 def quasi_static_loads(vehicle: VehicleModel, track: Track, distance: float, speed: float | None = None) -> TwistLoads:
     """The static wheel loads with the leading wheelset at ``distance`` [m] (module docstring).
 
@@ -129,10 +171,7 @@ def quasi_static_loads(vehicle: VehicleModel, track: Track, distance: float, spe
     except np.linalg.LinAlgError:
         raise ArgumentError(f"{vehicle.name}: K is singular, no static solution on the twist") from None
     names = [w.name for w in vehicle.wheelsets]
-    springs = vertical_contacts(vehicle.model, vehicle.values, names, vehicle.dofs, vehicle.inputs)
-    if not any(spring is not None for pair in springs for spring in pair):
-        raise ArgumentError(f"{vehicle.name}: no wheel-on-rail vertical spring (an element along z from a wheelset "
-                            "to a ground): no wheel load on the twist")
+    springs = _springs(vehicle)
     delta = np.full((len(names), 2), np.nan)
     for i, pair in enumerate(springs):
         for side, spring in enumerate(pair):

@@ -24,6 +24,7 @@ import numpy as np
 from express.base.diagnostics import ModelError, Problem
 from express.base.units import UnitError, parse_quantity
 from express.rail.track.irregularity import ProfileIrregularity
+from express.rail.track.textfiles import MAX_PROFILE_BYTES, MAX_ROW_PROBLEMS, excerpt, read_text_file
 
 __all__ = ["MEASURED_COLUMNS", "read_measured_csv"]
 
@@ -77,11 +78,9 @@ def read_measured_csv(path: str | Path, *, item: str = "measured") -> dict[str, 
         Every problem, ``<file>:<line>: <item>: <what is wrong>`` (the header's, or the
         first :data:`~express.rail.track.reader.MAX_ROW_PROBLEMS` bad rows and a count).
     """
-    from express.rail.track.reader import MAX_PROFILE_BYTES, MAX_ROW_PROBLEMS, _excerpt, _read_text
-
     path = Path(path)
     source = str(path)
-    text = _read_text(path, MAX_PROFILE_BYTES, item, "utf-8-sig")
+    text = read_text_file(path, MAX_PROFILE_BYTES, item, "utf-8-sig")
     columns: list[int] | None = None
     factors: list[float] = []
     rows: list[list[float]] = []
@@ -118,7 +117,7 @@ def read_measured_csv(path: str | Path, *, item: str = "measured") -> dict[str, 
             continue
         bad += 1
         if bad == 1:
-            message = f"{message}: {_excerpt(line)}"
+            message = f"{message}: {excerpt(line)}"
         if bad <= MAX_ROW_PROBLEMS:
             problems.append(Problem(source, lineno, item, message))
     if bad > MAX_ROW_PROBLEMS:

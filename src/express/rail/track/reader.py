@@ -30,7 +30,6 @@ from typing import Any
 import numpy as np
 
 from express.base.diagnostics import ModelError, Problem
-from express.base.limits import input_kind_problem
 from express.base.units import KMH, UnitError, parse_quantity
 from express.io.toml_lines import KeyPath, find_line, line_index, parse_toml
 from express.rail.track._common import FieldProblem, is_finite_number, is_number
@@ -43,6 +42,9 @@ from express.rail.track.irregularity import (
     SpectrumIrregularity,
 )
 from express.rail.track.spectra import SPECTRA, get_spectrum
+from express.rail.track.textfiles import EXCERPT_CHARS, MAX_PROFILE_BYTES, MAX_ROW_PROBLEMS
+from express.rail.track.textfiles import excerpt as _excerpt
+from express.rail.track.textfiles import read_text_file as _read_text
 
 __all__ = [
     "EXCERPT_CHARS",
@@ -57,12 +59,6 @@ __all__ = [
 
 #: Largest track file [bytes]: 1 MB holds some 20 000 segments.
 MAX_TRACK_FILE_BYTES = 1_000_000
-#: Largest CSV profile [bytes]: 100 MB, some four million rows (1000 km every 0.25 m).
-MAX_PROFILE_BYTES = 100_000_000
-#: Bad rows of a CSV profile listed one by one; the rest are counted.
-MAX_ROW_PROBLEMS = 20
-#: Longest excerpt of a CSV line quoted in a message [characters].
-EXCERPT_CHARS = 60
 #: Highest nominal speed of a track file [m/s]: 1000 km/h, the command line's limit.
 MAX_TRACK_SPEED = 1000.0 * KMH
 
@@ -378,31 +374,6 @@ def _track_speed(d: Mapping[str, Any], report: _Report) -> float | None:
 # ---------------------------------------------------------------------------------------
 
 
-def _read_text(path: Path, limit: int, item: str, encoding: str) -> str:
-    """The text of a regular file of at most ``limit`` bytes, or a ModelError saying why not."""
-    source = str(path)
-
-    def refuse(message: str) -> ModelError:
-        return ModelError([Problem(source, None, item, message)])
-
-    try:
-        kind = input_kind_problem(path, fifo=False)  # a FIFO would block on open
-        if kind is not None:
-            raise refuse(kind)
-        info = path.stat()
-        if info.st_size > limit:
-            raise refuse(f"the file has {info.st_size} bytes, more than the limit {limit}")
-        data = path.read_bytes()
-    except OSError as exc:
-        raise refuse(f"cannot read the file: {exc.strerror or exc}") from None
-    if b"\0" in data:
-        raise refuse("not a text file (it holds NUL bytes)")
-    try:
-        return data.decode(encoding)
-    except UnicodeDecodeError as exc:
-        raise refuse(f"not a UTF-8 text file (byte {exc.start + 1} cannot be decoded)") from None
-
-
 def load_track(path: str | Path) -> Track:
     """Read a TOML track file (format in ``docs/track.md``), or give a bundled track.
 
@@ -437,14 +408,6 @@ def load_track(path: str | Path) -> Track:
 
 
 _CELLS = re.compile(r"[,;\s]+")
-
-
-def _excerpt(line: str) -> str:
-    """A short, printable quotation of ``line`` (at most :data:`EXCERPT_CHARS` characters)."""
-    shown = "".join(ch if ch.isprintable() else "?" for ch in line[: EXCERPT_CHARS + 1])
-    if len(shown) > EXCERPT_CHARS:
-        shown = shown[: EXCERPT_CHARS - 3] + "..."
-    return repr(shown)
 
 
 def _floats(cells: list[str]) -> list[float] | None:
