@@ -263,3 +263,34 @@ def test_the_twist_command(capsys, two_axle, tmp_path):
     assert data["largest_unloading"] == pytest.approx(expected, rel=1e-9) and data["limit"] is None
     assert_input_error(capsys, "twist", "examples/manchester.toml", mentions="takes no cross level")
     assert_input_error(capsys, "twist", str(path), "--twist", "0", mentions="non-zero")
+
+
+def test_per_rail_grounds_are_found_by_side_whatever_their_names(two_axle, tmp_path):
+    """The two-axle vehicle with its rail grounds renamed G1 ... G4 (no ``_railL`` names):
+    each holds one wheelset with all its points on one side, so it is that wheel's rail
+    and takes ``z_v -+ c/2`` as the named ones do; the twist loads are the same."""
+    text = two_axle_toml(contact_damping=CH)
+    for new, old in (("G1", "W1_railL"), ("G2", "W1_railR"), ("G3", "W2_railL"), ("G4", "W2_railR")):
+        text = text.replace(old, new)
+    path = tmp_path / "renamed.toml"
+    path.write_text(text, encoding="utf-8")
+    renamed = load_vehicle(path)
+    track = Track((Straight(200.0),), vertical=SinusoidIrregularity(0.002, 25.0),
+                  cross_level=SinusoidIrregularity(0.001, 40.0, phase=0.3))
+    distance = np.array([10.0, 23.7, 61.0])
+    named, other = track_inputs(two_axle, track, distance, SPEED), track_inputs(renamed, track, distance, SPEED)
+    for new, old in (("G1", "W1_railL"), ("G2", "W1_railR"), ("G3", "W2_railL"), ("G4", "W2_railR")):
+        np.testing.assert_array_equal(other.u[:, renamed.inputs.index(f"{new}.z")], named.u[:, two_axle.inputs.index(f"{old}.z")])
+    twist = twisted_track(0.003, 30.0)
+    np.testing.assert_allclose(quasi_static_loads(renamed, twist, 70.0).delta_q,
+                               quasi_static_loads(two_axle, twist, 70.0).delta_q, rtol=1e-12)
+
+
+def test_the_bundled_twist_file_is_the_twisted_track():
+    from pathlib import Path
+
+    example = load_track(Path("examples/tracks/twist_3mm_per_m.toml"))
+    made = twisted_track(0.003, 30.0)
+    s = np.linspace(-10.0, 140.0, 301)
+    np.testing.assert_allclose(example.cross_level.value(s), made.cross_level.value(s), rtol=0, atol=1e-15)
+    assert example.length == made.length
