@@ -124,8 +124,8 @@ def _ground_plan(vehicle: VehicleModel, track: Track) -> GroundPlan:
     if ignored:
         warnings.warn(f"the track's {', '.join(ignored)} {'is' if len(ignored) == 1 else 'are'} not applied: "
                       f"{vehicle.name} has no rail ground that takes {'it' if len(ignored) == 1 else 'them'} "
-                      "(vertical level: a ground <W>_rail or one under each wheelset; cross level: grounds "
-                      "<W>_railL and <W>_railR; gauge: such grounds moving in y; docs/track.md)",
+                      "(vertical level: a rail ground under each wheelset; cross level: one under each rail, "
+                      "<W>_railL and <W>_railR or one on each side; gauge: such grounds moving in y; docs/track.md)",
                       ModelWarning, stacklevel=4)
     return GroundPlan(columns, positions, mixing, ignored)
 
