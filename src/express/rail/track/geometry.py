@@ -264,7 +264,8 @@ def _track_problems(segments: Any, irregularity: Any, speed: Any,
 
 @dataclass(frozen=True)
 class Track:
-    """A track: segments one after the other, plus a lateral irregularity.
+    """A track: segments one after the other, plus its irregularities (alignment, vertical
+    level, cross level, gauge).
 
     The segments start at s = 0. Methods taking ``s`` accept floats or arrays and are
     vectorized (a float in, a float out). Before s = 0 and from s = ``length`` on, the
