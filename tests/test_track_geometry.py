@@ -262,7 +262,8 @@ def test_tables_are_typed_records():
     assert np.max(np.diff(knots)) <= 10.0 + 1e-12
     assert set(t.boundaries) <= set(np.round(knots, 9))
     # no private attributes set behind the dataclass's back: fields and the two cached tables only
-    assert set(vars(t)) == {"segments", "irregularity", "speed", "tables", "centreline_table"}
+    assert set(vars(t)) == {"segments", "irregularity", "speed", "vertical", "cross_level", "gauge", "tables",
+                            "centreline_table"}
 
 
 def test_track_is_an_immutable_value():

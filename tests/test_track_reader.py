@@ -201,7 +201,7 @@ def test_bad_irregularities_from_dict(tmp_path):
          "'wavelength_min' (200.0) must be <"),
         ({"type": "csv", "file": "bad.csv"}, f"{tmp_path / 'bad.csv'}:2: irregularity (csv): not a number"),
         ({"type": "csv"}, "'file' must be the path of a CSV file"),
-        ({"type": "wavy"}, "'type' must be one of none, sinusoid, csv, spectrum"),
+        ({"type": "wavy"}, "'type' must be one of none, sinusoid, csv, points, spectrum"),
         ({"type": "sinusoid", "amplitude": "1 mm", "wavelength": "20 km/h"},
          "'wavelength': unit km/h is a speed (m/s), expected a length (m)"),
     ]

@@ -54,12 +54,13 @@ from express.cli import (
     sensitivity,
     simulate,
     study,
+    twist,
 )
 
 __all__ = ["build_parser", "main"]
 
 COMMANDS = (generate, convert, simulate, curving, frf, eigen, critical_speed, demo, draw, export, report, study, sensitivity, ride,
-            contact_geometry, conicity, cache)
+            contact_geometry, conicity, cache, twist)
 _META = ("handler", "numeric", "debug", "command", "no_cache")
 
 

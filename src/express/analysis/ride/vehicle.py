@@ -16,7 +16,9 @@ PSDs of :mod:`express.rail.track.spectra`): ``alignment`` a (lateral, + left),
 - ``<W>.yR`` of every wheelset W (the lateral irregularity of the wheel/rail model):
   ``a``;
 - the motion of a ground named after a body ``<B>_rail`` (both rails),
-  ``<B>_railL`` (left rail) or ``<B>_railR`` (right rail), the *rail grounds*:
+  ``<B>_railL`` (left rail) or ``<B>_railR`` (right rail), or of a ground that holds one
+  wheelset and nothing else (both rails, or one rail when all its points lie on one
+  side), the *rail grounds*:
   along z ``z_v``, ``z_v - c/2``, ``z_v + c/2``; along y ``a``, ``a + g/2``, ``a - g/2``.
   This is how a model receives vertical (and 3-D lateral) rail inputs: an element
   (the wheel/rail contact spring, or the primary suspension of a wheelset without
@@ -198,10 +200,12 @@ def _value(vehicle: VehicleModel, expression: Any, what: str) -> float:
         raise InputError(f"{what}: {error}") from None
 
 
-def _wheelset_grounds(vehicle: VehicleModel) -> dict[str, str]:
+def _wheelset_grounds(vehicle: VehicleModel) -> dict[str, tuple[str, str]]:
     """Grounds that hold one rail wheelset and nothing else, whatever their names:
-    ground id -> wheelset (e.g. the Manchester vehicle's ``T1_GF`` under ``W1``). Such a
-    ground is that wheelset's rail ground for both rails (side ``""``)."""
+    ground id -> (wheelset, side) (e.g. the Manchester vehicle's ``T1_GF`` under ``W1``).
+    Such a ground is that wheelset's rail ground for both rails (side ``""``), or for the
+    left (``"L"``) or right (``"R"``) rail when every point of it lies on that side
+    (``y > 0`` or ``y < 0``)."""
     model = _model(vehicle)
     ground_ids = {ground.id for ground in model.grounds}
     hosts = {point.id: point.host for point in model.points}
@@ -212,7 +216,13 @@ def _wheelset_grounds(vehicle: VehicleModel) -> dict[str, str]:
         for here, there in (ends, ends[::-1]):
             if here in ground_ids and there not in ground_ids:
                 held.setdefault(here, set()).add(str(there))
-    return {ground: next(iter(bodies)) for ground, bodies in held.items() if len(bodies) == 1 and bodies <= wheelsets}
+    found = {}
+    for ground, bodies in held.items():
+        if len(bodies) == 1 and bodies <= wheelsets:
+            lateral = [_value(vehicle, point.offset[1], f"point {point.id}") for point in model.points if point.host == ground]
+            side = "L" if lateral and min(lateral) > 0 else "R" if lateral and max(lateral) < 0 else ""
+            found[ground] = (next(iter(bodies)), side)
+    return found
 
 
 def rail_inputs(vehicle: VehicleModel) -> RailInputs:
@@ -231,7 +241,7 @@ def rail_inputs(vehicle: VehicleModel) -> RailInputs:
         if name in irregularity:
             mix, position = {"alignment": 1.0}, stations[irregularity[name]]
         elif (match and match["body"] in bodies) or ground in under_wheelsets:
-            body_id, side = (match["body"], match["side"]) if match and match["body"] in bodies else (under_wheelsets[ground], "")
+            body_id, side = (match["body"], match["side"]) if match and match["body"] in bodies else under_wheelsets[ground]
             grounds[ground] = (body_id, side)
             mix = _RAIL_MIXING.get((axis, side))
             position = _value(vehicle, bodies[body_id].position[0], f"body {body_id} position")

@@ -1,18 +1,29 @@
 """The known inputs of a run along a track: curvature, cant and lateral irregularity (and
-their rates) at every station of the vehicle, shared by the linear and the contact march."""
+their rates) at every station of the vehicle, shared by the linear and the contact march.
+
+The track's other components (vertical level, cross level, gauge: ``docs/track.md``,
+"Track components") drive the model's *rail grounds*, found as the ride analysis finds
+them (:func:`express.analysis.ride.vehicle.rail_inputs`): a ground ``<B>_rail``,
+``<B>_railL``, ``<B>_railR`` or one that holds a single wheelset and nothing else. Along z
+a ground takes ``z_v`` (both rails), ``z_v - c/2`` (left) or ``z_v + c/2`` (right); along y
+``yR``, ``yR + g/2``, ``yR - g/2``; each read at the station of its body. A component the
+track carries but no input of the model takes is named in one warning per run.
+"""
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
 
-from express.base.diagnostics import ArgumentError
+from express.base.caches import IdentityCache
+from express.base.diagnostics import ArgumentError, ModelWarning
 from express.numeric.statespace import VehicleModel
 from express.rail.build import RailLayout
 from express.rail.track import Track
 
-__all__ = ["TrackInputs", "rail_layout", "station_index", "track_inputs"]
+__all__ = ["GroundPlan", "TrackInputs", "ground_plan", "rail_layout", "station_index", "track_inputs"]
 
 
 @dataclass(frozen=True)
@@ -61,7 +72,83 @@ def track_inputs(vehicle: VehicleModel, track: Track, distance: np.ndarray, spee
     for j, name in enumerate(layout.irregularity):
         u[:, inputs.index(name)] = y_rail[:, j]
         u_rate[:, inputs.index(name)] = speed * y_rail_rate[:, j]
+    _rail_ground_inputs(vehicle, track, distance, speed, lead, u, u_rate)
     return TrackInputs(u, u_rate, y_rail, rho, curvature)
+
+
+@dataclass(frozen=True)
+class GroundPlan:
+    """The rail-ground inputs of a vehicle and what drives them.
+
+    Attributes
+    ----------
+    columns : numpy.ndarray of int, shape (K,)
+        Indices of the rail-ground inputs in ``vehicle.inputs``.
+    positions : numpy.ndarray, shape (K,)
+        Station x [m] of the body each ground carries.
+    mixing : numpy.ndarray, shape (K, 4)
+        Coefficient of each component of :data:`~express.rail.track.TRACK_COMPONENTS`.
+    ignored : tuple of str
+        Components the track carries that no input takes.
+    """
+
+    columns: np.ndarray
+    positions: np.ndarray
+    mixing: np.ndarray
+    ignored: tuple[str, ...]
+
+
+def ground_plan(vehicle: VehicleModel, track: Track) -> GroundPlan:
+    """Which rail-ground inputs the track drives (module docstring); kept per vehicle and
+    track, so that the warning for an ignored component comes once."""
+    return _PLANS.get_or_make((vehicle, track), lambda: _ground_plan(vehicle, track))
+
+
+_PLANS: IdentityCache[GroundPlan] = IdentityCache(8)
+
+
+def _ground_plan(vehicle: VehicleModel, track: Track) -> GroundPlan:
+    from express.rail.track import TRACK_COMPONENTS
+
+    layout = rail_layout(vehicle)
+    extra = [name for name in vehicle.inputs if name not in layout.inputs]
+    columns, positions, mixing = np.zeros(0, dtype=np.int64), np.zeros(0), np.zeros((0, len(TRACK_COMPONENTS)))
+    if extra and vehicle.model is not None:  # a model with grounds: find its rail grounds
+        from express.analysis.ride.vehicle import rail_inputs
+
+        found = rail_inputs(vehicle)
+        keep = [k for k, name in enumerate(found.names) if name not in layout.irregularity]
+        columns, positions, mixing = found.columns[keep], found.positions[keep], found.mixing[keep]
+    taken = {"alignment"} | {c for j, c in enumerate(TRACK_COMPONENTS) if np.any(mixing[:, j] != 0)}
+    ignored = tuple(c for c in track.applied_components if c not in taken)
+    if ignored:
+        warnings.warn(f"the track's {', '.join(ignored)} {'is' if len(ignored) == 1 else 'are'} not applied: "
+                      f"{vehicle.name} has no rail ground that takes {'it' if len(ignored) == 1 else 'them'} "
+                      "(vertical level: a rail ground under each wheelset; cross level: one under each rail, "
+                      "<W>_railL and <W>_railR or one on each side; gauge: such grounds moving in y; docs/track.md)",
+                      ModelWarning, stacklevel=4)
+    return GroundPlan(columns, positions, mixing, ignored)
+
+
+def _rail_ground_inputs(vehicle: VehicleModel, track: Track, distance: np.ndarray, speed: float, lead: float,
+                        u: np.ndarray, u_rate: np.ndarray) -> None:
+    """Add the rail grounds' inputs and rates (``v d/ds``) to ``u``, ``u_rate``, in place."""
+    from express.rail.track import TRACK_COMPONENTS
+
+    plan = ground_plan(vehicle, track)
+    if plan.columns.size == 0:
+        return
+    s = (distance[:, None] - (lead - plan.positions)[None, :]).ravel()
+    shape = (distance.size, plan.positions.size)
+    for j, name in enumerate(TRACK_COMPONENTS):
+        weights = plan.mixing[:, j]
+        component = track.component(name)
+        if not np.any(weights) or name not in track.applied_components:
+            continue
+        value = np.asarray(component.value(s), dtype=float).reshape(shape)
+        rate = np.asarray(component.rate(s), dtype=float).reshape(shape)
+        u[:, plan.columns] += value * weights
+        u_rate[:, plan.columns] += speed * rate * weights
 
 
 def rail_layout(vehicle: VehicleModel) -> RailLayout:

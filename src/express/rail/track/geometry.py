@@ -32,6 +32,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+from express.base.diagnostics import ArgumentError
 from express.rail.track._common import FieldProblem, FloatArray, as_input, as_output, is_finite_number, raise_if
 from express.rail.track.irregularity import Irregularity, NoIrregularity
 from express.rail.track.tables import CONSTANT, RAMP_CODES, CentrelineTable, SegmentTables, ramp
@@ -40,6 +41,7 @@ __all__ = [
     "DIRECTIONS",
     "MAX_CANT",
     "MAX_TRACK_LENGTH",
+    "TRACK_COMPONENTS",
     "TRANSITION_SHAPES",
     "Curve",
     "Segment",
@@ -53,6 +55,9 @@ __all__ = [
 #: Transition shapes: ``"linear"`` (clothoid: curvature and cant linear in s) and
 #: ``"sine"`` (half-wave sine ramp, ``(1 - cos(pi s / L)) / 2``).
 TRANSITION_SHAPES = ("linear", "sine")
+#: The track's irregularity components (EN 13848 names): alignment ``yR``, vertical level,
+#: cross level, gauge (the order of :data:`express.rail.track.spectra.COMPONENTS`).
+TRACK_COMPONENTS = ("alignment", "vertical", "cross_level", "gauge")
 #: Curve directions.
 DIRECTIONS = ("left", "right")
 #: Longest track (and segment) [m]: 1000 km. The exact centreline keeps a point every
@@ -230,7 +235,8 @@ def _end_values(segment: Segment | None) -> tuple[float, float]:
 # ---------------------------------------------------------------------------------------
 
 
-def _track_problems(segments: Any, irregularity: Any, speed: Any) -> list[FieldProblem]:
+def _track_problems(segments: Any, irregularity: Any, speed: Any,
+                    components: dict[str, Any] | None = None) -> list[FieldProblem]:
     if not isinstance(segments, (tuple, list)):
         return [("segments", f"segments must be a tuple of Straight, Transition, Curve, got {segments!r}")]
     out: list[FieldProblem] = []
@@ -248,6 +254,9 @@ def _track_problems(segments: Any, irregularity: Any, speed: Any) -> list[FieldP
                                     f"{MAX_TRACK_LENGTH:g} m"))
     if not isinstance(irregularity, Irregularity):
         out.append(("irregularity", f"irregularity is not an Irregularity: {irregularity!r}"))
+    for name, component in (components or {}).items():
+        if not isinstance(component, Irregularity):
+            out.append((name, f"{name} is not an Irregularity: {component!r}"))
     if speed is not None and not (is_finite_number(speed) and speed > 0):
         out.append(("speed", f"speed must be > 0 m/s, got {speed!r}"))
     return out
@@ -255,7 +264,8 @@ def _track_problems(segments: Any, irregularity: Any, speed: Any) -> list[FieldP
 
 @dataclass(frozen=True)
 class Track:
-    """A track: segments one after the other, plus a lateral irregularity.
+    """A track: segments one after the other, plus its irregularities (alignment, vertical
+    level, cross level, gauge).
 
     The segments start at s = 0. Methods taking ``s`` accept floats or arrays and are
     vectorized (a float in, a float out). Before s = 0 and from s = ``length`` on, the
@@ -271,14 +281,44 @@ class Track:
     speed : float or None
         Nominal running speed [m/s] from the track file, if any (informative; the track
         itself does not use it).
+    vertical : Irregularity
+        Vertical level (longitudinal level) ``z_v(s)`` [m]: the mean height of the two
+        rails, + up; default none.
+    cross_level : Irregularity
+        Cross level ``c(s) = z_R - z_L`` [m], the sign of the cant (+ when the right
+        rail is higher); default none.  A twist is its gradient ``dc/ds``.
+    gauge : Irregularity
+        Gauge variation ``g(s)`` [m], + wider; default none.
+
+    The rail heights are ``z_L = z_v - c/2``, ``z_R = z_v + c/2`` and the rails' lateral
+    positions ``y_L = yR + g/2``, ``y_R = yR - g/2`` (``docs/track.md``, "Track
+    components").
     """
 
     segments: Sequence[Segment] = ()
     irregularity: Irregularity = field(default_factory=NoIrregularity)
     speed: float | None = None
+    vertical: Irregularity = field(default_factory=NoIrregularity)
+    cross_level: Irregularity = field(default_factory=NoIrregularity)
+    gauge: Irregularity = field(default_factory=NoIrregularity)
 
     def __post_init__(self) -> None:
-        raise_if(_track_problems(self.segments, self.irregularity, self.speed), "Track")
+        components = {"vertical": self.vertical, "cross_level": self.cross_level, "gauge": self.gauge}
+        raise_if(_track_problems(self.segments, self.irregularity, self.speed, components), "Track")
+
+    def component(self, name: str) -> Irregularity:
+        """The irregularity of one EN 13848 component: ``"alignment"`` (``yR``),
+        ``"vertical"``, ``"cross_level"`` or ``"gauge"``."""
+        if name == "alignment":
+            return self.irregularity
+        if name in TRACK_COMPONENTS:
+            return getattr(self, name)
+        raise ArgumentError(f"unknown track component {name!r} (known: {', '.join(TRACK_COMPONENTS)})")
+
+    @property
+    def applied_components(self) -> tuple[str, ...]:
+        """The components other than none, in the order of :data:`TRACK_COMPONENTS`."""
+        return tuple(name for name in TRACK_COMPONENTS if not isinstance(self.component(name), NoIrregularity))
 
     @classmethod
     def field_problems(cls, segments: Any, irregularity: Any = None, speed: Any = None) -> list[FieldProblem]:

@@ -6,7 +6,10 @@ measured profile interpolated from a table (:class:`ProfileIrregularity`) and a 
 profile drawn from a published spectrum (:class:`SpectrumIrregularity`, spectra in
 :mod:`express.rail.track.spectra`).
 
-``yR`` [m] is the lateral displacement of the track, positive to the LEFT (y left);
+The same classes carry the track's other components (vertical level, cross level,
+gauge: :class:`~express.rail.track.geometry.Track`, ``docs/track.md``, "Track components"),
+with ``value`` in metres of that component. ``yR`` [m] is the lateral displacement of the
+track, positive to the LEFT (y left);
 ``s`` [m] the distance along the track. Every irregularity is defined for every ``s``
 (it is not cut at the ends of the track) and has ``value(s)`` (also ``irr(s)``) and
 ``rate(s) = d yR / ds`` [m/m], for a float (float out) or an array.

@@ -30,7 +30,6 @@ from typing import Any
 import numpy as np
 
 from express.base.diagnostics import ModelError, Problem
-from express.base.limits import input_kind_problem
 from express.base.units import KMH, UnitError, parse_quantity
 from express.io.toml_lines import KeyPath, find_line, line_index, parse_toml
 from express.rail.track._common import FieldProblem, is_finite_number, is_number
@@ -43,6 +42,9 @@ from express.rail.track.irregularity import (
     SpectrumIrregularity,
 )
 from express.rail.track.spectra import SPECTRA, get_spectrum
+from express.rail.track.textfiles import EXCERPT_CHARS, MAX_PROFILE_BYTES, MAX_ROW_PROBLEMS
+from express.rail.track.textfiles import excerpt as _excerpt
+from express.rail.track.textfiles import read_text_file as _read_text
 
 __all__ = [
     "EXCERPT_CHARS",
@@ -57,17 +59,13 @@ __all__ = [
 
 #: Largest track file [bytes]: 1 MB holds some 20 000 segments.
 MAX_TRACK_FILE_BYTES = 1_000_000
-#: Largest CSV profile [bytes]: 100 MB, some four million rows (1000 km every 0.25 m).
-MAX_PROFILE_BYTES = 100_000_000
-#: Bad rows of a CSV profile listed one by one; the rest are counted.
-MAX_ROW_PROBLEMS = 20
-#: Longest excerpt of a CSV line quoted in a message [characters].
-EXCERPT_CHARS = 60
 #: Highest nominal speed of a track file [m/s]: 1000 km/h, the command line's limit.
 MAX_TRACK_SPEED = 1000.0 * KMH
 
 _REQUIRED = object()
-_TOP_KEYS = ("name", "description", "speed", "segment", "irregularity")
+#: Tables of the components besides the alignment (``irregularity``), Track field names.
+_COMPONENT_KEYS = ("vertical", "cross_level", "gauge")
+_TOP_KEYS = ("name", "description", "speed", "segment", "irregularity", *_COMPONENT_KEYS, "measured")
 #: Fields of each segment type: key -> (dimension, default); dimension None for a word.
 _SEGMENT_FIELDS: dict[str, dict[str, tuple[str | None, Any]]] = {
     "straight": {"length": ("length", _REQUIRED)},
@@ -78,6 +76,8 @@ _SEGMENT_FIELDS: dict[str, dict[str, tuple[str | None, Any]]] = {
 _SEGMENT_CLASSES: dict[str, type[Straight] | type[Transition] | type[Curve]] = {
     "straight": Straight, "transition": Transition, "curve": Curve,
 }
+#: Types a vertical, cross-level or gauge table may have (spectra: the ride analysis).
+_COMPONENT_TYPES = ("none", "sinusoid", "csv", "points")
 _CHOICES = {"shape": TRANSITION_SHAPES, "direction": DIRECTIONS, "spectrum": tuple(SPECTRA)}
 #: Fields of each irregularity type, as for the segments; ``file`` and ``seed`` are raw.
 _IRREGULARITY_FIELDS: dict[str, dict[str, tuple[str | None, Any]]] = {
@@ -85,6 +85,7 @@ _IRREGULARITY_FIELDS: dict[str, dict[str, tuple[str | None, Any]]] = {
     "sinusoid": {"amplitude": ("length", _REQUIRED), "wavelength": ("length", _REQUIRED),
                  "phase": ("angle", 0.0)},
     "csv": {"file": (None, None)},
+    "points": {"points": (None, _REQUIRED)},
     "spectrum": {"spectrum": (None, _REQUIRED), "seed": (None, 0), "wavelength_min": ("length", 3.0),
                  "wavelength_max": ("length", 120.0), "period": ("length", 10_000.0)},
 }
@@ -215,12 +216,15 @@ def _segments(raw: Any, report: _Report) -> list[Segment] | None:
     return [segment for segment in segments if segment is not None]
 
 
-def _irregularity(table: Any, report: _Report, base_dir: Path) -> Irregularity | None:
-    path: KeyPath = ("irregularity",)
-    kind = _kind(table, _IRREGULARITY_FIELDS, report, path, "irregularity")
+def _irregularity(table: Any, report: _Report, base_dir: Path, name: str = "irregularity") -> Irregularity | None:
+    """The irregularity of the table ``name`` (``irregularity``: the alignment, or one of
+    :data:`_COMPONENT_KEYS`), or None if it is bad (every problem reported)."""
+    path: KeyPath = (name,)
+    kinds = _IRREGULARITY_FIELDS if name == "irregularity" else _COMPONENT_TYPES
+    kind = _kind(table, kinds, report, path, name)
     if kind is None:
         return None
-    item = f"irregularity ({kind})"
+    item = f"{name} ({kind})"
     values, bad = _read_fields(table, _IRREGULARITY_FIELDS[kind], report, path, item)
     if kind == "none":
         return NoIrregularity()
@@ -229,15 +233,55 @@ def _irregularity(table: Any, report: _Report, base_dir: Path) -> Irregularity |
             return None
         return SinusoidIrregularity(**values)
     if kind == "csv":
-        return _csv_irregularity(values["file"], report, base_dir, item)
+        return _csv_irregularity(values["file"], report, base_dir, item, name)
+    if kind == "points":
+        return None if "points" in bad else _points_irregularity(values["points"], report, path, item)
     if _report_field_problems(SpectrumIrregularity.field_problems(**values), bad, report, path, item):
         return None
     return SpectrumIrregularity(get_spectrum(values.pop("spectrum")), **values)
 
 
-def _csv_irregularity(name: Any, report: _Report, base_dir: Path, item: str) -> ProfileIrregularity | None:
+def _points_irregularity(points: Any, report: _Report, path: KeyPath, item: str) -> ProfileIrregularity | None:
+    """``points = [[s, value], ...]`` [m]: a piecewise-linear shape (a cusp, a ramp, a twist)."""
+    if (not isinstance(points, list) or not all(isinstance(p, list) and len(p) == 2 and all(is_number(x) for x in p)
+                                                for p in points)):
+        report.add((*path, "points"), item, "'points' must be an array of [distance, value] pairs of numbers [m], "
+                                            "e.g. [[0, 0], [10, 0.003], [20, 0]]")
+        return None
+    distance = np.array([float(p[0]) for p in points])
+    value = np.array([float(p[1]) for p in points])
+    problems = ProfileIrregularity.field_problems(distance, value)
+    if problems:
+        for _, message in problems:
+            report.add((*path, "points"), item, message.replace("yr", "value"))
+        return None
+    return ProfileIrregularity(distance, value, source=item)
+
+
+def _measured(table: Any, report: _Report, base_dir: Path, others: list[str]) -> dict[str, Irregularity] | None:
+    """The four components of a ``[measured]`` table's CSV file (:mod:`.measured`)."""
+    from express.rail.track.measured import read_measured_csv
+
+    path: KeyPath = ("measured",)
+    if not isinstance(table, Mapping) or set(table) != {"file"} or not isinstance(table["file"], str) or not table["file"]:
+        report.add(path, "measured", "must be a table with one key, 'file': the path of the CSV file "
+                                     "(distance and the four components, each with its unit)")
+        return None
+    if others:
+        report.add(path, "measured", f"gives every component, so it cannot be combined with [{'], ['.join(others)}]")
+        return None
+    name = Path(table["file"])
+    try:
+        return dict(read_measured_csv(name if name.is_absolute() else base_dir / name))
+    except ModelError as exc:
+        report.extend(exc.problems)
+        return None
+
+
+def _csv_irregularity(name: Any, report: _Report, base_dir: Path, item: str,
+                      table: str = "irregularity") -> ProfileIrregularity | None:
     if not isinstance(name, str) or not name:
-        report.add(("irregularity", "file"), item, f"'file' must be the path of a CSV file, got {name!r}")
+        report.add((table, "file"), item, f"'file' must be the path of a CSV file, got {name!r}")
         return None
     path = Path(name)
     try:
@@ -298,12 +342,18 @@ def track_from_dict(
     irregularity: Irregularity | None = NoIrregularity()
     if "irregularity" in d:
         irregularity = _irregularity(d["irregularity"], report, base)
+    components = {key: _irregularity(d[key], report, base, key) for key in _COMPONENT_KEYS if key in d}
+    if "measured" in d:
+        measured = _measured(d["measured"], report, base, [key for key in ("irregularity", *_COMPONENT_KEYS) if key in d])
+        if measured is not None:
+            irregularity = measured.pop("alignment")
+            components.update(measured)
     if segments is not None:
         for _, message in Track.field_problems(segments):
             report.add(("segment",), "track", message)
     report.raise_if_any()
     assert segments is not None and irregularity is not None  # else a problem was raised
-    return Track(tuple(segments), irregularity, speed)
+    return Track(tuple(segments), irregularity, speed, **components)  # type: ignore[arg-type]
 
 
 def _track_speed(d: Mapping[str, Any], report: _Report) -> float | None:
@@ -322,31 +372,6 @@ def _track_speed(d: Mapping[str, Any], report: _Report) -> float | None:
 # ---------------------------------------------------------------------------------------
 # Files
 # ---------------------------------------------------------------------------------------
-
-
-def _read_text(path: Path, limit: int, item: str, encoding: str) -> str:
-    """The text of a regular file of at most ``limit`` bytes, or a ModelError saying why not."""
-    source = str(path)
-
-    def refuse(message: str) -> ModelError:
-        return ModelError([Problem(source, None, item, message)])
-
-    try:
-        kind = input_kind_problem(path, fifo=False)  # a FIFO would block on open
-        if kind is not None:
-            raise refuse(kind)
-        info = path.stat()
-        if info.st_size > limit:
-            raise refuse(f"the file has {info.st_size} bytes, more than the limit {limit}")
-        data = path.read_bytes()
-    except OSError as exc:
-        raise refuse(f"cannot read the file: {exc.strerror or exc}") from None
-    if b"\0" in data:
-        raise refuse("not a text file (it holds NUL bytes)")
-    try:
-        return data.decode(encoding)
-    except UnicodeDecodeError as exc:
-        raise refuse(f"not a UTF-8 text file (byte {exc.start + 1} cannot be decoded)") from None
 
 
 def load_track(path: str | Path) -> Track:
@@ -383,14 +408,6 @@ def load_track(path: str | Path) -> Track:
 
 
 _CELLS = re.compile(r"[,;\s]+")
-
-
-def _excerpt(line: str) -> str:
-    """A short, printable quotation of ``line`` (at most :data:`EXCERPT_CHARS` characters)."""
-    shown = "".join(ch if ch.isprintable() else "?" for ch in line[: EXCERPT_CHARS + 1])
-    if len(shown) > EXCERPT_CHARS:
-        shown = shown[: EXCERPT_CHARS - 3] + "..."
-    return repr(shown)
 
 
 def _floats(cells: list[str]) -> list[float] | None:
