@@ -149,8 +149,11 @@ def model_to_toml(model: Model) -> str:
         lines += [
             f"from = {_string(element.s_end)}",
             f"to = {_string(element.t_end)}",
-            f"direction = {_string(element.axis_name)}",
+            "direction = " + ('"line"' if element.through_ends else _vector(element.vector)
+                              if element.vector is not None else _string(element.axis_name)),
         ]
+        if element.preload != 0:
+            lines.append(f"preload = {value_to_toml(element.preload)}")
         characteristic = element.characteristic
         if characteristic is None or characteristic.velocity:  # a characteristic is its stiffness or damping
             lines.append(f"stiffness = {value_to_toml(element.stiffness)}")

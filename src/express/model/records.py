@@ -202,6 +202,17 @@ class Element:
         A nonlinear characteristic (:mod:`express.model.characteristics`); its tangent
         at the static state is the element's ``stiffness`` (force against deflection) or
         ``damping`` (against velocity).
+    vector : tuple of 3 sympy.Expr or None
+        The unit vector ``n`` [-] of an element along a line (``direction = [dx, dy, dz]``
+        or ``"line"``, :mod:`express.assembly.lines`): its deflection is
+        ``n . (u_S - u_T)``; None for an element along an axis (``direction``, which for a
+        line element is the first axis ``n`` has a part along, for the drawings only).
+    through_ends : bool
+        The line element's ``n`` joins its ends at rest (``direction = "line"``).
+    preload : sympy.Expr
+        A given static tension [N] (positive in tension: the S end pulled towards the T
+        end) of a translational element, besides any preload from ``[gravity]``; it adds
+        the geometric stiffness ``preload/L (I - n n^T)`` only (it moves no static state).
     """
 
     id: str
@@ -219,6 +230,9 @@ class Element:
     friction: sp.Expr = sp.S.Zero
     checked: tuple[tuple[str, sp.Expr, Dimension, bool], ...] = ()
     characteristic: Characteristic | None = None
+    vector: Vector | None = None
+    through_ends: bool = False
+    preload: sp.Expr = sp.S.Zero
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "direction", Axis(self.direction))
@@ -631,9 +645,9 @@ def _check_element_kinds(model: Model, hosts: dict[str, str], bodies: dict[str, 
                 model.source, element.line, item, "progressive stiffness needs a gap (a clearance element)"
             ))
         if frozenset((element.s_end, element.t_end)) in pinned and (
-            element.rotational or element.kind is not ElementKind.PARALLEL
+            element.rotational or element.kind is not ElementKind.PARALLEL or element.vector is not None
         ):
             problems.append(Problem(
                 model.source, element.line, item,
-                "the element of a pinned joint must be a plain translational element",
+                "the element of a pinned joint must be a plain translational element along an axis",
             ))
