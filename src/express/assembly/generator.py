@@ -34,7 +34,7 @@ from express.assembly.equations import (
 )
 from express.assembly.gravity import gravity_terms, static_model
 from express.assembly.kinematics import end_motion, generalized_coordinates
-from express.assembly.lines import line_vector, scale, squared_length
+from express.assembly.lines import line_vector, scale, unit_term
 from express.base.diagnostics import ModelError, Problem
 from express.model.characteristics import characteristic_values
 from express.model.modal_body import modal_expressions, modal_terms
@@ -415,15 +415,15 @@ def _assemble(model: Model, added: AddedTerms, domain: ExactDomain, deflections:
             factor = conv(scale(model, element))
             k, c = k * factor, c * factor
         if element.clearance:
-            parts.clearances.append(_unit(model, element, _clearance(element, g, h, reduced, deflections.inputs,
+            parts.clearances.append(unit_term(model, element, _clearance(element, g, h, reduced, deflections.inputs,
                                                                       domain.readable)))
             continue
         if element.sliding:  # in the matrices stuck (its pre-slip spring), below; slips in the time domain
-            parts.element_terms.append(_unit(model, element, _element_term(
+            parts.element_terms.append(unit_term(model, element, _element_term(
                 element, g, h, reduced, deflections.inputs, domain.readable,
                 {"stiffness": element.stiffness, "friction": element.friction})))
         if element.characteristic is not None:  # in the matrices its tangent (stiffness or damping), below
-            parts.element_terms.append(_unit(model, element, _element_term(
+            parts.element_terms.append(unit_term(model, element, _element_term(
                 element, g, h, reduced, deflections.inputs, domain.readable,
                 characteristic_values(element.characteristic))))
         if element.series:
@@ -597,12 +597,3 @@ def _element_term(element, gradient: dict, inputs_gradient: dict, dofs: list[str
         values={name: sp.sympify(value) for name, value in values.items()},
     )
 
-
-def _unit(model: Model, element, term):
-    """A nonlinear element's record with its true deflection ``n . du`` [m]: a line
-    element's gradient over ``v . du`` divided by ``|v|`` (express.assembly.lines)."""
-    if element.vector is None:
-        return term
-    inverse = 1 / sp.sqrt(squared_length(line_vector(model, element)))
-    return replace(term, gradient={d: v * inverse for d, v in term.gradient.items()},
-                   inputs={u: v * inverse for u, v in term.inputs.items()})

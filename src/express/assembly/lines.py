@@ -24,11 +24,13 @@ grows by ``|du_perp|^2 / (2 L)`` (the string or pendulum result: a link of lengt
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import sympy as sp
 
 from express.model.records import Model
 
-__all__ = ["end_position", "exact_norm", "line_vector", "scale", "squared_length"]
+__all__ = ["end_position", "exact_norm", "line_vector", "scale", "squared_length", "unit_term"]
 
 
 def end_position(model: Model, point_id: str) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
@@ -77,3 +79,14 @@ def exact_norm(vector, values: dict[str, float]) -> sp.Expr | None:
     except (TypeError, ValueError):
         return root
     return -root if number < 0 else root
+
+
+def unit_term(model: Model, element, term):
+    """A nonlinear element's record (``ElementTerm``, ``ClearanceTerm``) with its true
+    deflection ``n . du`` [m]: a line element's gradient over ``v . du`` divided by
+    ``|v|``; an axis element's record as it is."""
+    if element.vector is None:
+        return term
+    inverse = 1 / sp.sqrt(squared_length(line_vector(model, element)))
+    return replace(term, gradient={d: v * inverse for d, v in term.gradient.items()},
+                   inputs={u: v * inverse for u, v in term.inputs.items()})

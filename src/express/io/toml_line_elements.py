@@ -1,6 +1,6 @@
 """Reading elements along a line (``direction = [dx, dy, dz]`` or ``"line"``) and their
-given ``preload`` (:mod:`express.assembly.lines`); problems go to the reader with the
-element's line."""
+given ``preload`` (:mod:`express.assembly.lines`); problems go to the reader (the
+:class:`express.io.toml_items.TomlReader`, which calls these) with the element's line."""
 
 from __future__ import annotations
 
@@ -9,7 +9,6 @@ from typing import Any
 
 import sympy as sp
 
-from express.io.toml_items import TomlReader, show_value
 from express.model.records import Axis, Body, ConnectionPoint, Element
 
 __all__ = ["check_line", "read_direction"]
@@ -20,7 +19,7 @@ def _first_axis(vector) -> int:
     return next((axis for axis, c in enumerate(vector) if sp.sympify(c) != 0), 2)
 
 
-def read_direction(reader: TomlReader, path: tuple[str, ...], item: str, direction: Any):
+def read_direction(reader: Any, path: tuple[str, ...], item: str, direction: Any):
     """``(vector, through_ends, axis)`` of a line element's ``direction``: the given
     vector [-] (exact expressions, not normalised) or, for ``"line"``, None until its
     ends are known (:func:`check_line`)."""
@@ -29,11 +28,11 @@ def read_direction(reader: TomlReader, path: tuple[str, ...], item: str, directi
         return (sp.S.Zero, sp.S.Zero, sp.S.Zero), True, 2
     vector = reader.vector(direction, where, item, "direction")
     if isinstance(direction, list) and len(direction) == 3 and all(sp.sympify(c) == 0 for c in vector):
-        reader.problem(where, item, f"direction {show_value(direction)} is the zero vector: it gives no line")
+        reader.problem(where, item, f"direction {direction!r} is the zero vector: it gives no line")
     return vector, False, _first_axis(vector)
 
 
-def check_line(reader: TomlReader, path: tuple[str, ...], item: str, spec: dict, element: Element,
+def check_line(reader: Any, path: tuple[str, ...], item: str, spec: dict, element: Element,
                bodies: list[Body], points: list[ConnectionPoint]) -> Element:
     """A line element with its ``"line"`` resolved to ``p_S - p_T`` [m] (its ends' positions
     at rest: body position plus offset, a ground CP's offset its position); a rotational

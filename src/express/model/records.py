@@ -202,17 +202,12 @@ class Element:
         A nonlinear characteristic (:mod:`express.model.characteristics`); its tangent
         at the static state is the element's ``stiffness`` (force against deflection) or
         ``damping`` (against velocity).
-    vector : tuple of 3 sympy.Expr or None
-        The unit vector ``n`` [-] of an element along a line (``direction = [dx, dy, dz]``
-        or ``"line"``, :mod:`express.assembly.lines`): its deflection is
-        ``n . (u_S - u_T)``; None for an element along an axis (``direction``, which for a
-        line element is the first axis ``n`` has a part along, for the drawings only).
-    through_ends : bool
-        The line element's ``n`` joins its ends at rest (``direction = "line"``).
+    vector, through_ends : tuple of 3 sympy.Expr or None, bool
+        A line element's vector ``v`` [-] (given, or ``p_S - p_T`` [m] with ``through_ends``:
+        ``direction = "line"``): deflection ``n . (u_S - u_T)``, ``n = v/|v|``
+        (:mod:`express.assembly.lines`; ``direction`` then its first axis, for drawings).
     preload : sympy.Expr
-        A given static tension [N] (positive in tension: the S end pulled towards the T
-        end) of a translational element, besides any preload from ``[gravity]``; it adds
-        the geometric stiffness ``preload/L (I - n n^T)`` only (it moves no static state).
+        A given static tension [N] (besides ``[gravity]``'s): geometric stiffness only.
     """
 
     id: str
