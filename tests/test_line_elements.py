@@ -298,3 +298,54 @@ def test_bad_line_elements_exit_2(capsys, tmp_path, direction, preload, key, men
     err = assert_input_error(capsys, "generate", str(path), "-o", str(output), mentions=mentions)
     assert f"bad.toml:{line}:" in err
     assert not output.exists()
+
+
+SUBSTRUCTURE = """
+[bodies.F]
+mass = "M"
+dofs = ["x", "y"]
+
+[points.F_seat]
+body = "F"
+
+[substructures.axle]
+parameters = ["t"]
+connectors = ["seat"]
+
+[substructures.axle.bodies.W]
+mass = "m"
+dofs = ["x", "y"]
+position = ["d", 0, 0]
+
+[substructures.axle.points]
+box = { body = "W" }
+
+[substructures.axle.elements]
+skew = { from = "seat", to = "box", direction = [1, "t", 0], stiffness = "k" }
+tie = { from = "box", to = "seat", direction = "line", stiffness = "kt" }
+
+[instances.one]
+substructure = "axle"
+prefix = "A_"
+station = "s"
+parameters = { t = "tt" }
+connect = { seat = "F_seat" }
+"""
+
+
+def test_line_elements_in_a_substructure():
+    """The vector's formal parameter is the instance's; "line" to a connector is found
+    from the expanded model (the tie from W at d + s to F at 0: along x)."""
+    eom = generate(parse_toml_model(SUBSTRUCTURE, "sub.toml")).equations
+    assert eom.dofs == ("F.x", "F.y", "A_W.x", "A_W.y")
+    tt, kt = sp.symbols("tt kt")
+    v = sp.Matrix([1, tt, -1, -tt])  # v . (u_seat - u_box) over the four DOFs
+    along_x = sp.Matrix([1, 0, -1, 0])
+    expected = k * v * v.T / (1 + tt**2) + kt * along_x * along_x.T
+    assert (eom.K - expected).applyfunc(sp.simplify) == sp.zeros(4, 4)
+
+
+def test_a_line_to_a_connector_at_the_same_point_is_refused():
+    text = SUBSTRUCTURE.replace('station = "s"', "station = 0").replace('position = ["d", 0, 0]', "position = [0, 0, 0]")
+    with pytest.raises(ModelError, match="zero vector"):
+        generate(parse_toml_model(text, "sub.toml"))

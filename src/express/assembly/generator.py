@@ -34,7 +34,7 @@ from express.assembly.equations import (
 )
 from express.assembly.gravity import gravity_terms, static_model
 from express.assembly.kinematics import end_motion, generalized_coordinates
-from express.assembly.lines import line_vector, scale, unit_term
+from express.assembly.lines import line_problems, line_vector, scale, unit_term
 from express.base.diagnostics import ModelError, Problem
 from express.model.characteristics import characteristic_values
 from express.model.modal_body import modal_expressions, modal_terms
@@ -274,6 +274,7 @@ def generate(
     b**2*(kLL + kLU)
     """
     problems = check_model(model)
+    problems = problems or line_problems(model)  # once the ends are known CPs
     if problems:
         raise ModelError(problems)
     added = added or AddedTerms()

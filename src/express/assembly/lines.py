@@ -28,9 +28,10 @@ from dataclasses import replace
 
 import sympy as sp
 
+from express.base.diagnostics import Problem
 from express.model.records import Model
 
-__all__ = ["end_position", "exact_norm", "line_vector", "scale", "squared_length", "unit_term"]
+__all__ = ["end_position", "exact_norm", "line_problems", "line_vector", "scale", "squared_length", "unit_term"]
 
 
 def end_position(model: Model, point_id: str) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
@@ -90,3 +91,11 @@ def unit_term(model: Model, element, term):
     inverse = 1 / sp.sqrt(squared_length(line_vector(model, element)))
     return replace(term, gradient={d: v * inverse for d, v in term.gradient.items()},
                    inputs={u: v * inverse for u, v in term.inputs.items()})
+
+
+def line_problems(model: Model) -> list[Problem]:
+    """A line element whose vector is zero (``"line"`` between coincident points, say of
+    a substructure's connector): one problem each, with its line."""
+    return [Problem(model.source, e.line, f"TSD {e.id}", f"its direction {tuple(line_vector(model, e))} is the zero "
+                    "vector (a line between coincident points): it gives no line")
+            for e in model.elements if e.vector is not None and squared_length(line_vector(model, e)) == 0]
