@@ -349,3 +349,17 @@ def test_a_line_to_a_connector_at_the_same_point_is_refused():
     text = SUBSTRUCTURE.replace('station = "s"', "station = 0").replace('position = ["d", 0, 0]', "position = [0, 0, 0]")
     with pytest.raises(ModelError, match="zero vector"):
         generate(parse_toml_model(text, "sub.toml"))
+
+
+def test_nonlinear_elements_on_a_line_see_the_true_deflection():
+    """A bump stop and a friction element along [3, 0, 4]: the time domain's deflection
+    is n . du = (3 x + 4 z)/5 (not the assembly's unnormalised v . du); the matrices get
+    the friction element's stuck spring k n n^T."""
+    text = PENDULUM.format(direction="[3, 0, 4]", gravity="", preload="friction = 100") + (
+        '\n[elements.stop]\nfrom = "bob"\nto = "top"\ndirection = [3, 0, 4]\nstiffness = "k"\ngap = 0.01\n')
+    eom = generate(parse_toml_model(text, "p.toml")).equations
+    unit = {"B.x": sp.Rational(3, 5), "B.z": sp.Rational(4, 5)}
+    assert eom.clearances[0].gradient == unit
+    assert eom.element_terms[0].gradient == unit
+    n = sp.Matrix([sp.Rational(3, 5), 0, sp.Rational(4, 5)])
+    assert k * n * n.T == eom.K
