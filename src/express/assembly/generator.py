@@ -34,6 +34,7 @@ from express.assembly.equations import (
 )
 from express.assembly.gravity import gravity_terms, static_model
 from express.assembly.kinematics import end_motion, generalized_coordinates
+from express.assembly.lines import line_problems, line_vector, scale, unit_term
 from express.base.diagnostics import ModelError, Problem
 from express.model.characteristics import characteristic_values
 from express.model.modal_body import modal_expressions, modal_terms
@@ -98,6 +99,8 @@ def _model_expressions(model: Model, added: AddedTerms):
     for element in model.elements:
         yield element.stiffness
         yield element.damping
+        if element.vector is not None:  # a line element: k v v^T / (v . v) (express.assembly.lines)
+            yield scale(model, element)
     yield from modal_expressions(model)
     yield from added.expressions()
 
@@ -271,11 +274,13 @@ def generate(
     b**2*(kLL + kLU)
     """
     problems = check_model(model)
+    problems = problems or line_problems(model)  # once the ends are known CPs
     if problems:
         raise ModelError(problems)
     added = added or AddedTerms()
-    if model.gravity is not None:  # geometric stiffness of the static preloads
-        static_equations = generate(static_model(model))  # the 3-D static model has no gravity
+    if model.gravity is not None or any(e.preload != 0 for e in model.elements):  # preloads' geometric stiffness
+        # the 3-D static model has no gravity (and no given preloads)
+        static_equations = generate(static_model(model)) if model.gravity is not None else None
         stiffness, forces = gravity_terms(model, static_equations, added.point_inputs)
         added = replace(added, stiffness=list(added.stiffness) + stiffness, forces=list(added.forces) + forces)
     expressions = list(_model_expressions(model, added))
@@ -326,14 +331,20 @@ def _deflections(model: Model, added: AddedTerms, domain: ExactDomain, pin_eleme
         return motion_cache[key]
 
     for element in model.elements:
-        s_dofs, s_inputs = motion(element.s_end, element.direction, element.rotational)
-        t_dofs, t_inputs = motion(element.t_end, element.direction, element.rotational)
-        g = dict(s_dofs)
-        for dof, value in t_dofs.items():
-            g[dof] = g.get(dof, domain.zero) - value
-        h = dict(s_inputs)
-        for name, value in t_inputs.items():
-            h[name] = h.get(name, domain.zero) - value
+        parts: list[tuple[Any, int]]
+        if element.vector is None:
+            parts = [(domain.one, int(element.direction))]
+        else:  # a line element: v . (u_S - u_T), unnormalised (express.assembly.lines)
+            parts = [(conv(c), axis) for axis, c in enumerate(line_vector(model, element)) if c != 0]
+        g: dict[str, Any] = {}
+        h: dict[str, Any] = {}
+        for weight, axis in parts:
+            for end, sign in ((element.s_end, weight), (element.t_end, -weight)):
+                dofs, inputs = motion(end, axis, element.rotational)
+                for dof, value in dofs.items():
+                    g[dof] = g.get(dof, domain.zero) + sign * value
+                for name, value in inputs.items():
+                    h[name] = h.get(name, domain.zero) + sign * value
         gradients[element.id] = {d: v for d, v in g.items() if v}
         if element.id in pin_element_ids:
             h = {}  # a pin to a ground holds the virtual DOF to a static ground
@@ -401,15 +412,21 @@ def _assemble(model: Model, added: AddedTerms, domain: ExactDomain, deflections:
         g = reduce(deflections.gradients[element.id])
         h = {in_index[u]: v for u, v in deflections.input_gradients[element.id].items()}
         k, c = conv(element.stiffness), conv(element.damping)
+        if element.vector is not None:  # over v . du: k v v^T / (v . v) = k n n^T
+            factor = conv(scale(model, element))
+            k, c = k * factor, c * factor
         if element.clearance:
-            parts.clearances.append(_clearance(element, g, h, reduced, deflections.inputs, domain.readable))
+            parts.clearances.append(unit_term(model, element, _clearance(element, g, h, reduced, deflections.inputs,
+                                                                      domain.readable)))
             continue
         if element.sliding:  # in the matrices stuck (its pre-slip spring), below; slips in the time domain
-            parts.element_terms.append(_element_term(element, g, h, reduced, deflections.inputs, domain.readable,
-                                                     {"stiffness": element.stiffness, "friction": element.friction}))
+            parts.element_terms.append(unit_term(model, element, _element_term(
+                element, g, h, reduced, deflections.inputs, domain.readable,
+                {"stiffness": element.stiffness, "friction": element.friction})))
         if element.characteristic is not None:  # in the matrices its tangent (stiffness or damping), below
-            parts.element_terms.append(_element_term(element, g, h, reduced, deflections.inputs, domain.readable,
-                                                     characteristic_values(element.characteristic)))
+            parts.element_terms.append(unit_term(model, element, _element_term(
+                element, g, h, reduced, deflections.inputs, domain.readable,
+                characteristic_values(element.characteristic))))
         if element.series:
             # spring deflection delta - s, damper stroke s (docs/model-format.md)
             stroke = r_index[f"{element.id}.{STROKE}"]
@@ -580,3 +597,4 @@ def _element_term(element, gradient: dict, inputs_gradient: dict, dofs: list[str
         inputs={inputs[j]: form(v) for j, v in sorted(inputs_gradient.items())},
         values={name: sp.sympify(value) for name, value in values.items()},
     )
+

@@ -46,6 +46,7 @@ import sympy as sp
 
 from express.assembly.equations import GenerationResult
 from express.assembly.kinematics import point_motion
+from express.assembly.lines import end_position, exact_norm, line_vector, squared_length
 from express.base.diagnostics import ModelError, Problem
 from express.model.records import AXES, DOF_NAMES, ElementKind, Model
 
@@ -69,6 +70,8 @@ def static_model(model: Model) -> Model:
     # a characteristic carries its static load as the linear analyses see it: its tangent
     elements = tuple(replace(e, kind=ElementKind.PARALLEL, characteristic=None) if e.kind is ElementKind.CHARACTERISTIC
                      else e for e in model.elements if e.kind in (ElementKind.PARALLEL, ElementKind.CHARACTERISTIC))
+    # a given preload adds geometric stiffness only: the static solve is linear
+    elements = tuple(replace(e, preload=sp.S.Zero) if e.preload != 0 else e for e in elements)
     # flexible bodies statically rigid: the preloads of the rigid bodies (docs/model-format.md)
     return replace(model, bodies=bodies, elements=elements, gravity=None, rail=None, flexible=())
 
@@ -142,14 +145,22 @@ def static_preloads(model: Model, static_equations: GenerationResult) -> dict[st
     for element in static.elements:
         if element.rotational:
             continue
+        weights = [(sp.S.One, element.direction)] if element.vector is None else [
+            (sp.sympify(c), axis) for axis, c in enumerate(line_vector(static, element)) if c != 0]
         deflection = sum(
-            (sign * value * by_dof[dof]
+            (weight * sign * value * by_dof[dof]
+             for weight, axis in weights
              for end, sign in ((element.s_end, 1), (element.t_end, -1))
-             for dof, value in point_motion(static, end, element.direction)[0].items()
+             for dof, value in point_motion(static, end, axis)[0].items()
              if dof in by_dof),
             sp.S.Zero,
         )
-        force = sp.factor(sp.cancel(sp.sympify(element.stiffness) * deflection))
+        if element.vector is None:
+            force = sp.factor(sp.cancel(sp.sympify(element.stiffness) * deflection))
+        else:  # N = mu |v|, mu = k v.du / (v.v) (express.assembly.lines)
+            vector = line_vector(static, element)
+            force = sp.factor(sp.cancel(sp.sympify(element.stiffness) * deflection / squared_length(vector)))
+            force = force * sp.sqrt(squared_length(vector))
         if force != 0:
             preloads[element.id] = force
     pinned = {frozenset((p.virtual, p.non_virtual)) for p in model.pins}
@@ -259,7 +270,7 @@ def gravity_stiffness(model: Model, static_equations: GenerationResult) -> list[
     return gravity_terms(model, static_equations)[0]
 
 
-def gravity_terms(model: Model, static_equations: GenerationResult,
+def gravity_terms(model: Model, static_equations: GenerationResult | None,
                   point_inputs: Mapping[tuple[str, int], Mapping[str, sp.Expr]] | None = None,
                   ) -> tuple[list[tuple[str, str, sp.Expr]], list[tuple[str, str, sp.Expr]]]:
     """Geometric stiffness of the preloaded elements and its part over the inputs.
@@ -268,8 +279,9 @@ def gravity_terms(model: Model, static_equations: GenerationResult,
     ----------
     model : Model
         The model with its ``[gravity]``.
-    static_equations : GenerationResult
-        The equations of :func:`static_model` of ``model`` (see :func:`static_preloads`).
+    static_equations : GenerationResult or None
+        The equations of :func:`static_model` of ``model`` (see :func:`static_preloads`);
+        None for a model without ``[gravity]`` (its elements' given ``preload`` only).
     point_inputs : mapping, optional
         ``(cp_id, axis) -> {input: coefficient}``, the CPs' motion driven by inputs (the
         curvature terms of :func:`express.rail.curve.curvature_point_inputs`).
@@ -283,11 +295,17 @@ def gravity_terms(model: Model, static_equations: GenerationResult,
         ``(DOF, input, coefficient)`` to be added to P: the turning axes of coincident
         elements (module docstring) over the inputs' motion of their ends.
     """
-    preloads = static_preloads(model, static_equations)
+    preloads = (static_preloads(model, static_equations)
+                if model.gravity is not None and static_equations is not None else {})
     terms: list[tuple[str, str, sp.Expr]] = []
     forces: list[tuple[str, str, sp.Expr]] = []
     for element in model.elements:
+        if element.vector is not None:
+            terms += _line_terms(model, element, preloads.get(element.id))
+            continue
         force = preloads.get(element.id)
+        if element.preload != 0 and not element.rotational:  # a given tension besides gravity's
+            force = sp.sympify(element.preload) + (force if force is not None else 0)
         if force is None:
             continue
         for end, sign in ((element.s_end, 1), (element.t_end, -1)):
@@ -308,6 +326,69 @@ def gravity_terms(model: Model, static_equations: GenerationResult,
             terms += stiffness
             forces += driven
     return terms, forces
+
+
+def _line_terms(model: Model, element, gravity_force: sp.Expr | None) -> list[tuple[str, str, sp.Expr]]:
+    """Geometric stiffness of a line element carrying the tension ``N`` (gravity's and its
+    given ``preload``): ``N n . d2(u_S - u_T)/dq2`` over its ends' rotations and
+    ``N/L (I - n n^T)`` over their relative motion, ``L = n . (p_S - p_T)``; written with
+    ``mu = N/|v|`` (:mod:`express.assembly.lines`). A line whose ends coincide adds the
+    rotation terms only."""
+    vector = [sp.sympify(c) for c in line_vector(model, element)]
+    mu = sp.S.Zero
+    if gravity_force is not None:
+        mu += sp.cancel(gravity_force / sp.sqrt(squared_length(vector)))
+    if element.preload != 0:
+        norm = exact_norm(vector, model.values())
+        if norm is None:
+            raise ModelError([Problem(model.source, element.line, f"TSD {element.id}",
+                                      f"the length of its direction {tuple(vector)} is not a rational function of "
+                                      "the parameters (a square root): its given preload cannot enter the exact K "
+                                      "(give a direction of rational length, e.g. [3, 0, 4])")])
+        mu += sp.sympify(element.preload) / norm
+    if mu == 0:
+        return []
+    terms: list[tuple[str, str, sp.Expr]] = []
+    pull = [mu * c for c in vector]  # N n
+    for end, sign in ((element.s_end, 1), (element.t_end, -1)):
+        for row, column, value in _vector_hessian(model, end, pull):
+            terms.append((row, column, sign * value))
+    start, finish = end_position(model, element.s_end), end_position(model, element.t_end)
+    projected = sp.expand(sum((c * (a - b) for c, a, b in zip(vector, start, finish, strict=True)), sp.S.Zero))
+    if projected == 0:
+        return terms
+    squared = squared_length(vector)
+    relative = [_relative_motion(model, element, axis, {})[0] for axis in range(3)]
+    for b in range(3):
+        for c in range(3):
+            weight = sp.cancel(mu * (squared * int(b == c) - vector[b] * vector[c]) / projected)
+            if weight == 0:
+                continue
+            for row, x in relative[b].items():
+                for column, y in relative[c].items():
+                    if x != 0 and y != 0:
+                        terms.append((row, column, weight * x * y))
+    return terms
+
+
+def _vector_hessian(model: Model, point_id: str, pull) -> list[tuple[str, str, sp.Expr]]:
+    """``w . d2u/dq2`` of a CP over its body's rotations (``u = theta x r + 1/2 theta x
+    (theta x r)``): ``1/2 (w_i r_j + w_j r_i) - (w . r) delta_ij``, ``w`` a force [N]."""
+    point = model.point(point_id)
+    try:
+        body = model.body(point.host)
+    except KeyError:
+        return []
+    r = [sp.sympify(v) for v in point.offset]
+    along = sum((w * x for w, x in zip(pull, r, strict=True)), sp.S.Zero)
+    entries = []
+    for i in range(3):
+        for j in range(3):
+            value = sp.Rational(1, 2) * (pull[i] * r[j] + pull[j] * r[i]) - along * int(i == j)
+            di, dj = f"r{AXES[i]}", f"r{AXES[j]}"
+            if value != 0 and di in body.dofs and dj in body.dofs:
+                entries.append((f"{body.id}.{di}", f"{body.id}.{dj}", value))
+    return entries
 
 
 def _relative_motion(model: Model, element, axis: int,

@@ -18,10 +18,11 @@ __all__ = ["model_to_classic"]
 def model_to_classic(model: Model) -> tuple[str, dict[str, str]]:
     """Classic-format text of ``model`` and the renaming of its bodies and grounds
     ``{old id: classic id}`` (CPs, elements and pins are renumbered too; see the header)."""
-    special = [e.id for e in model.elements if e.rotational or e.kind is not ElementKind.PARALLEL]
+    special = [e.id for e in model.elements
+               if e.rotational or e.kind is not ElementKind.PARALLEL or e.vector is not None or e.preload != 0]
     if special or model.gravity is not None:
         raise ValueError(
-            f"{model.source}: the classic format has no rotational, series or clearance elements "
+            f"{model.source}: the classic format has no rotational, series, clearance or line elements "
             f"and no gravity ({', '.join(special) or '[gravity]'}): keep the model in TOML"
         )
     kinds: tuple[tuple[str, tuple[Any, ...]], ...] = (

@@ -78,7 +78,7 @@ def read_air_spring(reader: Any, element_id: str, path: tuple[str, ...], item: s
     where = path + ("air_spring",)
     table = reader.table(spec["air_spring"], where, item)
     reader.unknown_keys(table, AIR_SPRING_KEYS, where, item)
-    if base.rotational or base.direction is not Axis.Z:
+    if base.rotational or base.direction is not Axis.Z or base.vector is not None:
         reader.problem(path + ("direction",), item, 'an air spring acts along z (direction = "z"); its shear '
                        "stiffness goes in lateral = {...} / longitudinal = {...}")
     for clash in ("stiffness", "series", "gap", "friction", "characteristic"):

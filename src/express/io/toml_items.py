@@ -28,7 +28,7 @@ __all__ = ["TomlReader", "check_id", "cut_text", "entries", "read_items", "show_
 BODY_KEYS = ("mass", "inertia", "dofs", "position", "label", "outline")
 POINT_KEYS = ("body", "offset")
 ELEMENT_KEYS = ("from", "to", "direction", "stiffness", "damping", "label", "series", "gap", "progressive", "friction",
-                "air_spring", "characteristic")
+                "air_spring", "characteristic", "preload")
 PIN_KEYS = ("virtual", "non_virtual")
 DIRECTIONS = {"x": 0, "y": 1, "z": 2, "1": 0, "2": 1, "3": 2}
 ROTATIONS = {"rx": 0, "ry": 1, "rz": 2}
@@ -180,6 +180,10 @@ def read_items(reader: TomlReader, data: dict, base: tuple[str, ...] = ()):
     elements = []
     for element_id, path, item, spec in entries(reader, data.get("elements", {}), "elements", "TSD", ELEMENT_KEYS, base):
         element = read_element(reader, element_id, path, item, spec)
+        if element.vector is not None or element.preload != 0:
+            from express.io.toml_line_elements import check_line
+
+            element = check_line(reader, path, item, spec, element, bodies, points)
         if "air_spring" in spec:  # the bag, the reservoir's series branch, the shear elements
             from express.io.toml_air_springs import read_air_spring
 
@@ -202,12 +206,18 @@ def read_items(reader: TomlReader, data: dict, base: tuple[str, ...] = ()):
 def read_element(reader: TomlReader, element_id: str, path: tuple[str, ...], item: str, spec: dict) -> Element:
     """One element: translational or rotational, plain, series, clearance or friction."""
     direction = spec.get("direction")
-    name = str(direction) if not isinstance(direction, (bool, float)) else ""
+    name = str(direction) if not isinstance(direction, (bool, float, list)) else ""
     rotational = name in ROTATIONS
     axis = ROTATIONS.get(name, DIRECTIONS.get(name))
+    vector, through_ends = None, False
+    if isinstance(direction, list) or direction == "line":  # along a line (express.assembly.lines)
+        from express.io.toml_line_elements import read_direction
+
+        vector, through_ends, axis = read_direction(reader, path, item, direction)
     if axis is None:
         reader.problem(
-            path + ("direction",), item, f"direction must be x, y, z (or 1, 2, 3), rx, ry or rz, got {show_value(direction)}"
+            path + ("direction",), item, f"direction must be x, y, z (or 1, 2, 3), rx, ry or rz, a vector [dx, dy, dz] or \"line\", "
+            f"got {show_value(direction)}"
         )
         axis = 0
     series = spec.get("series", False)
@@ -264,5 +274,8 @@ def read_element(reader: TomlReader, element_id: str, path: tuple[str, ...], ite
         friction=friction,
         checked=tuple(checked),
         characteristic=characteristic,
+        vector=vector,
+        through_ends=through_ends,
+        preload=reader.expression(spec.get("preload", 0), path + ("preload",), item, "preload"),
     )
 

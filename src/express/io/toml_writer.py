@@ -65,6 +65,13 @@ def _vector(values) -> str:
 _BARE_KEY = re.compile(r"[A-Za-z0-9_-]+\Z")
 
 
+def _direction(element) -> str:
+    """An element's ``direction``: its axis, ``"line"`` or its vector."""
+    if element.vector is None:
+        return _string(element.axis_name)
+    return '"line"' if element.through_ends else _vector(element.vector)
+
+
 def _string(text: str) -> str:
     """A TOML basic string: JSON's escapes (quotes, backslash, control characters)
     plus DEL, which TOML also forbids raw; a lone surrogate (not a character) becomes
@@ -149,8 +156,8 @@ def model_to_toml(model: Model) -> str:
         lines += [
             f"from = {_string(element.s_end)}",
             f"to = {_string(element.t_end)}",
-            f"direction = {_string(element.axis_name)}",
-        ]
+            f"direction = {_direction(element)}",
+        ] + ([f"preload = {value_to_toml(element.preload)}"] if element.preload != 0 else [])
         characteristic = element.characteristic
         if characteristic is None or characteristic.velocity:  # a characteristic is its stiffness or damping
             lines.append(f"stiffness = {value_to_toml(element.stiffness)}")

@@ -202,6 +202,12 @@ class Element:
         A nonlinear characteristic (:mod:`express.model.characteristics`); its tangent
         at the static state is the element's ``stiffness`` (force against deflection) or
         ``damping`` (against velocity).
+    vector, through_ends : tuple of 3 sympy.Expr or None, bool
+        A line element's vector ``v`` [-] (given, or ``p_S - p_T`` [m] with ``through_ends``:
+        ``direction = "line"``): deflection ``n . (u_S - u_T)``, ``n = v/|v|``
+        (:mod:`express.assembly.lines`; ``direction`` then its first axis, for drawings).
+    preload : sympy.Expr
+        A given static tension [N] (besides ``[gravity]``'s): geometric stiffness only.
     """
 
     id: str
@@ -219,6 +225,9 @@ class Element:
     friction: sp.Expr = sp.S.Zero
     checked: tuple[tuple[str, sp.Expr, Dimension, bool], ...] = ()
     characteristic: Characteristic | None = None
+    vector: Vector | None = None
+    through_ends: bool = False
+    preload: sp.Expr = sp.S.Zero
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "direction", Axis(self.direction))
@@ -631,9 +640,9 @@ def _check_element_kinds(model: Model, hosts: dict[str, str], bodies: dict[str, 
                 model.source, element.line, item, "progressive stiffness needs a gap (a clearance element)"
             ))
         if frozenset((element.s_end, element.t_end)) in pinned and (
-            element.rotational or element.kind is not ElementKind.PARALLEL
+            element.rotational or element.kind is not ElementKind.PARALLEL or element.vector is not None
         ):
             problems.append(Problem(
                 model.source, element.line, item,
-                "the element of a pinned joint must be a plain translational element",
+                "the element of a pinned joint must be a plain translational element along an axis",
             ))

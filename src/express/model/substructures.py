@@ -230,6 +230,8 @@ def instantiate(sub: Substructure, instance: Instance, source: str = "<substruct
             damping=value(e.damping), gap=value(e.gap), progressive=value(e.progressive),
             friction=value(e.friction), characteristic=characteristic(e.characteristic),
             checked=tuple((what, value(v), dim, positive) for what, v, dim, positive in e.checked),
+            vector=tuple(value(c) for c in e.vector) if e.vector is not None else None,
+            preload=value(e.preload),
         )
         for e in sub.elements
     )

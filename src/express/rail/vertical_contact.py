@@ -82,7 +82,7 @@ def _vertical_contacts(model: Model, values: Mapping[str, float], wheelsets: Seq
     grounds = {g.id for g in model.grounds}
     found: dict[tuple[str, int], VerticalContact] = {}
     for element in model.elements:
-        if element.rotational or element.direction != 2 or element.kind is not ElementKind.PARALLEL:
+        if element.rotational or element.direction != 2 or element.vector is not None or element.kind is not ElementKind.PARALLEL:
             continue
         hosts = (model.point(element.s_end).host, model.point(element.t_end).host)
         if not (hosts[0] in wheelsets and hosts[1] in grounds) and not (hosts[1] in wheelsets and hosts[0] in grounds):

@@ -331,7 +331,7 @@ def _wheel_load_rows(vehicle: VehicleModel, inputs: RailInputs, rows: _Rows) -> 
     loads: dict[str, dict[str, np.ndarray]] = {}  # body -> side -> [k dq, c dq, k du, c du]
     for element in model.elements:
         on_ground = [hosts.get(end) in inputs.rail_grounds for end in (element.s_end, element.t_end)]
-        if on_ground[0] == on_ground[1] or element.rotational or element.direction != 2:
+        if on_ground[0] == on_ground[1] or element.rotational or element.direction != 2 or element.vector is not None:
             continue
         what = f"element {element.id} (to a rail ground)"
         if element.kind is not ElementKind.PARALLEL:
