@@ -252,16 +252,15 @@ def wheel_loads_at(loads, x, k, j):
 
 
 @njit(cache=True)
-def pressed_loads(loads, contacts, x, j, y, psi):
+def pressed_loads(loads, contacts, x, j, y, psi, geometry):
     """``(left, right)`` [N]: what the wheels of wheelset ``j`` (at displacement ``y`` [m]
     from the track, yaw ``psi`` [rad], state ``x``) add to the loads of their vertical
     contact springs by sitting on their rails: ``k (rise + sigma (b - lever) phi)``, the
     wheel's rise on its rail and the difference between the springs' lever ``b`` and the
     load's own (:func:`express.rail.wheel_rise.contact_rise`) under the roll
-    ``phi``; zero without such springs."""
+    ``phi``; zero without such springs.  ``geometry`` is scratch space of shape (2, 2)."""
     if loads.stiffness[j, 0] == 0.0 and loads.stiffness[j, 1] == 0.0:
         return 0.0, 0.0
-    geometry = np.empty((2, 2))
     contact_rise(contacts, j, y, psi, geometry)
     phi = x[loads.roll[j]] if loads.roll[j] >= 0 else 0.0
     arm = loads.arm[j]
@@ -272,10 +271,11 @@ def pressed_loads(loads, contacts, x, j, y, psi):
 
 @njit(cache=True)
 def _loads_history(loads, states, contacts, y, psi, out):
+    geometry = np.empty((2, 2))
     for k in range(states.shape[0]):
         for j in range(out.shape[1]):
             left, right = wheel_loads_at(loads, states[k], k, j)
-            press_left, press_right = pressed_loads(loads, contacts, states[k], j, y[k, j], psi[k, j])
+            press_left, press_right = pressed_loads(loads, contacts, states[k], j, y[k, j], psi[k, j], geometry)
             out[k, j, 0], out[k, j, 1] = left + press_left, right + press_right
 
 
@@ -348,12 +348,13 @@ def contact_feedback(x, k, feedback, z, record):
     count = w.iy.size
     first = feedback.first
     work = np.empty((2, len(WORK_FIELDS)))
+    geometry = np.empty((2, 2))
     for j in range(count):
         out = record[j]
         y, psi, y_dot, psi_dot = x[w.iy[j]], x[w.ipsi[j]], x[w.ivy[j]], x[w.ivpsi[j]]
         y_rail, rho = w.y_rail[k, j], w.rho[k, j]
         left, right = wheel_loads_at(feedback.loads, x, k, j)
-        press_left, press_right = pressed_loads(feedback.loads, feedback.contacts, x, j, y - y_rail, psi)
+        press_left, press_right = pressed_loads(feedback.loads, feedback.contacts, x, j, y - y_rail, psi, geometry)
         profile_wheelset_forces(feedback.contacts, j, left + press_left, right + press_right, y - y_rail, psi, y_dot,
                                 psi_dot, rho, w.speed, work, out)
         lateral, yaw = linear_wheel_rail(feedback.linear[j], y, psi, y_dot, psi_dot, y_rail, rho)
