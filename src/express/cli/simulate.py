@@ -186,6 +186,8 @@ def _step_check(vehicle: Any, road: Any, speed: float, dt: float, first: tuple[A
 
 def _print_assessment(assessment: Any, stream: Any) -> None:
     print("running safety (EN 14363 quantities, docs/curving.md):", file=stream)
+    if assessment.filtering is not None:
+        print(f"  {assessment.filtering.note}; percentiles of each force in --json", file=stream)
     for c in assessment.criteria:
         verdict = "n/a (no limit)" if c.passed is None else ("pass" if c.passed else "FAIL")
         scale, unit = (1e-3, " kN") if c.unit == "N" else (1.0, "")
