@@ -48,3 +48,18 @@ def test_convert_refuses_to_overwrite_its_input(tmp_path, capsys):
     before = model.read_bytes()
     assert_input_error(capsys, "convert", model, "-o", model, mentions="refusing")
     assert model.read_bytes() == before
+
+
+@pytest.mark.slow
+def test_a_converted_profile_contact_model_runs(tmp_path, capsys):
+    """Issue 35's case: the S1002 car converted, then ``eigen`` on the converted file
+    (it failed with 12 "undefined name Gamma_e_f11" errors: the profiles' node was not
+    written); the same modes as the original."""
+    from cli_support import ROOT
+
+    target = tmp_path / "ms.toml"
+    assert run(capsys, "convert", ROOT / "examples" / "manchester-s1002.toml", "-o", target)[0] == 0
+    status, out, err = run(capsys, "eigen", target, "--json")
+    assert status == 0, err
+    status, original, err = run(capsys, "eigen", ROOT / "examples" / "manchester-s1002.toml", "--json")
+    assert json.loads(out)["modes"] == json.loads(original)["modes"]

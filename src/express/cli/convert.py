@@ -28,7 +28,8 @@ def run(model: Path, overrides: dict[str, str], *, output: str | None = None) ->
     output = output or STDOUT
     with output_transaction(inputs=[model]) as outputs:
         outputs.declare(output)
-        text = model_to_toml(common.load_model_with(model, overrides))
+        folder = Path.cwd() if output == STDOUT else Path(output).parent
+        text = model_to_toml(common.load_model_with(model, overrides), folder)
         _check_loads_back(text, output)
         write_text(output, text)
     if output != STDOUT:
@@ -41,8 +42,13 @@ def _check_loads_back(text: str, output: str) -> None:
     writer, reported as an internal error before anything is written."""
     from express.base.diagnostics import ModelError
     from express.io import parse_toml_model
+    from express.model.parameters import undefined_name_problems
 
     try:
-        parse_toml_model(text, source=output)
+        model = parse_toml_model(text, source=output)
     except ModelError as error:
         raise RuntimeError(f"the converted model does not load back: {error.lines()[0]}") from None
+    if model.parameters:  # a classic file's model carries no values: its names are its inputs
+        problems = undefined_name_problems(model)
+        if problems:
+            raise RuntimeError(f"the converted model does not load back: {problems[0].message}")

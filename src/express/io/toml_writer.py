@@ -9,7 +9,9 @@ otherwise.
 from __future__ import annotations
 
 import json
+import os
 import re
+from pathlib import Path
 
 import sympy as sp
 
@@ -105,8 +107,16 @@ def _parameter_line(parameter: Parameter) -> str:
     return f"{_key(name)} = {parameter.value!r}"
 
 
-def model_to_toml(model: Model) -> str:
-    """The TOML text of ``model`` (deterministic)."""
+def model_to_toml(model: Model, folder: str | Path | None = None) -> str:
+    """The TOML text of ``model`` (deterministic).
+
+    Parameters
+    ----------
+    model : Model
+    folder : str or pathlib.Path, optional
+        The folder the text will be written to: profile files the model names are
+        written relative to it (absolute without it).
+    """
     lines = [
         f"# EXPRESS model, converted from {_comment(model.source)}",
         "# Format: docs/model-format.md.  Values are numbers or expressions of parameters.",
@@ -183,7 +193,7 @@ def model_to_toml(model: Model) -> str:
     if model.gravity is not None:
         lines += ["", "[gravity]", f"acceleration = {value_to_toml(model.gravity)}"]
     if model.rail is not None:
-        lines += _rail_lines(model)
+        lines += _rail_lines(model, folder)
     return "\n".join(lines + flexible) + "\n"
 
 
@@ -209,9 +219,40 @@ def _characteristic(characteristic) -> str:
     return (f"{{ shape = \"table\", of = {_string(characteristic.of)}, {characteristic.of} = [{x}], force = [{f}] }}")
 
 
-def _rail_lines(model: Model) -> list[str]:
+def _profile_name(text: str, base: str, folder: str | Path | None) -> str:
+    """A profile as the reader takes it: a standard name as it is, a file relative to
+    ``folder`` (absolute without one)."""
+    from express.rail.profiles import STANDARD_PROFILES
+
+    if text.strip().upper().replace(" ", "") in {*STANDARD_PROFILES, "UIC60"}:
+        return text
+    path = Path(text)
+    if not path.is_absolute():
+        path = Path(base or ".") / path
+    path = path.resolve()
+    if folder is None:
+        return path.as_posix()
+    return Path(os.path.relpath(path, Path(folder).resolve())).as_posix()
+
+
+def _profiles_node(derivation, folder: str | Path | None) -> str:
+    """``conicity = { from = "profiles", ... }`` of a ``"profiles"`` derivation node."""
+    settings = dict(derivation.settings)
+    items = ['from = "profiles"']
+    items += [f"{key} = {_string(_profile_name(settings[key], settings.get('base', ''), folder))}"
+              for key in ("wheel", "rail")]
+    if settings.get("units"):
+        items.append(f"units = {_string(settings['units'])}")
+    items.append(f"name = {_string(derivation.output('conicity'))}")
+    items += [f"{key} = {value_to_toml(value)}" for key, value, _ in derivation.inputs]
+    return "{ " + ", ".join(items) + " }"
+
+
+def _rail_lines(model: Model, folder: str | Path | None = None) -> list[str]:
     rail = model.rail
     assert rail is not None
+    nodes = {d.item: d for d in model.derivations if d.kind == "profiles"}
+    shared = nodes.get("rail.wheel_rail.conicity")
     lines = [
         "",
         "[rail]",
@@ -220,10 +261,18 @@ def _rail_lines(model: Model) -> list[str]:
         f"gravity = {value_to_toml(rail.gravity)}",
         "wheelsets = [" + ", ".join(_string(w.body) for w in rail.wheelsets) + "]",
     ]
+    if shared is not None:  # the wheelsets without their own conicity share this node
+        lines += ["", "[rail.wheel_rail]", f"conicity = {_profiles_node(shared, folder)}"]
     keys = ("f1", "f2", "conicity", "r0", "b", "flange_clearance", "rail_stiffness", "friction", "wheel_load")
     for wheelset in rail.wheelsets:
         lines += ["", f"[rail.wheelset.{_key(wheelset.body)}]"]
-        lines += [f"{key} = {value_to_toml(getattr(wheelset, key))}" for key in keys]
+        own = nodes.get(f"rail.wheelset.{wheelset.body}.conicity")
+        for key in keys:
+            value = getattr(wheelset, key)
+            if key == "conicity" and own is not None:
+                lines.append(f"conicity = {_profiles_node(own, folder)}")
+            elif not (key == "conicity" and shared is not None and value == sp.Symbol(shared.output("conicity"))):
+                lines.append(f"{key} = {value_to_toml(value)}")
     for derivation in model.derivations:
         if derivation.kind == "kalker":
             lines += [
