@@ -36,7 +36,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import cast
+from typing import Any, cast
 
 import numpy as np
 
@@ -179,8 +179,8 @@ class Assessment:
         return all(c.passed is not False for c in self.criteria)
 
     def as_dict(self) -> dict:
-        found = {"passed": self.passed, "derailment": self.derailment,
-                 "criteria": [c.as_dict() for c in self.criteria]}
+        found: dict[str, Any] = {"passed": self.passed, "derailment": self.derailment,
+                                 "criteria": [c.as_dict() for c in self.criteria]}
         if self.wear:
             found["wear"] = [w.as_dict() for w in self.wear]
         if self.filtering is not None:
