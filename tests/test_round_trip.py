@@ -72,3 +72,10 @@ def test_a_profile_file_is_written_relative_to_the_output(tmp_path):
     (out / "car.toml").write_text(written, encoding="utf-8")
     first, second = vehicle_model(load_model(source / "car.toml")), vehicle_model(load_model(out / "car.toml"))
     assert second.values["Gamma_e"] == first.values["Gamma_e"]
+
+
+def test_the_writer_knows_the_profiles_the_rail_layer_knows_by_name():
+    from express.io.toml_contact import STANDARD_NAMES
+    from express.rail.profiles import STANDARD_PROFILES
+
+    assert STANDARD_NAMES == {*STANDARD_PROFILES, "UIC60"}

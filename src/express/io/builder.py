@@ -40,10 +40,10 @@ class _Table(dict):
 
 def _value(value: Any, where: str) -> str:
     """TOML text of one value."""
-    from express.io.toml_writer import _string
+    from express.io.toml_writer import toml_string
 
     if hasattr(value, "magnitude") and hasattr(value, "units"):  # a pint quantity
-        return _string(f"{float(value.magnitude)!r} {value.units:~}")
+        return toml_string(f"{float(value.magnitude)!r} {value.units:~}")
     if isinstance(value, bool):
         return "true" if value else "false"
     if isinstance(value, int):
@@ -53,20 +53,20 @@ def _value(value: Any, where: str) -> str:
             raise ArgumentError(f"{where}: {value!r} is not a finite number")
         return repr(value)
     if isinstance(value, str):
-        return _string(value)
+        return toml_string(value)
     if isinstance(value, Mapping):
         return "{ " + ", ".join(f"{_key(k)} = {_value(v, f'{where}.{k}')}" for k, v in value.items()) + " }"
     if isinstance(value, Sequence):
         return "[" + ", ".join(_value(v, f"{where}[{i}]") for i, v in enumerate(value)) + "]"
     if hasattr(value, "free_symbols"):  # a sympy expression
-        return _string(str(value))
+        return toml_string(str(value))
     raise ArgumentError(f"{where}: a number, a quantity, a string or a list of them, got {type(value).__name__}")
 
 
 def _key(name: str) -> str:
-    from express.io.toml_writer import _key as key
+    from express.io.toml_writer import toml_key
 
-    return key(str(name))
+    return toml_key(str(name))
 
 
 def _lines(table: _Table, path: tuple[str, ...]) -> list[str]:

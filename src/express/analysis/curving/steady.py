@@ -477,8 +477,9 @@ def steady_curving(vehicle: VehicleModel, curves: SteadyCurve | Iterable[SteadyC
     ----------
     vehicle : VehicleModel
     curves : SteadyCurve or iterable of SteadyCurve
-    speeds : float or sequence of float, optional
-        [m/s]: one for all curves or one per curve; the model's speed by default.
+    speeds : float, quantity or sequence of them, optional
+        [m/s] (a number is SI; ``"95 km/h"`` or a :class:`pint.Quantity`): one for all
+        curves or one per curve; the model's speed by default.
     **options
         ``contact``, ``creep_law``, ``flange``, ``saturation`` of :class:`SteadyCurvingSolver`.
 
@@ -486,9 +487,22 @@ def steady_curving(vehicle: VehicleModel, curves: SteadyCurve | Iterable[SteadyC
     -------
     list of SteadyCurving
     """
-    curves = [curves] if isinstance(curves, SteadyCurve) else list(curves)
-    if speeds is None or isinstance(speeds, (int, float)):
-        speeds = [vehicle.speed if speeds is None else float(speeds)] * len(curves)
+    from express.base.units import si_argument
+
+    if isinstance(curves, SteadyCurve):
+        curves = [curves]
+    elif isinstance(curves, Iterable) and not isinstance(curves, str):
+        curves = list(curves)
+    else:
+        curves = [curves]
+    for curve in curves:
+        if not isinstance(curve, SteadyCurve):
+            raise ArgumentError(f"curves must be a SteadyCurve or a list of them (e.g. SteadyCurve(radius=600.0, "
+                                f"cant=0.15)), got {type(curve).__name__} {curve!r:.60}")
+    if speeds is None or isinstance(speeds, (int, float, str)) or hasattr(speeds, "units"):
+        speeds = [vehicle.speed if speeds is None else si_argument(speeds, "speed", "speeds")] * len(curves)
+    else:
+        speeds = [si_argument(speed, "speed", "speeds") for speed in speeds]
     if len(speeds) != len(curves):
         raise ArgumentError(f"{len(speeds)} speeds for {len(curves)} curves")
     solvers: dict[float, SteadyCurvingSolver] = {}
