@@ -40,7 +40,8 @@ class LinearSystem:
     Attributes
     ----------
     A, B, C, D : numpy.ndarray
-        Shapes (2n, 2n), (2n, m), (2n, 2n), (2n, m).
+        Shapes (s, s), (s, m), (p, s), (p, m): (2n, 2n), (2n, m), (2n, 2n), (2n, m) for
+        every DOF and rate out and every model input in.
     states, inputs, outputs : tuple of str
         Names: outputs are the DOFs then their rates (``W1.y``, ..., ``W1.y_dot``);
         the states carry the same names (the state equals the output when ``u = 0``).
@@ -84,15 +85,45 @@ def linear_system(vehicle: VehicleModel, speed: float) -> LinearSystem:
     )
 
 
-def to_control(vehicle: VehicleModel, speed: float) -> Any:
+def _chosen(vehicle: VehicleModel, speed: float, outputs, track: bool, pade_order: int) -> LinearSystem:
+    """:func:`linear_system` with the named ``outputs``, or driven by the track
+    (:func:`express.export.track_system.track_system`)."""
+    from express.export.track_system import output_rows, track_system
+
+    if track:
+        return track_system(vehicle, speed, outputs=outputs, pade_order=pade_order)
+    system = linear_system(vehicle, speed)
+    if outputs is None:
+        return system
+    rows, names = output_rows(vehicle, outputs)
+    return LinearSystem(system.A, system.B, rows @ system.C, rows @ system.D, system.states, system.inputs, names,
+                        system.speed)
+
+
+def to_control(vehicle: VehicleModel, speed: float, *, outputs=None, track: bool = False, pade_order: int = 6) -> Any:
     """A python-control ``StateSpace`` of the vehicle at ``speed`` [m/s], with named
     states, inputs and outputs (needs python-control).
 
     python-control does not allow ``.`` in signal names, so ``W1.yR`` becomes ``W1_yR``.
+
+    Parameters
+    ----------
+    vehicle : VehicleModel
+    speed : float
+        [m/s].
+    outputs : sequence of str, optional
+        The outputs by name (:func:`express.export.track_system.output_rows`: a DOF, its
+        rate ``W1.y_dot``, an output point); every DOF and rate by default.
+    track : bool
+        Driven by the track's alignment at the leading wheelset (one input), each
+        wheelset's transport delay a Padé approximant
+        (:func:`express.export.track_system.track_system`); else every model input.
+    pade_order : int
+        The approximants' order with ``track``.
     """
     import control
 
-    system = linear_system(vehicle, speed)
+    system = _chosen(vehicle, speed, outputs, track, pade_order)
 
     def names(items: tuple[str, ...]) -> list[str]:
         return [item.replace(".", "_") for item in items]
@@ -103,12 +134,21 @@ def to_control(vehicle: VehicleModel, speed: float) -> Any:
     )
 
 
-def to_scipy(vehicle: VehicleModel, speed: float) -> Any:
+def to_scipy(vehicle: VehicleModel, speed: float, *, outputs=None, track: bool = False, pade_order: int = 6) -> Any:
     """A ``scipy.signal.StateSpace`` of the vehicle at ``speed`` [m/s] (names in
-    :func:`linear_system`)."""
+    :func:`linear_system`).
+
+    Parameters
+    ----------
+    vehicle : VehicleModel
+    speed : float
+        [m/s].
+    outputs, track, pade_order
+        As :func:`to_control`.
+    """
     from scipy import signal
 
-    system = linear_system(vehicle, speed)
+    system = _chosen(vehicle, speed, outputs, track, pade_order)
     return signal.StateSpace(system.A, system.B, system.C, system.D)
 
 
