@@ -69,3 +69,69 @@ def test_simulate(capsys, car):
     assert data["speed"] == pytest.approx(run.speed, rel=1e-15)
     for name, value in run.max_abs().items():
         assert data["max_abs"][name] == pytest.approx(value, rel=1e-12, abs=1e-300), name
+
+
+def test_ride(capsys, car):
+    """``express ride`` against ``ride_response`` with the class's spectra and the
+    comfort and wheel-force summaries of the same response."""
+    from express.analysis.ride.summaries import point_comfort, wheel_forces
+    from express.analysis.ride.vehicle import track_class_spectra
+
+    data = run_json(capsys, "ride", CONVENTIONAL, "--track", "ERRI-low", "--points", "300", "--speed", "120")
+    response = express.ride_response(car, track_class_spectra("ERRI-low"), 120 * KMH, np.geomspace(0.1, 50.0, 300))
+    for point, comfort in point_comfort(response).items():
+        cli, mine = data["output_points"][point], comfort.as_dict()
+        for axis, value in mine["rms"].items():
+            assert cli["rms"][axis] == pytest.approx(value, rel=1e-12), (point, axis)
+        assert cli["n_mv"] == pytest.approx(mine["n_mv"], rel=1e-12)
+    for name, forces in wheel_forces(response, car).items():
+        assert data["wheelsets"][name]["y_rms"] == pytest.approx(forces.as_dict()["y_rms"], rel=1e-12)
+
+
+@pytest.mark.parametrize("output", ["critical-speed", "eigenvalue"])
+def test_sensitivity(capsys, car, output):
+    from express.analysis.critical_options import CriticalOptions
+    from express.analysis.study.sensitivity import critical_speed_sensitivity, eigenvalue_derivatives
+
+    names = ["kx1", "ky1", "cyaw"]
+    arguments = ["sensitivity", CONVENTIONAL, "--output", output, *[a for n in names for a in ("--parameter", n)]]
+    if output == "eigenvalue":
+        data = run_json(capsys, *arguments, "--speed", "100")
+        eigenvalues, derivatives = eigenvalue_derivatives(car, 100 * KMH, names)
+        k = int(np.flatnonzero(eigenvalues.imag >= 0)[0])
+        assert data["eigenvalue"] == pytest.approx([eigenvalues[k].real, eigenvalues[k].imag], rel=1e-12)
+        for name in names:
+            assert data["sensitivities"][name] == pytest.approx([derivatives[name][k].real, derivatives[name][k].imag],
+                                                                rel=1e-12)
+    else:
+        data = run_json(capsys, *arguments)
+        mine = critical_speed_sensitivity(car, names, CriticalOptions(tolerance=0.0)).as_dict()
+        assert data["critical_speed"] == pytest.approx(mine["critical_speed"], rel=1e-12)
+        for name in names:
+            assert data["sensitivities"][name] == pytest.approx(mine["sensitivities"][name], rel=1e-12)
+
+
+def test_conicity(capsys):
+    from express.rail.conicity import conicity_from_profiles
+    from express.rail.contact_geometry import ContactSetup
+
+    data = run_json(capsys, "conicity", "S1002", "60E1")
+    amplitude = np.asarray(data["amplitude_m"])
+    mine, _ = conicity_from_profiles(express.standard_profile("S1002"), express.standard_profile("60E1"), amplitude,
+                                     ContactSetup(gauge=1.435, flange_back=1.360, inclination=0.025, wheel_radius=0.46))
+    np.testing.assert_allclose(data["tan_gamma_e"], mine, rtol=1e-12)
+
+
+def test_study(capsys, tmp_path):
+    """``express study`` writes what ``express.run_study`` writes for the same file."""
+    from express.analysis.study.results import read_table
+    from express.analysis.study.spec import read_study
+
+    study = tmp_path / "s.toml"
+    study.write_text(f'[study]\nmodel = "{CONVENTIONAL}"\nkind = "grid"\noutputs = ["least_damping_ratio", '
+                     '"critical_speed"]\n[study.parameters]\nkx1 = { values = [1e6, 3e6] }\n')
+    run_json(capsys, "study", study, "-o", tmp_path / "cli.csv", "--workers", "1")
+    express.run_study(read_study(study), tmp_path / "lib.csv", workers=1)
+    cli, mine = read_table(tmp_path / "cli.csv"), read_table(tmp_path / "lib.csv")
+    for name in ("least_damping_ratio", "critical_speed"):
+        np.testing.assert_allclose(cli[name], mine[name], rtol=1e-12)
