@@ -276,8 +276,9 @@ def report_html(
         How the report names the track.
     equations : EquationsOfMotion, optional
         The readable (factored) equations to show
-        (:func:`express.numeric.generation.load_generation`); by default the vehicle's
-        own, expanded as numerical work takes them.
+        (:func:`express.numeric.generation.load_generation`, which ``express report``
+        passes from its cache); by default generated readable from the vehicle's model,
+        so that the library's report is the command's.
     """
     if vehicle.model is None:
         raise ValueError("the vehicle has no model to report on")
@@ -285,6 +286,10 @@ def report_html(
     given = speed
     if speed is None:
         speed = vehicle.speed if rail and np.isfinite(vehicle.speed) else 1.0
+    if equations is None:
+        from express.rail.build import generate_vehicle
+
+        equations = generate_vehicle(vehicle.model).equations  # factored for people, as the command shows
     sections = [_model_section(vehicle), _parameters_section(vehicle), _equations_section(vehicle, equations),
                 _modes_section(vehicle, speed)]
     if rail:
