@@ -46,6 +46,7 @@ from express.rail.track.geometry import turn_sign
 __all__ = [
     "MAX_UNBALANCED_ACCELERATION",
     "CurveError",
+    "NoSteadyStateError",
     "SteadyCurve",
     "SteadyCurving",
     "SteadyCurvingSolver",
@@ -71,6 +72,12 @@ _SETTLED = 1e-9
 class CurveError(InputError):
     """A curve the vehicle cannot run (bad geometry, too much unbalanced acceleration,
     no steady state): bad input, exit status 2 on the command line; one line per problem."""
+
+
+class NoSteadyStateError(CurveError):
+    """A curve that can be run but in which the solver finds no equilibrium (where
+    :func:`express.analysis.curving.settled.curving_or_settled` runs the vehicle into it
+    instead)."""
 
 
 @dataclass(frozen=True)
@@ -338,7 +345,7 @@ class SteadyCurvingSolver:
             if settled_residual < residual:
                 x, residual = settled, settled_residual
         if not residual < _TOLERANCE:
-            raise CurveError(f"no steady state in R = {curve.radius:g} m with {curve.cant * 1e3:g} mm cant at "
+            raise NoSteadyStateError(f"no steady state in R = {curve.radius:g} m with {curve.cant * 1e3:g} mm cant at "
                              f"{self.speed * 3.6:.1f} km/h: the vehicle cannot follow this curve (relative residual "
                              f"{residual:.1e} after {evaluations} steps; an unstable vehicle has no steady state)")
         return self._result(curve, x, inputs, evaluations, residual, _growth(equations(x)[1]))
@@ -392,7 +399,7 @@ class SteadyCurvingSolver:
                                         inputs.y_rail, inputs.rho_wheelsets, self.speed, self.tables)
         beyond = np.abs(history[0, :, OUTPUTS.index("beyond")])
         if np.any(beyond > 0):
-            raise CurveError(f"in R = {curve.radius:g} m a wheel runs {1e3 * float(beyond.max()):.1f} mm beyond its "
+            raise NoSteadyStateError(f"in R = {curve.radius:g} m a wheel runs {1e3 * float(beyond.max()):.1f} mm beyond its "
                              "contact table (flange climb): the vehicle cannot follow this curve")
 
 
