@@ -151,7 +151,7 @@ def smooth_depth(depth: ArrayLike, spacing: float, width: float) -> FloatArray:
     depth = np.asarray(depth, dtype=float)
     if not (spacing > 0 and width >= 0):
         raise ArgumentError("the spacing must be positive and the smoothing width >= 0")
-    half = int(math.ceil(4.0 * width / spacing))
+    half = math.ceil(4.0 * width / spacing)
     if half == 0 or depth.size < 2:
         return depth.copy()
     offsets = np.arange(-half, half + 1) * spacing

@@ -25,7 +25,7 @@ from express.rail.contact_tables import ARM
 from express.rail.profiles import STANDARD_PROFILES, Profile, standard_profile
 from express.rail.wear_profile import usfd_profile_wear
 
-__all__ = ["KIND", "ProfileGrid", "case_depth", "initial_grid", "profile_text", "profile_nodes_of",
+__all__ = ["KIND", "ProfileGrid", "case_depth", "initial_grid", "profile_nodes_of", "profile_text",
            "with_wheel_profile"]
 
 #: Kind of the model's profile derivation (:data:`express.rail.profile_contact.KIND`).

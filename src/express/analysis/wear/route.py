@@ -156,7 +156,7 @@ def _case(entry: Any, number: int, index: dict, source: str, problems: list[Prob
         problems.append(Problem(source, at("name"), f"{where}: name", f"expected a text, got {name!r}"))
     if len(problems) > count:
         return None
-    assert radius is not None and cant is not None
+    assert radius is not None and cant is not None and isinstance(share, (int, float))
     return RouteCase(str(name), radius, cant, speed, deficiency, float(share), line)
 
 
