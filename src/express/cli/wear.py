@@ -11,7 +11,7 @@ from pathlib import Path
 from express.base.diagnostics import UsageError
 from express.cli import common
 
-__all__ = ["add_parser", "main", "run"]
+__all__ = ["add_parser", "run"]
 
 DISTANCE = common.Quantity("--distance", "length", "km", 0.0, 1e7, open_low=True)
 BOUND = common.Quantity("--step-bound", "length", "mm", 1e-4, 5.0)
@@ -89,11 +89,3 @@ def run(model: Path, overrides: dict[str, str], *, route: Path, distance: float,
           f"Sh {result.rows[0]['flange_height'] * 1e3:.2f} -> {last['flange_height'] * 1e3:.2f} mm; wrote {output}")
     return 0
 
-
-def main(argv: list[str] | None = None) -> int:
-    """``express wear ARGS``: :func:`express.cli.main` with this command."""
-    import sys
-
-    from express.cli import main as express_main
-
-    return express_main(["wear", *(sys.argv[1:] if argv is None else argv)])
