@@ -48,14 +48,16 @@ def add_parser(subparsers) -> None:
 def run(model: Path, overrides: dict[str, str], *, route: Path, distance: float, output: Path, step_bound: float,
         smoothing: float, workers: int | None = None, stop_after: int | None = None, no_figures: bool = False) -> int:
     """Read the route, check everything, then step (resuming a checkpoint); exit status."""
+    from express.analysis.wear.route import read_route  # a bad route is refused before the heavy imports
+
+    read = read_route(route)
     from express.analysis.curving.steady import CurveError
     from express.analysis.wear.prediction import WearSettings, predict_wear, prediction_identity
-    from express.analysis.wear.route import read_route, route_problems
+    from express.analysis.wear.route import route_problems
     from express.base.diagnostics import AnalysisError, ModelError
     from express.io.output import check_destination
     from express.model.parameters import expression_value
 
-    read = read_route(route)
     if output.exists() and not output.is_dir():
         raise UsageError(f"-o {output}: not a directory")
     for name in ("wear.csv", "checkpoint.json"):
