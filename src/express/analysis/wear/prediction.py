@@ -232,6 +232,8 @@ def predict_wear(vehicle: VehicleModel, route: Route, speeds: Sequence[float | N
         Output directory: ``profiles/wheel-NNN.csv``, ``wear.csv``, ``wear.png``,
         ``profiles.png`` and the checkpoint; an existing checkpoint of the same
         ``identity`` (:func:`prediction_identity`) is resumed.
+    identity : dict
+        What the checkpoint must match (:func:`prediction_identity`).
     settings : WearSettings, optional
     workers : int
         Processes the cases of a step run on (1: this process).
