@@ -23,66 +23,14 @@ Examples
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
+from express.export.plant import LinearSystem, check_speed, linear_system
 from express.numeric.statespace import VehicleModel
 
 __all__ = ["LinearSystem", "linear_system", "numeric_matrices", "to_control", "to_scipy"]
-
-
-@dataclass(frozen=True)
-class LinearSystem:
-    """A standard state space ``z' = A z + B u``, ``y = C z + D u`` with names.
-
-    Attributes
-    ----------
-    A, B, C, D : numpy.ndarray
-        Shapes (s, s), (s, m), (p, s), (p, m): (2n, 2n), (2n, m), (2n, 2n), (2n, m) for
-        every DOF and rate out and every model input in.
-    states, inputs, outputs : tuple of str
-        Names: outputs are the DOFs then their rates (``W1.y``, ..., ``W1.y_dot``);
-        the states carry the same names (the state equals the output when ``u = 0``).
-    speed : float
-        Speed the matrices were evaluated at [m/s].
-    """
-
-    A: np.ndarray
-    B: np.ndarray
-    C: np.ndarray
-    D: np.ndarray
-    states: tuple[str, ...]
-    inputs: tuple[str, ...]
-    outputs: tuple[str, ...]
-    speed: float
-
-
-def linear_system(vehicle: VehicleModel, speed: float) -> LinearSystem:
-    """The vehicle's linear model at ``speed`` [m/s] with the input rates removed.
-
-    Raises
-    ------
-    ValueError
-        If ``speed`` is not a positive finite number.
-    """
-    _check_speed(speed)
-    a = vehicle.state_matrix(speed)
-    b = vehicle.input_matrix(speed)
-    bd = vehicle.input_rate_matrix(speed)
-    # state [q; q_D'] (express.assembly.first_order): series elements' strokes have no rate state
-    names = tuple(vehicle.dofs) + tuple(f"{vehicle.dofs[i]}_dot" for i in vehicle.form.massive)
-    return LinearSystem(
-        A=a,
-        B=b + a @ bd,
-        C=np.eye(a.shape[0]),
-        D=bd.copy(),
-        states=names,
-        inputs=tuple(vehicle.inputs),
-        outputs=names,
-        speed=float(speed),
-    )
 
 
 def _chosen(vehicle: VehicleModel, speed: float, outputs, track: bool, pade_order: int) -> LinearSystem:
@@ -158,7 +106,7 @@ def numeric_matrices(vehicle: VehicleModel, speed: float) -> dict[str, Any]:
     Keys: ``M, C, K, P, Pd`` (the vehicle's equations), ``A, B, Bd`` (state space with
     input rates), ``speed`` [m/s], ``dofs`` and ``inputs`` (names).
     """
-    _check_speed(speed)
+    check_speed(speed)
     return {  # A as in linear_system, without its B + A Bd product and identity C (a long train's are dense)
         "M": vehicle.mass,
         "C": vehicle.damping(speed),
@@ -172,8 +120,3 @@ def numeric_matrices(vehicle: VehicleModel, speed: float) -> dict[str, Any]:
         "dofs": np.array(vehicle.dofs, dtype=str),
         "inputs": np.array(vehicle.inputs, dtype=str),
     }
-
-
-def _check_speed(speed: float) -> None:
-    if not (np.isfinite(speed) and speed > 0):
-        raise ValueError(f"speed {speed!r}: must be a positive number of m/s")

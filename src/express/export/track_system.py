@@ -27,7 +27,7 @@ from math import factorial
 import numpy as np
 
 from express.base.diagnostics import ArgumentError
-from express.export.linear_system import LinearSystem, linear_system
+from express.export.plant import LinearSystem, linear_system
 from express.numeric.statespace import VehicleModel
 
 __all__ = ["ALIGNMENT", "output_rows", "pade_delay", "track_response", "track_system"]
