@@ -186,3 +186,23 @@ def test_step_size_convergence_and_the_volume(runs):
         for row in run.rows:
             assert row["worn_volume"] == pytest.approx(row["profile_volume"], rel=1e-12, abs=1e-18)
             assert row["largest_change"] <= run.rows[1]["largest_change"] * (1 + 1e-12)
+
+
+@pytest.mark.slow
+def test_a_curve_without_an_equilibrium_wears_as_the_settled_run_into_it():
+    """Where the worn profile gives a curve no equilibrium, a case wears as the time run
+    into it (``express.analysis.curving.settled``), each instant of its last 100 m an
+    equal share of the metre: on a curve that has one (R 400 m, 95 km/h) the settled run
+    wears the profile as the equilibrium does, to 1e-5 of the largest depth (achieved
+    3.5e-7; the total 1.9e-7)."""
+    from express.analysis.curving.settled import settled_curving
+    from express.analysis.curving.steady import SteadyCurve, SteadyCurvingSolver
+    from express.analysis.wear.cases import case_depth, initial_grid
+    from express.numeric.statespace import load_vehicle
+
+    car = load_vehicle("examples/manchester-s1002.toml")
+    grid = initial_grid(car, 0.5e-3)
+    curve = SteadyCurve(400.0, 0.150, "right")
+    steady, _ = case_depth(car, grid, [SteadyCurvingSolver(car, 95 / 3.6).solve(curve)])
+    settled, _ = case_depth(car, grid, [settled_curving(car, curve, 95 / 3.6, "a check")])
+    assert np.abs(settled - steady).max() < 1e-5 * np.abs(steady).max()

@@ -14,10 +14,11 @@ for a settled run). The run's step is the given one (``simulate``'s default 5 ms
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field, fields, replace
 
 import numpy as np
 
+from express.analysis.curving.outputs import WheelRailOutputs
 from express.analysis.curving.steady import NoSteadyStateError, SteadyCurve, SteadyCurving, SteadyCurvingSolver
 from express.base.diagnostics import AnalysisError
 
@@ -55,6 +56,9 @@ class SettledCurving:
         The leading wheelset's distance at its start and end [m].
     dt : float
         The run's step [s].
+    wheel_rail : WheelRailOutputs, optional
+        The wheel/rail outputs of the window's instants (for the wear of a route's case,
+        :mod:`express.analysis.wear.cases`).
     """
 
     curve: SteadyCurve
@@ -64,6 +68,7 @@ class SettledCurving:
     amplitude: dict[str, float]
     window: tuple[float, float]
     dt: float
+    wheel_rail: WheelRailOutputs | None = field(default=None, repr=False, compare=False)
 
     @property
     def settled(self) -> bool:
@@ -137,7 +142,15 @@ def settled_curving(vehicle, curve: SteadyCurve, speed: float, reason: str, *, d
     columns = outputs.columns()
     mean = {name: float(np.mean(values[inside])) for name, values in columns.items() if not name.startswith("flanging")}
     amplitude = {name: float(np.ptp(columns[name][inside]) / 2) for name in mean}
-    return SettledCurving(curve, float(speed), reason, mean, amplitude, (end - WINDOW, end), float(run.options["dt"]))
+    return SettledCurving(curve, float(speed), reason, mean, amplitude, (end - WINDOW, end), float(run.options["dt"]),
+                          _window(outputs, inside))
+
+
+def _window(outputs: WheelRailOutputs, inside: np.ndarray) -> WheelRailOutputs:
+    """``outputs`` at the instants ``inside`` only."""
+    changes = {f.name: getattr(outputs, f.name)[inside] for f in fields(outputs)
+               if isinstance(getattr(outputs, f.name), np.ndarray) and f.name != "static_load"}
+    return replace(outputs, **changes)
 
 
 def curving_or_settled(vehicle, curves, speeds,

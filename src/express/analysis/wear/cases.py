@@ -115,8 +115,10 @@ def with_wheel_profile(vehicle: VehicleModel, path: str | Path) -> VehicleModel:
 def case_depth(vehicle: VehicleModel, grid: ProfileGrid, results: list) -> tuple[np.ndarray, dict[str, float]]:
     """The depth worn off ``grid``'s cells per metre run [m/m] by the steady states
     ``results`` (:class:`~express.analysis.curving.steady.SteadyCurving` of one case, or
-    none for straight track), the mean over all wheels, and the case's largest Tγ [N]
-    and whether a wheel is in flange contact."""
+    none for straight track; where the curve has no equilibrium, the settled time run
+    into it, :class:`~express.analysis.curving.settled.SettledCurving`, its window's
+    instants each standing for an equal share of the metre), the mean over all wheels,
+    and the case's largest Tγ [N] and whether a wheel is in flange contact."""
     from express.rail.profile_contact import wheelset_contacts
 
     depth = np.zeros(grid.z.size)
@@ -127,6 +129,7 @@ def case_depth(vehicle: VehicleModel, grid: ProfileGrid, results: list) -> tuple
     count = 0
     for result in results:
         out = result.wheel_rail
+        rolled = 1.0 / out.vertical_load.shape[0]  # [m] per instant: a steady state is one instant
         if out.frictional_power is None or out.wheel_position is None or out.patch_semi_b is None:
             raise ArgumentError("the steady state has no contact tables' record (the wear needs the profiles' contact)")
         for j, contact in enumerate(tables):
@@ -136,7 +139,7 @@ def case_depth(vehicle: VehicleModel, grid: ProfileGrid, results: list) -> tuple
                 centre = float(np.interp(0.0, table.y, table.data[ARM, side])) - table.setup.tapeline_half_distance
                 semi_b = out.patch_semi_b[:, j, side] * np.cos(out.contact_angle[:, j, side])
                 depth += usfd_profile_wear(grid.edges, centre + out.wheel_position[:, j, side], semi_b,
-                                           out.frictional_power[:, j, side], out.patch_area[:, j, side], 1.0,
+                                           out.frictional_power[:, j, side], out.patch_area[:, j, side], rolled,
                                            radius=vehicle.wheelsets[j].r0)
                 count += 1
         summary["Tgamma_max"] = max(summary["Tgamma_max"], float(np.max(out.frictional_power)))

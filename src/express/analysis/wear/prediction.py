@@ -101,7 +101,8 @@ def _worn_vehicle(path: str) -> tuple[VehicleModel, dict]:
 
 def _case(task: tuple) -> tuple[np.ndarray, dict[str, float]]:
     """The depth per metre of one case (:func:`express.analysis.wear.cases.case_depth`)."""
-    from express.analysis.curving.steady import SteadyCurve, SteadyCurvingSolver
+    from express.analysis.curving.settled import settled_curving
+    from express.analysis.curving.steady import NoSteadyStateError, SteadyCurve, SteadyCurvingSolver
 
     path, grid, radius, cant, speed, creep_law = task
     vehicle, solvers = _worn_vehicle(path)
@@ -110,7 +111,13 @@ def _case(task: tuple) -> tuple[np.ndarray, dict[str, float]]:
     solver = solvers.get(speed)
     if solver is None:
         solver = solvers[speed] = SteadyCurvingSolver(vehicle, speed, creep_law=creep_law)
-    return case_depth(vehicle, grid, [solver.solve(SteadyCurve(radius, cant, "right"))])
+    curve = SteadyCurve(radius, cant, "right")
+    try:
+        state = solver.solve(curve)
+    except NoSteadyStateError as error:  # the worn profile may have none: the vehicle run into the curve instead
+        return case_depth(vehicle, grid, [settled_curving(vehicle, curve, speed, f"no equilibrium found ({error})",
+                                                          creep_law=creep_law)])
+    return case_depth(vehicle, grid, [state])
 
 
 class _Cases:
