@@ -258,7 +258,7 @@ frf_points = 600
     data = run_json(capsys, "study", study, "-o", results, "--workers", "1", "--no-cache")
     assert data
     with results.open(encoding="utf-8") as handle:
-        rows = [row for row in csv.DictReader(line for line in handle if not line.startswith("#"))]
+        rows = list(csv.DictReader(line for line in handle if not line.startswith("#")))
     assert [float(row["CB_vb1_w"]) for row in rows] == [53.0, 56.0, 59.0]
     vehicle = load_vehicle(FLEXIBLE)
     peaks = []
