@@ -16,7 +16,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, replace
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -345,11 +345,13 @@ def _beam_curves(model: Model, body: str, value: Callable[[object], float]) -> d
     node = next((d for d in model.derivations if d.kind == BEAM_DERIVATION and d.item == f"flexible {body} beam"), None)
     if node is None:
         return {}
-    arguments = {name: float(value(expression)) for name, expression, _ in node.inputs if not name.startswith(STATION)}
+    arguments: dict[str, Any] = {name: float(value(expression)) for name, expression, _ in node.inputs
+                                 if not name.startswith(STATION)}
     length = arguments["length"]
     stations = np.linspace(-length / 2, length / 2, SAMPLES)
-    results = free_free_beam(**arguments, **dict(node.settings),
-                             **{f"{STATION}s{k}": float(x) for k, x in enumerate(stations)})
+    arguments.update(dict(node.settings))
+    arguments.update({f"{STATION}s{k}": float(x) for k, x in enumerate(stations)})
+    results = free_free_beam(**arguments)
     curves: dict[str, list[tuple[float, float]]] = {}
     for key, number in results.items():
         name, _, where = key.rpartition("_")
