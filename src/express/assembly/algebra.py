@@ -13,6 +13,7 @@ the rational content and common monomial are pulled out and the rest factored,
 from __future__ import annotations
 
 from collections.abc import Iterable
+from typing import Any
 
 import sympy as sp
 from sympy import QQ
@@ -125,7 +126,7 @@ def _split(polynomial, separate: tuple[int, ...]):
     and ``b`` in the others, both not constant; None when the polynomial is not such a
     product (exact: every group of terms with the same ``separate`` exponents must be the
     same polynomial of the others up to a rational factor)."""
-    groups: dict[tuple, dict[tuple, object]] = {}
+    groups: dict[tuple, dict[tuple, Any]] = {}
     for monomial, coefficient in polynomial.terms():
         key = tuple(monomial[i] for i in separate)
         rest = tuple(0 if i in separate else e for i, e in enumerate(monomial))
