@@ -10,7 +10,8 @@ Run from the repository root::
 The coach is ``examples/manchester-flexible.toml`` with 4 vertical bending and 2 torsion
 modes (6 modes), and the same file without its ``[flexible]`` section (rigid).  Everything
 runs on ONE core (BLAS/OpenMP thread counts set to 1 before NumPy is imported, unless set).
-Medians of ``--runs`` runs after one warm-up, in one process:
+Medians of ``--runs`` runs after one warm-up, in one process, the rigid and the flexible
+coach's runs alternating (so that a change of the shared machine's load hits both):
 
 1. the symbolic generation (``generate_vehicle``): readable (factored, as ``express
    generate`` writes it) and expanded (``readable=False``, what every numerical command
@@ -54,16 +55,6 @@ def variants(folder: Path) -> dict[str, Path]:
     return paths
 
 
-def median_time(function, runs: int) -> float:
-    function()  # warm-up
-    times = []
-    for _ in range(runs):
-        start = time.perf_counter()
-        function()
-        times.append(time.perf_counter() - start)
-    return statistics.median(times)
-
-
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--runs", type=int, default=5)
@@ -76,19 +67,28 @@ def main(argv=None) -> int:
 
     spectra = track_class_spectra("ERRI-high")
     frequencies = np.logspace(-1, np.log10(50), 2000)
-    times: dict[str, dict[str, float]] = {}
     with tempfile.TemporaryDirectory() as folder:
-        for name, path in variants(Path(folder)).items():
-            model = read_toml_model(path)
-            vehicle = load_vehicle(path)
-            times[name] = {
-                "generate": median_time(lambda model=model: generate_vehicle(model), args.runs),
-                "expanded": median_time(lambda model=model: generate_vehicle(model, readable=False), args.runs),
-                "ride": median_time(lambda vehicle=vehicle: ride_response(vehicle, spectra, 160 / 3.6, frequencies),
-                                    args.runs),
-            }
-            print(f"{name:9s} {len(vehicle.dofs):3d} coordinates: generate {times[name]['generate']:.3f} s "
-                  f"(expanded {times[name]['expanded']:.3f} s), ride {times[name]['ride']:.3f} s")
+        paths = variants(Path(folder))
+        models = {name: read_toml_model(path) for name, path in paths.items()}
+        vehicles = {name: load_vehicle(path) for name, path in paths.items()}
+        tasks = {
+            "generate": lambda name: generate_vehicle(models[name]),
+            "expanded": lambda name: generate_vehicle(models[name], readable=False),
+            "ride": lambda name: ride_response(vehicles[name], spectra, 160 / 3.6, frequencies),
+        }
+        samples: dict[str, dict[str, list[float]]] = {name: {task: [] for task in tasks} for name in paths}
+        for task, function in tasks.items():  # rigid and flexible alternate: a change of load hits both
+            for name in paths:
+                function(name)  # warm-up
+            for _ in range(args.runs):
+                for name in paths:
+                    start = time.perf_counter()
+                    function(name)
+                    samples[name][task].append(time.perf_counter() - start)
+    times = {name: {task: statistics.median(values) for task, values in by_task.items()} for name, by_task in samples.items()}
+    for name in paths:
+        print(f"{name:9s} {len(vehicles[name].dofs):3d} coordinates: generate {times[name]['generate']:.3f} s "
+              f"(expanded {times[name]['expanded']:.3f} s), ride {times[name]['ride']:.3f} s")
     generate_ratio = times["flexible"]["generate"] / times["rigid"]["generate"]
     expanded_ratio = times["flexible"]["expanded"] / times["rigid"]["expanded"]
     ride_ratio = times["flexible"]["ride"] / times["rigid"]["ride"]

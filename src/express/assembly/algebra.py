@@ -13,6 +13,7 @@ the rational content and common monomial are pulled out and the rest factored,
 from __future__ import annotations
 
 from collections.abc import Iterable
+from typing import Any
 
 import sympy as sp
 from sympy import QQ
@@ -54,9 +55,15 @@ class ExactDomain:
         Parameters that are divided by (``v`` in ``f/v``): in the ring their inverses
         are further generators (Laurent polynomials), which keeps ring speed for the
         common case of single-parameter divisors.
+    separate : iterable of sympy.Symbol
+        Parameters whose part of an entry :meth:`readable` splits off before factoring
+        when the entry is a product of a polynomial in them and one in the others (a
+        flexible body's mode shapes: ``phi_1 phi_2 (2 kz2 + ...)``): the other part,
+        the same for every mode, is factored once.
     """
 
-    def __init__(self, symbols: Iterable[sp.Symbol], fractions: bool = False, inverses: Iterable[sp.Symbol] = ()):
+    def __init__(self, symbols: Iterable[sp.Symbol], fractions: bool = False, inverses: Iterable[sp.Symbol] = (),
+                 separate: Iterable[sp.Symbol] = ()):
         self.symbols = tuple(sorted(set(symbols), key=lambda s: s.name))
         self.fractions = fractions
         inverses = () if fractions else tuple(sorted(set(inverses), key=lambda s: s.name))
@@ -72,6 +79,8 @@ class ExactDomain:
         self.one = self.domain.one
         self._from_cache: dict[sp.Expr, object] = {}
         self._readable_cache: dict[object, sp.Expr] = {}
+        apart = set(separate)
+        self._separate = tuple(i for i, g in enumerate(gens) if g in apart) if not fractions else ()
 
     def from_expr(self, expression: sp.Expr):
         """Convert a SymPy expression of the parameters into the domain."""
@@ -99,7 +108,10 @@ class ExactDomain:
         cached = self._readable_cache.get(key)
         if cached is not None:
             return cached
-        if self.fractions:
+        split = _split(element, self._separate) if self._separate else None
+        if split is not None:
+            result = self.readable(split[0]) * self.readable(split[1])
+        elif self.fractions:
             numerator = _readable_polynomial(element.numer)
             denominator = _readable_polynomial(element.denom)
             result = numerator / denominator
@@ -107,6 +119,39 @@ class ExactDomain:
             result = _readable_polynomial(element).xreplace(self._restore)
         self._readable_cache[key] = result
         return result
+
+
+def _split(polynomial, separate: tuple[int, ...]):
+    """``(a, b)`` with ``polynomial == a * b``, ``a`` in the generators ``separate`` only
+    and ``b`` in the others, both not constant; None when the polynomial is not such a
+    product (exact: every group of terms with the same ``separate`` exponents must be the
+    same polynomial of the others up to a rational factor)."""
+    groups: dict[tuple, dict[tuple, Any]] = {}
+    for monomial, coefficient in polynomial.terms():
+        key = tuple(monomial[i] for i in separate)
+        rest = tuple(0 if i in separate else e for i, e in enumerate(monomial))
+        groups.setdefault(key, {})[rest] = coefficient
+    if len(groups) == 1 and next(iter(groups)) == (0,) * len(separate):
+        return None  # no separate generator in it
+    first = next(iter(groups.values()))
+    anchor, value = next(iter(first.items()))
+    ratios = {}
+    for key, group in groups.items():
+        if group.keys() != first.keys():
+            return None
+        ratio = group[anchor] / value
+        if any(group[m] != ratio * c for m, c in first.items()):
+            return None
+        ratios[key] = ratio
+    ring_ = polynomial.ring
+    width = ring_.ngens
+    shape = {tuple(key[separate.index(i)] if i in separate else 0 for i in range(width)): r for key, r in ratios.items()}
+    a, b = ring_.from_dict(shape), ring_.from_dict(first)
+    if len(a.terms()) == 1 and len(b.terms()) == 1:
+        return None  # a monomial: nothing to gain
+    if a.is_ground or b.is_ground:
+        return None
+    return a, b
 
 
 #: Polynomials with more terms are not fully factored (only their rational content and

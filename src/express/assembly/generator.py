@@ -287,8 +287,10 @@ def generate(
     symbols = set().union(*(sp.sympify(e).free_symbols for e in expressions)) if expressions else set()
     inverses = inverted_symbols(expressions)
     fractions = inverses is None
+    shapes = {value for flexible in getattr(model, "flexible", ()) for mode in flexible.modes
+              for _, value in mode.shapes if isinstance(value, sp.Symbol)}  # factored apart (algebra.ExactDomain)
     try:
-        return _generate(model, keep_virtual, added, ExactDomain(symbols, fractions, inverses or ()), readable)
+        return _generate(model, keep_virtual, added, ExactDomain(symbols, fractions, inverses or (), shapes), readable)
     except _NeedsFractionsError:
         return _generate(model, keep_virtual, added, ExactDomain(symbols, True), readable)
 

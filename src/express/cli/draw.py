@@ -19,10 +19,13 @@ def add_parser(subparsers) -> None:
     common.add_model_arguments(parser)
     parser.add_argument("-o", "--output", type=common.figure_path, required=True, metavar="FILE",
                         help="figure file (.svg, .png or .pdf)")
+    parser.add_argument("--mode", metavar="BODY.MODE",
+                        help="a flexible body's mode, e.g. CB.vb1: the body drawn deformed by that free-free mode "
+                        "over the undeformed model (docs/model-format.md, 'Flexible bodies')")
     parser.set_defaults(handler=run)
 
 
-def run(model: Path, overrides: dict[str, str], *, output: Path) -> int:
+def run(model: Path, overrides: dict[str, str], *, output: Path, mode: str | None = None) -> int:
     """Draw the model to ``output``; returns the exit status."""
     from express.analysis.plots import save_figure
     from express.drawing.views import figure_model
@@ -31,7 +34,16 @@ def run(model: Path, overrides: dict[str, str], *, output: Path) -> int:
     with output_transaction(inputs=[model]) as outputs:
         outputs.declare(output, binary=True)
         geometry = _geometry(model, overrides)
-        if Path(output).suffix.lower() == ".svg":  # with each element's name and values as a tooltip
+        if mode is not None:
+            from express.base.diagnostics import ArgumentError, UsageError
+            from express.drawing.modes import figure_flexible_mode
+
+            try:
+                figure = figure_flexible_mode(geometry, mode)
+            except ArgumentError as error:
+                raise UsageError(str(error)) from None
+            save_figure(figure, output)
+        elif Path(output).suffix.lower() == ".svg":  # with each element's name and values as a tooltip
             from express.drawing.views import svg_with_tooltips
             from express.io.output import write_text
 

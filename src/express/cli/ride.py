@@ -50,6 +50,9 @@ def add_parser(subparsers) -> None:
                         help=f"number of frequencies, log-spaced; 16 <= --points <= {MAX_POINTS}; default 2000")
     parser.add_argument("-o", "--output", metavar="FILE", help="the PSDs as CSV, units in the header (- for standard output)")
     parser.add_argument("--plot", type=common.figure_path, metavar="FILE", help="acceleration PSDs with weighted curves (.png, .svg or .pdf)")
+    parser.add_argument("--modes-convergence", action="store_true",
+                        help="with flexible bodies: the floor RMS and N_MV with 0, 1, ... of their modes kept, "
+                        "by frequency (a dropped mode's shapes set to zero; docs/ride.md, 'How many modes')")
     common.add_json_option(parser)
     parser.set_defaults(handler=run, numeric=True)
 
@@ -57,11 +60,17 @@ def add_parser(subparsers) -> None:
 def run(
     model: Path, overrides: dict[str, str], *, track: str, speed: float | None = None, fmin: float = 0.1,
     fmax: float = 50.0, points: int = 2000, output: str | None = None, plot: Path | None = None,
-    as_json: bool = False,
+    as_json: bool = False, modes_convergence: bool = False,
 ) -> int:
     """Compute the response and write the outputs all together; returns the exit status."""
     import numpy as np
 
+    if modes_convergence:
+        if output is not None or plot is not None:
+            raise UsageError("--modes-convergence prints a table (or --json); -o and --plot go without it")
+        if not fmax > fmin:
+            raise UsageError(f"--fmax {fmax:g} Hz: must be above --fmin {fmin:g} Hz")
+        return _modes_convergence(model, overrides, track, speed, np.geomspace(fmin, fmax, points), as_json)
     from express.analysis.ride.summaries import point_comfort, wheel_forces
     from express.analysis.ride.vehicle import ride_response
     from express.io.finite import require_finite
@@ -97,6 +106,38 @@ def run(
         _print_table(vehicle.equations.name, summary, sys.stderr if output == "-" else sys.stdout)
     for line in summary["notes"]:
         common.note(f"note: {line}")
+    return 0
+
+
+def _modes_convergence(model: Path, overrides: dict[str, str], track: str, speed: float | None, frequencies: Any,
+                       as_json: bool) -> int:
+    """``--modes-convergence``: the comfort with 0, 1, ... modes kept
+    (:func:`express.analysis.ride.mode_count.mode_count_convergence`)."""
+    from express.analysis.ride.mode_count import mode_count_convergence
+    from express.base.diagnostics import ArgumentError
+
+    spectra, track_name = _spectra(track, _is_table(track))
+    vehicle = common.load_rail_vehicle(model, overrides, "ride")
+    v = common.running_speed(vehicle, speed)
+    try:
+        steps = mode_count_convergence(vehicle, spectra, v, frequencies)
+    except ArgumentError as error:
+        raise UsageError(f"--modes-convergence: {error}") from None
+    if as_json:
+        common.print_json({"model": str(model), "track": track_name, "speed": v, "speed_kmh": v / common.KMH,
+                           "frequency_band_hz": [float(frequencies[0]), float(frequencies[-1])],
+                           "steps": [step.as_dict() for step in steps],
+                           "units": {"rms": "m/s^2", "weighted_rms": "m/s^2", "frequency_hz": "Hz"}})
+        return 0
+    points = list(steps[0].comfort)
+    print(f"{vehicle.equations.name}: ride against the flexible modes kept (by frequency), track {track_name} at "
+          f"{v / common.KMH:.1f} km/h, {frequencies[0]:g}-{frequencies[-1]:g} Hz ({len(frequencies)} points)")
+    print(f"  {'modes kept':<50}" + "".join(f" {p[:19]:>19}" for p in points))
+    print(f"  {'':<50}" + "".join(f" {'a_z rms':>10} {'N_MV':>8}" for _ in points) + "   (m/s^2)")
+    for step in steps:
+        added = "0  rigid" if step.added is None else f"{step.count}  + {step.label} ({step.frequency_hz:.2f} Hz)"
+        cells = "".join(f" {step.comfort[p].rms.get('z', float('nan')):10.5f} {step.comfort[p].n_mv:8.4f}" for p in points)
+        print(f"  {added:<50}{cells}")
     return 0
 
 

@@ -7,14 +7,16 @@ in metres: the caller turns parameter expressions into numbers (``value``).
 
 :func:`displaced_geometry` moves the same geometry by a set of DOF values with the
 small-motion kinematics of ``docs/conventions.md`` (``u = t + theta x r``), which is
-what a mode-shape drawing needs.
+what a mode-shape drawing needs; a flexible body's modes (:class:`DrawnMode`) move its
+points by their shape values and bend its outline (:attr:`DrawnBody.bend`).
 """
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, replace
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -24,8 +26,18 @@ if TYPE_CHECKING:  # the records hold SymPy expressions: a drawing read from the
     from express.model.records import Model
 
 __all__ = [
-    "DrawnBody", "DrawnElement", "ModelGeometry", "displaced_geometry", "estimated_outline", "model_geometry",
-    "point_displacement", "points_by_host",
+    "DrawnBody",
+    "DrawnElement",
+    "DrawnMode",
+    "ModelGeometry",
+    "displaced_geometry",
+    "drawn_modes",
+    "estimated_outline",
+    "modal_bends",
+    "modal_offsets",
+    "model_geometry",
+    "point_displacement",
+    "points_by_host",
 ]
 
 Vector = tuple[float, float, float]
@@ -39,7 +51,9 @@ class DrawnBody:
     its centre (:func:`estimated_outline`), None to draw the box of its points; a
     wheelset has its rolling ``radius`` and half distance ``gauge_half`` between the
     contact points [m] (its wheels are drawn as circles); ``turn`` its small rotation
-    (rx, ry, rz) [rad] in a displaced drawing.
+    (rx, ry, rz) [rad] in a displaced drawing; ``bend`` a flexible body's deflection by its
+    modes in a displaced drawing, ``(lx, u_y, u_z)`` [m] samples along it (``lx`` from its
+    centre), its outline drawn bent through them.
     """
 
     id: str
@@ -51,6 +65,7 @@ class DrawnBody:
     radius: float | None = None
     gauge_half: float | None = None
     turn: Vector = (0.0, 0.0, 0.0)
+    bend: tuple[Vector, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -68,6 +83,26 @@ class DrawnElement:
 
 
 @dataclass(frozen=True)
+class DrawnMode:
+    """A flexible body's mass-normalised mode (:mod:`express.model.modal_body`) for drawing.
+
+    ``coordinate`` is the modal DOF (``CB.vb1``), ``kind`` ``"vertical"``, ``"lateral"`` or
+    ``"torsion"``; ``points`` the shape value at each drawn point of the body and ``curve``
+    ``(lx, value)`` samples along it [m; 1/sqrt(kg), or rad/(sqrt(kg) m) for torsion]: the
+    beam's closed form, else the values at its points joined by straight lines;
+    ``label`` (``"car body first vertical bending"``) and ``frequency_hz`` (free-free).
+    """
+
+    coordinate: str
+    body: str
+    kind: str
+    points: tuple[tuple[str, float], ...]
+    curve: tuple[tuple[float, float], ...]
+    label: str = ""
+    frequency_hz: float = 0.0
+
+
+@dataclass(frozen=True)
 class ModelGeometry:
     """Bodies, points, elements and pins of a model in metres.
 
@@ -82,6 +117,7 @@ class ModelGeometry:
     elements: tuple[DrawnElement, ...]
     pins: tuple[tuple[str, str], ...]
     ground_points: tuple[str, ...] = ()
+    modes: tuple[DrawnMode, ...] = ()
 
     def ends(self, element: DrawnElement) -> tuple[Vector, Vector]:
         """Positions of an element's two points [m]."""
@@ -225,8 +261,11 @@ def model_geometry(model: Model, value: Callable[[object], float], roles: Mappin
     pins = tuple((pin.id, pin.virtual) for pin in model.pins if pin.virtual in points)
     grounds = {ground.id for ground in model.grounds}
     _place_unplaced_ground_points(model, points, grounds)
+    modes: tuple[DrawnMode, ...] = ()
+    if getattr(model, "flexible", ()):
+        modes = drawn_modes(model, value, centres, points)
     return ModelGeometry(model.name, tuple(bodies), points, hosts, elements, pins,
-                         tuple(p for p, host in hosts.items() if host in grounds))
+                         tuple(p for p, host in hosts.items() if host in grounds), modes)
 
 
 def points_by_host(hosts: Mapping[str, str]) -> dict[str, list[str]]:
@@ -264,23 +303,123 @@ def point_displacement(offset: Vector, dofs: Mapping[str, float], body: str) -> 
 
 
 def displaced_geometry(geometry: ModelGeometry, dofs: Mapping[str, float]) -> ModelGeometry:
-    """``geometry`` with every body moved by its DOF values (small motion)."""
+    """``geometry`` with every body moved by its DOF values (small motion), a flexible
+    body's points also by ``sum_i phi_i(P) q_i`` and its outline bent by its modes."""
     centres = {body.id: np.asarray(body.centre) for body in geometry.bodies}
+    modal = modal_offsets(geometry, dofs) if geometry.modes else {}
     points = {}
     for point, position in geometry.points.items():
         host = geometry.hosts[point]
         if host in centres:
             offset = tuple(np.asarray(position) - centres[host])
-            points[point] = tuple(np.asarray(position) + point_displacement(offset, dofs, host))
+            moved = np.asarray(position) + point_displacement(offset, dofs, host)
+            points[point] = tuple(moved + modal[point]) if point in modal else tuple(moved)
         else:
             points[point] = position
     bodies = []
     hosted = points_by_host(geometry.hosts)
+    bends = modal_bends(geometry, dofs) if geometry.modes else {}
     for body in geometry.bodies:
         moved = np.asarray(body.centre) + point_displacement((0.0, 0.0, 0.0), dofs, body.id)
         own = np.array([moved] + [points[p] for p in hosted.get(body.id, ())])
         turn: Vector = (float(dofs.get(f"{body.id}.rx", 0.0)), float(dofs.get(f"{body.id}.ry", 0.0)),
                         float(dofs.get(f"{body.id}.rz", 0.0)))
         bodies.append(replace(body, centre=tuple(moved), low=tuple(own.min(axis=0)), high=tuple(own.max(axis=0)),
-                              turn=turn))
+                              turn=turn, bend=bends.get(body.id, ())))
     return replace(geometry, bodies=tuple(bodies), points=points)
+
+
+# --- flexible bodies: their modes move their points and bend their outline -----------------
+# (a vertical mode moves a point along z by phi q, a lateral one along y, a torsion mode turns
+# the section: u_y = -psi lz q, u_z = psi ly q; express.model.modal_body.modal_motion)
+
+#: Stations along a beam at which its modes are sampled for the bent outline.
+SAMPLES = 41
+
+
+def _beam_curves(model: Model, body: str, value: Callable[[object], float]) -> dict[str, list[tuple[float, float]]]:
+    """``mode name -> [(lx, value)]`` of the beam of ``body`` at :data:`SAMPLES` stations
+    (empty when the body's modes do not come from a beam)."""
+    from express.model.beam_modes import BEAM_DERIVATION, STATION, free_free_beam
+
+    node = next((d for d in model.derivations if d.kind == BEAM_DERIVATION and d.item == f"flexible {body} beam"), None)
+    if node is None:
+        return {}
+    arguments: dict[str, Any] = {name: float(value(expression)) for name, expression, _ in node.inputs
+                                 if not name.startswith(STATION)}
+    length = arguments["length"]
+    stations = np.linspace(-length / 2, length / 2, SAMPLES)
+    arguments.update(dict(node.settings))
+    arguments.update({f"{STATION}s{k}": float(x) for k, x in enumerate(stations)})
+    results = free_free_beam(**arguments)
+    curves: dict[str, list[tuple[float, float]]] = {}
+    for key, number in results.items():
+        name, _, where = key.rpartition("_")
+        if where.startswith("s") and where[1:].isdigit():
+            curves.setdefault(name, []).append((float(stations[int(where[1:])]), float(number)))
+    return curves
+
+
+def drawn_modes(model: Model, value: Callable[[object], float], centres: Mapping[str, Vector],
+                points: Mapping[str, Vector]) -> tuple[DrawnMode, ...]:
+    """The modes of every flexible body of ``model`` at its values (``value`` turns an
+    expression into a number; ``centres`` and ``points`` are the drawing's positions [m])."""
+    from express.model.modal_body import mode_words
+
+    stations = {p.id: float(points[p.id][0] - centres[p.host][0]) for p in model.points if p.id in points and p.host in centres}
+    if model.rail is not None:
+        stations.update({o.name: float(value(o.offset[0])) for o in model.rail.outputs})
+    labels = {body.id: body.label or body.id for body in model.bodies}
+    found = []
+    for flexible in model.flexible:
+        curves = _beam_curves(model, flexible.body, value)
+        for mode in flexible.modes:
+            shapes = {point: float(value(shape)) for point, shape in mode.shapes}
+            drawn = tuple((p, v) for p, v in shapes.items() if p in points)
+            curve = curves.get(mode.name) or sorted({(stations[p], v) for p, v in shapes.items() if p in stations})
+            found.append(DrawnMode(f"{flexible.body}.{mode.name}", flexible.body, mode.kind.value, drawn, tuple(curve),
+                                   f"{labels.get(flexible.body, flexible.body)} {mode_words(mode.name)}",
+                                   float(value(mode.omega)) / (2 * math.pi)))
+    return tuple(found)
+
+
+def modal_offsets(geometry: ModelGeometry, dofs: Mapping[str, float]) -> dict[str, np.ndarray]:
+    """The displacement [m] of every point of a flexible body by its modes' coordinates
+    in ``dofs`` (``<body>.<mode>`` [sqrt(kg) m]; missing ones are zero)."""
+    centres = {body.id: np.asarray(body.centre) for body in geometry.bodies}
+    offsets: dict[str, np.ndarray] = {}
+    for mode in geometry.modes:
+        q = float(dofs.get(mode.coordinate, 0.0))
+        if q == 0.0:
+            continue
+        for point, shape in mode.points:
+            if geometry.hosts.get(point) != mode.body:
+                continue
+            u = np.zeros(3)
+            if mode.kind == "torsion":
+                _, ly, lz = np.asarray(geometry.points[point]) - centres[mode.body]
+                u[1], u[2] = -shape * lz * q, shape * ly * q
+            else:
+                u[2 if mode.kind == "vertical" else 1] = shape * q
+            offsets[point] = offsets.get(point, np.zeros(3)) + u
+    return offsets
+
+
+def modal_bends(geometry: ModelGeometry, dofs: Mapping[str, float]) -> dict[str, tuple[Vector, ...]]:
+    """``body -> ((lx, u_y, u_z), ...)``: the bending of each flexible body's centre line
+    by its modes (torsion does not move the centre line), at the stations of its curves."""
+    by_body: dict[str, list[DrawnMode]] = {}
+    for mode in geometry.modes:
+        if mode.kind != "torsion" and mode.curve and float(dofs.get(mode.coordinate, 0.0)) != 0.0:
+            by_body.setdefault(mode.body, []).append(mode)
+    bends = {}
+    for body, modes in by_body.items():
+        stations = np.unique(np.concatenate([np.array([x for x, _ in m.curve]) for m in modes]))
+        if stations.size < 2:
+            continue
+        u = np.zeros((stations.size, 2))
+        for mode in modes:
+            x, shape = np.array(mode.curve).T
+            u[:, 0 if mode.kind == "lateral" else 1] += np.interp(stations, x, shape) * float(dofs[mode.coordinate])
+        bends[body] = tuple((float(x), float(uy), float(uz)) for x, (uy, uz) in zip(stations, u, strict=True))
+    return bends

@@ -15,7 +15,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from express.drawing.geometry import DrawnBody, DrawnElement, ModelGeometry, Vector
+from express.drawing.geometry import DrawnBody, DrawnElement, DrawnMode, ModelGeometry, Vector
 from express.numeric.program import ProgramError, checked_list
 
 __all__ = ["cached_geometry", "geometry_data", "geometry_from_data"]
@@ -36,6 +36,7 @@ def geometry_data(geometry: ModelGeometry) -> dict[str, Any]:
     numbers = [x for b in geometry.bodies for v in (b.centre, b.low, b.high, b.outline or (), b.turn) for x in v]
     numbers += [x for b in geometry.bodies for x in (b.radius, b.gauge_half) if x is not None]
     numbers += [x for position in geometry.points.values() for x in position]
+    numbers += [x for m in geometry.modes for x in (m.frequency_hz, *(v for _, v in m.points), *(x for c in m.curve for x in c))]
     if not all(math.isfinite(x) for x in numbers):
         raise ProgramError("a number that is not finite")
     return {
@@ -48,6 +49,8 @@ def geometry_data(geometry: ModelGeometry) -> dict[str, Any]:
         "elements": [[e.id, e.s_point, e.t_point, e.axis, e.kind, e.description] for e in geometry.elements],
         "pins": [list(pin) for pin in geometry.pins],
         "ground_points": list(geometry.ground_points),
+        "modes": [[m.coordinate, m.body, m.kind, [list(p) for p in m.points], [list(c) for c in m.curve], m.label,
+                   m.frequency_hz] for m in geometry.modes],
     }
 
 
@@ -61,9 +64,12 @@ def geometry_from_data(data: Any) -> ModelGeometry:
     elements = tuple(_element(item) for item in _rows(data.get("elements"), 6))
     pins = tuple((_text(a), _text(b)) for a, b in _rows(data.get("pins"), 2))
     grounds = tuple(_text(name) for name in checked_list(data.get("ground_points")))
+    modes = tuple(_mode(item) for item in _rows(data.get("modes", []), 7))
+    if any(p not in points for m in modes for p, _ in m.points):
+        raise ProgramError("a mode shape at a point that is not there")
     if not set(hosts) <= set(points) or any(p not in points for e in elements for p in (e.s_point, e.t_point)):
         raise ProgramError("an element or host of a point that is not there")
-    return ModelGeometry(data["name"], bodies, points, hosts, elements, pins, grounds)
+    return ModelGeometry(data["name"], bodies, points, hosts, elements, pins, grounds, modes)
 
 
 def _rows(value: Any, width: int) -> list[list]:
@@ -101,6 +107,15 @@ def _body(item: Any) -> DrawnBody:
     identifier, role, centre, low, high, outline, radius, gauge_half, turn = item
     return DrawnBody(_text(identifier), _text(role), _vector(centre), _vector(low), _vector(high),
                      None if outline is None else _vector(outline), _optional(radius), _optional(gauge_half), _vector(turn))
+
+
+def _mode(item: list) -> DrawnMode:
+    coordinate, body, kind, points, curve, label, frequency = item
+    if kind not in ("vertical", "lateral", "torsion"):
+        raise ProgramError("bad mode kind")
+    shapes = tuple((_text(p), _number(v)) for p, v in _rows(points, 2))
+    samples = tuple((_number(x), _number(v)) for x, v in _rows(curve, 2))
+    return DrawnMode(_text(coordinate), _text(body), kind, shapes, samples, _text(label), _number(frequency))
 
 
 def _element(item: list) -> DrawnElement:

@@ -3,7 +3,8 @@
 Mode ``N`` is the ``N``-th mode of :func:`express.analysis.stability.eigen_analysis`
 (1-based, least stable first: one per conjugate pair, sorted by descending real part).
 Its displacement part ``phi`` (complex, shape (n,)) moves every body by
-``q(t) = a Re(phi e^{i wt})``; the scale ``a`` makes the largest point displacement
+``q(t) = a Re(phi e^{i wt})`` (a flexible body's points also by its modal coordinates,
+its outline bent: :func:`express.drawing.geometry.modal_offsets`); the scale ``a`` makes the largest point displacement
 :data:`DISPLAY_FRACTION` of the drawing's size, so that every mode is visible.
 """
 
@@ -20,11 +21,11 @@ import numpy as np
 
 from express.base.diagnostics import ArgumentError
 from express.base.units import KMH
-from express.drawing.geometry import ModelGeometry, displaced_geometry, point_displacement
+from express.drawing.geometry import ModelGeometry, displaced_geometry
 from express.drawing.views import figure_model
 from express.numeric.statespace import VehicleModel
 
-__all__ = ["DISPLAY_FRACTION", "ModeShape", "animate_mode_shape", "figure_mode_shape", "mode_shape"]
+__all__ = ["DISPLAY_FRACTION", "ModeShape", "animate_mode_shape", "figure_flexible_mode", "figure_mode_shape", "mode_shape"]
 
 #: Largest displacement drawn, as a fraction of the drawing's size.
 DISPLAY_FRACTION = 0.08
@@ -70,20 +71,46 @@ def mode_shape(vehicle: VehicleModel, speed: float, number: int) -> ModeShape:
     return ModeShape(number, complex(values[index]), dict(zip(vehicle.dofs, phi, strict=True)), float(speed))
 
 
+def _largest_motion(geometry: ModelGeometry, dofs: dict[str, float]) -> float:
+    """The largest displacement [m] of a point, a body centre or a bent outline's sample
+    when the model moves by ``dofs``."""
+    moved = displaced_geometry(geometry, dofs)
+    largest = max((float(np.linalg.norm(np.subtract(moved.points[p], x))) for p, x in geometry.points.items()),
+                  default=0.0)
+    for body, shifted in zip(geometry.bodies, moved.bodies, strict=True):
+        largest = max(largest, float(np.linalg.norm(np.subtract(shifted.centre, body.centre))),
+                      *(max(abs(uy), abs(uz)) for _, uy, uz in shifted.bend))
+    return largest
+
+
+def _size(geometry: ModelGeometry) -> float:
+    return geometry.span((1, 2)) if geometry.span((1, 2)) > 0.1 * geometry.span() else geometry.span()
+
+
 def _scale(geometry: ModelGeometry, mode: ModeShape) -> float:
-    largest = 0.0
-    centres = {body.id: np.asarray(body.centre) for body in geometry.bodies}
-    for part in (np.real, np.imag):
-        dofs = {name: float(part(value)) for name, value in mode.phi.items()}
-        for point, position in geometry.points.items():
-            host = geometry.hosts[point]
-            if host in centres:
-                offset = tuple(np.asarray(position) - centres[host])
-                largest = max(largest, float(np.linalg.norm(point_displacement(offset, dofs, host))))
-        for body in geometry.bodies:
-            largest = max(largest, float(np.linalg.norm(point_displacement((0.0, 0.0, 0.0), dofs, body.id))))
-    size = geometry.span((1, 2)) if geometry.span((1, 2)) > 0.1 * geometry.span() else geometry.span()
-    return DISPLAY_FRACTION * size / largest if largest > 0 else 0.0
+    largest = max(_largest_motion(geometry, {name: float(part(value)) for name, value in mode.phi.items()})
+                  for part in (np.real, np.imag))
+    return DISPLAY_FRACTION * _size(geometry) / largest if largest > 0 else 0.0
+
+
+def figure_flexible_mode(geometry: ModelGeometry, coordinate: str):
+    """The three views with a flexible body deformed by its free-free mode ``coordinate``
+    (``CB.vb1``) alone, scaled to be seen, over the undeformed model (``express draw --mode``).
+
+    Raises
+    ------
+    ArgumentError
+        For a coordinate that is not a flexible body's mode (naming those there are).
+    """
+    mode = next((m for m in geometry.modes if m.coordinate == coordinate), None)
+    if mode is None:
+        known = ", ".join(m.coordinate for m in geometry.modes) or "none (the model has no flexible bodies)"
+        raise ArgumentError(f"--mode {coordinate}: not a flexible body's mode; the modes are: {known}")
+    largest = _largest_motion(geometry, {coordinate: 1.0})
+    amplitude = DISPLAY_FRACTION * _size(geometry) / largest if largest > 0 else 0.0
+    title = (f"{geometry.name}: {mode.label} ({coordinate}), f = {mode.frequency_hz:.3f} Hz free-free, "
+             f"drawn at q = {amplitude:.3g} sqrt(kg) m")
+    return figure_model(geometry, title=title, deformed=displaced_geometry(geometry, {coordinate: amplitude}))
 
 
 def _displaced(geometry: ModelGeometry, mode: ModeShape, phase: float, scale: float) -> ModelGeometry:

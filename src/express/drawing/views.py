@@ -166,6 +166,42 @@ def _hull(points: np.ndarray) -> np.ndarray:
     return np.array(loop + loop[:1])
 
 
+def _extended(x: np.ndarray, xp: np.ndarray, fp: np.ndarray) -> np.ndarray:
+    """``np.interp`` continued by the end segments' straight lines beyond ``xp``."""
+    y = np.interp(x, xp, fp)
+    if xp.size >= 2:
+        low, high = x < xp[0], x > xp[-1]
+        y[low] = fp[0] + (x[low] - xp[0]) * (fp[1] - fp[0]) / (xp[1] - xp[0])
+        y[high] = fp[-1] + (x[high] - xp[-1]) * (fp[-1] - fp[-2]) / (xp[-1] - xp[-2])
+    return y
+
+
+def _bent_outline(body, view: tuple[int, int], pad: float) -> np.ndarray:
+    """The plan (``view`` (0, 1)) or side ((0, 2)) outline of a body bent by its modes
+    (``body.bend``: (lx, u_y, u_z) samples, continued straight beyond them): its two long
+    edges through the samples within its length, turned with the body, shape (2 K, 2)."""
+    h, v = view
+    if body.outline is not None:
+        size, centre = np.asarray(body.outline), np.asarray(body.centre)
+    else:
+        low, high = np.asarray(body.low) - pad, np.asarray(body.high) + pad
+        size, centre = high - low, np.asarray(body.centre)
+    samples = np.array(body.bend)
+    half = 0.5 * size[0]
+    inside = samples[np.abs(samples[:, 0]) < half, 0]
+    stations = np.concatenate([[-half], inside, [half]])
+    deflection = np.stack([np.zeros_like(stations), _extended(stations, samples[:, 0], samples[:, 1]),
+                           _extended(stations, samples[:, 0], samples[:, 2])], axis=1)
+    edges = []
+    for side in (1.0, -1.0):
+        offsets = np.zeros((stations.size, 3))
+        offsets[:, 0] = stations
+        offsets[:, v] = side * 0.5 * size[v]
+        edge = centre + offsets + np.cross(np.asarray(body.turn), offsets) + deflection
+        edges.append(edge[:, [h, v]] if side > 0 else edge[::-1, [h, v]])
+    return np.concatenate(edges)
+
+
 def _draw_body(axis, geometry: ModelGeometry, body, view: tuple[int, int], pad: float, colour: str, alpha: float,
                hosted: dict[str, list[str]]) -> None:
     """Draw ``body`` (``hosted``: each body's points, :func:`express.drawing.geometry.points_by_host`)."""
@@ -194,6 +230,8 @@ def _draw_body(axis, geometry: ModelGeometry, body, view: tuple[int, int], pad: 
                                          ec=colour, lw=1.2, alpha=alpha))
                 ends.append((x, y))
             axis.plot(*np.array(ends).T, color=colour, lw=1.0, alpha=alpha)
+    elif body.bend and (h, v) in ((0, 1), (0, 2)):  # a flexible body bent by its modes
+        axis.add_patch(Polygon(_bent_outline(body, (h, v), pad), closed=True, fill=False, ec=colour, lw=1.2, alpha=alpha))
     elif body.outline is not None:
         corners = _corners(body, body.outline)[:, [h, v]]
         axis.add_patch(Polygon(_hull(corners), closed=True, fill=False, ec=colour, lw=1.2, alpha=alpha))

@@ -27,8 +27,11 @@ Every mode becomes parameters (so ``--set``, studies and sensitivities see them)
 ``<body>_<mode>_w`` its angular frequency [rad/s], ``<body>_<mode>_zeta`` its damping
 ratio (unless a parameter name is given) and ``<body>_<mode>_<point>`` its shape value
 at each point (the beam: one per station, named after its first point, which keeps the
-exact matrices small: ``k*(phi_L + phi_R)`` is ``2*k*phi``).  The beam's values are computed from the model's values when the file is
-read.
+exact matrices small: ``k*(phi_L + phi_R)`` is ``2*k*phi``).  The beam is a node of the
+parameter graph (:func:`express.model.beam_modes.free_free_beam`): its quantities become
+parameters ``<body>_<key>`` (``CB_vertical_EI``), and its modes' frequencies and shapes
+are its outputs, so ``--set`` of those, of the body's mass or of a point's offset
+recomputes them.
 """
 
 from __future__ import annotations
@@ -44,15 +47,9 @@ from express.base.diagnostics import Problem
 from express.base.expressions import ExpressionError, expression_value, parse_expression
 from express.base.units import Dimension, UnitError, parse_quantity
 from express.io.toml_items import TomlReader, check_id, show_value
-from express.model.beam_modes import (
-    bending_frequency,
-    bending_shape,
-    free_free_roots,
-    torsion_frequency,
-    torsion_shape,
-)
+from express.model.beam_modes import BEAM_DERIVATION, BEAM_NAMES, STATION, free_free_beam
 from express.model.modal_body import FlexibleBody, FlexibleMode, ModeKind
-from express.model.records import Model, Parameter
+from express.model.records import Derivation, Model, Parameter
 
 __all__ = ["read_flexible"]
 
@@ -63,8 +60,6 @@ _LENGTH = Dimension(Fraction(0), Fraction(1), Fraction(0))
 _BENDING = Dimension(Fraction(1), Fraction(3), Fraction(-2))  # N m^2
 _MASS_MOMENT = Dimension(Fraction(1), Fraction(1), Fraction(0))  # kg m (per length)
 _FREQUENCY = Dimension(Fraction(0), Fraction(0), Fraction(-1))
-#: Prefixes of the beam's mode names by kind.
-BEAM_NAMES = {ModeKind.VERTICAL: "vb", ModeKind.LATERAL: "lb", ModeKind.TORSION: "to"}
 
 
 class _Modes:
@@ -75,24 +70,28 @@ class _Modes:
         self.parameters: dict[str, Parameter] = {}
         self.modes: list[FlexibleMode] = []
 
-    def parameter(self, name: str, value: float, unit: str, line: int | None) -> sp.Symbol:
+    def parameter(self, name: str, value: float, unit: str, line: int | None,
+                  derived_by: str | None = None) -> sp.Symbol:
+        """A parameter of the modes (``derived_by``: the beam's node computes it)."""
         if name in self.model.parameters or name in self.parameters:
             self.reader.problems.append(Problem(self.reader.source, line, f"flexible {self.body}",
                                                 f"parameter {name} is also given in [parameters]; rename one"))
-        self.parameters[name] = Parameter(name, float(value), unit, line)
+        self.parameters[name] = Parameter(name, float(value), unit, line, derived_by=derived_by)
         return sp.Symbol(name)
 
     def add(self, name: str, kind: ModeKind, omega: float, zeta: sp.Expr, shapes: dict[str, float],
-            order: int, line: int | None, source: str | None = None, same: dict[str, str] | None = None) -> None:
+            order: int, line: int | None, source: str | None = None, same: dict[str, str] | None = None,
+            derived_by: str | None = None) -> None:
         """One mode; ``same`` maps a point to the first point at its station (the beam:
-        they share one shape parameter, named after that first point)."""
+        they share one shape parameter, named after that first point); ``derived_by``:
+        the frequency and shapes are outputs of that node (the beam's)."""
         prefix = f"{self.body}_{name}"
         unknown = sorted(set(shapes) - set(_point_positions(self.model, self.body)))
         if unknown:
             self.reader.problems.append(Problem(
                 source or self.reader.source, line, f"flexible {self.body} mode {name}",
                 f"shape at {', '.join(unknown)}: not a CP or output point of body {self.body}"))
-        w = self.parameter(f"{prefix}_w", omega, "", line)
+        w = self.parameter(f"{prefix}_w", omega, "", line, derived_by)
         if zeta.is_number:
             zeta = self.parameter(f"{prefix}_zeta", float(zeta), "", line)
         same = same or {}
@@ -100,7 +99,7 @@ class _Modes:
         for point in shapes:
             first = same.get(point, point)
             if first not in symbols:
-                symbols[first] = self.parameter(f"{prefix}_{first}", shapes[first], "", line)
+                symbols[first] = self.parameter(f"{prefix}_{first}", shapes[first], "", line, derived_by)
             symbols[point] = symbols[first]
         values = tuple((point, symbols[point]) for point in shapes)
         self.modes.append(FlexibleMode(name, kind, w, zeta, values, order, line, source))
@@ -144,7 +143,44 @@ def _point_positions(model: Model, body: str) -> dict[str, tuple[float, float, f
     return positions
 
 
-def _beam(modes: _Modes, spec: dict, path: tuple[str, ...], zeta: sp.Expr) -> None:
+#: The beam's quantities: key, dimension (each a parameter ``<body>_<key>`` when given as a
+#: quantity, else the expression of the model's parameters given).
+_BEAM_QUANTITIES = (("length", _LENGTH), ("vertical_EI", _BENDING), ("lateral_EI", _BENDING),
+                    ("torsion_GJ", _BENDING), ("torsional_inertia", _MASS_MOMENT))
+_STIFFNESS = {ModeKind.VERTICAL: "vertical_EI", ModeKind.LATERAL: "lateral_EI", ModeKind.TORSION: "torsion_GJ"}
+_SHAPE_DIMENSION = {ModeKind.VERTICAL: Dimension(Fraction(-1, 2), Fraction(0), Fraction(0)),
+                    ModeKind.LATERAL: Dimension(Fraction(-1, 2), Fraction(0), Fraction(0)),
+                    ModeKind.TORSION: Dimension(Fraction(-1, 2), Fraction(-1), Fraction(0))}
+
+
+def _beam_quantity(modes: _Modes, spec: dict, path: tuple[str, ...], key: str,
+                   dimension: Dimension) -> tuple[float, sp.Expr] | None:
+    """Value and expression of one of the beam's quantities: a quantity (``"3e9 N*m^2"``,
+    an SI number) becomes the parameter ``<body>_<key>``; an expression of the model's
+    parameters is kept as written (so ``--set`` of its names reaches the modes)."""
+    reader, model = modes.reader, modes.model
+    item, raw, where = f"flexible {modes.body} beam", spec.get(key), path + (key,)
+    line = reader.line(*where) or reader.line(*path)
+    if isinstance(raw, bool) or not isinstance(raw, (int, float, str)):
+        reader.problem(where, item, f"{key} must be a quantity, got {show_value(raw)}")
+        return None
+    if isinstance(raw, (int, float)):
+        return float(raw), modes.parameter(f"{modes.body}_{key}", float(raw), "", line)
+    try:
+        value, unit = parse_quantity(raw, dimension)
+    except UnitError as unit_error:
+        try:
+            expression = parse_expression(raw)
+            return expression_value(expression, model.values()), expression
+        except (ExpressionError, KeyError, ValueError):
+            reader.problem(where, item, f"{key}: {unit_error}")
+            return None
+    return value, modes.parameter(f"{modes.body}_{key}", value, unit, line)
+
+
+def _beam(modes: _Modes, spec: dict, path: tuple[str, ...], zeta: sp.Expr) -> Derivation | None:
+    """The beam's modes, and the node of the parameter graph that computes them
+    (:func:`express.model.beam_modes.free_free_beam`)."""
     reader, model, body = modes.reader, modes.model, modes.body
     item = f"flexible {body} beam"
     reader.unknown_keys(spec, _BEAM_KEYS, path, item)
@@ -154,49 +190,66 @@ def _beam(modes: _Modes, spec: dict, path: tuple[str, ...], zeta: sp.Expr) -> No
         inertia_x = expression_value(model.body(body).inertia[0], model.values())
     except (KeyError, ValueError):
         reader.problem(path, item, "the body's mass and inertia need values")
-        return
-    length = _number(reader, model, spec.get("length"), path + ("length",), item, "length", _LENGTH)
-    if length is None or not length > 0:
-        if length is not None:
-            reader.problem(path + ("length",), item, f"length must be positive, got {length:g} m")
-        return
-    positions = _point_positions(model, body)
-    outside = [n for n, p in positions.items() if abs(p[0]) > length / 2 * (1 + 1e-9)]
-    if outside:
-        reader.problem(path + ("length",), item, f"points {', '.join(outside)} lie beyond the beam's ends")
-    s = {name: p[0] / length + 0.5 for name, p in positions.items()}
-    first_at: dict[float, str] = {}  # points at one station share their shape parameters
-    same = {name: first_at.setdefault(x, name) for name, x in s.items()}
-    kinds = (("vertical", ModeKind.VERTICAL, "vertical_EI"), ("lateral", ModeKind.LATERAL, "lateral_EI"),
-             ("torsion", ModeKind.TORSION, "torsion_GJ"))
-    for key, kind, stiffness_key in kinds:
+        return None
+    counts = {}
+    for key, kind in (("vertical", ModeKind.VERTICAL), ("lateral", ModeKind.LATERAL), ("torsion", ModeKind.TORSION)):
         count = spec.get(key, 0)
         if isinstance(count, bool) or not isinstance(count, int) or not 0 <= count <= 20:
             reader.problem(path + (key,), item, f"{key} must be a number of modes 0...20, got {show_value(count)}")
-            continue
-        if count == 0:
-            continue
-        stiffness = _number(reader, model, spec.get(stiffness_key), path + (stiffness_key,), item, stiffness_key, _BENDING)
-        if stiffness is None or not stiffness > 0:
-            if stiffness is not None:
-                reader.problem(path + (stiffness_key,), item, f"{stiffness_key} must be positive, got {stiffness:g}")
-            continue
-        if kind is ModeKind.TORSION:
-            raw = spec.get("torsional_inertia", inertia_x / length)
-            rho_ip = _number(reader, model, raw, path + ("torsional_inertia",), item, "torsional_inertia", _MASS_MOMENT)
-            if rho_ip is None or not rho_ip > 0:
-                reader.problem(path + ("torsional_inertia",), item, "torsional_inertia (rho*Ip per length) must be positive")
+        elif count:
+            counts[kind] = count
+    wanted = {"length"} | {_STIFFNESS[kind] for kind in counts}
+    if ModeKind.TORSION in counts and "torsional_inertia" in spec:
+        wanted.add("torsional_inertia")
+    given: dict[str, tuple[float, sp.Expr]] = {}
+    for key, dimension in _BEAM_QUANTITIES:
+        if key in wanted:
+            found = _beam_quantity(modes, spec, path, key, dimension)
+            if found is None:
                 continue
-            scale = math.sqrt(2.0 / (rho_ip * length))
-            for n in range(1, count + 1):
-                shapes = {name: float(scale * torsion_shape(n, x)) for name, x in s.items()}
-                modes.add(f"to{n}", kind, torsion_frequency(n, length, stiffness, rho_ip), zeta, shapes, n, line,
-                          same=same)
-            continue
-        for n, root in enumerate(free_free_roots(count), start=1):
-            shapes = {name: float(bending_shape(root, x)) / math.sqrt(mass) for name, x in s.items()}
-            omega = bending_frequency(root, length, stiffness, mass / length)
-            modes.add(f"{BEAM_NAMES[kind]}{n}", kind, omega, zeta, shapes, n, line, same=same)
+            if not found[0] > 0:
+                reader.problem(path + (key,), item, f"{key} must be positive, got {found[0]:g}")
+                continue
+            given[key] = found
+    if len(given) < len(wanted):
+        return None
+    length_value, length = given["length"]
+    if ModeKind.TORSION in counts and "torsional_inertia" not in given:
+        given["torsional_inertia"] = (inertia_x / length_value, model.body(body).inertia[0] / length)
+    positions = _point_positions(model, body)
+    outside = [n for n, p in positions.items() if abs(p[0]) > length_value / 2 * (1 + 1e-9)]
+    if outside:
+        reader.problem(path + ("length",), item, f"points {', '.join(outside)} lie beyond the beam's ends")
+        return None
+    # points at one station (the same expression of lx) share their shape parameters
+    stations = _point_stations(model, body)
+    first_at: dict[sp.Expr, str] = {}
+    same = {name: first_at.setdefault(stations[name], name) for name in positions}
+    settings = {kind.value: str(counts.get(kind, 0)) for kind in ModeKind}
+    arguments: dict[str, Any] = {key: value for key, (value, _) in given.items()}
+    arguments.update({f"{STATION}{first}": positions[first][0] for first in first_at.values()})
+    arguments.update(settings)
+    values = free_free_beam(mass=mass, **arguments)
+    outputs: list[tuple[str, str, str | Dimension | None]] = []
+    for kind, count in counts.items():
+        for n in range(1, count + 1):
+            name = f"{BEAM_NAMES[kind.value]}{n}"
+            shapes = {point: values[f"{name}_{same[point]}"] for point in positions}
+            modes.add(name, kind, values[f"{name}_w"], zeta, shapes, n, line, same=same, derived_by=item)
+            outputs.append((f"{name}_w", f"{body}_{name}_w", None))  # rad/s, a bare number as given modes'
+            outputs += [(f"{name}_{first}", f"{body}_{name}_{first}", _SHAPE_DIMENSION[kind]) for first in first_at.values()]
+    inputs: list[tuple[str, sp.Expr, str | Dimension]] = [("mass", model.body(body).mass, "mass")]
+    inputs += [(key, expression, dict(_BEAM_QUANTITIES)[key]) for key, (_, expression) in given.items()]
+    inputs += [(f"{STATION}{first}", expression, "length") for expression, first in first_at.items()]
+    return Derivation(BEAM_DERIVATION, item, tuple(inputs), tuple(outputs), line, tuple(settings.items()))
+
+
+def _point_stations(model: Model, body: str) -> dict[str, sp.Expr]:
+    """The expression of the offset ``lx`` of every CP and output point of ``body``."""
+    found = {p.id: sp.sympify(p.offset[0]) for p in model.points if p.host == body}
+    if model.rail is not None:
+        found.update({o.name: sp.sympify(o.offset[0]) for o in model.rail.outputs if o.body == body})
+    return found
 
 
 def _given(modes: _Modes, table: dict, path: tuple[str, ...], zeta: sp.Expr) -> None:
@@ -231,9 +284,10 @@ def _given(modes: _Modes, table: dict, path: tuple[str, ...], zeta: sp.Expr) -> 
         modes.add(name, kind, 2 * math.pi * frequency, damping, shapes, counts[kind], reader.line(*where))
 
 
-def read_flexible(reader: TomlReader, table: Any, model: Model) -> tuple[tuple[FlexibleBody, ...], dict[str, Parameter]]:
-    """The flexible bodies of ``[flexible]`` and the parameters they add (problems go
-    to ``reader.problems``).
+def read_flexible(reader: TomlReader, table: Any,
+                  model: Model) -> tuple[tuple[FlexibleBody, ...], dict[str, Parameter], tuple[Derivation, ...]]:
+    """The flexible bodies of ``[flexible]``, the parameters they add and the beams'
+    nodes of the parameter graph (problems go to ``reader.problems``).
 
     Parameters
     ----------
@@ -246,6 +300,7 @@ def read_flexible(reader: TomlReader, table: Any, model: Model) -> tuple[tuple[F
     """
     bodies = []
     parameters: dict[str, Parameter] = {}
+    nodes: list[Derivation] = []
     known = {body.id for body in model.bodies}
     for body, raw in reader.table(table, ("flexible",), "flexible").items():
         path = ("flexible", body)
@@ -258,7 +313,9 @@ def read_flexible(reader: TomlReader, table: Any, model: Model) -> tuple[tuple[F
         zeta = reader.expression(spec.get("damping", 0), path + ("damping",), item, "damping")
         modes = _Modes(reader, model, body)
         if "beam" in spec:
-            _beam(modes, reader.table(spec["beam"], path + ("beam",), item), path + ("beam",), zeta)
+            node = _beam(modes, reader.table(spec["beam"], path + ("beam",), item), path + ("beam",), zeta)
+            if node is not None:
+                nodes.append(node)
         if "modes" in spec:
             _given(modes, reader.table(spec["modes"], path + ("modes",), item), path + ("modes",), zeta)
         if "file" in spec:
@@ -273,7 +330,7 @@ def read_flexible(reader: TomlReader, table: Any, model: Model) -> tuple[tuple[F
         kind = "beam" if "beam" in spec else str(spec["file"]) if "file" in spec else "modes"
         bodies.append(FlexibleBody(body, tuple(modes.modes), kind, reader.line(*path)))
         parameters.update(modes.parameters)
-    return tuple(bodies), parameters
+    return tuple(bodies), parameters, tuple(nodes)
 
 
 def flexible_lines(model: Model) -> tuple[list[str], set[str]]:

@@ -356,8 +356,9 @@ def _flexible(reader: TomlReader, table: Any, model: Model) -> Model:
 
     from express.io.toml_modal import read_flexible
 
-    flexible, added = read_flexible(reader, table, model)
-    model = replace(model, flexible=flexible, parameters={**model.parameters, **added})
+    flexible, added, nodes = read_flexible(reader, table, model)
+    model = replace(model, flexible=flexible, parameters={**model.parameters, **added},
+                    derivations=model.derivations + nodes)
     problems = reader.problems + check_model(model)
     if problems:
         raise ModelError(problems)

@@ -114,8 +114,8 @@ def use_sites(model: Model) -> Iterator[UseSite]:
         for mode in flexible.modes:
             yield UseSite(mode.zeta, "dimensionless", f"flexible {flexible.body} mode {mode.name}", "damping", mode.line)
     for derivation in model.derivations:
-        for argument, expression, name in derivation.inputs:
-            yield UseSite(expression, name, derivation.item, argument, derivation.line)
+        for argument, expression, kind in derivation.inputs:
+            yield UseSite(expression, kind, derivation.item, argument, derivation.line)
 
 
 class _MismatchError(Exception):
@@ -159,7 +159,9 @@ class _Inference:
         for derivation in model.derivations:
             for _, name, dim in derivation.outputs:
                 if name in self.parameters and self.parameters[name].derived_by == derivation.item:
-                    self.dims[name] = DIMENSIONS[dim]
+                    if dim is None:
+                        continue  # a flexible beam's angular frequency: a bare number in rad/s
+                    self.dims[name] = DIMENSIONS[dim] if isinstance(dim, str) else dim  # a flexible beam's shapes
                     self.why[name] = f"is computed by {derivation.item} as {_words(dim)}"
 
     # -- forward: the dimension of an expression (None: not known yet)

@@ -83,7 +83,8 @@ __all__ = [
 DerivationFunction = Callable[..., Mapping[str, float]]
 _FUNCTIONS: dict[str, DerivationFunction] = {}
 #: The module that registers each known derivation kind (imported on first use).
-_PROVIDERS = {"kalker": "express.rail.build", "profiles": "express.rail.build"}
+_PROVIDERS = {"kalker": "express.rail.build", "profiles": "express.rail.build",
+              "free_free_beam": "express.model.beam_modes"}
 
 
 def register_derivation(kind: str, function: DerivationFunction) -> None:

@@ -325,7 +325,9 @@ class Derivation:
     inputs : tuple of (argument, sympy.Expr, dimension name)
         The function's arguments as expressions of parameters.
     outputs : tuple of (result key, parameter name, dimension name)
-        Which parameter receives which result.
+        Which parameter receives which result (a dimension without a name, such as a
+        mode shape's 1/sqrt(kg), as a :class:`~express.base.units.Dimension`; None for
+        a value of no dimension in the graph, a mode's angular frequency in rad/s).
     line : int or None
     settings : tuple of (str, str)
         Text arguments that are not quantities (the ``"profiles"`` node's profile names
@@ -334,8 +336,8 @@ class Derivation:
 
     kind: str
     item: str
-    inputs: tuple[tuple[str, sp.Expr, str], ...]
-    outputs: tuple[tuple[str, str, str], ...]
+    inputs: tuple[tuple[str, sp.Expr, str | Dimension], ...]
+    outputs: tuple[tuple[str, str, str | Dimension | None], ...]
     line: int | None = None
     settings: tuple[tuple[str, str], ...] = ()
 

@@ -49,14 +49,21 @@ def figure_assessment(criteria: Sequence[Any], *, title: str = "EN 14363 running
 
 def mode_figures(vehicle: VehicleModel, geometry: ModelGeometry, speed: float, modes: Sequence[Any]) -> list[tuple[Any, str]]:
     """``(figure, caption)`` of the least-damped mode and, when another, of the first
-    hunting mode (``modes``: :attr:`express.analysis.modes.EigenResult.modes`, least
-    stable first; numbered as ``express eigen``)."""
+    hunting mode and of a flexible body's first mode (its first bending, else its first
+    torsion: the body drawn deformed) (``modes``:
+    :attr:`express.analysis.modes.EigenResult.modes`, least stable first; numbered as
+    ``express eigen``)."""
     chosen = [(1, "least-damped mode")]
     hunting = next((k for k, mode in enumerate(modes, start=1) if mode.kind.startswith("hunting")), None)
     if hunting is not None and hunting != 1:
         chosen.append((hunting, "hunting mode"))
     elif hunting == 1:
         chosen[0] = (1, "least-damped mode, hunting")
+    if geometry.modes:  # a flexible body: its first bending (else torsion) mode, drawn deformed
+        flexible = [k for k, mode in enumerate(modes, start=1) if mode.kind.endswith(" bending")]
+        flexible = flexible or [k for k, mode in enumerate(modes, start=1) if " torsion" in mode.kind]
+        if flexible and all(flexible[0] != k for k, _ in chosen):
+            chosen.append((min(flexible, key=lambda k: modes[k - 1].frequency_hz), "flexible body's first mode"))
     figures = []
     for number, what in chosen:
         mode = modes[number - 1]

@@ -15,7 +15,9 @@ output                     unit    what
 ``max_QP``                 --      largest derailment quotient ``|Q/P|`` on the track
 ``max_lever_angle``        rad     largest steering-lever rotation ``|theta|`` on the track
 ``frf_peak_acceleration``  m/s^2   peak acceleration amplitude of an output point (``frf_output``)
-                                   in the response to a sinusoidal lateral irregularity
+                                   in the response to a sinusoidal lateral irregularity (or to
+                                   the track component ``frf_input``: its vertical acceleration
+                                   for ``vertical``, its lateral one otherwise)
 ``frf_peak_frequency``     Hz      frequency of that peak
 ``max_YQ2m``               --      EN 14363's largest ``(Y/Q)2m`` of any wheel on the track run
                                    (``express simulate --assess``'s ``YQ{n}{s}``, filtered forces)
@@ -34,8 +36,8 @@ The options (``[study.options]``) are those of the matching commands: ``v_min``,
 ``v_max``, ``tolerance``, ``points``, ``threshold``, ``check`` (critical speed);
 ``speed`` (eigenvalues, track and FRF; default the model's speed); ``track`` (a track
 file or a bundled track's name, ``"R400"``, as ``--track`` takes it; default the paper's
-R = 400 m curve), ``dt``; ``frf_output``, ``frf_fmin``,
-``frf_fmax``, ``frf_points``, ``frf_amplitude``; ``curve_radius`` (default 600 m) and ``curve_cant``
+R = 400 m curve), ``dt``; ``frf_output``, ``frf_input``, ``frf_fmin``, ``frf_fmax``,
+``frf_points``, ``frf_amplitude``; ``curve_radius`` (default 600 m) and ``curve_cant``
 (default 0) of the steady curve. Quantities are numbers in SI or strings with a unit
 (``"540 km/h"``).
 """
@@ -95,7 +97,9 @@ _QUANTITIES = {
     "curve_radius": ("length", 600.0, 1.0, 1e6),
     "curve_cant": ("length", 0.0, -0.3, 0.3),
 }
-_OTHERS = ("points", "check", "track", "frf_output", "frf_points")
+_OTHERS = ("points", "check", "track", "frf_output", "frf_input", "frf_points")
+#: Track components of ``frf_input`` and the acceleration axis reported for each.
+_FRF_INPUTS = {"alignment": "y", "vertical": "z", "cross_level": "y", "gauge": "y"}
 
 
 @dataclass(frozen=True)
@@ -112,6 +116,7 @@ class OutputSettings:
     track: Path | str | None = None
     dt: float = 0.005
     frf_output: str | None = None
+    frf_input: str = "alignment"
     frf_fmin: float = 0.1
     frf_fmax: float = 20.0
     frf_points: int = 200
@@ -164,6 +169,11 @@ class OutputSettings:
                 else:
                     problems.append((key, f"no such track file or bundled track: {raw!r} (the bundled ones: "
                                           f"{', '.join([*NAMED_CURVES, 'paper'])})"))
+            elif key == "frf_input":
+                if raw not in _FRF_INPUTS:
+                    problems.append((key, f"must be one of {', '.join(_FRF_INPUTS)}, got {raw!r}"))
+                else:
+                    values[key] = raw
             elif key == "frf_output":
                 if not isinstance(raw, str):
                     problems.append((key, "must be the name of an output point"))
@@ -298,8 +308,15 @@ class PointOutputs:
         if name is None or name not in points:
             raise ArgumentError(f"no output point {name!r} for the FRF; the model has: {', '.join(points) or 'none'}")
         frequencies = np.geomspace(s.frf_fmin, s.frf_fmax, s.frf_points)
-        response = frequency_response(vehicle, frequencies, amplitude=s.frf_amplitude, speed=self._speed(vehicle))
-        amplitude = np.abs(np.asarray(response.acceleration_of(name)))
+        if s.frf_input == "alignment":
+            response = frequency_response(vehicle, frequencies, amplitude=s.frf_amplitude, speed=self._speed(vehicle))
+            amplitude = np.abs(np.asarray(response.acceleration_of(name)))
+        else:
+            from express.analysis.track_response import track_frequency_response
+
+            track = track_frequency_response(vehicle, frequencies, components=[s.frf_input],
+                                             amplitude=s.frf_amplitude, speed=self._speed(vehicle))
+            amplitude = np.abs(track.of(f"{name}.a{_FRF_INPUTS[s.frf_input]}", s.frf_input))
         k = int(np.argmax(amplitude))
         return {"frf_peak_acceleration": float(amplitude[k]), "frf_peak_frequency": float(frequencies[k])}
 
