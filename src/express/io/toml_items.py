@@ -231,9 +231,12 @@ def read_element(reader: TomlReader, element_id: str, path: tuple[str, ...], ite
         if series:
             reader.problem(path, item, "a clearance element cannot be a series element")
         kind = ElementKind.CLEARANCE
-    friction = sp.S.Zero
-    if "friction" in spec:
+    friction, friction_of = sp.S.Zero, ""
+    if isinstance(spec.get("friction"), dict):  # { mu = ..., of = "element", radius = ... }: mu r N
+        friction, friction_of = _friction_of(reader, path + ("friction",), item, spec["friction"], rotational)
+    elif "friction" in spec:
         friction = reader.expression(spec["friction"], path + ("friction",), item, "friction")  # > 0: check_model
+    if "friction" in spec:
         if kind is not ElementKind.PARALLEL:
             reader.problem(path, item, "a friction element cannot be a series or clearance element")
         if "stiffness" not in spec:
@@ -272,6 +275,7 @@ def read_element(reader: TomlReader, element_id: str, path: tuple[str, ...], ite
         gap=gap,
         progressive=reader.expression(spec.get("progressive", 0), path + ("progressive",), item, "progressive"),
         friction=friction,
+        friction_of=friction_of,
         checked=tuple(checked),
         characteristic=characteristic,
         vector=vector,
@@ -279,3 +283,20 @@ def read_element(reader: TomlReader, element_id: str, path: tuple[str, ...], ite
         preload=reader.expression(spec.get("preload", 0), path + ("preload",), item, "preload"),
     )
 
+
+
+def _friction_of(reader: TomlReader, path: tuple[str, ...], item: str, table: dict, rotational: bool
+                 ) -> tuple[sp.Expr, str]:
+    """A friction limit proportional to another element's load, ``{ mu = ..., of = "id" }``
+    (rotational: ``radius = r`` too, the torque ``mu r N``): the factor and the element
+    (``mu`` > 0 and the element's kind: ``check_model``)."""
+    allowed = ("mu", "of", "radius") if rotational else ("mu", "of")
+    reader.unknown_keys(table, allowed, path, item)
+    for key in allowed:
+        if key not in table:
+            reader.problem(path, item, f'a friction limit proportional to a load needs "{key}"'
+                           + (" (the friction torque is mu radius N)" if key == "radius" else ""))
+    mu = reader.expression(table.get("mu", 0), path + ("mu",), item, "friction mu")
+    factor = mu * reader.expression(table.get("radius", 1), path + ("radius",), item, "friction radius") \
+        if rotational else mu
+    return factor, reader.name(table.get("of", "?"), path + ("of",), item, "friction of")

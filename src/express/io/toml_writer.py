@@ -165,7 +165,10 @@ def model_to_toml(model: Model) -> str:
             lines.append(f"damping = {value_to_toml(element.damping)}")
         if characteristic is not None:
             lines.append(f"characteristic = {_characteristic(characteristic)}")
-        if element.sliding:
+        if element.sliding and element.friction_of:  # the factor mu (mu r) written as mu, radius 1
+            radius = ", radius = 1" if element.rotational else ""
+            lines.append(f"friction = {{ mu = {value_to_toml(element.friction)}, of = {_string(element.friction_of)}{radius} }}")
+        elif element.sliding:
             lines.append(f"friction = {value_to_toml(element.friction)}")
         if element.series:
             lines.append("series = true")
