@@ -39,10 +39,10 @@ friction_loads`), ``r`` its deflection and ``k r`` its dynamic force (a characte
 statically, falling to zero (and the limit with it) when it unloads: lift-off.  The march
 evaluates ``L`` from the state at every kept and trial state (:func:`load_limit`); the
 linear analyses still see the element stuck.  It then also reports ``limit_<element>``
-(``L`` [N; N m]).  Sources for the laws: a Lenoir link's friction force ``mu`` times the
-link's share of the spring load (Iwnicki, *Handbook*, ch. 9; Jönsson, Andersson, Berg and
-Stichel, *Veh. Syst. Dyn.* 46 (2008) "Modelling of the Y25 bogie" ...); a centre bowl's or side
-bearer's torque ``mu r N`` (the flat disc's ``2/3 mu R N`` for a uniform pressure).
+(``L`` [N; N m]).  The laws: a Lenoir link's friction force is ``mu`` times a share of its
+axlebox spring's load, set by the link's inclination (Iwnicki (ed.), *Handbook of Railway
+Vehicle Dynamics*, the chapter on suspension components); a centre bowl's or side bearer's
+torque is ``mu r N`` (a flat disc of radius ``R`` under uniform pressure: ``r = 2R/3``).
 """
 
 from __future__ import annotations
