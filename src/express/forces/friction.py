@@ -164,6 +164,14 @@ def _friction_law(x, k, law, z, record, commit):
     return None
 
 
+def _tables(xs: np.ndarray, fs: np.ndarray, r: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``(F(r), F'(r))`` of a piecewise-linear table at many ``r`` (vectorised
+    :func:`~express.forces.characteristic.table_force`: the end segments go on)."""
+    segment = np.clip(np.searchsorted(xs, r, side="right") - 1, 0, xs.size - 2)
+    slope = (fs[segment + 1] - fs[segment]) / (xs[segment + 1] - xs[segment])
+    return fs[segment] + slope * (r - xs[segment]), slope
+
+
 @dataclass(frozen=True)
 class FollowedLoads:
     """The loads ``N`` the friction limits follow (:class:`LoadLaw`), in NumPy.
@@ -220,9 +228,8 @@ class FollowedLoads:
         zero = self.zero
         for f, count in enumerate(self.counts):
             if count > 0:
-                pairs = [table_force(self.xs[f], self.fs[f], int(count), float(v)) for v in r[:, f]]
-                dynamic[:, f] = np.array([p[0] for p in pairs]) - zero[f]
-                slope[:, f] = [p[1] for p in pairs]
+                force, slope[:, f] = _tables(self.xs[f, :count], self.fs[f, :count], r[:, f])
+                dynamic[:, f] = force - zero[f]
         return self.sense * (self.static + dynamic), self.sense * slope
 
     def limits(self, states: np.ndarray, constant: np.ndarray, first: int = 0) -> np.ndarray:
