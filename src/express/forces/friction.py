@@ -60,7 +60,8 @@ from express.forces.law import force_law
 from express.model.parameters import expression_value
 
 __all__ = ["RESOLVED", "FollowedLoads", "FrictionElement", "FrictionLaw", "LoadLaw", "followed_loads", "friction_elements_of",
-           "load_limit", "return_mapping"]
+           "load_limit", "map_sliders", "plane_mapping",
+           "return_mapping"]
 
 #: ``w dt`` of the pre-slip frequency a step may reach and still resolve the slip phase.
 RESOLVED = 0.02
@@ -101,6 +102,7 @@ class FrictionLaw(NamedTuple):
     limit: np.ndarray
     slider: np.ndarray
     load: LoadLaw
+    partner: np.ndarray
 
 
 @njit(cache=True)
@@ -134,27 +136,70 @@ def return_mapping(delta, slider, stiffness, limit):
 
 
 @njit(cache=True)
-def _replay(delta, slider, stiffness, limit, out):
+def map_sliders(delta, slider, stiffness, limit, partner):
+    """Every element's slider after the deflections ``delta`` (n_f,) from ``slider``, the
+    pairs in a plane together (:func:`friction_forces`'s mappings), with the limits
+    ``limit`` (n_f,): a new array."""
+    found = slider.copy()
+    for f in range(delta.size):
+        p = partner[f]
+        if p == -1:
+            found[f] = return_mapping(delta[f], slider[f], stiffness[f], limit[f])
+        elif p >= 0:
+            found[f], found[p] = plane_mapping(delta[f], delta[p], slider[f], slider[p], stiffness[f], limit[f])
+    return found
+
+
+@njit(cache=True)
+def _replay(delta, slider, stiffness, limit, partner, out):
     """The committed slider positions at every kept state (the march's return mappings
     again, in the same order, with the limits ``limit[k, f]``): ``out[k, f]``."""
     for k in range(delta.shape[0]):
-        for f in range(delta.shape[1]):
-            slider[f] = return_mapping(delta[k, f], slider[f], stiffness[f], limit[k, f])
-            out[k, f] = slider[f]
+        slider = map_sliders(delta[k], slider, stiffness, limit[k], partner)
+        out[k] = slider
+
+
+@njit(cache=True)
+def plane_mapping(dx, dy, sx, sy, stiffness, limit):
+    """The sliders of a friction pair in a plane after the deflections ``(dx, dy)`` from
+    ``(sx, sy)``: stuck while the trial force ``k (d - s)`` lies within the circle of
+    radius ``limit``, else returned onto it along the trial force (exact, no smoothing)."""
+    tx, ty = stiffness * (dx - sx), stiffness * (dy - sy)
+    size = np.sqrt(tx * tx + ty * ty)
+    if size <= limit:
+        return sx, sy
+    scale = limit / size
+    return dx - scale * tx / stiffness, dy - scale * ty / stiffness
+
+
+@njit(cache=True)
+def _deflection(x, k, law, f):
+    delta = law.offset[k, f]
+    for i in range(law.places.shape[1]):
+        delta += law.coefficient[f, i] * x[law.places[f, i]]
+    return delta
 
 
 @njit(cache=True)
 def friction_forces(x, k, law, z, commit):
-    """``z = k s`` of every friction element (the module docstring) into ``z[law.first:]``."""
+    """``z = k s`` of every friction element (the module docstring) into ``z[law.first:]``;
+    a pair in a plane (``partner[f] >= 0``; its partner ``-2``) is mapped by its first."""
     for f in range(law.limit.size):
-        delta = law.offset[k, f]
-        for i in range(law.places.shape[1]):
-            delta += law.coefficient[f, i] * x[law.places[f, i]]
+        p = law.partner[f]
+        if p == -2:
+            continue
+        delta = _deflection(x, k, law, f)
         limit = load_limit(x, k, law.load, f, law.limit[f])
-        slider = return_mapping(delta, law.slider[f], law.stiffness[f], limit)
+        if p < 0:
+            slider = return_mapping(delta, law.slider[f], law.stiffness[f], limit)
+            if commit:
+                law.slider[f] = slider
+            z[law.first + f] = law.stiffness[f] * slider
+            continue
+        sx, sy = plane_mapping(delta, _deflection(x, k, law, p), law.slider[f], law.slider[p], law.stiffness[f], limit)
         if commit:
-            law.slider[f] = slider
-        z[law.first + f] = law.stiffness[f] * slider
+            law.slider[f], law.slider[p] = sx, sy
+        z[law.first + f], z[law.first + p] = law.stiffness[f] * sx, law.stiffness[p] * sy
 
 
 @overload(force_law)
@@ -266,13 +311,16 @@ class FrictionElement(ForceElement):
 
     def __init__(self, names: tuple[str, ...], gradient: np.ndarray, input_gradient: np.ndarray,
                  stiffness: np.ndarray, limit: np.ndarray, force: np.ndarray, u: np.ndarray,
-                 rotational: tuple[bool, ...], loads: FollowedLoads | None = None):
+                 rotational: tuple[bool, ...], loads: FollowedLoads | None = None, partner: np.ndarray | None = None):
         self.ids, self.gradient, self.input_gradient, self.rotational = names, gradient, input_gradient, rotational
         self.stiffness, self.limit, self.force, self.u = stiffness, limit, force, u
         self.rows = np.zeros((len(names), force.shape[0]))
         self.rows[:, : gradient.shape[1]] = gradient
         self.offset = np.ascontiguousarray(u @ input_gradient.T, dtype=float)
         self.loads = loads if loads is not None else FollowedLoads.none(len(names), force.shape[0], u.shape[0])
+        #: Pairs in a plane: ``partner[f]`` the second of the pair ``f`` leads, -2 for a
+        #: second, -1 alone.
+        self.partner = np.full(len(names), -1, dtype=np.int64) if partner is None else np.asarray(partner, np.int64)
         #: The slider positions the NumPy forces start from (the steady solver's state).
         self.slider = np.zeros(len(names))
         self.states = len(names)
@@ -292,7 +340,8 @@ class FrictionElement(ForceElement):
     def law(self, first: int) -> FrictionLaw:
         index, coefficient = sparse_rows(self.rows)
         return FrictionLaw(first, index, coefficient, self.offset, np.ascontiguousarray(self.stiffness, dtype=float),
-                           np.ascontiguousarray(self.limit, dtype=float), self.slider.copy(), self.loads.law())
+                           np.ascontiguousarray(self.limit, dtype=float), self.slider.copy(), self.loads.law(),
+                           self.partner)
 
     def deflections(self, x: np.ndarray, k: int) -> np.ndarray:
         """The deflections at state ``x`` and step ``k``."""
@@ -303,8 +352,8 @@ class FrictionElement(ForceElement):
         return self.loads.limits(x[None, :], self.limit, k)[0]
 
     def _sliders(self, delta: np.ndarray, limits: np.ndarray) -> np.ndarray:
-        return np.array([return_mapping(d, s, k, lim) for d, s, k, lim
-                         in zip(delta, self.slider, self.stiffness, limits, strict=True)])
+        return map_sliders(np.ascontiguousarray(delta, dtype=float), self.slider, np.ascontiguousarray(self.stiffness, float),
+                           np.ascontiguousarray(limits, dtype=float), self.partner)
 
     def forces(self, x: np.ndarray, k: int) -> np.ndarray:
         return self.stiffness * self._sliders(self.deflections(x, k), self.limits_at(x, k))
@@ -314,11 +363,25 @@ class FrictionElement(ForceElement):
         own slope ``sign(F) dL/dx`` when it follows a load."""
         delta, limits = self.deflections(x, k), self.limits_at(x, k)
         trial = self.stiffness * (delta - self.slider)
-        slipping = np.abs(trial) > limits
+        size, direction = np.abs(trial), np.sign(trial)
+        for f, p in enumerate(self.partner):  # a pair: the trial force's size and direction in the plane
+            if p >= 0:
+                size[f] = size[p] = float(np.hypot(trial[f], trial[p]))
+                if size[f] > 0:
+                    direction[f], direction[p] = trial[f] / size[f], trial[p] / size[f]
+        slipping = size > limits
         slopes = np.where(slipping, self.stiffness, 0.0)[:, None] * self.rows
+        for f, p in enumerate(self.partner):  # dF/d(delta) = L/|t| (I - t t^T) k on the circle
+            if p >= 0 and slipping[f]:
+                pair = np.array([f, p])
+                tangent = np.eye(2) - np.outer(direction[pair], direction[pair])
+                slopes[pair] -= limits[f] / size[f] * self.stiffness[f] * tangent @ self.rows[pair]
         normal, rate = self.loads.normal(x[None, :], k)
-        follows = slipping & (self.loads.factor > 0) & (normal[0] > 0)
-        slopes[follows] -= (np.sign(trial) * self.loads.factor * rate[0])[follows, None] * self.loads.rows[follows]
+        lead = {int(p): f for f, p in enumerate(self.partner) if p >= 0}  # a pair's second: its first's limit
+        for f in range(self.partner.size):
+            first = lead.get(f, f)
+            if slipping[f] and self.loads.factor[first] > 0 and normal[0, first] > 0:
+                slopes[f] -= direction[f] * self.loads.factor[first] * rate[0, first] * self.loads.rows[first]
         return slopes
 
     def resolved_step(self, mass: np.ndarray) -> float | None:
@@ -336,8 +399,9 @@ class FrictionElement(ForceElement):
         ``(slider, force)``, each shape (steps + 1, n_f)."""
         delta = np.ascontiguousarray(states @ self.rows.T + self.offset[: states.shape[0]])
         sliders = np.zeros_like(delta)
-        limits = np.ascontiguousarray(self.loads.limits(states, self.limit), dtype=float)
-        _replay(delta, self.slider.copy(), np.ascontiguousarray(self.stiffness, dtype=float), limits, sliders)
+        limits = np.ascontiguousarray(self.loads.limits(states, self.limit), dtype=float)  # a pair: its first's
+        _replay(delta, self.slider.copy(), np.ascontiguousarray(self.stiffness, dtype=float), limits, self.partner,
+                sliders)
         return sliders, self.stiffness * (delta - sliders)
 
     def outputs(self, states: np.ndarray, history: np.ndarray) -> dict[str, np.ndarray]:
@@ -385,8 +449,14 @@ def friction_elements_of(vehicle, u: np.ndarray) -> FrictionElement | None:
     if any("load_static" in t.values for t in terms):
         loads = followed_loads(vehicle, terms, u)
         limit = np.where(loads.factor > 0, 0.0, limit)
-    return FrictionElement(tuple(t.element for t in terms), gradient, inputs, stiffness, limit, vehicle.form.force, u,
-                           tuple(kinds.get(t.element, False) for t in terms), loads)
+    names = tuple(t.element for t in terms)
+    planes = {e.id: e.friction_plane for e in vehicle.model.elements} if vehicle.model is not None else {}
+    partner = np.full(len(terms), -1, dtype=np.int64)
+    for f, name in enumerate(names):
+        if planes.get(name) in names:
+            partner[f], partner[names.index(planes[name])] = names.index(planes[name]), -2
+    return FrictionElement(names, gradient, inputs, stiffness, limit, vehicle.form.force, u,
+                           tuple(kinds.get(t.element, False) for t in terms), loads, partner)
 
 
 def followed_loads(vehicle, terms, u: np.ndarray) -> FollowedLoads:

@@ -222,6 +222,7 @@ class Element:
     progressive: sp.Expr = sp.S.Zero
     friction: sp.Expr = sp.S.Zero
     friction_of: str = ""
+    friction_plane: str = ""  # the partner of a friction pair in a plane (express.forces.friction)
     checked: tuple[tuple[str, sp.Expr, Dimension, bool], ...] = ()
     characteristic: Characteristic | None = None
     vector: Vector | None = None
