@@ -43,6 +43,12 @@ linear analyses still see the element stuck.  It then also reports ``limit_<elem
 axlebox spring's load, set by the link's inclination (Iwnicki (ed.), *Handbook of Railway
 Vehicle Dynamics*, the chapter on suspension components); a centre bowl's or side bearer's
 torque is ``mu r N`` (a flat disc of radius ``R`` under uniform pressure: ``r = 2R/3``).
+
+**A pair in a plane** (``friction = { ..., plane = "<partner>" }``: two elements along x
+and y between the same points, the same ``k``): the trial force ``t = k (d - s)`` is a
+vector; the sliders stick while ``|t| <= L`` (the first's limit), else they are returned
+onto the circle along ``t``, ``s = d - (L/|t|) t/k`` (:func:`plane_mapping`); in pure x
+motion the pair is the 1-D element exactly.
 """
 
 from __future__ import annotations
