@@ -159,3 +159,19 @@ def test_bad_pairs_are_refused_with_the_line(old, new, message):
         parse_toml_model(MODEL.replace(old, new), "plate.toml")
     problems = [str(p) for p in error.value.problems]
     assert any(p.startswith("plate.toml:") and message in p for p in problems), problems
+
+
+def test_a_pair_and_a_load_reference_are_written_back_and_read_the_same():
+    """`express convert`'s writer: the plane pair and a limit that follows a load (with a
+    rotational radius) round-trip to the same friction elements."""
+    from express.io.toml_writer import model_to_toml
+
+    text = MODEL.replace('friction = "F"', 'friction = { mu = "0.3", of = "ky" }')
+    model = parse_toml_model(text, "plate.toml")
+    again = parse_toml_model(model_to_toml(model), "again.toml")
+    for element in ("sx", "sy"):
+        first = next(e for e in model.elements if e.id == element)
+        second = next(e for e in again.elements if e.id == element)
+        assert (second.friction_plane, second.friction_of, second.kind) == (first.friction_plane, first.friction_of,
+                                                                            first.kind)
+        assert float(second.friction.subs({"F": 200})) == pytest.approx(float(first.friction.subs({"F": 200})))
