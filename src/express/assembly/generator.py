@@ -32,7 +32,8 @@ from express.assembly.equations import (
     Matrices,
     derivation_steps,
 )
-from express.assembly.gravity import gravity_terms, static_model
+from express.assembly.friction_loads import load_values, static_loads
+from express.assembly.gravity import gravity_terms, static_model, static_preloads
 from express.assembly.kinematics import end_motion, generalized_coordinates
 from express.assembly.lines import line_problems, line_vector, scale, unit_term
 from express.base.diagnostics import ModelError, Problem
@@ -68,6 +69,8 @@ class AddedTerms:
         ``(row DOF, column DOF, value)`` added to K or C (need not be symmetric).
     forces, rate_forces : list of (str, str, sympy.Expr)
         ``(DOF, input, coefficient)`` added to P or Pd.
+    loads : dict of str to sympy.Expr
+        The static force of each element a friction limit follows (:mod:`express.assembly.friction_loads`).
     """
 
     inputs: tuple[str, ...] = ()
@@ -76,6 +79,7 @@ class AddedTerms:
     damping: list[tuple[str, str, sp.Expr]] = field(default_factory=list)
     forces: list[tuple[str, str, sp.Expr]] = field(default_factory=list)
     rate_forces: list[tuple[str, str, sp.Expr]] = field(default_factory=list)
+    loads: dict[str, sp.Expr] = field(default_factory=dict)
 
     def expressions(self):
         """Every coefficient, for collecting the parameter symbols."""
@@ -281,8 +285,10 @@ def generate(
     if model.gravity is not None or any(e.preload != 0 for e in model.elements):  # preloads' geometric stiffness
         # the 3-D static model has no gravity (and no given preloads)
         static_equations = generate(static_model(model)) if model.gravity is not None else None
-        stiffness, forces = gravity_terms(model, static_equations, added.point_inputs)
-        added = replace(added, stiffness=list(added.stiffness) + stiffness, forces=list(added.forces) + forces)
+        preloads = static_preloads(model, static_equations) if static_equations is not None else {}
+        stiffness, forces = gravity_terms(model, static_equations, added.point_inputs, preloads=preloads)
+        added = replace(added, stiffness=list(added.stiffness) + stiffness, forces=list(added.forces) + forces,
+                        loads=static_loads(model, preloads))
     expressions = list(_model_expressions(model, added))
     symbols = set().union(*(sp.sympify(e).free_symbols for e in expressions)) if expressions else set()
     inverses = inverted_symbols(expressions)
@@ -424,7 +430,8 @@ def _assemble(model: Model, added: AddedTerms, domain: ExactDomain, deflections:
         if element.sliding:  # in the matrices stuck (its pre-slip spring), below; slips in the time domain
             parts.element_terms.append(unit_term(model, element, _element_term(
                 element, g, h, reduced, deflections.inputs, domain.readable,
-                {"stiffness": element.stiffness, "friction": element.friction})))
+                {"stiffness": element.stiffness, "friction": element.friction,
+                 **_load_values(model, element, added, deflections, reduce, reduced, domain.readable)})))
         if element.characteristic is not None:  # in the matrices its tangent (stiffness or damping), below
             parts.element_terms.append(unit_term(model, element, _element_term(
                 element, g, h, reduced, deflections.inputs, domain.readable,
@@ -587,6 +594,16 @@ def _clearance(element, gradient: dict, inputs_gradient: dict, dofs: list[str], 
         stiffness=sp.sympify(element.stiffness),
         progressive=sp.sympify(element.progressive),
     )
+
+
+def _load_values(model: Model, element, added: AddedTerms, deflections: _Deflections, reduce, reduced: list[str],
+                 form) -> dict:
+    """The ``load_*`` values of a friction element whose limit follows another element's load."""
+    if not element.friction_of:
+        return {}
+    gradient = {reduced[j]: v for j, v in reduce(deflections.gradients[element.friction_of]).items()}
+    loads = added.loads or static_loads(model, {})  # no [gravity]: the given preloads alone
+    return load_values(model, element, gradient, deflections.input_gradients[element.friction_of], loads, form)
 
 
 def _element_term(element, gradient: dict, inputs_gradient: dict, dofs: list[str], inputs: list[str], form,

@@ -272,6 +272,7 @@ def gravity_stiffness(model: Model, static_equations: GenerationResult) -> list[
 
 def gravity_terms(model: Model, static_equations: GenerationResult | None,
                   point_inputs: Mapping[tuple[str, int], Mapping[str, sp.Expr]] | None = None,
+                  preloads: Mapping[str, sp.Expr] | None = None,
                   ) -> tuple[list[tuple[str, str, sp.Expr]], list[tuple[str, str, sp.Expr]]]:
     """Geometric stiffness of the preloaded elements and its part over the inputs.
 
@@ -285,6 +286,8 @@ def gravity_terms(model: Model, static_equations: GenerationResult | None,
     point_inputs : mapping, optional
         ``(cp_id, axis) -> {input: coefficient}``, the CPs' motion driven by inputs (the
         curvature terms of :func:`express.rail.curve.curvature_point_inputs`).
+    preloads : mapping, optional
+        :func:`static_preloads` of the model, when the caller has them.
 
     Returns
     -------
@@ -295,8 +298,9 @@ def gravity_terms(model: Model, static_equations: GenerationResult | None,
         ``(DOF, input, coefficient)`` to be added to P: the turning axes of coincident
         elements (module docstring) over the inputs' motion of their ends.
     """
-    preloads = (static_preloads(model, static_equations)
-                if model.gravity is not None and static_equations is not None else {})
+    if preloads is None:
+        preloads = (static_preloads(model, static_equations)
+                    if model.gravity is not None and static_equations is not None else {})
     terms: list[tuple[str, str, sp.Expr]] = []
     forces: list[tuple[str, str, sp.Expr]] = []
     for element in model.elements:

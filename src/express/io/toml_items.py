@@ -231,9 +231,12 @@ def read_element(reader: TomlReader, element_id: str, path: tuple[str, ...], ite
         if series:
             reader.problem(path, item, "a clearance element cannot be a series element")
         kind = ElementKind.CLEARANCE
-    friction = sp.S.Zero
-    if "friction" in spec:
+    friction, friction_of, plane = sp.S.Zero, "", ""
+    if isinstance(spec.get("friction"), dict):  # { mu, of[, radius] } (mu r N) or { limit }; plane = partner
+        friction, friction_of, plane = _friction_of(reader, path + ("friction",), item, spec["friction"], rotational)
+    elif "friction" in spec:
         friction = reader.expression(spec["friction"], path + ("friction",), item, "friction")  # > 0: check_model
+    if "friction" in spec:
         if kind is not ElementKind.PARALLEL:
             reader.problem(path, item, "a friction element cannot be a series or clearance element")
         if "stiffness" not in spec:
@@ -272,6 +275,8 @@ def read_element(reader: TomlReader, element_id: str, path: tuple[str, ...], ite
         gap=gap,
         progressive=reader.expression(spec.get("progressive", 0), path + ("progressive",), item, "progressive"),
         friction=friction,
+        friction_of=friction_of,
+        friction_plane=plane,
         checked=tuple(checked),
         characteristic=characteristic,
         vector=vector,
@@ -279,3 +284,26 @@ def read_element(reader: TomlReader, element_id: str, path: tuple[str, ...], ite
         preload=reader.expression(spec.get("preload", 0), path + ("preload",), item, "preload"),
     )
 
+
+
+def _friction_of(reader: TomlReader, path: tuple[str, ...], item: str, table: dict, rotational: bool
+                 ) -> tuple[sp.Expr, str, str]:
+    """A friction limit as a table: ``{ mu = ..., of = "id" }`` proportional to another
+    element's load (rotational: ``radius = r`` too, the torque ``mu r N``) or ``{ limit =
+    ... }`` constant, either with ``plane = "id"``, the partner of a friction pair in a
+    plane: the factor or limit, the followed element (or ``""``), the partner (or ``""``)."""
+    allowed = ("mu", "of", "radius", "limit", "plane") if rotational else ("mu", "of", "limit", "plane")
+    reader.unknown_keys(table, allowed, path, item)
+    plane = reader.name(table["plane"], path + ("plane",), item, "friction plane") if "plane" in table else ""
+    if "limit" in table:
+        if any(key in table for key in ("mu", "of", "radius")):
+            reader.problem(path, item, 'a friction limit is either "limit" or "mu" and "of", not both')
+        return reader.expression(table["limit"], path + ("limit",), item, "friction limit"), "", plane
+    for key in (("mu", "of", "radius") if rotational else ("mu", "of")):
+        if key not in table:
+            reader.problem(path, item, f'a friction limit proportional to a load needs "{key}"'
+                           + (" (the friction torque is mu radius N)" if key == "radius" else ""))
+    mu = reader.expression(table.get("mu", 0), path + ("mu",), item, "friction mu")
+    factor = mu * reader.expression(table.get("radius", 1), path + ("radius",), item, "friction radius") \
+        if rotational else mu
+    return factor, reader.name(table.get("of", "?"), path + ("of",), item, "friction of"), plane

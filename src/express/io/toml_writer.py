@@ -107,6 +107,20 @@ def _parameter_line(parameter: Parameter) -> str:
     return f"{toml_key(name)} = {parameter.value!r}"
 
 
+def _friction(element) -> str:
+    """A friction element's ``friction = ...`` line: a limit, or a table with its load
+    (the factor mu, or mu r as mu with radius 1) or its partner in a plane."""
+    plane = f", plane = {toml_string(element.friction_plane)}" if element.friction_plane else ""
+    if element.friction_of:
+        radius = ", radius = 1" if element.rotational else ""
+        return (f"friction = {{ mu = {value_to_toml(element.friction)}, of = {toml_string(element.friction_of)}"
+                f"{radius}{plane} }}")
+    if plane:
+        return f"friction = {{ limit = {value_to_toml(element.friction)}{plane} }}"
+    return f"friction = {value_to_toml(element.friction)}"
+
+
+
 def model_to_toml(model: Model, folder: str | Path | None = None) -> str:
     """The TOML text of ``model`` (deterministic).
 
@@ -176,7 +190,7 @@ def model_to_toml(model: Model, folder: str | Path | None = None) -> str:
         if characteristic is not None:
             lines.append(f"characteristic = {_characteristic(characteristic)}")
         if element.sliding:
-            lines.append(f"friction = {value_to_toml(element.friction)}")
+            lines.append(_friction(element))
         if element.series:
             lines.append("series = true")
         if element.clearance:

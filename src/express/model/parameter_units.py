@@ -91,7 +91,10 @@ def use_sites(model: Model) -> Iterator[UseSite]:
             cubic = DIMENSIONS["rotational_stiffness"] if rotational else _CUBIC
             yield UseSite(progressive, cubic, item, "progressive stiffness", element.line)
         friction = getattr(element, "friction", sp.S.Zero)
-        if sp.sympify(friction) != 0:
+        if sp.sympify(friction) != 0 and getattr(element, "friction_of", ""):  # mu (rotational: mu r) of a load
+            yield UseSite(friction, "length" if rotational else "dimensionless", item,
+                          "friction mu" + (" times radius" if rotational else ""), element.line)
+        elif sp.sympify(friction) != 0:
             yield UseSite(friction, DIMENSIONS["force"] * DIMENSIONS["length"] if rotational else "force", item,
                           "friction limit", element.line)
         for what, value, dimension, _ in checked:

@@ -23,6 +23,7 @@ from express.base.diagnostics import Problem
 from express.base.expressions import expression_value
 from express.base.units import Dimension
 from express.model.characteristics import Characteristic
+from express.model.load_reference import load_reference_problems
 from express.model.modal_body import FlexibleBody, check_flexible
 
 __all__ = [
@@ -161,10 +162,7 @@ class Element:
     with ``motion`` :attr:`Motion.ROTATION` the relative rotation ``theta_S[d] - theta_T[d]``
     of its two ends' bodies about axis ``d`` (stiffness [N m/rad], damping [N m s/rad]).
     ``stiffness`` [N/m] and ``damping`` [N s/m] may be zero (not both, usefully).
-    ``kind``: :class:`ElementKind` -- parallel, series (a Maxwell element, with an
-    internal coordinate, the damper stroke) or clearance (a bump stop that pushes back
-    only beyond ``|deflection| > gap`` with ``stiffness * e + progressive * e**3``, ``e``
-    the penetration; used by the nonlinear simulation only, ``docs/model-format.md``).
+    ``kind``: :class:`ElementKind` (``docs/model-format.md``).
 
     Attributes
     ----------
@@ -191,7 +189,7 @@ class Element:
     friction : sympy.Expr
         The friction limit ``mu N`` [N; N m for a rotational one] of a friction element:
         its pre-slip spring (``stiffness``) carries at most this force, beyond it the
-        slider slips (friction elements only).
+        slider slips; with ``friction_of`` (an element's id) the ``mu`` [-] (``mu r`` [m]) of its load.
     checked : tuple of (str, sympy.Expr, Dimension, bool)
         The values an element was derived from (an air spring's pressure, area, volumes:
         ``express.io.toml_air_springs``), each with what it is, its dimension and whether
@@ -223,6 +221,8 @@ class Element:
     gap: sp.Expr = sp.S.Zero
     progressive: sp.Expr = sp.S.Zero
     friction: sp.Expr = sp.S.Zero
+    friction_of: str = ""
+    friction_plane: str = ""  # the partner of a friction pair in a plane (express.forces.friction)
     checked: tuple[tuple[str, sp.Expr, Dimension, bool], ...] = ()
     characteristic: Characteristic | None = None
     vector: Vector | None = None
@@ -624,7 +624,9 @@ def _check_element_kinds(model: Model, hosts: dict[str, str], bodies: dict[str, 
                         f"a series (Maxwell) element needs a nonzero {what}",
                     ))
         if element.sliding:
-            for what, value in (("pre-slip stiffness (stiffness)", element.stiffness), ("friction limit", element.friction)):
+            problems += load_reference_problems(model, element)
+            for what, value in (("pre-slip stiffness (stiffness)", element.stiffness),
+                                ("friction coefficient mu" if element.friction_of else "friction limit", element.friction)):
                 number = _numeric_value(value, model.parameters)
                 if number is not None and not number > 0:
                     problems.append(Problem(model.source, element.line, item,

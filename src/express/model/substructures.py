@@ -228,7 +228,8 @@ def instantiate(sub: Substructure, instance: Instance, source: str = "<substruct
         replace(
             e, id=rename(e.id), s_end=rename(e.s_end), t_end=rename(e.t_end), stiffness=value(e.stiffness),
             damping=value(e.damping), gap=value(e.gap), progressive=value(e.progressive),
-            friction=value(e.friction), characteristic=characteristic(e.characteristic),
+            friction=value(e.friction), friction_of=rename(e.friction_of) if e.friction_of else "",
+            friction_plane=rename(e.friction_plane) if e.friction_plane else "", characteristic=characteristic(e.characteristic),
             checked=tuple((what, value(v), dim, positive) for what, v, dim, positive in e.checked),
             vector=tuple(value(c) for c in e.vector) if e.vector is not None else None,
             preload=value(e.preload),
