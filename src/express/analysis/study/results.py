@@ -214,6 +214,21 @@ class ResultTable:
     def error_column(self) -> list[str]:
         return [self.errors.get(i, "") for i in range(len(self.values))]
 
+    def to_xarray(self):
+        """The table as an :class:`xarray.Dataset` over ``point``: each parameter and
+        output with its unit, ``error`` ('' for none)."""
+        from express.analysis.result_data import study_dataset
+
+        columns: dict[str, Any] = {name: self.column(name) for name in (*self.names, *self.outputs)}
+        columns["error"] = self.error_column()
+        return study_dataset(columns, self.units)
+
+    def to_pandas(self):
+        """The table as a :class:`pandas.DataFrame`, one row per point, units in the column names."""
+        from express.base.data import frame
+
+        return frame(self.to_xarray())
+
 
 def _number(value: float) -> str:
     return repr(float(value)) if math.isfinite(value) else "nan"

@@ -55,6 +55,7 @@ from express.analysis.time.force_elements import contact_tables_of, run_forces
 from express.analysis.time.integrator import DenseSteps, discretize, march
 from express.analysis.time.sparse_march import Route, SparseSteps, choose_route, sparse_steps
 from express.analysis.time.track_inputs import TrackInputs, rail_layout, station_index, track_inputs
+from express.base.data import DataRecord
 from express.base.diagnostics import ArgumentError
 from express.base.threads import limited_blas
 from express.forces.bump_stops import BumpStopElement, clearance_force, clearances_of
@@ -74,8 +75,8 @@ __all__ = [
 ]
 
 
-@dataclass
-class SimulationResult:
+@dataclass(repr=False)
+class SimulationResult(DataRecord):
     """Time histories of a simulation.
 
     Attributes
@@ -124,6 +125,19 @@ class SimulationResult:
             columns[f"{dof}_dot"] = self.q_dot[:, i]
         columns.update(self.outputs)
         return columns
+
+    def to_xarray(self):
+        """The time history as an :class:`xarray.Dataset` over ``time`` [s]
+        (:func:`express.analysis.result_data.simulation_dataset`)."""
+        from express.analysis.result_data import simulation_dataset
+
+        return simulation_dataset(self)
+
+    def _summary(self) -> list[str]:
+        t = self.time
+        span = f"{t[0]:g}-{t[-1]:g} s, {t.size} instants" if t.size else "no instants"
+        return [f"{span} at {self.speed:.3f} m/s, dt {self.options.get('dt', float('nan')):g} s",
+                f"{len(self.dofs)} DOFs, {len(self.outputs)} outputs"]
 
     def max_abs(self) -> dict[str, float]:
         """Largest absolute value of every derived output (SI units)."""
