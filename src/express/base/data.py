@@ -15,7 +15,7 @@ from __future__ import annotations
 import html
 from typing import Any
 
-__all__ = ["DataRecord", "frame", "one_row", "variable", "xarray"]
+__all__ = ["DataRecord", "columns_frame", "frame", "one_row", "variable", "xarray"]
 
 #: Longest text repr [characters] of a record (a few lines).
 REPR_LIMIT = 600
@@ -48,6 +48,20 @@ def frame(dataset: Any) -> Any:
     units = {str(name): str(dataset[name].attrs.get("units", "")) for name in table.columns}
     table = table.rename(columns={name: _label(name, units[str(name)]) for name in table.columns})
     table.attrs = {**dataset.attrs, "units": units}
+    return table
+
+
+def columns_frame(columns: dict[str, Any], units: dict[str, str], index: str | None = None) -> Any:
+    """Named columns (equal lengths, or scalars: one row) as a :class:`pandas.DataFrame`,
+    each named with its unit (``units``; ``""`` for none); ``index`` a column made the index."""
+    import pandas as pd
+
+    scalar = all(getattr(value, "ndim", 0) == 0 and not isinstance(value, (list, tuple)) for value in columns.values())
+    table = pd.DataFrame({_label(name, units.get(name)): ([value] if scalar else value)
+                          for name, value in columns.items()})
+    if index is not None:
+        table = table.set_index(_label(index, units.get(index)))
+    table.attrs = {"units": {name: units.get(name, "") for name in columns}}
     return table
 
 

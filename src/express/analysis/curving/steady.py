@@ -35,7 +35,7 @@ from express.analysis.curving.step_solver import StepSolver
 from express.analysis.time.force_elements import contact_tables_of, run_forces
 from express.analysis.time.simulate import derived_outputs
 from express.analysis.time.track_inputs import TrackInputs
-from express.base.data import DataRecord
+from express.base.data import DataRecord, columns_frame
 from express.base.diagnostics import ArgumentError, InputError
 from express.forces.element import ForceSet
 from express.model.modal_body import coordinate_unit
@@ -213,6 +213,11 @@ class SteadyCurving(DataRecord):
         from express.analysis.result_data import steady_curving_dataset
 
         return steady_curving_dataset(self)
+
+    def to_pandas(self):
+        """The state as a one-row :class:`pandas.DataFrame` of :meth:`columns` (the
+        command's row), units in the column names."""
+        return columns_frame(self.columns(), self.units())
 
     def _summary(self) -> list[str]:
         w = self.wheel_rail

@@ -73,7 +73,7 @@ from express.analysis.ride.spectral import (
     spectral_rms,
 )
 from express.assembly.kinematics import end_motion
-from express.base.data import DataRecord
+from express.base.data import DataRecord, columns_frame
 from express.base.diagnostics import AnalysisError, InputError
 from express.base.names import did_you_mean
 from express.model.modal_body import modal_motion
@@ -429,6 +429,13 @@ class RideResponse(DataRecord):
         from express.analysis.result_data import ride_dataset
 
         return ride_dataset(self)
+
+    def to_pandas(self):
+        """The PSDs as a :class:`pandas.DataFrame` indexed by ``frequency [Hz]``, one column
+        per output ``<name> [<unit>^2/Hz]``."""
+        columns = {"frequency": self.frequencies, **{n: self.psd[:, i] for i, n in enumerate(self.names)}}
+        units = {"frequency": "Hz", **{n: f"({u})^2/Hz" if u else "1/Hz" for n, u in zip(self.names, self.units, strict=True)}}
+        return columns_frame(columns, units, index="frequency")
 
     def _summary(self) -> list[str]:
         f = self.frequencies

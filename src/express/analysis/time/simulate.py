@@ -55,7 +55,7 @@ from express.analysis.time.force_elements import contact_tables_of, run_forces
 from express.analysis.time.integrator import DenseSteps, discretize, march
 from express.analysis.time.sparse_march import Route, SparseSteps, choose_route, sparse_steps
 from express.analysis.time.track_inputs import TrackInputs, rail_layout, station_index, track_inputs
-from express.base.data import DataRecord
+from express.base.data import DataRecord, columns_frame
 from express.base.diagnostics import ArgumentError
 from express.base.threads import limited_blas
 from express.forces.bump_stops import BumpStopElement, clearance_force, clearances_of
@@ -132,6 +132,11 @@ class SimulationResult(DataRecord):
         from express.analysis.result_data import simulation_dataset
 
         return simulation_dataset(self)
+
+    def to_pandas(self):
+        """The time history as a :class:`pandas.DataFrame` of :meth:`series`, indexed by
+        ``time [s]``, units in the column names."""
+        return columns_frame(self.series(), self.units(), index="time")
 
     def _summary(self) -> list[str]:
         t = self.time
