@@ -25,8 +25,8 @@ def curving_forces(vehicle, dt: float) -> dict[str, float]:
     result = simulate(vehicle, paper_curve(), dt=dt, progress=False)
     assert result.options["dt"] == dt
     steady = (result.distance >= 200.0) & (result.distance < 300.0)
-    forces = {name: float(np.mean(result.outputs[name][steady])) for name in ("Q1", "Q2")}
-    forces["peak Q1"] = float(np.max(np.abs(result.outputs["Q1"])))
+    forces = {name: float(np.mean(result.outputs[name][steady])) for name in ("Y1", "Y2")}
+    forces["peak Y1"] = float(np.max(np.abs(result.outputs["Y1"])))
     return forces
 
 
@@ -34,6 +34,6 @@ def curving_forces(vehicle, dt: float) -> dict[str, float]:
 def test_halving_the_step_leaves_the_curving_forces(car):
     vehicle = load_vehicle(ROOT / "examples" / f"{car}.toml")
     coarse, fine = curving_forces(vehicle, 0.005), curving_forces(vehicle, 0.0025)
-    for name in ("Q1", "Q2"):
+    for name in ("Y1", "Y2"):
         assert coarse[name] == pytest.approx(fine[name], rel=1e-5), name
     assert coarse["peak Q1"] == pytest.approx(fine["peak Q1"], rel=2e-4)

@@ -114,5 +114,5 @@ def test_it_runs_in_the_simulation_with_its_bump_stops(vehicle):
 
     result = simulate(vehicle, paper_curve(), speed=25.0, end=250.0, progress=False)
     assert np.all(np.isfinite(result.q)) and result.options["clearances"] is True
-    assert set(result.outputs) >= {"Q1", "stop_T1_bump_stop", "stop_T2_bump_stop"}
+    assert set(result.outputs) >= {"Y1", "stop_T1_bump_stop", "stop_T2_bump_stop"}
     assert np.max(np.abs(result.q[:, vehicle.dof_index("CB.y")])) < 0.2

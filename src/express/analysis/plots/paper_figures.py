@@ -111,7 +111,9 @@ def figure_curving(
     ----------
     steered, conventional : mapping of str to numpy.ndarray
         ``d1``, ``rho1``, ``theta_L1`` (steered only), ``psi_TW1``, ``psi_TW2``, ``Q1``,
-        ``Q2`` (SI), each of one length.  ``conventional`` may be None.
+        ``Q2`` (SI), each of one length.  ``conventional`` may be None.  ``Q1``, ``Q2``
+        are the paper's names of the lateral forces (its Fig. 9c): the runs'
+        ``Y1``, ``Y2`` (:mod:`express.paper.demo_curving`).
     ideal_yaw : float
         The radial steering angle ``a/R`` [rad], dashed as ``+-a/R`` in panel (b)
         (``psi_TW2`` is negative in a left curve: the rear wheelset turns the other way).
@@ -419,8 +421,9 @@ def figure_simulation(distance: np.ndarray, outputs: Mapping[str, np.ndarray], *
     distance : numpy.ndarray, shape (T,)
         Distance of the leading wheelset ``d1`` [m].
     outputs : mapping of str to numpy.ndarray
-        ``rho1`` and any of ``theta_*``, ``psi_TW*``, ``Q<n>`` (the dead-band model's lateral
-        force) or ``Y<n><L|R>`` (the contact tables' lateral force of each wheel) (SI, shape (T,)).
+        ``rho1`` and any of ``theta_*``, ``psi_TW*``, ``Y<n>`` (the dead-band model's lateral
+        force of the flanging wheel) or ``Y<n><L|R>`` (the contact tables' lateral force of
+        each wheel) (SI, shape (T,)).
     title : str
     ax : sequence of matplotlib.axes.Axes, optional
         Draw into these axes (one per panel, three) and return them (the figure's layout,
@@ -447,8 +450,8 @@ def figure_simulation(distance: np.ndarray, outputs: Mapping[str, np.ndarray], *
     if steering:
         middle.legend(loc="upper right", ncol=4)
     middle.set_title("(b) wheelset yaw relative to its bogie", loc="left")
-    forces = sorted((k for k in outputs if k[:1] == "Q" and k[1:].isdigit()), key=lambda s: int(s[1:]))
-    panel = "(c) lateral force on the flanging wheel"
+    forces = sorted((k for k in outputs if k[:1] == "Y" and k[1:].isdigit()), key=lambda s: int(s[1:]))
+    panel = "(c) lateral force Y on the flanging wheel"
     if not forces:  # the contact from profile tables: the lateral force Y of every wheel (Q is its vertical load)
         forces = sorted((k for k in outputs if k[:1] == "Y" and k[1:-1].isdigit() and k[-1:] in "LR"),
                         key=lambda s: (int(s[1:-1]), s[-1]))
@@ -456,7 +459,7 @@ def figure_simulation(distance: np.ndarray, outputs: Mapping[str, np.ndarray], *
     for k, name in enumerate(forces):
         bottom.plot(distance, outputs[name] * 1e-3, color=colours[k % 4], label=name,
                     linestyle="-" if k < 4 else "--")
-    bottom.set_ylabel(("Q" if panel.endswith("flanging wheel") else "Y") + " [kN]")
+    bottom.set_ylabel("Y [kN]")
     bottom.set_xlabel(r"distance of the leading wheelset $d_1$ [m]")
     if forces:
         bottom.legend(loc="upper right", ncol=4)
