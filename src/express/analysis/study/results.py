@@ -39,6 +39,7 @@ from typing import Any, TextIO
 import numpy as np
 
 from express.analysis.study.outputs import OUTPUTS
+from express.base.data import DataRecord
 from express.base.diagnostics import UsageError
 
 __all__ = ["FORMATS", "Checkpoint", "ResultTable", "checkpoint_path", "result_bytes"]
@@ -165,8 +166,8 @@ class Checkpoint:
         self.path.unlink(missing_ok=True)
 
 
-@dataclass
-class ResultTable:
+@dataclass(repr=False)
+class ResultTable(DataRecord):
     """The results in point order.
 
     Attributes
@@ -223,11 +224,9 @@ class ResultTable:
         columns["error"] = self.error_column()
         return study_dataset(columns, self.units)
 
-    def to_pandas(self):
-        """The table as a :class:`pandas.DataFrame`, one row per point, units in the column names."""
-        from express.base.data import frame
-
-        return frame(self.to_xarray())
+    def _summary(self) -> list[str]:
+        return [f"{len(self.values)} points of {', '.join(self.names) or 'no parameters'}"[:120],
+                f"outputs {', '.join(self.outputs)}; {len(self.errors)} with a message"[:120]]
 
 
 def _number(value: float) -> str:
