@@ -36,6 +36,23 @@ _PER_WHEEL = (
 )
 
 
+#: Long names of a time run's outputs by name prefix (longest first; the name itself otherwise).
+_OUTPUT_NAMES = (
+    ("Ytot", "total lateral force from the rails on the wheelset"), ("YQ", "derailment quotient Y/Q"),
+    ("Y", "lateral wheel/rail force"), ("Q", "vertical wheel load"), ("SY", "track shift force"),
+    ("aoa", "angle of attack"), ("Fx", "longitudinal creep force"), ("gamma", "contact angle"),
+    ("flanging", "flange contact"), ("flange", "flange force"), ("dy", "flange penetration"),
+    ("dQQ0", "largest wheel unloading"), ("psi_TW", "wheelset yaw relative to its bogie"),
+    ("theta_", "steering lever rotation"), ("rho", "track curvature at the leading wheelset"),
+    ("S", "cant at the leading wheelset"), ("stop_", "bump stop force"), ("Tgamma", "frictional power"),
+    ("wear", "USFD wear rate"), ("rcf", "Burstow RCF damage index"), ("u", "lateral contact position on the rail"),
+)
+
+
+def _long_name(name: str) -> str:
+    return next((f"{text} ({name})" for prefix, text in _OUTPUT_NAMES if name.startswith(prefix)), name)
+
+
 def _wheelset_names(count: int) -> list[int]:
     return list(range(1, count + 1))
 
@@ -99,7 +116,7 @@ def simulation_dataset(result: Any) -> Any:
                           "generalized velocities"),
     }
     for name, values in result.outputs.items():
-        data[name] = variable(np.asarray(values), "time", units.get(name, "") or "1", name)
+        data[name] = variable(np.asarray(values), "time", units.get(name, "") or "1", _long_name(name))
     coords = {"time": ("time", np.asarray(result.time, float), {"units": "s", "long_name": "time"}),
               "distance": ("time", np.asarray(result.distance, float),
                            {"units": "m", "long_name": "distance of the leading wheelset along the track"}),
