@@ -201,12 +201,14 @@ def test_old_dead_band_names_are_refused_with_the_new_one(records):
     run = records["time history"]
     assert {"Y1", "YQ1", "Ytot1"} <= set(run.outputs) and not {"Q1", "QP1", "Qtot1"} & set(run.outputs)
     with pytest.raises(RenamedOutputError, match="'Q1' is now called 'Y1'"):
-        run.outputs["Q1"]  # noqa: B018
+        run.outputs["Q1"]
     with pytest.raises(KeyError):  # a KeyError too, as a dict's
-        run.outputs["QP2"]  # noqa: B018
+        run.outputs["QP2"]
+    with pytest.raises(RenamedOutputError, match="'Qtot1' is now called 'Ytot1'"):
+        run.max_abs()["Qtot1"]
     assert renamed_output("Qtot3") == "Ytot3" and renamed_output("Q1L") is None
     with pytest.raises(KeyError) as error:
-        run.outputs["nothing"]  # noqa: B018
+        run.outputs["nothing"]
     assert not isinstance(error.value, RenamedOutputError)
 
 

@@ -155,8 +155,10 @@ class SimulationResult(DataRecord):
                 f"{len(self.dofs)} DOFs, {len(self.outputs)} outputs"]
 
     def max_abs(self) -> dict[str, float]:
-        """Largest absolute value of every derived output (SI units)."""
-        return {name: float(np.max(np.abs(values))) for name, values in self.outputs.items()}
+        """Largest absolute value of every derived output (SI units), by name (an
+        :class:`~express.analysis.time.output_names.OutputTable`: an old name is refused
+        with the new one)."""
+        return OutputTable({name: float(np.max(np.abs(values))) for name, values in self.outputs.items()})
 
     def units(self) -> dict[str, str]:
         """SI unit of every column of :meth:`series` (``""`` for dimensionless ones)."""
