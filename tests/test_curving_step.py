@@ -2,8 +2,8 @@
 R = 400 m at 120 km/h, flange contact and creep saturation) are converged in the time
 step: the default dt = 5 ms is checked by halving it.
 
-Achieved (5 ms against 2.5 ms): steady Q1 and Q2 in the curve (d1 = 200-300 m) within
-3.4e-6 relative (conventional Q2; the steered car's within 2.6e-7), the peak Q1 within
+Achieved (5 ms against 2.5 ms): steady Y1 and Y2 (the paper's Q1, Q2) in the curve (d1 = 200-300 m) within
+3.4e-6 relative (conventional Y2; the steered car's within 2.6e-7), the peak Y1 within
 7e-5 (conventional).  Bounds: 1e-5 and 2e-4.
 """
 
@@ -36,4 +36,4 @@ def test_halving_the_step_leaves_the_curving_forces(car):
     coarse, fine = curving_forces(vehicle, 0.005), curving_forces(vehicle, 0.0025)
     for name in ("Y1", "Y2"):
         assert coarse[name] == pytest.approx(fine[name], rel=1e-5), name
-    assert coarse["peak Q1"] == pytest.approx(fine["peak Q1"], rel=2e-4)
+    assert coarse["peak Y1"] == pytest.approx(fine["peak Y1"], rel=2e-4)
