@@ -273,6 +273,28 @@ def test_wheel_loads_of_a_3d_model_come_from_its_vertical_contact_springs(manche
     assert np.ptp(run.wheel_rail.vertical_load[:, 0, 0]) > 1e3  # and the loads follow the motion
 
 
+def test_the_dampers_under_the_wheels_carry_load(manchester):
+    """The contact dampers' share of the wheel load, ``-c_z`` times the deflection's rate
+    (:func:`express.forces.contact.dynamic_wheel_loads`): the leading wheelset released
+    centred with a vertical velocity of 1 mm/s and a roll rate of 2 mrad/s (left wheel
+    up) starts with ``Q0 - cH (dz' +- b droll')``, ``b`` the wheel points' lateral
+    offset read from the model, to rounding (achieved 1e-16 relative, asserted 1e-12);
+    the stiffness alone would leave both loads at Q0."""
+    from express.model.parameters import expression_value
+
+    vehicle = manchester
+    c_h, load = (vehicle.values[name] for name in ("cH", "P0"))
+    b = [abs(expression_value(vehicle.model.point(point).offset[1], vehicle.values)) for point in ("T1_FL_wheel", "T1_FR_wheel")]
+    velocity = {int(i): vehicle.n + j for j, i in enumerate(vehicle.form.massive)}
+    state = np.zeros(vehicle.form.size)
+    state[velocity[vehicle.dof_index("W1.z")]] = 1e-3
+    state[velocity[vehicle.dof_index("W1.rx")]] = 2e-3
+    run = simulate(vehicle, TRACK, speed=30.0, dt=0.001, end=0.01, initial_state=state, progress=False)
+    q = run.wheel_rail.vertical_load[0, 0]
+    np.testing.assert_allclose(q, [load - c_h * (1e-3 + b[0] * 2e-3), load - c_h * (1e-3 - b[1] * 2e-3)], rtol=1e-12)
+    assert abs(q[0] - load) > 100.0  # the share is not rounding
+
+
 def _curve_statics(vehicle, run, speed: float, radius: float = 600.0, cant: float = 0.150):
     """The roll moments of a vehicle settled in a constant canted curve (free body,
     docs/curving.md "Statics of a canted curve"), in the frame of the track's tangent at

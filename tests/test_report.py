@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import re
+
 import pytest
 
 from browser import artifact_dir, inspect_page
@@ -33,6 +35,9 @@ def test_report_has_every_section_and_is_deterministic(steered_report):
     assert steered_report.count("<svg") >= 3 and "<math" in steered_report
     assert "MB 32 t scaled" in steered_report or "est:" in steered_report  # parameter sources from the file
     assert report_html(load_vehicle("examples/forced-steering.toml")) == steered_report
+    # the curving run's step is checked against twice the step and says so
+    assert re.search(r"The time step 5 ms, checked against 10 ms: converged, the largest change [0-9.]+% of its "
+                     r"limit \(\w+\), tolerance 1%", steered_report)
 
 
 @pytest.mark.slow

@@ -30,6 +30,8 @@ __version__ = "0.1.0"
 _PUBLIC = {
     # reading and generating
     "load_model": "express.io:load_model",
+    "ModelBuilder": "express.io.builder:ModelBuilder",
+    "model_to_toml": "express.io:model_to_toml",
     "with_values": "express.model.parameters:with_values",
     "generate": "express.assembly.generator:generate",
     "generate_vehicle": "express.rail.build:generate_vehicle",

@@ -48,6 +48,7 @@ __all__ = [
     "format_quantity",
     "is_angular_frequency",
     "parse_quantity",
+    "si_argument",
     "si_unit",
     "to_si",
     "unit_dimension",
@@ -495,6 +496,56 @@ def parse_quantity(text: str, dimension: str | Dimension | None = None) -> tuple
         if (dimension == "frequency" or dimension == DIMENSIONS["frequency"]) and parsed.angle == 1:
             value /= 2.0 * math.pi  # an angular frequency (rad/s, rpm) in Hz
     return value, unit
+
+
+def si_argument(value: object, dimension: str, argument: str) -> float:
+    """A library function's argument in SI: a number (SI, never the command line's
+    shorthand), a quantity with its unit as text (``"95 km/h"``) or a
+    :class:`pint.Quantity` (any registry).
+
+    Parameters
+    ----------
+    value : float, str or pint.Quantity
+    dimension : str
+        Its dimension (a name of :data:`DIMENSIONS`: ``"speed"``, ``"length"``, ...).
+    argument : str
+        The argument's name, for the message.
+
+    Raises
+    ------
+    ArgumentError
+        Naming the argument: a wrong type, a unit of another dimension, not finite.
+
+    Examples
+    --------
+    >>> si_argument("95 km/h", "speed", "speed")
+    26.38888888888889
+    >>> si_argument(30, "speed", "speed")
+    30.0
+    """
+    from express.base.diagnostics import ArgumentError
+
+    if isinstance(value, bool):
+        raise ArgumentError(f"{argument} must be a number (SI) or a quantity, got {value!r}")
+    if hasattr(value, "magnitude") and hasattr(value, "units"):  # a pint quantity of any registry
+        value = f"{float(value.magnitude)!r} {value.units:~}"
+    if isinstance(value, str):
+        try:
+            number, _ = parse_quantity(value, dimension)
+        except UnitError as error:
+            raise ArgumentError(f"{argument}: {error}") from None
+        return number
+    try:
+        number = float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        raise ArgumentError(f"{argument} must be a number (SI, {si_unit(dimension)}) or a quantity such as "
+                            f"\"{_EXAMPLE.get(dimension, '1 m')}\", got {type(value).__name__} {value!r:.60}") from None
+    if not math.isfinite(number):
+        raise ArgumentError(f"{argument} must be finite, got {number!r}")
+    return number
+
+
+_EXAMPLE = {"speed": "95 km/h", "length": "600 m", "time": "5 ms", "frequency": "20 Hz"}
 
 
 def format_quantity(value_si: float, unit: str) -> str:

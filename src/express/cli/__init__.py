@@ -55,12 +55,13 @@ from express.cli import (
     simulate,
     study,
     twist,
+    wear,
 )
 
 __all__ = ["build_parser", "main"]
 
 COMMANDS = (generate, convert, simulate, curving, frf, eigen, critical_speed, demo, draw, export, report, study, sensitivity, ride,
-            contact_geometry, conicity, cache, twist)
+            contact_geometry, conicity, cache, twist, wear)
 _META = ("handler", "numeric", "debug", "command", "no_cache")
 
 

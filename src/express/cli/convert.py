@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 from express.cli import common
 
@@ -28,21 +29,30 @@ def run(model: Path, overrides: dict[str, str], *, output: str | None = None) ->
     output = output or STDOUT
     with output_transaction(inputs=[model]) as outputs:
         outputs.declare(output)
-        text = model_to_toml(common.load_model_with(model, overrides))
-        _check_loads_back(text, output)
+        folder = Path.cwd() if output == STDOUT else Path(output).parent
+        original = common.load_model_with(model, overrides)
+        text = model_to_toml(original, folder)
+        _check_loads_back(text, output, original)
         write_text(output, text)
     if output != STDOUT:
         common.note(f"wrote {output}")
     return 0
 
 
-def _check_loads_back(text: str, output: str) -> None:
+def _check_loads_back(text: str, output: str, original: Any) -> None:
     """Every file ``convert`` writes loads back; one that would not is a bug of the
     writer, reported as an internal error before anything is written."""
     from express.base.diagnostics import ModelError
     from express.io import parse_toml_model
+    from express.model.parameters import undefined_name_problems
 
     try:
-        parse_toml_model(text, source=output)
+        model = parse_toml_model(text, source=output)
     except ModelError as error:
         raise RuntimeError(f"the converted model does not load back: {error.lines()[0]}") from None
+    # names the original leaves undefined (a classic file's values come with the run) may
+    # stay so; any other is a name the writer lost
+    before = {p.message for p in undefined_name_problems(original)}
+    lost = [p for p in undefined_name_problems(model) if p.message not in before]
+    if lost:
+        raise RuntimeError(f"the converted model does not load back: {lost[0].message}")

@@ -10,7 +10,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from express.base.diagnostics import UsageError
+from express.base.diagnostics import AnalysisError, UsageError
 from express.cli import common
 
 __all__ = ["MAX_CURVES", "add_parser", "quantities", "run"]
@@ -82,7 +82,7 @@ def run(
     plot: Path | None = None, as_json: bool = False,
 ) -> int:
     """Solve every curve and write the outputs together; returns the exit status."""
-    from express.analysis.curving.steady import steady_curving
+    from express.analysis.curving.settled import curving_or_settled
     from express.io.output import output_transaction, write_csv
 
     if output == "-" and as_json:
@@ -98,10 +98,14 @@ def run(
                 transaction.declare(path, binary=binary)
         vehicle = common.load_rail_vehicle(model, overrides, "curving")
         curves, speeds, where = _cases(vehicle, radius, cant or 0.0, direction, speed, cant_deficiency, track)
-        results = steady_curving(vehicle, curves, speeds=speeds, contact=contact, flange=not linear,
-                                 saturation=not linear)
+        found = curving_or_settled(vehicle, curves, speeds, contact=contact, flange=not linear, saturation=not linear)
+        results = [steady for steady, _ in found if steady is not None]
+        settled = [run for _, run in found if run is not None]
+        if not results and (output is not None or plot is not None):
+            raise AnalysisError("no equilibrium in any curve, so no table or figure of equilibria: " + "; ".join(
+                f"{run.reason}: the run into R = {run.curve.radius:g} m {run.describe()}" for run in settled))
         rows = [result.columns() for result in results]
-        units = results[0].units()
+        units = results[0].units() if results else {}
         if output is not None:
             write_csv(output, {name: [row[name] for row in rows] for name in rows[0]}, units)
         if plot is not None:
@@ -115,13 +119,30 @@ def run(
 
     assessments = [assess_steady(vehicle, result) for result in results]
     if as_json:
-        common.print_json({"model": str(model), "curves": where, "contact": results[0].contact,
-                           "loads": results[0].wheel_rail.loads, "units": units, "results": rows,
+        common.print_json({"model": str(model), "curves": where,
+                           "contact": results[0].contact if results else None,
+                           "loads": results[0].wheel_rail.loads if results else None, "units": units, "results": rows,
                            "assessments": [a.as_dict() for a in assessments],
-                           "stability": [{"growth": r.growth, "stable": r.stable} for r in results]})
+                           "stability": [{"growth": r.growth, "stable": r.stable} for r in results],
+                           "settled": [run.as_dict() for run in settled]})
     elif output != "-":
-        _print_table(vehicle.equations.name, where, results, assessments, sys.stdout)
+        if results:
+            _print_table(vehicle.equations.name, where, results, assessments, sys.stdout)
+        _print_settled(settled, sys.stdout)
     return 0
+
+
+def _print_settled(settled: list, stream) -> None:
+    """Each curve without a stable equilibrium: where the vehicle run into it settles, or
+    the limit cycle it keeps (:mod:`express.analysis.curving.settled`)."""
+    for run in settled:
+        mean, amplitude = run.mean, run.amplitude
+        print(f"R = {run.curve.radius:g} m at {run.speed / common.KMH:.1f} km/h: {run.reason}; the time run into it "
+              f"(step {run.dt * 1e3:g} ms, d {run.window[0]:.0f}-{run.window[1]:.0f} m) {run.describe()}", file=stream)
+        for j in range(1, 1 + sum(1 for name in mean if name.startswith("aoa"))):
+            print(f"  ws{j}: aoa {mean[f'aoa{j}'] * 1e3:8.3f} +- {amplitude[f'aoa{j}'] * 1e3:.3f} mrad   Y/Q max "
+                  f"{max(mean[f'YQ{j}L'], mean[f'YQ{j}R']):6.3f}   SY {mean[f'SY{j}'] / 1e3:8.3f} +- "
+                  f"{amplitude[f'SY{j}'] / 1e3:.3f} kN", file=stream)
 
 
 def _cases(vehicle: Any, radius, cant: float, direction: str, speed, deficiency, track: str | None):

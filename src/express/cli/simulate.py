@@ -175,20 +175,19 @@ def _assess(vehicle: Any, road: Any, result: Any) -> Any:
 
 def _step_check(vehicle: Any, road: Any, speed: float, dt: float, first: tuple[Any, Any]) -> tuple[Any, Any, Any]:
     """The assessed run checked against twice its step, halved until its quantities agree
-    (:func:`express.analysis.time.step_check.checked_run`)."""
-    from express.analysis.time.divergence import find_divergence
-    from express.analysis.time.step_check import checked_run
-
-    def run(step: float) -> tuple[Any, Any] | None:
-        result = _simulate(vehicle, road, speed, step, False)
-        return None if find_divergence(result, vehicle) is not None else (result, _assess(vehicle, road, result))
+    (:func:`express.analysis.time.step_check.checked_simulation`)."""
+    from express.analysis.time.step_check import checked_simulation
 
     smallest = max(1e-5, road.length / (speed * MAX_STEPS))
-    return checked_run(run, dt, first=first, smallest=smallest)
+    return checked_simulation(vehicle, lambda step: _simulate(vehicle, road, speed, step, False),
+                              lambda result: (result, _assess(vehicle, road, result)), dt, first=first,
+                              smallest=smallest)
 
 
 def _print_assessment(assessment: Any, stream: Any) -> None:
     print("running safety (EN 14363 quantities, docs/curving.md):", file=stream)
+    if assessment.filtering is not None:
+        print(f"  {assessment.filtering.note}; percentiles of each force in --json", file=stream)
     for c in assessment.criteria:
         verdict = "n/a (no limit)" if c.passed is None else ("pass" if c.passed else "FAIL")
         scale, unit = (1e-3, " kN") if c.unit == "N" else (1.0, "")

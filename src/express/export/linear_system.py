@@ -23,76 +23,55 @@ Examples
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
+from express.export.plant import LinearSystem, check_speed, linear_system
 from express.numeric.statespace import VehicleModel
 
 __all__ = ["LinearSystem", "linear_system", "numeric_matrices", "to_control", "to_scipy"]
 
 
-@dataclass(frozen=True)
-class LinearSystem:
-    """A standard state space ``z' = A z + B u``, ``y = C z + D u`` with names.
+def _chosen(vehicle: VehicleModel, speed: float, outputs, track: bool, pade_order: int) -> LinearSystem:
+    """:func:`linear_system` with the named ``outputs``, or driven by the track
+    (:func:`express.export.track_system.track_system`)."""
+    from express.export.track_system import output_rows, track_system
 
-    Attributes
-    ----------
-    A, B, C, D : numpy.ndarray
-        Shapes (2n, 2n), (2n, m), (2n, 2n), (2n, m).
-    states, inputs, outputs : tuple of str
-        Names: outputs are the DOFs then their rates (``W1.y``, ..., ``W1.y_dot``);
-        the states carry the same names (the state equals the output when ``u = 0``).
-    speed : float
-        Speed the matrices were evaluated at [m/s].
-    """
-
-    A: np.ndarray
-    B: np.ndarray
-    C: np.ndarray
-    D: np.ndarray
-    states: tuple[str, ...]
-    inputs: tuple[str, ...]
-    outputs: tuple[str, ...]
-    speed: float
+    if track:
+        return track_system(vehicle, speed, outputs=outputs, pade_order=pade_order)
+    system = linear_system(vehicle, speed)
+    if outputs is None:
+        return system
+    rows, names = output_rows(vehicle, outputs)
+    return LinearSystem(system.A, system.B, rows @ system.C, rows @ system.D, system.states, system.inputs, names,
+                        system.speed)
 
 
-def linear_system(vehicle: VehicleModel, speed: float) -> LinearSystem:
-    """The vehicle's linear model at ``speed`` [m/s] with the input rates removed.
-
-    Raises
-    ------
-    ValueError
-        If ``speed`` is not a positive finite number.
-    """
-    _check_speed(speed)
-    a = vehicle.state_matrix(speed)
-    b = vehicle.input_matrix(speed)
-    bd = vehicle.input_rate_matrix(speed)
-    # state [q; q_D'] (express.assembly.first_order): series elements' strokes have no rate state
-    names = tuple(vehicle.dofs) + tuple(f"{vehicle.dofs[i]}_dot" for i in vehicle.form.massive)
-    return LinearSystem(
-        A=a,
-        B=b + a @ bd,
-        C=np.eye(a.shape[0]),
-        D=bd.copy(),
-        states=names,
-        inputs=tuple(vehicle.inputs),
-        outputs=names,
-        speed=float(speed),
-    )
-
-
-def to_control(vehicle: VehicleModel, speed: float) -> Any:
+def to_control(vehicle: VehicleModel, speed: float, *, outputs=None, track: bool = False, pade_order: int = 6) -> Any:
     """A python-control ``StateSpace`` of the vehicle at ``speed`` [m/s], with named
     states, inputs and outputs (needs python-control).
 
     python-control does not allow ``.`` in signal names, so ``W1.yR`` becomes ``W1_yR``.
+
+    Parameters
+    ----------
+    vehicle : VehicleModel
+    speed : float
+        [m/s].
+    outputs : sequence of str, optional
+        The outputs by name (:func:`express.export.track_system.output_rows`: a DOF, its
+        rate ``W1.y_dot``, an output point); every DOF and rate by default.
+    track : bool
+        Driven by the track's alignment at the leading wheelset (one input), each
+        wheelset's transport delay a Padé approximant
+        (:func:`express.export.track_system.track_system`); else every model input.
+    pade_order : int
+        The approximants' order with ``track``.
     """
     import control
 
-    system = linear_system(vehicle, speed)
+    system = _chosen(vehicle, speed, outputs, track, pade_order)
 
     def names(items: tuple[str, ...]) -> list[str]:
         return [item.replace(".", "_") for item in items]
@@ -103,12 +82,21 @@ def to_control(vehicle: VehicleModel, speed: float) -> Any:
     )
 
 
-def to_scipy(vehicle: VehicleModel, speed: float) -> Any:
+def to_scipy(vehicle: VehicleModel, speed: float, *, outputs=None, track: bool = False, pade_order: int = 6) -> Any:
     """A ``scipy.signal.StateSpace`` of the vehicle at ``speed`` [m/s] (names in
-    :func:`linear_system`)."""
+    :func:`linear_system`).
+
+    Parameters
+    ----------
+    vehicle : VehicleModel
+    speed : float
+        [m/s].
+    outputs, track, pade_order
+        As :func:`to_control`.
+    """
     from scipy import signal
 
-    system = linear_system(vehicle, speed)
+    system = _chosen(vehicle, speed, outputs, track, pade_order)
     return signal.StateSpace(system.A, system.B, system.C, system.D)
 
 
@@ -118,7 +106,7 @@ def numeric_matrices(vehicle: VehicleModel, speed: float) -> dict[str, Any]:
     Keys: ``M, C, K, P, Pd`` (the vehicle's equations), ``A, B, Bd`` (state space with
     input rates), ``speed`` [m/s], ``dofs`` and ``inputs`` (names).
     """
-    _check_speed(speed)
+    check_speed(speed)
     return {  # A as in linear_system, without its B + A Bd product and identity C (a long train's are dense)
         "M": vehicle.mass,
         "C": vehicle.damping(speed),
@@ -132,8 +120,3 @@ def numeric_matrices(vehicle: VehicleModel, speed: float) -> dict[str, Any]:
         "dofs": np.array(vehicle.dofs, dtype=str),
         "inputs": np.array(vehicle.inputs, dtype=str),
     }
-
-
-def _check_speed(speed: float) -> None:
-    if not (np.isfinite(speed) and speed > 0):
-        raise ValueError(f"speed {speed!r}: must be a positive number of m/s")

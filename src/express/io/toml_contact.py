@@ -55,6 +55,9 @@ PROFILE_OUTPUTS = (
     ("angle_factor", "g", "dimensionless"),
     ("lateral_factor", "gy", "dimensionless"),
 )
+#: The profiles known by name (``express.rail.profiles.STANDARD_PROFILES`` and the
+#: ``UIC60`` alias of 60E1): any other text names a file.
+STANDARD_NAMES = frozenset({"S1002", "60E1", "UIC60"})
 _KEYS = ("from", "wheel", "rail", "units", "name", *(key for key, _, _ in PROFILE_INPUTS))
 _RATIO = re.compile(r"\s*1\s*:\s*(\S+)\s*\Z")
 

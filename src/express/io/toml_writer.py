@@ -9,7 +9,9 @@ otherwise.
 from __future__ import annotations
 
 import json
+import os
 import re
+from pathlib import Path
 
 import sympy as sp
 
@@ -68,11 +70,11 @@ _BARE_KEY = re.compile(r"[A-Za-z0-9_-]+\Z")
 def _direction(element) -> str:
     """An element's ``direction``: its axis, ``"line"`` or its vector."""
     if element.vector is None:
-        return _string(element.axis_name)
+        return toml_string(element.axis_name)
     return '"line"' if element.through_ends else _vector(element.vector)
 
 
-def _string(text: str) -> str:
+def toml_string(text: str) -> str:
     """A TOML basic string: JSON's escapes (quotes, backslash, control characters)
     plus DEL, which TOML also forbids raw; a lone surrogate (not a character) becomes
     U+FFFD."""
@@ -80,9 +82,9 @@ def _string(text: str) -> str:
     return json.dumps(text, ensure_ascii=False).replace("\x7f", "\\u007f")
 
 
-def _key(name: str) -> str:
+def toml_key(name: str) -> str:
     """A TOML key: bare when it can be, else quoted."""
-    return name if _BARE_KEY.match(name) else _string(name)
+    return name if _BARE_KEY.match(name) else toml_string(name)
 
 
 def _comment(text: str) -> str:
@@ -94,28 +96,36 @@ def _parameter_line(parameter: Parameter) -> str:
     """``mc = { value = 30.0, unit = "t" }`` in the unit written, or ``P0 = "expression"``."""
     name = parameter.name
     if parameter.expression is not None:
-        return f"{_key(name)} = {_string(value_text(parameter.expression))}"
+        return f"{toml_key(name)} = {toml_string(value_text(parameter.expression))}"
     unit = parameter.unit.strip()
     if unit:
         factor = unit_factor(unit)
         shown = parameter.value / factor
         if float(shown) * factor == parameter.value:  # reads back to the same SI value
-            return f"{_key(name)} = {{ value = {shown!r}, unit = {_string(unit)} }}"
-        return f"{_key(name)} = {parameter.value!r}  # SI (given in {_comment(unit)})"
-    return f"{_key(name)} = {parameter.value!r}"
+            return f"{toml_key(name)} = {{ value = {shown!r}, unit = {toml_string(unit)} }}"
+        return f"{toml_key(name)} = {parameter.value!r}  # SI (given in {_comment(unit)})"
+    return f"{toml_key(name)} = {parameter.value!r}"
 
 
-def model_to_toml(model: Model) -> str:
-    """The TOML text of ``model`` (deterministic)."""
+def model_to_toml(model: Model, folder: str | Path | None = None) -> str:
+    """The TOML text of ``model`` (deterministic).
+
+    Parameters
+    ----------
+    model : Model
+    folder : str or pathlib.Path, optional
+        The folder the text will be written to: profile files the model names are
+        written relative to it (absolute without it).
+    """
     lines = [
         f"# EXPRESS model, converted from {_comment(model.source)}",
         "# Format: docs/model-format.md.  Values are numbers or expressions of parameters.",
         "",
         "[model]",
-        f"name = {_string(model.name)}",
+        f"name = {toml_string(model.name)}",
     ]
     if model.title:
-        lines.append(f"title = {_string(model.title)}")
+        lines.append(f"title = {toml_string(model.title)}")
     lines += ["", "[parameters]"]
     flexible, made = _flexible_lines(model)
     if model.parameters:
@@ -133,29 +143,29 @@ def model_to_toml(model: Model) -> str:
             names |= {s.name for v in (element.stiffness, element.damping) for s in v.free_symbols}
         lines.append("# values for: " + ", ".join(sorted(names)))
     for body in model.bodies:
-        lines += ["", f"[bodies.{_key(body.id)}]"]
+        lines += ["", f"[bodies.{toml_key(body.id)}]"]
         if body.label:
-            lines.append(f"label = {_string(body.label)}")
+            lines.append(f"label = {toml_string(body.label)}")
         lines.append(f"mass = {value_to_toml(body.mass)}")
         lines.append(f"inertia = {_vector(body.inertia)}  # Ix, Iy, Iz")
-        lines.append("dofs = [" + ", ".join(_string(d) for d in body.dofs) + "]")
+        lines.append("dofs = [" + ", ".join(toml_string(d) for d in body.dofs) + "]")
         if any(v != 0 for v in body.position):
             lines.append(f"position = {_vector(body.position)}")
         if body.outline is not None:
             lines.append(f"outline = {_vector(body.outline)}  # length, width, height drawn")
     for ground in model.grounds:
-        lines += ["", f"[grounds.{_key(ground.id)}]"]
+        lines += ["", f"[grounds.{toml_key(ground.id)}]"]
         if ground.label:
-            lines.append(f"label = {_string(ground.label)}")
+            lines.append(f"label = {toml_string(ground.label)}")
     for point in model.points:
-        lines += ["", f"[points.{_key(point.id)}]", f"body = {_string(point.host)}", f"offset = {_vector(point.offset)}"]
+        lines += ["", f"[points.{toml_key(point.id)}]", f"body = {toml_string(point.host)}", f"offset = {_vector(point.offset)}"]
     for element in model.elements:
-        lines += ["", f"[elements.{_key(element.id)}]"]
+        lines += ["", f"[elements.{toml_key(element.id)}]"]
         if element.label:
-            lines.append(f"label = {_string(element.label)}")
+            lines.append(f"label = {toml_string(element.label)}")
         lines += [
-            f"from = {_string(element.s_end)}",
-            f"to = {_string(element.t_end)}",
+            f"from = {toml_string(element.s_end)}",
+            f"to = {toml_string(element.t_end)}",
             f"direction = {_direction(element)}",
         ] + ([f"preload = {value_to_toml(element.preload)}"] if element.preload != 0 else [])
         characteristic = element.characteristic
@@ -176,14 +186,14 @@ def model_to_toml(model: Model) -> str:
     for pin in model.pins:
         lines += [
             "",
-            f"[pins.{_key(pin.id)}]",
-            f"virtual = {_string(pin.virtual)}",
-            f"non_virtual = {_string(pin.non_virtual)}",
+            f"[pins.{toml_key(pin.id)}]",
+            f"virtual = {toml_string(pin.virtual)}",
+            f"non_virtual = {toml_string(pin.non_virtual)}",
         ]
     if model.gravity is not None:
         lines += ["", "[gravity]", f"acceleration = {value_to_toml(model.gravity)}"]
     if model.rail is not None:
-        lines += _rail_lines(model)
+        lines += _rail_lines(model, folder)
     return "\n".join(lines + flexible) + "\n"
 
 
@@ -200,40 +210,79 @@ def _characteristic(characteristic) -> str:
     """An inline table of a characteristic: a keyword shape with its values, a table
     (from a file too) with its breakpoints in SI."""
     if characteristic.shape != "table":
-        items = [f"shape = {_string(characteristic.shape)}"]
-        items += [f"{key} = {_string(value) if isinstance(value, str) else value_to_toml(value)}"
+        items = [f"shape = {toml_string(characteristic.shape)}"]
+        items += [f"{key} = {toml_string(value) if isinstance(value, str) else value_to_toml(value)}"
                   for key, value in characteristic.keys]
         return "{ " + ", ".join(items) + " }"
     x = ", ".join(repr(float(point[0])) for point in characteristic.points)
     f = ", ".join(repr(float(point[1])) for point in characteristic.points)
-    return (f"{{ shape = \"table\", of = {_string(characteristic.of)}, {characteristic.of} = [{x}], force = [{f}] }}")
+    return (f"{{ shape = \"table\", of = {toml_string(characteristic.of)}, {characteristic.of} = [{x}], force = [{f}] }}")
 
 
-def _rail_lines(model: Model) -> list[str]:
+def _profile_name(text: str, base: str, folder: str | Path | None) -> str:
+    """A profile as the reader takes it: a standard name as it is, a file relative to
+    ``folder`` (absolute without one)."""
+    from express.io.toml_contact import STANDARD_NAMES
+
+    if text.strip().upper().replace(" ", "") in STANDARD_NAMES:
+        return text
+    path = Path(text)
+    if not path.is_absolute():
+        path = Path(base or ".") / path
+    path = path.resolve()
+    if folder is None:
+        return path.as_posix()
+    return Path(os.path.relpath(path, Path(folder).resolve())).as_posix()
+
+
+def _profiles_node(derivation, folder: str | Path | None) -> str:
+    """``conicity = { from = "profiles", ... }`` of a ``"profiles"`` derivation node."""
+    settings = dict(derivation.settings)
+    items = ['from = "profiles"']
+    items += [f"{key} = {toml_string(_profile_name(settings[key], settings.get('base', ''), folder))}"
+              for key in ("wheel", "rail")]
+    if settings.get("units"):
+        items.append(f"units = {toml_string(settings['units'])}")
+    items.append(f"name = {toml_string(derivation.output('conicity'))}")
+    items += [f"{key} = {value_to_toml(value)}" for key, value, _ in derivation.inputs]
+    return "{ " + ", ".join(items) + " }"
+
+
+def _rail_lines(model: Model, folder: str | Path | None = None) -> list[str]:
     rail = model.rail
     assert rail is not None
+    nodes = {d.item: d for d in model.derivations if d.kind == "profiles"}
+    shared = nodes.get("rail.wheel_rail.conicity")
     lines = [
         "",
         "[rail]",
         f"speed = {value_to_toml(rail.speed)}",
         f"cant_base = {value_to_toml(rail.cant_base)}",
         f"gravity = {value_to_toml(rail.gravity)}",
-        "wheelsets = [" + ", ".join(_string(w.body) for w in rail.wheelsets) + "]",
+        "wheelsets = [" + ", ".join(toml_string(w.body) for w in rail.wheelsets) + "]",
     ]
+    if shared is not None:  # the wheelsets without their own conicity share this node
+        lines += ["", "[rail.wheel_rail]", f"conicity = {_profiles_node(shared, folder)}"]
     keys = ("f1", "f2", "conicity", "r0", "b", "flange_clearance", "rail_stiffness", "friction", "wheel_load")
     for wheelset in rail.wheelsets:
-        lines += ["", f"[rail.wheelset.{_key(wheelset.body)}]"]
-        lines += [f"{key} = {value_to_toml(getattr(wheelset, key))}" for key in keys]
+        lines += ["", f"[rail.wheelset.{toml_key(wheelset.body)}]"]
+        own = nodes.get(f"rail.wheelset.{wheelset.body}.conicity")
+        for key in keys:
+            value = getattr(wheelset, key)
+            if key == "conicity" and own is not None:
+                lines.append(f"conicity = {_profiles_node(own, folder)}")
+            elif not (key == "conicity" and shared is not None and value == sp.Symbol(shared.output("conicity"))):
+                lines.append(f"{key} = {value_to_toml(value)}")
     for derivation in model.derivations:
         if derivation.kind == "kalker":
             lines += [
                 "",
                 "[rail.creep]",
                 'from = "kalker"',
-                f"longitudinal = {_string(derivation.output('f11'))}",
-                f"lateral = {_string(derivation.output('f22'))}",
+                f"longitudinal = {toml_string(derivation.output('f11'))}",
+                f"lateral = {toml_string(derivation.output('f22'))}",
             ]
             lines += [f"{key} = {value_to_toml(value)}" for key, value, _ in derivation.inputs]
     for output in rail.outputs:
-        lines += ["", f"[rail.outputs.{_key(output.name)}]", f"body = {_string(output.body)}", f"offset = {_vector(output.offset)}"]
+        lines += ["", f"[rail.outputs.{toml_key(output.name)}]", f"body = {toml_string(output.body)}", f"offset = {_vector(output.offset)}"]
     return lines

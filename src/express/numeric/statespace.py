@@ -245,11 +245,16 @@ class VehicleModel:
             raise ArgumentError("this VehicleModel has no model to re-evaluate")
         from express.model.parameters import with_values
 
-        model = with_values(self.model, changes)
-        return _evaluate_vehicle(
-            model, self.equations, self.evaluation.evaluator, self.evaluation.speed_name, self.layout is not None,
-            self.layout, self.evaluation.rail_numbers,
-        )
+        return self.with_model(with_values(self.model, changes))
+
+    def with_model(self, model: Model) -> VehicleModel:
+        """The same equations at the (evaluated) values of ``model``, a model of the same
+        equations (another wheel profile in its ``"profiles"`` node: the wear prediction)."""
+        if self.origin.cached:
+            return self.origin.twin().with_model(model)
+        assert self.evaluation is not None
+        return _evaluate_vehicle(model, self.equations, self.evaluation.evaluator, self.evaluation.speed_name,
+                                 self.layout is not None, self.layout, self.evaluation.rail_numbers)
 
     def __repr__(self) -> str:
         speed = f", v = {self.speed / KMH:.6g} km/h" if self.speed == self.speed else ""

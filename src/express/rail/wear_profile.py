@@ -31,7 +31,7 @@ from express.base.diagnostics import ArgumentError
 from express.rail.wear import wear_rate_of_contact
 
 __all__ = ["PRESSURES", "WHEEL_STEEL_DENSITY", "archard_volume", "profile_wear_depth", "rolled_per_instant",
-           "spread_volume", "usfd_profile_wear"]
+           "smooth_depth", "spread_volume", "usfd_profile_wear"]
 
 FloatArray = NDArray[np.float64]
 #: The pressure distributions of :func:`profile_wear_depth`.
@@ -140,3 +140,27 @@ def rolled_per_instant(distance: ArrayLike) -> FloatArray:
         raise ArgumentError("a run of at least two instants")
     step = np.diff(d)
     return np.concatenate([[0.5 * step[0]], 0.5 * (step[:-1] + step[1:]), [0.5 * step[-1]]])
+
+
+def smooth_depth(depth: ArrayLike, spacing: float, width: float) -> FloatArray:
+    """``depth`` on uniform cells of ``spacing`` [m] (shape (M,)) convolved with a
+    Gaussian of standard deviation ``width`` [m] (truncated at 4 ``width``, its discrete
+    weights normalised to 1); what the kernel carries beyond either end of the grid is
+    folded back into the cells it came over, so the sum (the volume) is kept to rounding.
+    ``width = 0`` returns the depth unchanged; shape (M,)."""
+    depth = np.asarray(depth, dtype=float)
+    if not (spacing > 0 and width >= 0):
+        raise ArgumentError("the spacing must be positive and the smoothing width >= 0")
+    half = math.ceil(4.0 * width / spacing)
+    if half == 0 or depth.size < 2:
+        return depth.copy()
+    offsets = np.arange(-half, half + 1) * spacing
+    kernel = np.exp(-0.5 * (offsets / width) ** 2)
+    kernel /= kernel.sum()
+    full = np.convolve(depth, kernel)  # length M + 2 half
+    m = depth.size
+    out = full[half:half + m].copy()
+    for k in range(half):  # fold the overhang back, mirrored about each end
+        out[min(half - 1 - k, m - 1)] += full[k]
+        out[max(m - 1 - k, 0)] += full[half + m + k]
+    return out

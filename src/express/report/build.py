@@ -189,17 +189,15 @@ def _curving_section(vehicle: VehicleModel, track=None, track_name: str = "", sp
     if divergence is not None:
         return Section("Curving", (f"Track: {track_name}. Run at {speed / KMH:.0f} km/h ({said}): no result, "
                                    f"{divergence_message(run, vehicle, divergence)}.",))
-    from express.analysis.time.step_check import checked_run
+    from express.analysis.time.step_check import checked_simulation
 
     def assessed(result):  # ((run, wheel/rail outputs), assessment)
         wheel_rail, assessment = assess_run(vehicle, track, result)
         return (result, wheel_rail), assessment
 
-    def again(dt: float):
-        result = simulate(vehicle, track, speed=speed, dt=dt, progress=False)
-        return None if find_divergence(result, vehicle) is not None else assessed(result)
-
-    (run, wheel_rail), assessment, check = checked_run(again, float(run.options["dt"]), first=assessed(run))
+    (run, wheel_rail), assessment, check = checked_simulation(
+        vehicle, lambda dt: simulate(vehicle, track, speed=speed, dt=dt, progress=False), assessed,
+        float(run.options["dt"]), first=assessed(run))
     run.outputs.update({k: v for k, v in wheel_rail.columns().items() if k not in run.outputs})
     units = run.units()
     rows = [(name, f"{value:.6g}", units.get(name, "")) for name, value in run.max_abs().items()]
@@ -278,8 +276,9 @@ def report_html(
         How the report names the track.
     equations : EquationsOfMotion, optional
         The readable (factored) equations to show
-        (:func:`express.numeric.generation.load_generation`); by default the vehicle's
-        own, expanded as numerical work takes them.
+        (:func:`express.numeric.generation.load_generation`, which ``express report``
+        passes from its cache); by default generated readable from the vehicle's model,
+        so that the library's report is the command's.
     """
     if vehicle.model is None:
         raise ValueError("the vehicle has no model to report on")
@@ -287,6 +286,10 @@ def report_html(
     given = speed
     if speed is None:
         speed = vehicle.speed if rail and np.isfinite(vehicle.speed) else 1.0
+    if equations is None:
+        from express.rail.build import generate_vehicle
+
+        equations = generate_vehicle(vehicle.model).equations  # factored for people, as the command shows
     sections = [_model_section(vehicle), _parameters_section(vehicle), _equations_section(vehicle, equations),
                 _modes_section(vehicle, speed)]
     if rail:

@@ -22,9 +22,10 @@ along the distance run (``docs/curving.md``, "Running safety"):
 
 A steady state is one window: its sliding means are its values.  A run **derails**
 (:attr:`Assessment.derailment`) when the 2 m sliding mean of a flanging wheel's Y/Q
-exceeds Nadal's limit, or a wheel lifts (Q <= 0).  The standard's 20 Hz filtering and the
-percentiles of on-track tests are not applied: a simulation without irregularities is
-assessed by its largest values.
+exceeds Nadal's limit, or a wheel lifts (Q <= 0, unfiltered).  A time run's Y and Q are
+low-pass filtered at 20 Hz first, and the assessment carries each quantity's 0.15 %, 50 %
+and 99.85 % values (:mod:`express.analysis.curving.processing`); the limits are checked
+against the largest values.
 
 With the contact tables the assessment also carries each wheel's energy and damage
 numbers (:class:`WheelDamage`: Tgamma, the USFD wear rate, Burstow's RCF index, largest
@@ -35,11 +36,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import cast
+from typing import Any, cast
 
 import numpy as np
 
 from express.analysis.curving.outputs import SIDES, WheelRailOutputs
+from express.analysis.curving.processing import Filtering, Percentiles, filtered, percentiles
 from express.rail.contact_forces import ContactSet
 from express.rail.options import CreepLaw
 
@@ -161,11 +163,15 @@ class WheelDamage:
 @dataclass(frozen=True)
 class Assessment:
     """Every :class:`Criterion` of a run, and whether (and why) it derailed; with the
-    contact tables also each wheel's :class:`WheelDamage` (not a criterion)."""
+    contact tables also each wheel's :class:`WheelDamage` (not a criterion); of a time
+    run, how its forces were filtered and their percentiles
+    (:mod:`express.analysis.curving.processing`)."""
 
     criteria: tuple[Criterion, ...]
     derailment: str | None = None
     wear: tuple[WheelDamage, ...] = ()
+    filtering: Filtering | None = None
+    percentiles: Percentiles | None = None
 
     @property
     def passed(self) -> bool:
@@ -173,10 +179,14 @@ class Assessment:
         return all(c.passed is not False for c in self.criteria)
 
     def as_dict(self) -> dict:
-        found = {"passed": self.passed, "derailment": self.derailment,
-                 "criteria": [c.as_dict() for c in self.criteria]}
+        found: dict[str, Any] = {"passed": self.passed, "derailment": self.derailment,
+                                 "criteria": [c.as_dict() for c in self.criteria]}
         if self.wear:
             found["wear"] = [w.as_dict() for w in self.wear]
+        if self.filtering is not None:
+            found["filtering"] = self.filtering.as_dict()
+        if self.percentiles is not None:
+            found["percentiles"] = self.percentiles.as_dict()
         return found
 
 
@@ -215,11 +225,16 @@ def assess(outputs: WheelRailOutputs, distance, *, radius: float, friction: floa
     alpha : float
         Factor of Prud'homme's limit.
     speed : float, optional
-        The running speed of a time run [m/s]: adds the instability criterion of every
-        wheelset (:mod:`express.analysis.curving.instability`) when the run is at least
-        100 m long.
+        The running speed of a time run [m/s]: its Y and Q are filtered and their
+        percentiles taken (:mod:`express.analysis.curving.processing`), and the
+        instability criterion of every wheelset is added
+        (:mod:`express.analysis.curving.instability`) when the run is at least 100 m long.
     """
     d = np.atleast_1d(np.asarray(distance, dtype=float))
+    raw, filtering, statistics = outputs, None, None
+    if speed is not None and d.size > 1:
+        outputs, filtering = filtered(raw, d, speed)
+        statistics = percentiles(outputs)
     y_over_q = sliding_mean(d, outputs.y_over_q)  # (windows, n, 2)
     climbing = sliding_mean(d, np.where(outputs.flange_contact, outputs.y_over_q, 0.0))
     shift = sliding_mean(d, outputs.track_shift_force)  # (windows, n)
@@ -238,10 +253,11 @@ def assess(outputs: WheelRailOutputs, distance, *, radius: float, friction: floa
                                float(np.abs(shift[:, j]).max()), prudhomme_limit(float(outputs.static_load[j]), alpha),
                                "N"))
     if speed is not None:
-        criteria += _instability(outputs, d, speed, alpha)
+        criteria += _instability(raw, d, speed, alpha)
     criteria.append(_check("dQQ0", "wheel unloading ΔQ/Q0 of the vehicle", float(outputs.vehicle_unloading.max()),
                            UNLOADING_LIMIT))
-    return Assessment(tuple(criteria), _derailment(outputs, d, climbing, nadal), wheel_damage(outputs))
+    return Assessment(tuple(criteria), _derailment(raw, d, climbing, nadal), wheel_damage(raw), filtering,
+                      statistics)
 
 
 def _instability(outputs: WheelRailOutputs, distance: np.ndarray, speed: float, alpha: float) -> list[Criterion]:

@@ -47,6 +47,7 @@ from express.rail.track.geometry import turn_sign
 __all__ = [
     "MAX_UNBALANCED_ACCELERATION",
     "CurveError",
+    "NoSteadyStateError",
     "SteadyCurve",
     "SteadyCurving",
     "SteadyCurvingSolver",
@@ -72,6 +73,12 @@ _SETTLED = 1e-9
 class CurveError(InputError):
     """A curve the vehicle cannot run (bad geometry, too much unbalanced acceleration,
     no steady state): bad input, exit status 2 on the command line; one line per problem."""
+
+
+class NoSteadyStateError(CurveError):
+    """A curve that can be run but in which the solver finds no equilibrium (where
+    :func:`express.analysis.curving.settled.curving_or_settled` runs the vehicle into it
+    instead)."""
 
 
 @dataclass(frozen=True)
@@ -359,7 +366,7 @@ class SteadyCurvingSolver:
             if settled_residual < residual:
                 x, residual = settled, settled_residual
         if not residual < _TOLERANCE:
-            raise CurveError(f"no steady state in R = {curve.radius:g} m with {curve.cant * 1e3:g} mm cant at "
+            raise NoSteadyStateError(f"no steady state in R = {curve.radius:g} m with {curve.cant * 1e3:g} mm cant at "
                              f"{self.speed * 3.6:.1f} km/h: the vehicle cannot follow this curve (relative residual "
                              f"{residual:.1e} after {evaluations} steps; an unstable vehicle has no steady state)")
         return self._result(curve, x, inputs, evaluations, residual, _growth(equations(x)[1]))
@@ -413,7 +420,7 @@ class SteadyCurvingSolver:
                                         inputs.y_rail, inputs.rho_wheelsets, self.speed, self.tables)
         beyond = np.abs(history[0, :, OUTPUTS.index("beyond")])
         if np.any(beyond > 0):
-            raise CurveError(f"in R = {curve.radius:g} m a wheel runs {1e3 * float(beyond.max()):.1f} mm beyond its "
+            raise NoSteadyStateError(f"in R = {curve.radius:g} m a wheel runs {1e3 * float(beyond.max()):.1f} mm beyond its "
                              "contact table (flange climb): the vehicle cannot follow this curve")
 
 
@@ -498,8 +505,9 @@ def steady_curving(vehicle: VehicleModel, curves: SteadyCurve | Iterable[SteadyC
     ----------
     vehicle : VehicleModel
     curves : SteadyCurve or iterable of SteadyCurve
-    speeds : float or sequence of float, optional
-        [m/s]: one for all curves or one per curve; the model's speed by default.
+    speeds : float, quantity or sequence of them, optional
+        [m/s] (a number is SI; ``"95 km/h"`` or a :class:`pint.Quantity`): one for all
+        curves or one per curve; the model's speed by default.
     **options
         ``contact``, ``creep_law``, ``flange``, ``saturation`` of :class:`SteadyCurvingSolver`.
 
@@ -507,9 +515,22 @@ def steady_curving(vehicle: VehicleModel, curves: SteadyCurve | Iterable[SteadyC
     -------
     list of SteadyCurving
     """
-    curves = [curves] if isinstance(curves, SteadyCurve) else list(curves)
-    if speeds is None or isinstance(speeds, (int, float)):
-        speeds = [vehicle.speed if speeds is None else float(speeds)] * len(curves)
+    from express.base.units import si_argument
+
+    if isinstance(curves, SteadyCurve):
+        curves = [curves]
+    elif isinstance(curves, Iterable) and not isinstance(curves, str):
+        curves = list(curves)
+    else:
+        curves = [curves]
+    for curve in curves:
+        if not isinstance(curve, SteadyCurve):
+            raise ArgumentError(f"curves must be a SteadyCurve or a list of them (e.g. SteadyCurve(radius=600.0, "
+                                f"cant=0.15)), got {type(curve).__name__} {curve!r:.60}")
+    if speeds is None or isinstance(speeds, (int, float, str)) or hasattr(speeds, "units"):
+        speeds = [vehicle.speed if speeds is None else si_argument(speeds, "speed", "speeds")] * len(curves)
+    else:
+        speeds = [si_argument(speed, "speed", "speeds") for speed in speeds]
     if len(speeds) != len(curves):
         raise ArgumentError(f"{len(speeds)} speeds for {len(curves)} curves")
     solvers: dict[float, SteadyCurvingSolver] = {}

@@ -17,14 +17,27 @@ output                     unit    what
 ``frf_peak_acceleration``  m/s^2   peak acceleration amplitude of an output point (``frf_output``)
                                    in the response to a sinusoidal lateral irregularity
 ``frf_peak_frequency``     Hz      frequency of that peak
+``max_YQ2m``               --      EN 14363's largest ``(Y/Q)2m`` of any wheel on the track run
+                                   (``express simulate --assess``'s ``YQ{n}{s}``, filtered forces)
+``max_SY2m``               N       largest ``(ΣY)2m`` of any wheelset on the track run
+``max_dQQ0``               --      largest wheel unloading ``ΔQ/Q0`` on the track run
+``max_aoa``                rad     largest angle of attack ``|aoa|`` of any wheelset on the track run
+``max_Tgamma``             N       largest frictional power ``Tgamma`` of any wheel on the track run
+                                   (contact from profiles; nan for the dead-band contact)
+``steady_aoa``             rad     the leading wheelset's angle of attack in the steady curve
+                                   (``curve_radius``, ``curve_cant``, ``speed``; ``express curving``)
+``steady_YQ``              --      largest Y/Q of any wheel in that steady curve
+``steady_SY``              N       largest ``|ΣY|`` of any wheelset in that steady curve
 =========================  ======  =================================================================
 
 The options (``[study.options]``) are those of the matching commands: ``v_min``,
 ``v_max``, ``tolerance``, ``points``, ``threshold``, ``check`` (critical speed);
 ``speed`` (eigenvalues, track and FRF; default the model's speed); ``track`` (a track
-file, default the paper's R = 400 m curve), ``dt``; ``frf_output``, ``frf_fmin``,
-``frf_fmax``, ``frf_points``, ``frf_amplitude``. Quantities are numbers in SI or strings
-with a unit (``"540 km/h"``).
+file or a bundled track's name, ``"R400"``, as ``--track`` takes it; default the paper's
+R = 400 m curve), ``dt``; ``frf_output``, ``frf_fmin``,
+``frf_fmax``, ``frf_points``, ``frf_amplitude``; ``curve_radius`` (default 600 m) and ``curve_cant``
+(default 0) of the steady curve. Quantities are numbers in SI or strings with a unit
+(``"540 km/h"``).
 
 ``max_Y`` and ``max_YQ`` were ``max_Q`` and ``max_QP`` before issue 35 (one meaning per
 name: ``Q`` the vertical wheel load, ``Y`` the lateral force); a study that names the old
@@ -60,6 +73,14 @@ OUTPUTS: dict[str, tuple[str, str]] = {
     "max_lever_angle": ("rad", "track"),
     "frf_peak_acceleration": ("m/s^2", "frf"),
     "frf_peak_frequency": ("Hz", "frf"),
+    "max_YQ2m": ("", "assess"),
+    "max_SY2m": ("N", "assess"),
+    "max_dQQ0": ("", "assess"),
+    "max_aoa": ("rad", "assess"),
+    "max_Tgamma": ("N", "assess"),
+    "steady_aoa": ("rad", "steady"),
+    "steady_YQ": ("", "steady"),
+    "steady_SY": ("N", "steady"),
 }
 
 #: The critical-speed search's defaults (the one set: :class:`CriticalOptions`).
@@ -75,6 +96,8 @@ _QUANTITIES = {
     "frf_fmin": ("frequency", 0.1, 1e-4, 1000.0),
     "frf_fmax": ("frequency", 20.0, 1e-4, 1000.0),
     "frf_amplitude": ("length", 1e-3, 1e-9, 0.1),
+    "curve_radius": ("length", 600.0, 1.0, 1e6),
+    "curve_cant": ("length", 0.0, -0.3, 0.3),
 }
 _OTHERS = ("points", "check", "track", "frf_output", "frf_points")
 
@@ -102,13 +125,15 @@ class OutputSettings:
     points: int = _SEARCH.points
     check: SearchCheck = _SEARCH.check
     speed: float | None = None
-    track: Path | None = None
+    track: Path | str | None = None
     dt: float = 0.005
     frf_output: str | None = None
     frf_fmin: float = 0.1
     frf_fmax: float = 20.0
     frf_points: int = 200
     frf_amplitude: float = 1e-3
+    curve_radius: float = 600.0
+    curve_cant: float = 0.0
 
     @property
     def critical(self) -> CriticalOptions:
@@ -145,11 +170,16 @@ class OutputSettings:
                 else:
                     values[key] = raw
             elif key == "track":
+                from express.rail.track.named import NAMED_CURVES
+
                 track = base / str(raw) if isinstance(raw, str) else None
-                if track is None or not track.is_file():
-                    problems.append((key, f"no such track file: {track if track is not None else raw!r}"))
-                else:
+                if track is not None and track.is_file():
                     values[key] = track
+                elif isinstance(raw, str) and raw in (*NAMED_CURVES, "paper"):
+                    values[key] = raw  # a bundled track, as --track takes it
+                else:
+                    problems.append((key, f"no such track file or bundled track: {raw!r} (the bundled ones: "
+                                          f"{', '.join([*NAMED_CURVES, 'paper'])})"))
             elif key == "frf_output":
                 if not isinstance(raw, str):
                     problems.append((key, "must be the name of an output point"))
@@ -204,8 +234,10 @@ class PointOutputs:
             values.update(self._critical(vehicle, notes))
         if "eigen" in self.groups:
             values.update(self._eigen(vehicle))
-        if "track" in self.groups:
+        if self.groups & {"track", "assess"}:
             values.update(self._track_run(vehicle))
+        if "steady" in self.groups:
+            values.update(self._steady(vehicle))
         if "frf" in self.groups:
             values.update(self._frf(vehicle))
         return {name: float(values[name]) for name in self.outputs}, notes
@@ -257,7 +289,20 @@ class PointOutputs:
             found = [value for name, value in maxima.items() if re.fullmatch(pattern, name)]
             return max(found) if found else math.nan
 
-        return {"max_Y": largest(r"Y\d+"), "max_YQ": largest(r"YQ\d+"), "max_lever_angle": largest(r"theta_.+")}
+        found = {"max_Y": largest(r"Y\d+"), "max_YQ": largest(r"YQ\d+"), "max_lever_angle": largest(r"theta_.+")}
+        if "assess" in self.groups:
+            found.update(_assessed(vehicle, self._track, result))
+        return found
+
+    def _steady(self, vehicle) -> dict[str, float]:
+        from express.analysis.curving.steady import SteadyCurve, steady_curving
+
+        s = self.settings
+        state = steady_curving(vehicle, SteadyCurve(s.curve_radius, s.curve_cant), speeds=self._speed(vehicle))[0]
+        outputs = state.wheel_rail
+        return {"steady_aoa": float(outputs.angle_of_attack[0, 0]),
+                "steady_YQ": float(np.max(outputs.y_over_q)),
+                "steady_SY": float(np.max(np.abs(outputs.track_shift_force)))}
 
     def _frf(self, vehicle) -> dict[str, float]:
         from express.analysis.frequency import frequency_response
@@ -273,3 +318,20 @@ class PointOutputs:
         amplitude = np.abs(np.asarray(response.acceleration_of(name)))
         k = int(np.argmax(amplitude))
         return {"frf_peak_acceleration": float(amplitude[k]), "frf_peak_frequency": float(frequencies[k])}
+
+
+def _assessed(vehicle, track, result) -> dict[str, float]:
+    """The EN 14363 outputs of a track run (``express simulate --assess``'s criteria)."""
+    from express.analysis.curving.assessment import assess_run
+
+    outputs, assessment = assess_run(vehicle, track, result)
+    values = {c.name: c.value for c in assessment.criteria}
+
+    def largest(pattern: str) -> float:
+        found = [value for name, value in values.items() if re.fullmatch(pattern, name)]
+        return max(found) if found else math.nan
+
+    power = outputs.frictional_power
+    return {"max_YQ2m": largest(r"YQ\d+[LR]"), "max_SY2m": largest(r"SY\d+"), "max_dQQ0": values["dQQ0"],
+            "max_aoa": float(np.max(np.abs(outputs.angle_of_attack))),
+            "max_Tgamma": float(np.max(power)) if power is not None else math.nan}

@@ -95,8 +95,9 @@ def make_task(spec: StudySpec) -> StudyTask:
     """The worker task of a checked study."""
     model_text = spec.model.read_bytes()
     track = spec.settings.track
-    track_text = track.read_bytes() if track is not None else None
-    settings = replace(spec.settings, track=None)
+    named = isinstance(track, str)  # a bundled track travels by its name
+    track_text = track.read_bytes() if isinstance(track, Path) else None
+    settings = spec.settings if named else replace(spec.settings, track=None)
     digest = hashlib.sha256()
     for part in (model_text, spec.model.suffix.encode(), repr(spec.names).encode(),
                  repr(sorted(spec.fixed.items())).encode(), repr(spec.outputs).encode(), repr(settings).encode(),
@@ -105,7 +106,7 @@ def make_task(spec: StudySpec) -> StudyTask:
     return StudyTask(
         key=digest.hexdigest(), model_path=str(spec.model.resolve()), model_text=model_text, names=spec.names,
         fixed=tuple(sorted(spec.fixed.items())), outputs=spec.outputs, settings=settings,
-        track_name=track.name if track is not None else None, track_text=track_text,
+        track_name=track.name if isinstance(track, Path) else None, track_text=track_text,
     )
 
 

@@ -280,14 +280,15 @@ def simulate(
         Numerical vehicle with rail data.
     track : Track
         Curvature, cant and irregularity along the track.
-    speed : float, optional
-        [m/s]; by default the track's own speed (a track file's or a named track's line
+    speed : float or quantity, optional
+        [m/s] (a number is SI; ``"95 km/h"`` or a :class:`pint.Quantity` with its unit);
+        by default the track's own speed (a track file's or a named track's line
         speed), else the model's, as ``express simulate`` chooses; ``options["speed_from"]``
         says which (``"given"``, ``"track"``, ``"model"``).
-    dt : float
+    dt : float or quantity
         Time step [s] (the linear part is exact; the step limits how finely the
         flange and saturation feedback is followed).
-    start, end : float
+    start, end : float or quantity
         Leading-wheelset distance at the start and end [m]; ``end`` defaults to the
         track length.
     flange, saturation : bool
@@ -320,8 +321,15 @@ def simulate(
     SimulationResult
         ``options["route"]`` is ``"sparse"`` when the sparse route was taken.
     """
-    v, speed_from = running_speed(vehicle, track, speed)
-    end = track.length if end is None else end
+    from express.base.units import si_argument
+
+    if not isinstance(track, Track):
+        raise ArgumentError(f"track must be a Track (express.load_track(\"R400\") or a track file), "
+                            f"got {type(track).__name__}")
+    v, speed_from = running_speed(vehicle, track, None if speed is None else si_argument(speed, "speed", "speed"))
+    dt = si_argument(dt, "time", "dt")
+    start = si_argument(start, "length", "start")
+    end = track.length if end is None else si_argument(end, "length", "end")
     if end <= start:
         raise ArgumentError(f"end ({end} m) must lie beyond start ({start} m)")
     steps = int(np.ceil((end - start) / (v * dt)))

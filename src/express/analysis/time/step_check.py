@@ -24,7 +24,7 @@ from typing import Any
 
 from express.base.diagnostics import AnalysisError
 
-__all__ = ["MAX_HALVINGS", "TOLERANCE", "StepCheck", "checked_run"]
+__all__ = ["MAX_HALVINGS", "TOLERANCE", "StepCheck", "checked_run", "checked_simulation"]
 
 #: Largest accepted change of an assessed quantity between the step and twice the step,
 #: as a fraction of its limit [-].
@@ -154,3 +154,19 @@ def checked_run(run: Callable[[float], tuple[Any, Any] | None], dt: float, *, fi
         result, assessment = finer
         check = _compare(assessment, previous, tolerance, steps)
     return result, assessment, check
+
+
+def checked_simulation(vehicle: Any, simulate_at: Callable[[float], Any], assess: Callable[[Any], tuple[Any, Any]],
+                       dt: float, *, first: tuple[Any, Any] | None = None,
+                       smallest: float = 1e-5) -> tuple[Any, Any, StepCheck]:
+    """:func:`checked_run` of a time run of ``vehicle``: ``simulate_at(dt)`` makes the run
+    at step ``dt`` [s], a diverged one
+    (:func:`~express.analysis.time.divergence.find_divergence`) counts as none, and
+    ``assess(run)`` gives its ``(result, assessment)``."""
+    from express.analysis.time.divergence import find_divergence
+
+    def run(step: float) -> tuple[Any, Any] | None:
+        result = simulate_at(step)
+        return None if find_divergence(result, vehicle) is not None else assess(result)
+
+    return checked_run(run, dt, first=first, smallest=smallest)
