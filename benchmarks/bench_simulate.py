@@ -199,10 +199,10 @@ class Bench:
         states = solution.y.T
         inputs = track_inputs(vehicle, track, result.distance, vehicle.speed)
         reference = derived_outputs(vehicle, states[:, :n], states[:, n:], inputs, vehicle.speed)
-        peak_ivp = float(np.max(np.abs(reference["Q1"])))
-        peak_sim = float(np.max(np.abs(result.outputs["Q1"])))
+        peak_ivp = float(np.max(np.abs(reference["Y1"])))
+        peak_sim = float(np.max(np.abs(result.outputs["Y1"])))
         q1_rel_diff = abs(peak_sim - peak_ivp) / peak_ivp
-        history = float(np.max(np.abs(result.outputs["Q1"] - reference["Q1"]))) / peak_ivp
+        history = float(np.max(np.abs(result.outputs["Y1"] - reference["Y1"]))) / peak_ivp
         state_diff = float(np.max(np.abs(result.q - states[:, :n])))
         speedup = ivp_time / median
         print(f"solve_ivp: {ivp_time:.2f} s ({len(ivp_times)} run{'s' if len(ivp_times) > 1 else ''}: "

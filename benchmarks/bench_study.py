@@ -121,7 +121,7 @@ def evaluations(runs: int, quick: bool) -> float:
     count = len(vehicles)
     reference = [critical_speed(v) for v in vehicles]
     grid = [fast_critical_speed(v) for v in vehicles]
-    same = all((r.speed if r else None) == g.speed for r, g in zip(reference, grid, strict=True))
+    same = all((r.speed if r.found else None) == g.speed for r, g in zip(reference, grid, strict=True))
     local_options = CriticalOptions(check="local")
 
     def local_sweep():

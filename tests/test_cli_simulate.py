@@ -39,11 +39,11 @@ def test_simulate_json_on_the_paper_curve(capsys):
     assert data["speed"] == pytest.approx(120 / 3.6)  # m/s, the model's speed
     assert data["track_length"] == pytest.approx(460.0)  # the paper's curve
     maxima = data["max_abs"]
-    for key in ("Q1", "Q2", "psi_TW1", "psi_TW2"):
+    for key in ("Y1", "Y2", "psi_TW1", "psi_TW2"):
         assert key in maxima
     assert not any(key.startswith("theta_") for key in maxima)  # no levers on this car
     # SI: newtons and radians (tens of kN, a fraction of a milliradian)
-    assert 5e3 < maxima["Q1"] < 1e5
+    assert 5e3 < maxima["Y1"] < 1e5
     assert 0 < maxima["psi_TW1"] < 0.01
     assert maxima["rho1"] == pytest.approx(1 / 400)
 
@@ -56,16 +56,16 @@ def test_simulate_steered_reports_lever_angles_and_writes_files(capsys, short_tr
         args += ["-o", path]
     data = run_json(capsys, *args)
     assert data["track_length"] == pytest.approx(80.0)
-    assert {"theta_L1", "theta_L2", "theta_L3", "theta_L4", "Q1", "Q2", "psi_TW1", "psi_TW2"} <= set(data["max_abs"])
+    assert {"theta_L1", "theta_L2", "theta_L3", "theta_L4", "Y1", "Y2", "psi_TW1", "psi_TW2"} <= set(data["max_abs"])
     assert data["max_abs"]["theta_L1"] > 0.01  # the lever turns in the curve [rad]
     for path in [*outputs, figure]:
         assert path.is_file() and path.stat().st_size > 0, path
     with open(outputs[0], newline="", encoding="utf-8") as stream:
         header = next(csv.reader(stream))
-    assert {"time_s", "d1_m", "Q1_N", "QP1", "theta_L1_rad", "W1.y_m", "W1.y_dot_m_s"} <= set(header)
+    assert {"time_s", "d1_m", "Y1_N", "YQ1", "theta_L1_rad", "W1.y_m", "W1.y_dot_m_s"} <= set(header)
     assert figure.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     with np.load(outputs[1]) as npz:
-        assert "Q1" in npz.files
+        assert "Y1" in npz.files
 
 
 def test_simulate_outputs_are_deterministic(capsys, short_track, tmp_path):
@@ -104,7 +104,7 @@ def test_simulate_track_speed_and_linear_options(capsys, speed):
 def test_simulate_prints_a_readable_summary(capsys, short_track):
     status, out, err = run(capsys, "simulate", CONVENTIONAL, "--track", short_track, "--dt", "0.01")
     assert status == 0, err
-    assert "km/h" in out and "kN" in out and "Q1" in out
+    assert "km/h" in out and "kN" in out and "Y1" in out
 
 
 @pytest.mark.parametrize(

@@ -89,7 +89,7 @@ def test_outputs_and_options(s1002):
     names = [f"{prefix}1{side}" for prefix in ("Q", "Y", "YQ", "Fx", "u", "gamma", "flanging") for side in "LR"]
     for name in [*names, "SY1", "aoa1", "dQQ0"]:
         assert run.outputs[name].shape == run.time.shape
-    for name in ("Q1", "QP1", "Qtot1", "flange1", "dy1", "NL1"):  # the dead-band model's, or gone
+    for name in ("Y1", "YQ1", "Ytot1", "flange1", "dy1", "NL1"):  # the dead-band model's, or gone
         assert name not in run.outputs
     o = run.outputs
     assert o["Y1L"][0] < -30e3 and o["flanging1L"][0] == 1.0 and o["flanging1R"][0] == 0.0  # the left rail pushes back

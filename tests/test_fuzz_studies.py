@@ -44,7 +44,7 @@ def test_mutated_study_files_are_read_or_refused(tmp_path_factory, data):
 
 AMOUNT = st.one_of(st.sampled_from(NASTY_NUMBERS), st.sampled_from(['"0.5 MN/m"', '"3 kg"', "1", "2"]))
 OUTPUT_NAMES = ["least_damping_ratio", "least_damping_frequency", "frf_peak_acceleration", "frf_peak_frequency",
-                "critical_speed", "max_Q", "nope"]
+                "critical_speed", "max_Y", "nope"]
 #: Ranges that make sense (some points of mu, ky2 and cy2 outside the valid range or
 #: unstable: the study records them as points without a value).
 GOOD_RANGES = {

@@ -234,8 +234,8 @@ def conventional():
 
 
 def test_q_is_the_flanging_wheels_share_of_the_rail_force(conventional):
-    """``Q{n}`` = flange force + half the wheelset's lateral creep force; ``Qtot{n}`` =
-    creep + flange; ``QP{n}`` = Q / P (``simulate.py`` module docstring)."""
+    """``Y{n}`` = flange force + half the wheelset's lateral creep force; ``Ytot{n}`` =
+    creep + flange; ``YQ{n}`` = Y / Q0 (``simulate.py`` module docstring)."""
     from express.analysis.time.simulate import derived_outputs, track_inputs
     from express.rail.track import paper_curve
 
@@ -255,11 +255,11 @@ def test_q_is_the_flanging_wheels_share_of_the_rail_force(conventional):
     ref = wheelset_forces(q[:, iy], q[:, ipsi], q_dot[:, iy], q_dot[:, ipsi], inputs.y_rail, inputs.rho_wheelsets,
                           vehicle.speed, ws)
     for j in range(len(ws)):
-        np.testing.assert_allclose(out[f"Q{j + 1}"], ref["flange"][:, j] + 0.5 * ref["lateral_creep"][:, j])
-        np.testing.assert_allclose(out[f"Qtot{j + 1}"], ref["lateral"][:, j])
-        np.testing.assert_allclose(out[f"QP{j + 1}"], out[f"Q{j + 1}"] / ws[j].wheel_load)
+        np.testing.assert_allclose(out[f"Y{j + 1}"], ref["flange"][:, j] + 0.5 * ref["lateral_creep"][:, j])
+        np.testing.assert_allclose(out[f"Ytot{j + 1}"], ref["lateral"][:, j])
+        np.testing.assert_allclose(out[f"YQ{j + 1}"], out[f"Y{j + 1}"] / ws[j].wheel_load)
         np.testing.assert_allclose(out[f"flange{j + 1}"], ref["flange"][:, j])
-    assert out["Q1"][0] == 0.0  # centred on the straight: no force
+    assert out["Y1"][0] == 0.0  # centred on the straight: no force
     assert out["flange1"][1] == pytest.approx(w1.rail_stiffness * 0.002)  # outer rail pushes it left
     assert out["dy1"][1] == pytest.approx(-0.002)
     assert out["flange1"][2] == 0.0

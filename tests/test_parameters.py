@@ -535,7 +535,7 @@ def test_set_a_mass_on_the_command_line_changes_the_wheel_load(capsys):
     heavy = _simulate_json(capsys, "--set", "mc=60000")
     p0 = (60000 + 2 * 2600 + 4 * 1400) * G / 8
     for k in range(1, 5):
-        assert heavy["max_abs"][f"QP{k}"] == pytest.approx(heavy["max_abs"][f"Q{k}"] / p0, rel=1e-9)
+        assert heavy["max_abs"][f"YQ{k}"] == pytest.approx(heavy["max_abs"][f"Y{k}"] / p0, rel=1e-9)
     again = _simulate_json(capsys, "--set", "mc=60 t")
     assert again["max_abs"] == heavy["max_abs"]
 

@@ -83,3 +83,17 @@ def test_public_record_documents_every_field(name):
     fields = [f.name for f in dataclasses.fields(record) if not f.name.startswith("_")]
     missing = [f for f in fields if f not in documented(record.__doc__, "Attributes")]
     assert not missing, f"{record.__module__}.{record.__qualname__}: Attributes does not document {missing}"
+
+
+#: The result records reachable from ``express.`` (issue 35 item 2): each is data.
+RESULT_RECORDS = ["CriticalSpeed", "EigenResult", "FrequencyResponse", "NonlinearCriticalSpeed", "RideResponse",
+                  "SimulationResult", "SteadyCurving"]
+
+
+@pytest.mark.parametrize("name", RESULT_RECORDS)
+def test_result_records_are_public_and_are_data(name):
+    record = getattr(express, name)
+    assert name in express.__all__ and inspect.isclass(record)
+    for method in ("to_xarray", "to_pandas", "_repr_html_", "__repr__"):
+        assert callable(getattr(record, method, None)), (name, method)
+    assert record.__repr__ is not object.__repr__

@@ -144,7 +144,7 @@ def test_critical_speeds_match_the_library(name, vehicles):
     for row in rows:
         found = critical_speed(vehicle.with_values({"Gamma": float(row["conicity"])}), tolerance_kmh=1e-9,
                                threshold=0.0, **mr.SCAN)
-        assert found is not None and not found.unstable_at_min
+        assert found.found and not found.unstable_at_min
         assert abs(found.speed - float(row["speed_m_s"])) <= tolerance * float(row["speed_m_s"])
         assert abs(found.speed_kmh - float(row["speed_km_h"])) <= tolerance * float(row["speed_km_h"])
         assert found.mode.frequency_hz == pytest.approx(float(row["frequency_hz"]), rel=1e-9)

@@ -76,7 +76,7 @@ def test_run_covers_the_track_on_the_requested_grid(run_steered, steered, track)
     assert r.q.shape == r.q_dot.shape == (r.time.size, steered.n)
     assert r.dofs == steered.dofs
     assert np.all(np.isfinite(r.q)) and np.all(np.isfinite(r.q_dot))
-    for name in ("Q1", "Q4", "QP1", "Qtot1", "flange1", "dy1", "psi_TW1", "psi_TW4", "theta_L1", "rho1", "S1"):
+    for name in ("Y1", "Y4", "YQ1", "Ytot1", "flange1", "dy1", "psi_TW1", "psi_TW4", "theta_L1", "rho1", "S1"):
         assert r.outputs[name].shape == r.time.shape, name
     assert r.options == {"flange": True, "saturation": True, "dt": 0.005, "speed_from": "track"}
     # the track seen by the leading wheelset
@@ -144,11 +144,11 @@ def test_steering_makes_both_axles_radial(run_steered, run_conventional, steered
 
 
 def test_steering_lowers_and_evens_out_the_lateral_forces(run_steered, run_conventional):
-    s1, s2 = steady_mean(run_steered, "Q1"), steady_mean(run_steered, "Q2")
-    c1, c2 = steady_mean(run_conventional, "Q1"), steady_mean(run_conventional, "Q2")
+    s1, s2 = steady_mean(run_steered, "Y1"), steady_mean(run_steered, "Y2")
+    c1, c2 = steady_mean(run_conventional, "Y1"), steady_mean(run_conventional, "Y2")
     assert s1 > 0 and c1 > 0  # the outer (right) rail pushes the leading axle toward the centre
     assert s1 < 0.8 * c1
-    assert run_steered.max_abs()["Q1"] < 0.8 * run_conventional.max_abs()["Q1"]
+    assert run_steered.max_abs()["Y1"] < 0.8 * run_conventional.max_abs()["Y1"]
     assert abs(s1 - s2) < 0.5 * abs(c1 - c2)
     # the leading wheelset flanges on the OUTER rail: y - yR < -delta in a left curve
     for r in (run_steered, run_conventional):
@@ -178,7 +178,7 @@ def test_a_right_curve_mirrors_the_left_curve(steered):
     right = simulate(steered, paper_curve("right"), end=250.0, progress=False)
     scale = np.max(np.abs(left.q))
     np.testing.assert_allclose(right.q, -left.q, rtol=0, atol=1e-12 * scale)
-    np.testing.assert_allclose(right.outputs["Q1"], -left.outputs["Q1"], rtol=0, atol=1e-9)
+    np.testing.assert_allclose(right.outputs["Y1"], -left.outputs["Y1"], rtol=0, atol=1e-9)
 
 
 # ---------------------------------------------------------------- numerics
@@ -204,10 +204,10 @@ def test_march_agrees_with_solve_ivp_on_the_same_equations(steered, track):
     result = simulate(steered, track, end=150.0, progress=False)
     states, outputs = _reference(steered, track, result)
     n = steered.n
-    peak = np.max(np.abs(outputs["Q1"]))
+    peak = np.max(np.abs(outputs["Y1"]))
     assert peak > 20e3  # the flanging part of the run is included
-    assert np.max(np.abs(result.outputs["Q1"])) == pytest.approx(peak, rel=0.01)
-    assert np.max(np.abs(result.outputs["Q1"] - outputs["Q1"])) < 0.01 * peak
+    assert np.max(np.abs(result.outputs["Y1"])) == pytest.approx(peak, rel=0.01)
+    assert np.max(np.abs(result.outputs["Y1"] - outputs["Y1"])) < 0.01 * peak
     scale = np.max(np.abs(states[:, :n]), axis=0)
     assert np.all(np.max(np.abs(result.q - states[:, :n]), axis=0) <= 3e-3 * scale + 1e-8)
     # rates: the flange contact switching on and off is followed only to O(dt); measured
@@ -251,8 +251,8 @@ def test_time_step_convergence(steered, track):
     assert errors[0.01] > errors[0.005] > errors[0.0025]
     assert errors[0.0025] < errors[0.01] / 5  # close to second order (Heun on the feedback)
     assert errors[0.005] < 1e-4 * np.max(np.abs(reference.q))
-    peak = np.max(np.abs(reference.outputs["Q1"]))
-    assert np.max(np.abs(runs[0.005].outputs["Q1"])) == pytest.approx(peak, rel=1e-3)
+    peak = np.max(np.abs(reference.outputs["Y1"]))
+    assert np.max(np.abs(runs[0.005].outputs["Y1"])) == pytest.approx(peak, rel=1e-3)
 
 
 def test_output_is_deterministic(steered, track):
@@ -332,7 +332,7 @@ def test_sinusoidal_irregularity_response_is_symmetric(steered):
     amplitude_y = np.max(np.abs(y[late]))
     assert 0.5 * amplitude < amplitude_y < 0.02  # bounded, not running away
     np.testing.assert_allclose(y[late + half], -y[late], atol=1e-3 * amplitude_y)
-    q1 = result.outputs["Q1"][late]
+    q1 = result.outputs["Y1"][late]
     assert q1.max() == pytest.approx(-q1.min(), rel=1e-3)
     # the dominant frequency is the forcing frequency v / wavelength
     spectrum = np.abs(np.fft.rfft(y[late] - y[late].mean()))
@@ -356,7 +356,7 @@ def test_save_csv_round_trips(short_run, tmp_path):
     columns = short_run.series()
     units = short_run.units()
     assert header == [column_name(name, units[name]) for name in columns]  # units in the header
-    assert header[:2] == ["time_s", "d1_m"] and "W1.y_m" in header and "W1.y_dot_m_s" in header and "Q1_N" in header
+    assert header[:2] == ["time_s", "d1_m"] and "W1.y_m" in header and "W1.y_dot_m_s" in header and "Y1_N" in header
     data = np.loadtxt(path, delimiter=",", skiprows=1)
     assert data.shape == (short_run.time.size, len(columns))
     for i, (name, values) in enumerate(columns.items()):

@@ -162,7 +162,7 @@ def test_a_train_takes_the_sparse_route_and_agrees(train):
     assert "route" not in dense.options
     q, rates, outputs = _agreement(dense, auto)
     assert q <= 1e-12 and rates <= 5e-11 and outputs <= 1e-11, (q, rates, outputs)
-    assert np.abs(auto.outputs["Q1"]).max() > 1e3  # a real run: the leading wheelset is steered by the curve
+    assert np.abs(auto.outputs["Y1"]).max() > 1e3  # a real run: the leading wheelset is steered by the curve
 
 
 def test_sparse_route_is_deterministic(train):

@@ -386,8 +386,10 @@ def test_critical_speed_against_dense_scan(name, request):
     assert result.speed_kmh == pytest.approx(3.6 * result.speed)
 
 
-def test_critical_speed_none_when_stable_over_the_range(conventional):
-    assert critical_speed(conventional, v_max=40.0) is None
+def test_critical_speed_is_a_record_when_stable_over_the_range(conventional):
+    stable = critical_speed(conventional, v_max=40.0)
+    assert not stable.found and stable.reason == "stable up to v_max" and stable.speed != stable.speed
+    assert stable.as_dict()["critical_speed"] is None and stable.mode.real < 0
 
 
 CONICITIES = [0.05, 0.1, 0.15, 0.2, 0.25, 0.3, 0.35, 0.4]

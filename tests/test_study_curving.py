@@ -61,7 +61,7 @@ def test_a_bundled_track_by_its_name_and_a_wrong_one(tmp_path):
     from express.base.diagnostics import InputError
 
     good = tmp_path / "good.toml"
-    good.write_text(f'[study]\nmodel = "{MODEL}"\nkind = "grid"\noutputs = ["max_Q"]\n'
+    good.write_text(f'[study]\nmodel = "{MODEL}"\nkind = "grid"\noutputs = ["max_Y"]\n'
                     '[study.parameters]\nkx1 = { values = [1e6, 2e6] }\n[study.options]\ntrack = "R400"\n')
     assert read_study(good).settings.track == "R400"
     bad = tmp_path / "bad.toml"

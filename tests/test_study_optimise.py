@@ -130,7 +130,7 @@ def test_bundled_optimisation_under_a_QP_limit_in_the_paper_curve(tmp_path: Path
     path.write_text(text)
     summary = run_study(read_study(path), tmp_path / "history.csv", workers=2)
     table = read_table(tmp_path / "history.csv")
-    quotient, speeds = table["max_QP"], table["critical_speed"]
+    quotient, speeds = table["max_YQ"], table["critical_speed"]
     feasible = quotient <= 0.5
     assert feasible.any() and not feasible.all()  # the limit binds
     best = summary.extra["best"]
@@ -138,6 +138,6 @@ def test_bundled_optimisation_under_a_QP_limit_in_the_paper_curve(tmp_path: Path
     assert speeds[~feasible].max() > best["outputs"]["critical_speed"]  # faster designs broke the limit
     values = {"kx1": best["parameters"]["kx1"], "lLL": best["parameters"]["lLL"]}
     vehicle = load_vehicle(MODEL, values)
-    again, _ = PointOutputs(["critical_speed", "max_QP"], OutputSettings())(vehicle)
+    again, _ = PointOutputs(["critical_speed", "max_YQ"], OutputSettings())(vehicle)
     assert again == best["outputs"]
     assert again["critical_speed"] == fast_critical_speed(vehicle).speed

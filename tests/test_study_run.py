@@ -349,7 +349,7 @@ def test_track_frf_and_damping_outputs_equal_the_analyses(tmp_path: Path) -> Non
     from express.numeric.statespace import load_vehicle
     from express.rail.track import paper_curve
 
-    body = """outputs = ["max_Q", "max_QP", "max_lever_angle", "frf_peak_acceleration", "frf_peak_frequency",
+    body = """outputs = ["max_Y", "max_YQ", "max_lever_angle", "frf_peak_acceleration", "frf_peak_frequency",
            "least_damping_ratio", "least_damping_frequency"]
 [study.parameters]
 mc = { values = ["30 t", "45 t"] }
@@ -365,8 +365,8 @@ frf_points = 50
         vehicle = load_vehicle(MODEL, {"mc": mass})
         speed = 100 / 3.6
         maxima = simulate(vehicle, paper_curve(), speed=speed, dt=0.01, progress=False).max_abs()
-        assert table["max_Q"][row] == max(v for k, v in maxima.items() if k[1:].isdigit() and k[0] == "Q")
-        assert table["max_QP"][row] == max(v for k, v in maxima.items() if k.startswith("QP"))
+        assert table["max_Y"][row] == max(v for k, v in maxima.items() if k[1:].isdigit() and k[0] == "Y")
+        assert table["max_YQ"][row] == max(v for k, v in maxima.items() if k[:2] == "YQ" and k[2:].isdigit())
         assert table["max_lever_angle"][row] == max(v for k, v in maxima.items() if k.startswith("theta_"))
         frequencies = np.geomspace(0.1, 20.0, 50)
         response = frequency_response(vehicle, frequencies, amplitude=1e-3, speed=speed)

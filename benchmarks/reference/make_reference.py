@@ -121,7 +121,7 @@ def _critical(vehicle, exact, conicity: float):
 
     changed = vehicle.with_values({"Gamma": conicity})
     found = critical_speed(changed, tolerance_kmh=1e-9, threshold=0.0, **SCAN)
-    if found is None or found.unstable_at_min:
+    if not found.found or found.unstable_at_min:
         return None
     split = hp.speed_split(exact, decimal_values(vehicle, {"Gamma": conicity}))
     value, vector = hp.start_eigenpair(changed, found.speed)
@@ -150,7 +150,7 @@ def library(case: Case, vehicle) -> dict:
     result["critical"] = {}
     for g in case.conicities:
         found = critical_speed(vehicle.with_values({"Gamma": g}), tolerance_kmh=1e-9, threshold=0.0, **SCAN)
-        result["critical"][g] = None if found is None or found.unstable_at_min else found.speed
+        result["critical"][g] = None if not found.found or found.unstable_at_min else found.speed
     if case.speeds:
         frf = frequency_response(vehicle, case.frequencies, amplitude=1.0, speed=case.response_speed)
         result["response"] = {name: frf.amplitude_of(name) for name in frf.names}

@@ -66,6 +66,14 @@ _PUBLIC = {
     "to_python": "express.export:to_python",
     "to_latex": "express.export:to_latex",
     "to_text": "express.export:to_text",
+    # result records: every one has to_xarray(), to_pandas() and a short repr (issue 35 item 2)
+    "CriticalSpeed": "express.analysis.stability:CriticalSpeed",
+    "EigenResult": "express.analysis.modes:EigenResult",
+    "FrequencyResponse": "express.analysis.frequency:FrequencyResponse",
+    "NonlinearCriticalSpeed": "express.analysis.nonlinear_stability:NonlinearCriticalSpeed",
+    "RideResponse": "express.analysis.ride.vehicle:RideResponse",
+    "SimulationResult": "express.analysis.time.simulate:SimulationResult",
+    "SteadyCurving": "express.analysis.curving.steady:SteadyCurving",
     # errors
     "ExpressError": "express.base.diagnostics:ExpressError",
     "InputError": "express.base.diagnostics:InputError",

@@ -49,6 +49,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from express.base.data import DataRecord, variable, xarray
 from express.base.diagnostics import ArgumentError
 from express.base.names import did_you_mean
 from express.base.threads import large_problem_threads, limited_blas
@@ -60,8 +61,8 @@ __all__ = [
 ]
 
 
-@dataclass(frozen=True)
-class FrequencyResponse:
+@dataclass(frozen=True, repr=False)
+class FrequencyResponse(DataRecord):
     """Complex amplitudes of every DOF and output point against frequency.
 
     Attributes
@@ -134,6 +135,47 @@ class FrequencyResponse:
         accepts DOFs too.
         """
         return -(self.omega**2) * self.amplitude_of(name)
+
+    def to_xarray(self):
+        """The response as an :class:`xarray.Dataset` over ``frequency`` [Hz]: ``X``
+        (frequency x dof, complex, each DOF's unit in the ``dof_units`` coordinate),
+        ``output`` (frequency x point, complex [m]) and ``irregularity`` (frequency x
+        wheelset, complex [m]); ``speed`` [m/s] and ``amplitude`` [m] as attributes."""
+        from express.model.modal_body import coordinate_unit
+
+        xr = xarray()
+        points = list(self.outputs)
+        values = np.stack([self.outputs[p] for p in points], axis=1) if points else np.zeros((self.frequencies.size, 0))
+        data = {
+            "X": variable(self.X, ("frequency", "dof"), "m or rad (dof_units)", "complex displacement amplitude"),
+            "output": variable(values.astype(complex), ("frequency", "point"), "m",
+                               "complex lateral displacement amplitude of the output point"),
+            "irregularity": variable(self.irregularity, ("frequency", "wheelset"), "m",
+                                     "complex irregularity at the wheelset"),
+            "delay": variable(np.asarray(self.delays, float), "wheelset", "s", "delay of the wheelset's input"),
+        }
+        coords = {"frequency": ("frequency", np.asarray(self.frequencies, float), {"units": "Hz", "long_name": "frequency"}),
+                  "dof": list(self.dofs), "dof_units": ("dof", [coordinate_unit(d) for d in self.dofs]),
+                  "point": points, "wheelset": list(self.wheelsets)}
+        return xr.Dataset(data, coords=coords, attrs={"speed": self.speed, "speed_units": "m/s",
+                                                      "amplitude": self.amplitude, "amplitude_units": "m"})
+
+    def to_pandas(self):
+        """The output points' and DOFs' amplitudes as a :class:`pandas.DataFrame`, one row
+        per frequency, columns ``<name> [unit]`` (complex)."""
+        import pandas as pd
+
+        from express.model.modal_body import coordinate_unit
+
+        columns = {f"{d} [{coordinate_unit(d)}]": self.X[:, i] for i, d in enumerate(self.dofs)}
+        columns.update({f"{p} [m]": v for p, v in self.outputs.items()})
+        return pd.DataFrame(columns, index=pd.Index(np.asarray(self.frequencies, float), name="frequency [Hz]"))
+
+    def _summary(self) -> list[str]:
+        f = self.frequencies
+        return [f"{f.size} frequencies {f[0]:g}-{f[-1]:g} Hz at {self.speed:.3f} m/s, Y = {self.amplitude * 1e3:g} mm"
+                if f.size else "no frequencies",
+                f"{len(self.dofs)} DOFs, outputs: {', '.join(self.outputs) or 'none'}"[:120]]
 
     def rows(self, names: Iterable[str] | None = None) -> list[dict[str, float]]:
         """One dict per frequency for printing or CSV: ``f_hz`` and, for each name,
@@ -375,8 +417,8 @@ def frequency_response(
 # ---------------------------------------------------------------------------------------
 
 
-@dataclass(frozen=True)
-class TransferFunctions:
+@dataclass(frozen=True, repr=False)
+class TransferFunctions(DataRecord):
     """Steady response of every DOF to a unit sinusoid of each input, one at a time.
 
     ``H[k, i, j]`` is the complex amplitude of DOF ``i`` [m or rad] per unit amplitude of
@@ -401,6 +443,24 @@ class TransferFunctions:
     dofs: tuple[str, ...]
     inputs: tuple[str, ...]
     H: np.ndarray
+
+    def to_xarray(self):
+        """``H`` as an :class:`xarray.Dataset` (frequency [Hz] x dof x input, complex;
+        the unit of each DOF per unit input in ``dof_units``)."""
+        from express.model.modal_body import coordinate_unit
+
+        xr = xarray()
+        coords = {"frequency": ("frequency", np.asarray(self.frequencies, float), {"units": "Hz", "long_name": "frequency"}),
+                  "dof": list(self.dofs), "dof_units": ("dof", [coordinate_unit(d) for d in self.dofs]),
+                  "input": list(self.inputs)}
+        return xr.Dataset({"H": variable(self.H, ("frequency", "dof", "input"), "m or rad per unit input (dof_units)",
+                                         "transfer function")}, coords=coords,
+                          attrs={"speed": self.speed, "speed_units": "m/s"})
+
+    def _summary(self) -> list[str]:
+        f = self.frequencies
+        return [f"{len(self.dofs)} DOFs x {len(self.inputs)} inputs ({', '.join(self.inputs)})"[:120],
+                f"{f.size} frequencies" + (f" {f[0]:g}-{f[-1]:g} Hz" if f.size else "")]
 
     def of(self, dof: str, input_name: str) -> np.ndarray:
         """``H`` of one DOF and one input, shape (F,) (KeyError naming what exists)."""

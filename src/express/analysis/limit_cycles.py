@@ -55,7 +55,7 @@ def _lateral_force(vehicle: VehicleModel, result: SimulationResult, wheelset: in
     (``nan`` without a record of it)."""
     if result.wheel_rail is not None:  # the contact tables: the larger lateral force of the two wheels
         return float(np.max(np.abs(result.wheel_rail.lateral_force[-last:, wheelset])))
-    name = f"Q{wheelset + 1}"
+    name = f"Y{wheelset + 1}"
     return float(np.max(np.abs(result.outputs[name][-last:]))) if name in result.outputs else math.nan
 
 

@@ -29,6 +29,7 @@ from express.analysis.mode_energies import (
     top_columns,
 )
 from express.analysis.mode_names import RoleGroups, generic_names, kinematic_frequency, mode_names
+from express.base.data import DataRecord, variable, xarray
 from express.base.units import KMH
 from express.model.topology import Topology
 from express.numeric.statespace import VehicleModel
@@ -177,8 +178,8 @@ class Mode:
         return f"{kind} ({', '.join(names)})" if names else kind
 
 
-@dataclass(frozen=True)
-class EigenResult:
+@dataclass(frozen=True, repr=False)
+class EigenResult(DataRecord):
     """Every mode of the vehicle at one speed.
 
     Attributes
@@ -262,6 +263,33 @@ class EigenResult:
                  else "(no rail data: independent of the speed)")
         frame.attrs["title"] = f"eigenvalues {where}"
         return frame
+
+    def to_xarray(self):
+        """The modes as an :class:`xarray.Dataset` over ``mode`` (1 = least stable):
+        ``real`` [1/s], ``imag`` [rad/s], ``frequency`` [Hz], ``damping_ratio`` [1],
+        ``kind`` and ``description``; the ``speed`` [m/s] as an attribute (nan without rail data)."""
+        xr = xarray()
+        modes = self.modes
+        data = {
+            "real": variable(np.array([m.real for m in modes], float), "mode", "1/s", "real part of the eigenvalue"),
+            "imag": variable(np.array([m.imag for m in modes], float), "mode", "rad/s",
+                             "imaginary part of the eigenvalue"),
+            "frequency": variable(np.array([m.frequency_hz for m in modes], float), "mode", "Hz", "frequency"),
+            "damping_ratio": variable(np.array([m.damping_ratio for m in modes], float), "mode", "1", "damping ratio"),
+            "kind": variable(np.array([m.kind for m in modes], dtype=object), "mode", "", "mode name"),
+            "description": variable(np.array([m.describe() for m in modes], dtype=object), "mode", "",
+                                    "mode name and dominant DOFs"),
+        }
+        return xr.Dataset(data, coords={"mode": ("mode", np.arange(1, len(modes) + 1), {"long_name": "mode number"})},
+                          attrs={"speed": self.speed, "speed_units": "m/s", "stable": int(self.stable)})
+
+    def _summary(self) -> list[str]:
+        where = (f"at {self.speed:.3f} m/s ({self.speed_kmh:.1f} km/h)" if self.speed == self.speed
+                 else "(no rail data)")
+        lines = [f"{len(self.modes)} modes {where}, {'stable' if self.stable else 'UNSTABLE'}"]
+        lines += [f"{m.real:+.4g} {m.imag:+.4g}j 1/s, {m.frequency_hz:.3g} Hz: {m.describe()}"[:110]
+                  for m in self.modes[:3]]
+        return lines + (["..."] if len(self.modes) > 3 else [])
 
     def _repr_html_(self) -> str:
         """The table in a notebook (:meth:`to_pandas`)."""

@@ -53,6 +53,7 @@ import numpy as np
 
 from express.analysis.limit_cycles import CycleCheck, limit_cycle, settle_cycle
 from express.analysis.stability import CriticalSpeed, critical_speed
+from express.base.data import DataRecord, variable, xarray
 from express.base.diagnostics import ArgumentError
 from express.base.threads import limited_blas
 from express.base.units import KMH
@@ -117,8 +118,8 @@ class StepCheck:
     simulated: float = 0.0
 
 
-@dataclass(frozen=True)
-class NonlinearCriticalSpeed:
+@dataclass(frozen=True, repr=False)
+class NonlinearCriticalSpeed(DataRecord):
     """Result of :func:`nonlinear_critical_speed`.
 
     Attributes
@@ -169,6 +170,48 @@ class NonlinearCriticalSpeed:
         return None if self.speed is None else self.speed / KMH
 
     @property
+    def found(self) -> bool:
+        """True when a limit cycle was sustained at some speed (:attr:`speed` is not None)."""
+        return self.speed is not None
+
+    @property
+    def reason(self) -> str:
+        """``"limit cycle"`` (:attr:`speed` found), ``"no limit cycle at v_start"``."""
+        return "limit cycle" if self.found else "no limit cycle at v_start"
+
+    def to_xarray(self):
+        """The bifurcation diagram as an :class:`xarray.Dataset` over ``run`` (the ramp's
+        runs in order: ``speed`` [m/s], ``amplitude`` [m], ``limit_cycle``, ``flange_force``
+        [N]) and the result's scalars (``critical_speed`` [m/s], nan when not
+        :attr:`found`, the bracket, ``dt`` [s], ``uncertainty`` [m/s]); ``found``,
+        ``reason``, ``contact`` and ``wheelset`` as attributes."""
+        xr = xarray()
+        points = self.points
+        nan = math.nan
+        data = {
+            "run_speed": variable(np.array([p.speed for p in points], float), "run", "m/s", "speed of the ramp's run"),
+            "amplitude": variable(np.array([p.amplitude for p in points], float), "run", "m",
+                                  "largest lateral displacement of the watched wheelset, last third of the run"),
+            "limit_cycle": variable(np.array([bool(p.alive) for p in points], bool), "run", "1", "a limit cycle lives"),
+            "flange_force": variable(np.array([p.flange_force for p in points], float), "run", "N",
+                                     "largest lateral force on a flanging wheel"),
+            "critical_speed": variable(self.speed if self.speed is not None else nan, (), "m/s",
+                                       "nonlinear critical speed"),
+            "bracket_dead": variable(float(self.bracket[0]), (), "m/s", "speed where the cycle died"),
+            "bracket_alive": variable(float(self.bracket[1]), (), "m/s", "speed where the cycle lived"),
+            "dt": variable(self.dt, (), "s", "time step"),
+            "uncertainty": variable(self.uncertainty, (), "m/s", "bracket width plus the change of the last dt halving"),
+            "linear_critical_speed": variable(self.linear.speed if self.linear is not None else nan, (), "m/s",
+                                              "linear critical speed"),
+        }
+        return xr.Dataset(data, coords={"run": np.arange(len(points))},
+                          attrs={"found": int(self.found), "reason": self.reason, "contact": self.contact,
+                                 "wheelset": self.wheelset})
+
+    def _summary(self) -> list[str]:
+        return [self.describe(), f"found={self.found}, reason={self.reason!r}, {len(self.points)} ramp runs"]
+
+    @property
     def dt(self) -> float:
         """The time step of :attr:`speed` [s]."""
         return self.step_checks[-1].dt if self.step_checks else float(self.options["dt"])
@@ -195,8 +238,8 @@ class NonlinearCriticalSpeed:
 
     def describe(self) -> str:
         """One line: the nonlinear and the linear critical speeds."""
-        linear = (f"linear {self.linear.speed_kmh:.1f} km/h" if self.linear is not None and not
-                  self.linear.unstable_at_min else "no linear critical speed in the range")
+        linear = (f"linear {self.linear.speed_kmh:.1f} km/h" if self.linear is not None and self.linear.found
+                  and not self.linear.unstable_at_min else "no linear critical speed in the range")
         if self.speed is None:
             return (f"no limit cycle at the start speed {self.options['v_start'] / KMH:.1f} km/h ({linear})")
         low = "" if math.isfinite(self.bracket[0]) else " (still cycling at the lowest speed)"
@@ -462,7 +505,7 @@ def nonlinear_critical_speed(
     if linear is None:
         linear = critical_speed(vehicle, v_max=v_max)
     if v_start is None:
-        if linear is None or linear.unstable_at_min:
+        if not linear.found or linear.unstable_at_min:
             raise ArgumentError(f"no linear critical speed below {v_max / KMH:.0f} km/h to start above: give v_start")
         v_start = 1.2 * linear.speed
     if not v_start > v_min:

@@ -46,6 +46,7 @@ import numpy as np
 
 from express.analysis.critical_options import CriticalOptions
 from express.analysis.modes import EigenResult, Mode, modes_of
+from express.base.data import DataRecord, one_row, variable, xarray
 from express.base.diagnostics import AnalysisError, ArgumentError
 from express.base.threads import large_problem_threads, limited_blas
 from express.base.units import KMH
@@ -73,27 +74,34 @@ __all__ = [
 #: checked for an unstable window (:func:`unstable_windows`; a smaller step is drawn as a line either way).
 WINDOW_JUMP = 0.2
 
-@dataclass(frozen=True)
-class CriticalSpeed:
-    """Result of :func:`critical_speed`.
+@dataclass(frozen=True, repr=False)
+class CriticalSpeed(DataRecord):
+    """Result of :func:`critical_speed`: always a record (as scipy's ``OptimizeResult``),
+    with :attr:`found` and :attr:`reason` saying what the search found.
 
     Attributes
     ----------
     speed : float
         Critical speed ``v_cr`` [m/s]: the midpoint of the final bisection bracket, so
         within ``tolerance_kmh / 2`` of the crossing. Equal to ``v_min`` when
-        :attr:`unstable_at_min`.
+        :attr:`unstable_at_min`; ``nan`` when the vehicle is stable up to ``v_max``
+        (not :attr:`found`).
     mode : Mode
         The least stable mode at :attr:`speed` (the one that crosses; at ``v_min`` when
-        :attr:`unstable_at_min`).
+        :attr:`unstable_at_min`; at ``v_max``, still stable, when not :attr:`found`).
     unstable_at_min : bool
         True when the vehicle is already unstable at the lowest speed scanned: then no
         crossing was found and :attr:`speed` is only an upper bound of where it happens.
     bracket : tuple of float
         ``(lo, hi)`` [m/s]: stable at ``lo``, unstable at ``hi`` (``(v_min, v_min)``
-        when :attr:`unstable_at_min`).
+        when :attr:`unstable_at_min`, ``(v_max, nan)`` when not :attr:`found`).
     evaluations : int
         Number of eigenvalue problems solved.
+    found : bool
+        True when the vehicle is unstable somewhere in ``[v_min, v_max]`` (a crossing, or
+        :attr:`unstable_at_min`); False when it is stable up to the search limit.
+    v_min, v_max : float
+        The speeds searched [m/s] (``v_max`` is the search limit).
     """
 
     speed: float
@@ -101,14 +109,33 @@ class CriticalSpeed:
     unstable_at_min: bool
     bracket: tuple[float, float]
     evaluations: int = 0
+    found: bool = True
+    v_min: float = float("nan")
+    v_max: float = float("nan")
+
+    @property
+    def stable(self) -> bool:
+        """True when the vehicle is stable over the whole range searched (not :attr:`found`)."""
+        return not self.found
+
+    @property
+    def reason(self) -> str:
+        """Why the search ended: ``"crossing"`` (a stable-to-unstable bracket bisected),
+        ``"unstable at v_min"`` or ``"stable up to v_max"``."""
+        if not self.found:
+            return "stable up to v_max"
+        return "unstable at v_min" if self.unstable_at_min else "crossing"
 
     @property
     def speed_kmh(self) -> float:
-        """Critical speed [km/h]."""
+        """Critical speed [km/h] (nan when not :attr:`found`)."""
         return self.speed / KMH
 
     def describe(self) -> str:
-        """One line: the speed and the mode that goes unstable."""
+        """One line: the speed and the mode that goes unstable (or the search limit)."""
+        if not self.found:
+            return (f"stable up to {self.v_max / KMH:.1f} km/h (no critical speed in the range); "
+                    f"least stable there: {self.mode.describe()}")
         if self.unstable_at_min:
             return (f"already unstable at the lowest speed {self.speed:.2f} m/s "
                     f"({self.speed_kmh:.1f} km/h): {self.mode.describe()}")
@@ -117,9 +144,41 @@ class CriticalSpeed:
 
     def as_dict(self) -> dict:
         """The result as plain data (SI, and the speed in km/h): ``critical_speed`` [m/s],
-        ``critical_speed_kmh``, ``mode`` (its description), ``frequency_hz``, ``unstable_at_min``."""
+        ``critical_speed_kmh``, ``mode`` (its description), ``frequency_hz``, ``unstable_at_min``;
+        every value None but ``unstable_at_min`` (False) when not :attr:`found`."""
+        if not self.found:
+            return {"critical_speed": None, "critical_speed_kmh": None, "mode": None, "frequency_hz": None,
+                    "unstable_at_min": False}
         return {"critical_speed": self.speed, "critical_speed_kmh": self.speed_kmh, "mode": self.mode.describe(),
                 "frequency_hz": self.mode.frequency_hz, "unstable_at_min": bool(self.unstable_at_min)}
+
+    def to_xarray(self):
+        """The result as an :class:`xarray.Dataset` of scalars (``speed`` [m/s], the mode's
+        ``frequency`` [Hz], ``damping_ratio`` and ``real_part`` [1/s], the bracket and the
+        range searched), ``found``, ``reason`` and the mode's description as attributes."""
+        xr = xarray()
+        mode = self.mode
+        data = {
+            "speed": variable(self.speed, (), "m/s", "critical speed"),
+            "bracket_low": variable(self.bracket[0], (), "m/s", "highest speed found stable"),
+            "bracket_high": variable(self.bracket[1], (), "m/s", "lowest speed found unstable"),
+            "v_min": variable(self.v_min, (), "m/s", "lowest speed searched"),
+            "v_max": variable(self.v_max, (), "m/s", "search limit"),
+            "frequency": variable(mode.frequency_hz, (), "Hz", "frequency of the least stable mode"),
+            "real_part": variable(mode.real, (), "1/s", "real part of the least stable mode"),
+            "damping_ratio": variable(mode.damping_ratio, (), "1", "damping ratio of the least stable mode"),
+        }
+        return xr.Dataset(data, attrs={"found": int(self.found), "reason": self.reason,
+                                       "unstable_at_min": int(self.unstable_at_min), "mode": mode.describe(),
+                                       "evaluations": self.evaluations})
+
+    def to_pandas(self):
+        """The result as a one-row :class:`pandas.DataFrame`, units in the column names."""
+        return one_row(self.to_xarray())
+
+    def _summary(self) -> list[str]:
+        return [self.describe(), f"found={self.found}, reason={self.reason!r}, "
+                f"searched {self.v_min:.3g}-{self.v_max:.3g} m/s, {self.evaluations} eigenvalue problems"]
 
 
 # ---------------------------------------------------------------------------------------
@@ -292,7 +351,7 @@ def critical_speed(
     tolerance_kmh: float | None = None,
     threshold: float | None = None,
     points: int | None = None,
-) -> CriticalSpeed | None:
+) -> CriticalSpeed:
     """Lowest speed at which the largest real part of the eigenvalues becomes positive.
 
     Algorithm: the largest real part ``sigma(v)`` is computed on ``points`` speeds
@@ -333,10 +392,12 @@ def critical_speed(
 
     Returns
     -------
-    CriticalSpeed or None
-        ``None`` when the vehicle is stable over the whole range. When it is already
-        unstable at ``v_min`` the result has ``unstable_at_min=True`` and
-        ``speed = v_min``.
+    CriticalSpeed
+        Always a record: ``found=False`` (``speed`` nan, ``reason`` "stable up to v_max",
+        ``mode`` the least stable one at ``v_max``) when the vehicle is stable over the
+        whole range. When it is already unstable at ``v_min`` the result has
+        ``unstable_at_min=True`` and ``speed = v_min``. (Before issue 35 a stable vehicle
+        gave ``None``: test ``result.found`` instead of ``result is None``.)
 
     Examples
     --------
@@ -346,8 +407,9 @@ def critical_speed(
     >>> cs = critical_speed(car)
     >>> cs.unstable_at_min, 50.0 < cs.speed < 150.0
     (False, True)
-    >>> critical_speed(car, v_max=40.0) is None
-    True
+    >>> stable = critical_speed(car, v_max=40.0)
+    >>> stable.found, stable.reason
+    (False, 'stable up to v_max')
     """
     options = search_options(options, v_min=v_min, v_max=v_max, tolerance_kmh=tolerance_kmh, threshold=threshold,
                              points=points)
@@ -360,12 +422,14 @@ def critical_speed(
     sigma = pieces.eigenvalues(grid).real.max(axis=1)
     evaluations = grid.size
     unstable = sigma > threshold
+    low, high = float(v_min), float(v_max)
     if not unstable.any():
-        return None
+        mode = _least_stable_mode(vehicle, float(v_max))
+        return CriticalSpeed(float("nan"), mode, False, (float(v_max), float("nan")), evaluations + 1, False, low, high)
     first = int(np.argmax(unstable))
     if first == 0:
         mode = _least_stable_mode(vehicle, float(v_min))
-        return CriticalSpeed(float(v_min), mode, True, (float(v_min), float(v_min)), evaluations + 1)
+        return CriticalSpeed(float(v_min), mode, True, (float(v_min), float(v_min)), evaluations + 1, True, low, high)
     lo, hi = float(grid[first - 1]), float(grid[first])
     tolerance = options.tolerance
     while hi - lo > tolerance:
@@ -377,7 +441,7 @@ def critical_speed(
             lo = mid
     speed = 0.5 * (lo + hi)
     mode = _least_stable_mode(vehicle, speed)
-    return CriticalSpeed(speed, mode, False, (lo, hi), evaluations + 1)
+    return CriticalSpeed(speed, mode, False, (lo, hi), evaluations + 1, True, low, high)
 
 
 def search_options(options: CriticalOptions | None = None, **changes: float | None) -> CriticalOptions:
@@ -411,7 +475,7 @@ def critical_speed_vs_conicity(
     *,
     parameter: str = "Gamma",
     **keywords,
-) -> list[CriticalSpeed | None]:
+) -> list[CriticalSpeed]:
     """Critical speed for each value of the tread conicity (paper Fig. 11).
 
     Parameters
@@ -429,8 +493,8 @@ def critical_speed_vs_conicity(
 
     Returns
     -------
-    list of (CriticalSpeed or None)
-        One per conicity, in order.
+    list of CriticalSpeed
+        One per conicity, in order (``found=False`` where stable over the range).
 
     Raises
     ------
@@ -451,7 +515,7 @@ def critical_speed_vs_conicity(
     return [critical_speed(vehicle.with_values({parameter: float(g)}), options, **keywords) for g in conicities]
 
 
-def sweep_as_dict(parameter: str, values: Iterable[float], sweep: list[CriticalSpeed | None]) -> dict:
+def sweep_as_dict(parameter: str, values: Iterable[float], sweep: list[CriticalSpeed]) -> dict:
     """A sweep of :func:`critical_speed_vs_conicity` as plain data.
 
     Parameters
@@ -460,8 +524,8 @@ def sweep_as_dict(parameter: str, values: Iterable[float], sweep: list[CriticalS
         The parameter swept.
     values : sequence of float
         Its values, in the sweep's order.
-    sweep : list of (CriticalSpeed or None)
-        The results (None: stable over the range, given as ``nan``).
+    sweep : list of CriticalSpeed
+        The results (not ``found``: stable over the range, given as ``nan``).
 
     Returns
     -------
@@ -469,12 +533,12 @@ def sweep_as_dict(parameter: str, values: Iterable[float], sweep: list[CriticalS
         ``parameter``, ``values``, ``critical_speeds`` [m/s] and ``critical_speeds_kmh``
         (arrays), ``unstable_at_min`` and ``modes`` (lists).
     """
-    speeds = np.array([c.speed if c is not None else np.nan for c in sweep])
+    speeds = np.array([c.speed if c.found else np.nan for c in sweep])
     return {
         "parameter": parameter, "values": list(values), "critical_speeds": speeds,
         "critical_speeds_kmh": speeds / KMH,
-        "unstable_at_min": [bool(c is not None and c.unstable_at_min) for c in sweep],
-        "modes": [c.mode.describe() if c is not None else None for c in sweep],
+        "unstable_at_min": [bool(c.unstable_at_min) for c in sweep],
+        "modes": [c.mode.describe() if c.found else None for c in sweep],
     }
 
 

@@ -24,6 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from express.base.data import DataRecord, variable, xarray
 from express.base.diagnostics import ArgumentError
 from express.base.names import did_you_mean
 from express.numeric.statespace import VehicleModel
@@ -40,8 +41,8 @@ class _Unit:
         return np.ones_like(np.asarray(omega, dtype=float))
 
 
-@dataclass(frozen=True)
-class TrackFrequencyResponse:
+@dataclass(frozen=True, repr=False)
+class TrackFrequencyResponse(DataRecord):
     """Complex amplitudes of the ride outputs for each track component alone: the
     ride analysis's ``transfer`` (:class:`express.analysis.ride.vehicle.RideResponse`,
     same ``frequencies`` [Hz], ``speed`` [m/s], ``names`` and ``units``) times the
@@ -72,16 +73,30 @@ class TrackFrequencyResponse:
         return self.values[:, self.names.index(name), self.components.index(component)]
 
     def to_xarray(self):
-        """The amplitudes as an :class:`xarray.DataArray` (frequency [Hz] x output x
-        input), each output's unit in the ``units`` coordinate."""
-        import xarray as xr
-
-        return xr.DataArray(
-            self.values, dims=("frequency", "output", "input"),
-            coords={"frequency": ("frequency", self.frequencies, {"units": "Hz"}), "output": list(self.names),
-                    "input": list(self.components), "units": ("output", list(self.units))},
-            name="amplitude", attrs={"speed_m_per_s": self.speed, "irregularity_amplitude_m": self.amplitude},
+        """The amplitudes as an :class:`xarray.Dataset`: ``amplitude`` (frequency [Hz] x
+        output x input, complex), each output's unit in the ``units`` coordinate; the speed
+        [m/s] and the irregularity amplitude [m] as attributes."""
+        xr = xarray()
+        return xr.Dataset(
+            {"amplitude": variable(self.values, ("frequency", "output", "input"), "see the units coordinate",
+                                   "complex response amplitude")},
+            coords={"frequency": ("frequency", self.frequencies, {"units": "Hz", "long_name": "frequency"}),
+                    "output": list(self.names), "input": list(self.components), "units": ("output", list(self.units))},
+            attrs={"speed": self.speed, "speed_units": "m/s", "irregularity_amplitude": self.amplitude,
+                   "irregularity_amplitude_units": "m"},
         )
+
+    def to_pandas(self):
+        """The amplitudes as a :class:`pandas.DataFrame` indexed by frequency [Hz], output
+        and input; one complex column ``amplitude`` and the output's unit."""
+        table = self.to_xarray().to_dataframe()
+        table.attrs = {"speed": self.speed, "irregularity_amplitude": self.amplitude}
+        return table
+
+    def _summary(self) -> list[str]:
+        f = self.frequencies
+        return [f"{len(self.names)} outputs x {len(self.components)} inputs ({', '.join(self.components)})",
+                f"{f.size} frequencies {f[0]:g}-{f[-1]:g} Hz at {self.speed:.3f} m/s, Y = {self.amplitude * 1e3:g} mm"]
 
     def _repr_html_(self) -> str:
         """Peak amplitudes in a notebook (output x input, with units)."""

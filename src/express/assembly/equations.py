@@ -234,7 +234,11 @@ def derivation_steps(model: Model) -> tuple[DerivationStep, ...]:
     return tuple(steps)
 
 
-@dataclass(frozen=True)
+def _names(names: tuple[str, ...], shown: int = 6) -> str:
+    return ", ".join(names[:shown]) + (f", ... ({len(names)})" if len(names) > shown else "")
+
+
+@dataclass(frozen=True, repr=False)
 class EquationsOfMotion:
     """Symbolic linear equations of motion of a model.
 
@@ -302,6 +306,18 @@ class EquationsOfMotion:
     #: Largest number of DOFs whose matrices a notebook shows in full.
     LATEX_DOFS = 8
 
+    def __repr__(self) -> str:
+        """A few lines: the name, DOFs, inputs, parameters and matrices (not their entries:
+        ``print(eq.M)`` or the notebook's LaTeX show those)."""
+        return "\n".join([
+            f"<EquationsOfMotion {self.name!r}: M q'' + C q' + K q = P u + Pd u'>",
+            f"  {len(self.dofs)} DOFs: {_names(self.dofs)}",
+            f"  {len(self.inputs)} inputs: {_names(self.inputs) or 'none'}",
+            f"  {len(self.parameters)} parameters: {_names(self.parameters)}",
+            f"  matrices: {', '.join(self.matrices)}; {len(self.clearances)} clearances, "
+            f"{len(self.element_terms)} nonlinear elements, {len(self.eliminated)} DOFs eliminated",
+        ])
+
     def _repr_latex_(self) -> str:
         """The equations in a notebook: ``M q'' + C q' + K q = P u + Pd u'`` with the
         DOFs and, up to :attr:`LATEX_DOFS` of them, M, C and K in full."""
@@ -317,7 +333,7 @@ class EquationsOfMotion:
         return f"$${text}\\end{{gathered}}$$".replace("\\end", "\\end")
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class GenerationResult:
     """Equations of motion plus what the generator noticed.
 
@@ -338,3 +354,8 @@ class GenerationResult:
     warnings: tuple[Problem, ...]
     transformation: sp.MatrixBase
     full_dofs: tuple[str, ...]
+
+    def __repr__(self) -> str:
+        """The equations' short repr and the warnings' count."""
+        return (f"<GenerationResult: {len(self.warnings)} warnings, {len(self.full_dofs)} DOFs before elimination>\n  "
+                + repr(self.equations).replace("\n", "\n  "))

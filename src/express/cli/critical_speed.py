@@ -160,7 +160,7 @@ def _compute(vehicle: Any, options: CriticalOptions, conicities: list[float] | N
 def _speeds(sweep: list) -> Any:
     import numpy as np
 
-    return np.array([c.speed if c is not None else np.nan for c in sweep])
+    return np.array([c.speed if c.found else np.nan for c in sweep])
 
 
 def _write_sweep(output: str, parameter: str, conicities: list[float], sweep: list) -> None:
@@ -168,15 +168,12 @@ def _write_sweep(output: str, parameter: str, conicities: list[float], sweep: li
 
     speeds = _speeds(sweep)
     columns = {parameter: conicities, "critical_speed": speeds, "critical_speed_kmh": speeds / common.KMH,
-               "unstable_at_min": [int(c is not None and c.unstable_at_min) for c in sweep]}
+               "unstable_at_min": [int(c.unstable_at_min) for c in sweep]}
     # a conicity stable up to --vmax has no critical speed: an empty cell (docs/analyses.md)
     write_csv(output, columns, {"critical_speed": "m/s"}, markers=("critical_speed", "critical_speed_kmh"))
 
 
 def _fields(result: Any) -> dict:
-    if result is None:
-        return {"critical_speed": None, "critical_speed_kmh": None, "mode": None, "frequency_hz": None,
-                "unstable_at_min": False}
     return result.as_dict()
 
 
@@ -190,7 +187,7 @@ def _figure(vehicle: Any, plot: Path, vmin: float, vmax: float, result: Any, con
     name = vehicle.name
     if conicities is not None and sweep is not None:
         speeds_kmh = _speeds(sweep) / common.KMH
-        at_min = np.array([bool(c is not None and c.unstable_at_min) for c in sweep])
+        at_min = np.array([bool(c.unstable_at_min) for c in sweep])
         windows = unstable_windows(vehicle, np.asarray(conicities), speeds_kmh, at_min, parameter=parameter,
                                    v_max=vmax)
         figure = plots.figure_critical_speed(
@@ -205,14 +202,14 @@ def _figure(vehicle: Any, plot: Path, vmin: float, vmax: float, result: Any, con
         figure = plots.figure_eigen_locus(
             speeds / common.KMH, root_locus(vehicle, speeds),
             title=f"{name}: real parts of the eigenvalues against speed",
-            critical_kmh=result.speed_kmh if result is not None and not result.unstable_at_min else None,
+            critical_kmh=result.speed_kmh if result.found and not result.unstable_at_min else None,
         )
     plots.save_figure(figure, plot)
 
 
 def _print(name: str, result: Any, vmax: float, conicities: list[float] | None, parameter: str, sweep: list | None,
            stream: Any) -> None:
-    if result is None:
+    if not result.found:
         print(f"{name}: stable up to {vmax / common.KMH:.1f} km/h (no critical speed below --vmax)", file=stream)
     else:
         print(f"{name}: {result.describe()}", file=stream)
@@ -220,7 +217,7 @@ def _print(name: str, result: Any, vmax: float, conicities: list[float] | None, 
         return
     print(f"  {parameter:>8} {'V_cr [km/h]':>12}  mode", file=stream)
     for value, c in zip(conicities, sweep, strict=True):
-        if c is None:
+        if not c.found:
             print(f"  {value:8.4f} {'> ' + format(vmax / common.KMH, '.0f'):>12}  stable over the range", file=stream)
         elif c.unstable_at_min:
             print(f"  {value:8.4f} {'< ' + format(c.speed_kmh, '.1f'):>12}  unstable at the lowest speed: "
@@ -252,7 +249,7 @@ def _run_nonlinear(model: Path, overrides: dict[str, str], vmin: float, vmax: fl
         from express.analysis.stability import critical_speed
 
         linear = critical_speed(vehicle, CriticalOptions(v_min=vmin, v_max=vmax, tolerance=tolerance))
-        if vstart is None and (linear is None or linear.unstable_at_min):
+        if vstart is None and (not linear.found or linear.unstable_at_min):
             raise AnalysisError(f"no linear critical speed between --vmin and --vmax ({vmax / common.KMH:g} km/h) to "
                                 "start the ramp-down above: give --vstart")
         result = nonlinear_critical_speed(vehicle, v_start=vstart, v_min=vmin, tolerance=tolerance,
@@ -269,7 +266,7 @@ def _run_nonlinear(model: Path, overrides: dict[str, str], vmin: float, vmax: fl
         common.print_json(summary)
     else:
         stream = sys.stderr if output == "-" else sys.stdout
-        print(f"{name}: {linear.describe() if linear is not None else 'no linear critical speed in the range'}",
+        print(f"{name}: {linear.describe() if linear.found else 'no linear critical speed in the range'}",
               file=stream)
         print(f"{name}: {result.describe()}", file=stream)
     return 0
@@ -296,6 +293,6 @@ def _bifurcation_figure(vehicle: Any, plot: Path, result: Any) -> None:
         [p.speed_kmh for p in points], [p.amplitude * 1e3 for p in points], [p.alive for p in points],
         title=f"{vehicle.name}: hunting limit cycles, contact {result.contact}",
         nonlinear_kmh=result.speed_kmh,
-        linear_kmh=linear.speed_kmh if linear is not None and not linear.unstable_at_min else None,
+        linear_kmh=linear.speed_kmh if linear is not None and linear.found and not linear.unstable_at_min else None,
     )
     plots.save_figure(figure, plot)

@@ -21,6 +21,8 @@ from express.paper.numbers import PAPER
 __all__ = ["CurveGeometry", "Curving", "curve_geometry", "measure_curving", "write_curving"]
 
 _SERIES = ("rho1", "theta_L1", "psi_TW1", "psi_TW2", "Q1", "Q2")
+#: The paper's names of Fig. 9 (its Q: the lateral force) -> the runs' output names (Y).
+_RUN_NAMES = {"Q1": "Y1", "Q2": "Y2"}
 
 
 @dataclass(frozen=True)
@@ -157,7 +159,8 @@ def _runs(cars: Cars, track):
 
 
 def _steady_values(runs, window) -> tuple[dict, dict, dict, dict]:
-    series = {name: {"d1": run.distance, **{k: run.outputs[k] for k in _SERIES if k in run.outputs}}
+    series = {name: {"d1": run.distance, **{k: run.outputs[_RUN_NAMES.get(k, k)] for k in _SERIES
+                                            if _RUN_NAMES.get(k, k) in run.outputs}}
               for name, run in runs.items()}
     steady = {f"{k}_{name}": steady_mean(data[k], data["d1"], window)
               for name, data in series.items() for k in ("psi_TW1", "psi_TW2", "Q1", "Q2")}

@@ -126,21 +126,21 @@ def measure_stability(cars: Cars, conicities: np.ndarray = CONICITIES, *, diagno
     for name, car in cars.items():
         sweep = critical_speed_vs_conicity(car, conicities, _OPTIONS)
         sweeps[name] = sweep
-        speeds[name] = np.array([c.speed_kmh if c is not None else np.nan for c in sweep])
-        unstable[name] = np.array([c is not None and c.unstable_at_min for c in sweep])
+        speeds[name] = np.array([c.speed_kmh if c.found else np.nan for c in sweep])
+        unstable[name] = np.array([c.unstable_at_min for c in sweep])
         windows[name] = unstable_windows(car, conicities, speeds[name], unstable[name], v_max=V_MAX,
                                          tolerance_kmh=_OPTIONS.tolerance_kmh)
-        modes[name] = tuple(c.mode.describe() if c is not None else None for c in sweep)
+        modes[name] = tuple(c.mode.describe() if c.found else None for c in sweep)
     low = None
     steered = speeds["steered"]
     peak = float(np.nanmax(steered)) if np.isfinite(steered).any() else np.nan
     falls = [(g, c) for g, c in zip(conicities, sweeps["steered"], strict=True)
-             if c is not None and not c.unstable_at_min and c.speed_kmh < 0.5 * peak]
+             if c.found and not c.unstable_at_min and c.speed_kmh < 0.5 * peak]
     if diagnose and falls:
         gamma, case = falls[0]
         cut = critical_speed(cars.steered.with_values({"Gamma": float(gamma), "kLU": 1.0}), _OPTIONS)
         low = LowConicity(float(gamma), case.speed_kmh, case.mode.describe(), case.mode.frequency_hz,
-                          cut.speed_kmh if cut is not None else None)
+                          cut.speed_kmh if cut.found else None)
     return StabilitySweep(conicities, speeds, unstable, windows, modes, _OPTIONS.v_min, _OPTIONS.v_max,
                           _OPTIONS.tolerance_kmh, low)
 
@@ -232,7 +232,7 @@ def measure_stability_map(car, v_max: float = 150.0, points: int = 300) -> Stabi
     speeds = np.linspace(1.0, v_max, points)
     eigenvalues = root_locus(car, speeds)
     result = critical_speed(car, replace(_OPTIONS, v_max=v_max))
-    critical = result.speed_kmh if result is not None and not result.unstable_at_min else None
+    critical = result.speed_kmh if result.found and not result.unstable_at_min else None
     return StabilityMap(speeds, eigenvalues, mode_branches(eigenvalues), critical)
 
 

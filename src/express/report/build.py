@@ -148,10 +148,10 @@ def _stability_section(vehicle: VehicleModel) -> Section:
     options = CriticalOptions()
     v_min, v_max = options.v_min, options.v_max
     result = critical_speed(vehicle, options)
-    text = result.describe() if result is not None else f"stable up to {v_max / KMH:.0f} km/h"
+    text = result.describe() if result.found else f"stable up to {v_max / KMH:.0f} km/h"
     speeds = np.linspace(v_min, v_max, 200)
     figure = figure_eigen_locus(speeds / KMH, root_locus(vehicle, speeds), title="real parts of the eigenvalues",
-                                critical_kmh=result.speed_kmh if result is not None and not result.unstable_at_min else None)
+                                critical_kmh=result.speed_kmh if result.found and not result.unstable_at_min else None)
     return Section("Stability", (f"Hunting: {text}.", Figure(svg_of(figure), "Real parts of the eigenvalues against speed.")))
 
 

@@ -13,7 +13,7 @@ from express.numeric.statespace import VehicleModel
 __all__ = ["figure_assessment", "mode_figures"]
 
 
-def figure_assessment(criteria: Sequence[Any], *, title: str = "EN 14363 running safety"):
+def figure_assessment(criteria: Sequence[Any], *, title: str = "EN 14363 running safety", ax=None):
     """Each criterion with a limit as ``value / limit`` (bars; 1 is the limit).
 
     Parameters
@@ -21,18 +21,21 @@ def figure_assessment(criteria: Sequence[Any], *, title: str = "EN 14363 running
     criteria : sequence of Criterion
         :class:`express.analysis.curving.assessment.Criterion` (``name``, ``value``,
         ``limit``, ``passed``); those without a limit are left out.
+    ax : matplotlib.axes.Axes, optional
+        Draw into this axes and return it (the figure's layout is then the caller's); by
+        default a new figure is made and returned.
 
     Returns
     -------
-    matplotlib.figure.Figure or None
-        None when no criterion has a limit.
+    matplotlib.figure.Figure, matplotlib.axes.Axes or None
+        None when no criterion has a limit; ``ax`` when given.
     """
-    from express.analysis.plots import new_figure
+    from express.analysis.plots import axes_for
 
     rated = [c for c in criteria if c.limit]
     if not rated:
         return None
-    figure, axis = new_figure(figsize=(7.2, 1.2 + 0.28 * len(rated)))
+    figure, axis = axes_for(ax, figsize=(7.2, 1.2 + 0.28 * len(rated)))
     ratios = [c.value / c.limit for c in rated]
     colours = ["#2a7ab9" if c.passed else "#c0392b" for c in rated]
     axis.barh(range(len(rated)), ratios, color=colours)
@@ -43,6 +46,8 @@ def figure_assessment(criteria: Sequence[Any], *, title: str = "EN 14363 running
     axis.set_xlim(0.0, max(1.1, 1.05 * max(ratios)))
     axis.set_title(title)
     axis.legend(loc="lower right")
+    if ax is not None:
+        return ax
     figure.tight_layout()
     return figure
 

@@ -35,6 +35,7 @@ from express.analysis.curving.step_solver import StepSolver
 from express.analysis.time.force_elements import contact_tables_of, run_forces
 from express.analysis.time.simulate import derived_outputs
 from express.analysis.time.track_inputs import TrackInputs
+from express.base.data import DataRecord, columns_frame
 from express.base.diagnostics import ArgumentError, InputError
 from express.forces.element import ForceSet
 from express.model.modal_body import coordinate_unit
@@ -151,8 +152,8 @@ class SteadyCurve:
         return out
 
 
-@dataclass(frozen=True)
-class SteadyCurving:
+@dataclass(frozen=True, repr=False)
+class SteadyCurving(DataRecord):
     """The steady state of a vehicle in a constant curve.
 
     Attributes
@@ -211,6 +212,26 @@ class SteadyCurving:
         out.update(self.derived)
         out.update({dof: float(value) for dof, value in zip(self.dofs, self.q, strict=True)})
         return out
+
+    def to_xarray(self):
+        """The state as an :class:`xarray.Dataset`: wheel/rail outputs over (wheelset,
+        side), ``q`` over ``dof``, the curve's scalars
+        (:func:`express.analysis.result_data.steady_curving_dataset`)."""
+        from express.analysis.result_data import steady_curving_dataset
+
+        return steady_curving_dataset(self)
+
+    def to_pandas(self):
+        """The state as a one-row :class:`pandas.DataFrame` of :meth:`columns` (the
+        command's row), units in the column names."""
+        return columns_frame(self.columns(), self.units())
+
+    def _summary(self) -> list[str]:
+        w = self.wheel_rail
+        return [f"R {self.curve.radius:g} m, cant {self.curve.cant:g} m, {self.speed:.3f} m/s, "
+                f"a_q {self.unbalanced_acceleration:.3f} m/s^2, contact {self.contact}",
+                f"max |aoa| {np.abs(w.angle_of_attack).max() * 1e3:.3g} mrad, max Y/Q {np.nanmax(w.y_over_q):.3g}, "
+                f"max |SY| {np.abs(w.track_shift_force).max() / 1e3:.3g} kN"]
 
     def units(self) -> dict[str, str]:
         """SI unit of every column of :meth:`columns`."""

@@ -12,9 +12,13 @@ built and while :func:`save_figure` renders it.
 
 Modules: ``_base`` (style, figure creation, saving), ``paper_figures`` (Figs. 3, 9, 10,
 11 and a simulation run), ``stability_maps`` (root locus, damping ratios).
+
+Every ``figure_*`` function also takes ``ax=``: a Matplotlib ``Axes`` (or, for a figure of
+several panels, a sequence of them) to draw into; it then returns ``ax`` and leaves the
+figure's layout, title and caption to the caller (:func:`axes_for`).
 """
 
-from express.analysis.plots._base import FIGURE_SUFFIXES, STYLE, new_figure, save_figure
+from express.analysis.plots._base import FIGURE_SUFFIXES, STYLE, axes_for, new_figure, save_figure
 from express.analysis.plots.paper_figures import (
     figure_critical_speed,
     figure_curving,
@@ -33,6 +37,7 @@ from express.analysis.plots.stability_maps import (
 __all__ = [
     "FIGURE_SUFFIXES",
     "STYLE",
+    "axes_for",
     "figure_critical_speed",
     "figure_curving",
     "figure_damping_vs_speed",

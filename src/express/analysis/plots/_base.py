@@ -19,7 +19,7 @@ import numpy as np
 
 from express.base.diagnostics import ArgumentError
 
-__all__ = ["CONVENTIONAL", "FIGURE_SUFFIXES", "STEERED", "STYLE", "save_figure"]
+__all__ = ["CONVENTIONAL", "FIGURE_SUFFIXES", "STEERED", "STYLE", "axes_for", "save_figure"]
 
 #: Figure formats written by :func:`save_figure`.
 FIGURE_SUFFIXES = (".png", ".svg", ".pdf")
@@ -77,6 +77,34 @@ def new_figure(nrows: int = 1, ncols: int = 1, *, figsize: tuple[float, float], 
 
     figure = Figure(figsize=figsize)
     return figure, figure.subplots(nrows, ncols, **kwargs)
+
+
+def axes_for(ax: Any, nrows: int = 1, ncols: int = 1, *, figsize: tuple[float, float], squeeze: bool = True,
+             **kwargs: Any) -> tuple[Any, Any]:
+    """The figure and axes a ``figure_*`` function draws into: a new figure
+    (:func:`new_figure`) when ``ax`` is None, else ``ax``'s figure and ``ax`` itself (one
+    :class:`matplotlib.axes.Axes`, or a sequence of ``nrows * ncols`` of them for a figure of
+    several panels, shaped as :meth:`Figure.subplots` would give them; ``kwargs`` such as
+    ``sharex`` are then the caller's business).
+
+    Raises
+    ------
+    express.base.diagnostics.ArgumentError
+        When ``ax`` holds another number of axes.
+    """
+    if ax is None:
+        return new_figure(nrows, ncols, figsize=figsize, squeeze=squeeze, **kwargs)
+    count = nrows * ncols
+    items = list(np.ravel(np.asarray(ax, dtype=object))) if isinstance(ax, (list, tuple, np.ndarray)) else [ax]
+    flat = np.empty(len(items), dtype=object)
+    flat[:] = items
+    if flat.size != count or not all(hasattr(a, "plot") and hasattr(a, "figure") for a in flat):
+        raise ArgumentError(f"ax: this figure draws {count} panel(s) ({nrows} x {ncols}): give "
+                            f"{'one matplotlib Axes' if count == 1 else f'a sequence of {count} Axes'}, got {ax!r}")
+    axes: Any = flat.reshape(nrows, ncols)
+    if squeeze:
+        axes = axes[0, 0] if count == 1 else axes.ravel()
+    return flat[0].figure, axes
 
 
 def save_figure(figure, path: str | Path | Sequence[str | Path]) -> list[Path]:

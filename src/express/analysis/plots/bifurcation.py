@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from express.analysis.plots._base import BLUE, GREY, ORANGE, RED, new_figure, styled
+from express.analysis.plots._base import BLUE, GREY, ORANGE, RED, axes_for, styled
 from express.base.diagnostics import ArgumentError
 
 __all__ = ["figure_bifurcation"]
@@ -14,7 +14,7 @@ __all__ = ["figure_bifurcation"]
 
 @styled
 def figure_bifurcation(speeds_kmh, amplitudes_mm, alive, *, title: str, nonlinear_kmh: float | None = None,
-                       linear_kmh: float | None = None, flange_clearance_mm: float | None = None):
+                       linear_kmh: float | None = None, flange_clearance_mm: float | None = None, ax=None):
     """Limit-cycle amplitude against speed.
 
     Parameters
@@ -30,13 +30,16 @@ def figure_bifurcation(speeds_kmh, amplitudes_mm, alive, *, title: str, nonlinea
         drawn stable (solid) below the linear one and unstable (dashed) above.
     flange_clearance_mm : float, optional
         Where the flanges touch (centred wheelset), a horizontal guide.
+    ax : matplotlib.axes.Axes, optional
+        Draw into this axes and return it (the figure's layout, title and caption are then
+        the caller's); by default a new figure is made and returned.
     """
     speeds = np.asarray(speeds_kmh, dtype=float)
     amplitudes = np.asarray(amplitudes_mm, dtype=float)
     live = np.asarray(alive, dtype=bool)
     if speeds.ndim != 1 or speeds.shape != amplitudes.shape or speeds.shape != live.shape or not speeds.size:
         raise ArgumentError("speeds, amplitudes and alive must be 1-D arrays of one length >= 1")
-    figure, axis = new_figure(figsize=(7.0, 4.4))
+    figure, axis = axes_for(ax, figsize=(7.0, 4.4))
     order = np.argsort(speeds[live])
     axis.plot(speeds[live][order], amplitudes[live][order], color=RED, linewidth=1.0, alpha=0.6)
     axis.plot(speeds[live], amplitudes[live], "o", color=RED, markersize=4, label="limit cycle (ramp-down)")
@@ -65,5 +68,7 @@ def figure_bifurcation(speeds_kmh, amplitudes_mm, alive, *, title: str, nonlinea
     axis.set_ylabel("limit-cycle amplitude, leading wheelset [mm]")
     axis.set_title(title)
     axis.legend(loc="upper left", framealpha=0.9, fontsize="small")
+    if ax is not None:
+        return ax
     figure.tight_layout()
     return figure

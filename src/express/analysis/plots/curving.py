@@ -22,7 +22,7 @@ def sweep_axis(results: Sequence[Any]) -> tuple[np.ndarray, str]:
 
 
 def figure_steady_curving(results: Sequence[Any], *, title: str = "", labels: Sequence[str] | None = None,
-                          groups: Sequence[Sequence[Any]] | None = None):
+                          groups: Sequence[Sequence[Any]] | None = None, ax=None):
     """Four panels against the sweep: angle of attack, the largest Y/Q, the track shift
     force of each wheelset, and the wheel unloading ΔQ/Q0.
 
@@ -33,18 +33,20 @@ def figure_steady_curving(results: Sequence[Any], *, title: str = "", labels: Se
     title : str
     labels, groups : sequences, optional
         Several sweeps drawn together (solid, dashed, dotted, ...), each with a label.
+    ax : sequence of matplotlib.axes.Axes, optional
+        Draw into these axes (four: a 2 x 2 grid's, row by row) and return them (the figure's layout, title
+        and caption are then the caller's); by default a new figure is made and returned.
     """
     import matplotlib
-    from matplotlib.figure import Figure
 
-    from express.analysis.plots import STYLE
+    from express.analysis.plots import STYLE, axes_for
 
     sweeps = list(groups) if groups is not None else [results]
     names = list(labels) if labels is not None else [""] * len(sweeps)
     styles = ("-", "--", ":", "-.")
     with matplotlib.rc_context(STYLE):
-        figure = Figure(figsize=(8.0, 6.4))
-        axes = figure.subplots(2, 2, sharex=True).ravel()
+        figure, axes = axes_for(ax, 2, 2, figsize=(8.0, 6.4), sharex=True)
+        axes = axes.ravel()
         for k, (sweep, name) in enumerate(zip(sweeps, names, strict=True)):
             x, xlabel = sweep_axis(sweep)
             out = [r.wheel_rail for r in sweep]
@@ -66,6 +68,8 @@ def figure_steady_curving(results: Sequence[Any], *, title: str = "", labels: Se
         for axis in axes:
             axis.grid(True, alpha=0.3)
         axes[0].legend(fontsize="small", ncol=2)
+        if ax is not None:
+            return ax
         if title:
             figure.suptitle(title)
         figure.tight_layout()

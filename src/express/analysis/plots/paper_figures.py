@@ -21,7 +21,7 @@ from express.analysis.plots._base import (
     RED,
     STEERED,
     add_caption,
-    new_figure,
+    axes_for,
     runs,
     styled,
 )
@@ -46,6 +46,7 @@ def figure_lever_step(
     *,
     step: float,
     caption: str | None = None,
+    ax=None,
 ):
     """Lever angle ``q2`` against time after a step of ``q1`` (paper Fig. 3).
 
@@ -59,8 +60,11 @@ def figure_lever_step(
     step : float
         Size of the ``q1`` step [rad].
     caption : str, optional
+    ax : matplotlib.axes.Axes, optional
+        Draw into this axes and return it (the figure's layout, title and caption are then
+        the caller's); by default a new figure is made and returned.
     """
-    figure, axis = new_figure(figsize=(7.2, 4.8))
+    figure, axis = axes_for(ax, figsize=(7.2, 4.8))
     colours = (BLUE, RED, GREEN, PURPLE)
     axis.axhline(0.0, color=GREY, linewidth=0.6, zorder=1)
     extent = 0.0
@@ -78,6 +82,8 @@ def figure_lever_step(
     extent = extent or 1.0
     axis.set_ylim(-1.15 * extent, 1.9 * extent)
     axis.legend(loc="upper right", framealpha=0.95)
+    if ax is not None:
+        return ax
     figure.tight_layout(rect=(0, 0.09 if caption else 0, 1, 1))
     add_caption(figure, caption)
     return figure
@@ -97,6 +103,7 @@ def figure_curving(
     geometric_lever: float | None = None,
     title: str = "Fig. 9 - curve negotiation",
     caption: str | None = None,
+    ax=None,
 ):
     """Three panels against ``d1`` (paper Fig. 9).
 
@@ -104,18 +111,25 @@ def figure_curving(
     ----------
     steered, conventional : mapping of str to numpy.ndarray
         ``d1``, ``rho1``, ``theta_L1`` (steered only), ``psi_TW1``, ``psi_TW2``, ``Q1``,
-        ``Q2`` (SI), each of one length.  ``conventional`` may be None.
+        ``Q2`` (SI), each of one length.  ``conventional`` may be None.  ``Q1``, ``Q2``
+        are the paper's names of the lateral forces (its Fig. 9c): the runs'
+        ``Y1``, ``Y2`` (:mod:`express.paper.demo_curving`).
     ideal_yaw : float
         The radial steering angle ``a/R`` [rad], dashed as ``+-a/R`` in panel (b)
         (``psi_TW2`` is negative in a left curve: the rear wheelset turns the other way).
     geometric_lever : float, optional
         The geometric lever angle ``b_L l_T / (R l_LU)`` [rad], dashed in panel (a).
     title, caption : str
+    ax : sequence of matplotlib.axes.Axes, optional
+        Draw into these axes (one per panel, three) and return them (the figure's layout,
+        title and caption are then the caller's); by default a new figure is made and returned.
     """
-    figure, (top, middle, bottom) = new_figure(3, 1, figsize=(7.6, 9.6), sharex=True)
+    figure, (top, middle, bottom) = axes_for(ax, 3, 1, figsize=(7.6, 9.6), sharex=True)
     _panel_lever(top, steered, geometric_lever)
     _panel_steering(middle, steered, conventional, ideal_yaw)
     _panel_forces(bottom, steered, conventional)
+    if ax is not None:
+        return ax
     figure.suptitle(title, fontsize=11.5)
     figure.tight_layout(rect=(0, 0.045 if caption else 0, 1, 1))
     add_caption(figure, caption)
@@ -201,6 +215,7 @@ def figure_frequency_response(
     title: str = "Fig. 10 - car-body floor acceleration",
     ylabel: str = "acceleration amplitude [m/s²]",
     caption: str | None = None,
+    ax=None,
 ):
     """Amplitudes against frequency on a log frequency axis (paper Fig. 10).
 
@@ -212,8 +227,11 @@ def figure_frequency_response(
         ``label``, ``values`` (real amplitudes, shape (F,)), and optional ``color`` and
         ``style`` (``"steered"`` solid, ``"conventional"`` dashed).
     title, ylabel, caption : str
+    ax : matplotlib.axes.Axes, optional
+        Draw into this axes and return it (the figure's layout, title and caption are then
+        the caller's); by default a new figure is made and returned.
     """
-    figure, axis = new_figure(figsize=(7.2, 4.6))
+    figure, axis = axes_for(ax, figsize=(7.2, 4.6))
     palette = (BLUE, ORANGE, GREEN, RED, PURPLE, GREY)
     for k, curve in enumerate(curves):
         style = CONVENTIONAL if curve.get("style") == "conventional" else STEERED
@@ -227,6 +245,8 @@ def figure_frequency_response(
     axis.set_title(title)
     axis.grid(True, which="minor", alpha=0.15)
     axis.legend(loc="upper left", framealpha=0.9)
+    if ax is not None:
+        return ax
     figure.tight_layout(rect=(0, 0.06 if caption else 0, 1, 1))
     add_caption(figure, caption)
     return figure
@@ -238,7 +258,7 @@ _UNIT_LABELS = {"m/s^2": "acceleration amplitude [m/s²]", "m": "displacement am
 
 
 def figure_frequency_responses(frequencies: np.ndarray, panels: Mapping[str, Sequence[Mapping]], *,
-                               title: str = "", log: bool = False):
+                               title: str = "", log: bool = False, ax=None):
     """Amplitudes against frequency, one axis per unit (never two units on one axis).
 
     Parameters
@@ -251,8 +271,11 @@ def figure_frequency_responses(frequencies: np.ndarray, panels: Mapping[str, Seq
     title : str
     log : bool
         Logarithmic amplitude axes (the frequency axis is always logarithmic).
+    ax : sequence of matplotlib.axes.Axes, optional
+        Draw into these axes (one per panel, one per unit) and return them (the figure's layout,
+        title and caption are then the caller's); by default a new figure is made and returned.
     """
-    figure, axes = new_figure(len(panels), 1, figsize=(7.2, 1.0 + 3.0 * len(panels)), sharex=True, squeeze=False)
+    figure, axes = axes_for(ax, len(panels), 1, figsize=(7.2, 1.0 + 3.0 * len(panels)), sharex=True, squeeze=False)
     palette = (BLUE, ORANGE, GREEN, RED, PURPLE, GREY)
     for axis, (unit, curves) in zip(axes[:, 0], panels.items(), strict=True):
         for k, curve in enumerate(curves):
@@ -270,6 +293,8 @@ def figure_frequency_responses(frequencies: np.ndarray, panels: Mapping[str, Seq
     axes[-1, 0].set_xlim(float(frequencies[0]), float(frequencies[-1]))
     axes[-1, 0].set_xlabel("frequency f [Hz]")
     axes[0, 0].set_title(title)
+    if ax is not None:
+        return ax
     figure.tight_layout()
     return figure
 
@@ -311,6 +336,7 @@ def figure_critical_speed(
     nominal_conicity: float | None = None,
     title: str = r"Fig. 11 - critical speed $V_{cr}$ against conicity $\Gamma$",
     caption: str | None = None,
+    ax=None,
 ):
     """``V_cr`` [km/h] against ``Gamma`` (paper Fig. 11).
 
@@ -334,8 +360,11 @@ def figure_critical_speed(
     nominal_conicity : float, optional
         Drawn as a dash-dotted vertical line.
     title, caption : str
+    ax : matplotlib.axes.Axes, optional
+        Draw into this axes and return it (the figure's layout, title and caption are then
+        the caller's); by default a new figure is made and returned.
     """
-    figure, axis = new_figure(figsize=(7.0, 4.6))
+    figure, axis = axes_for(ax, figsize=(7.0, 4.6))
     palette = (BLUE, RED, GREEN, PURPLE)
     top = 0.0
     for k, curve in enumerate(curves):
@@ -370,6 +399,8 @@ def figure_critical_speed(
     axis.set_ylim(0.0, top * 1.12 if top > 0 else None)
     axis.set_title(title)
     axis.legend(loc="best", framealpha=0.9)
+    if ax is not None:
+        return ax
     figure.tight_layout(rect=(0, 0.06 if caption else 0, 1, 1))
     add_caption(figure, caption)
     return figure
@@ -381,7 +412,7 @@ def figure_critical_speed(
 
 
 @styled
-def figure_simulation(distance: np.ndarray, outputs: Mapping[str, np.ndarray], *, title: str):
+def figure_simulation(distance: np.ndarray, outputs: Mapping[str, np.ndarray], *, title: str, ax=None):
     """A quick look at one run (``express simulate --plot``): curvature and lever
     angles, steering angles, lateral forces against ``d1``.
 
@@ -390,11 +421,15 @@ def figure_simulation(distance: np.ndarray, outputs: Mapping[str, np.ndarray], *
     distance : numpy.ndarray, shape (T,)
         Distance of the leading wheelset ``d1`` [m].
     outputs : mapping of str to numpy.ndarray
-        ``rho1`` and any of ``theta_*``, ``psi_TW*``, ``Q<n>`` (the dead-band model's lateral
-        force) or ``Y<n><L|R>`` (the contact tables' lateral force of each wheel) (SI, shape (T,)).
+        ``rho1`` and any of ``theta_*``, ``psi_TW*``, ``Y<n>`` (the dead-band model's lateral
+        force of the flanging wheel) or ``Y<n><L|R>`` (the contact tables' lateral force of
+        each wheel) (SI, shape (T,)).
     title : str
+    ax : sequence of matplotlib.axes.Axes, optional
+        Draw into these axes (one per panel, three) and return them (the figure's layout,
+        title and caption are then the caller's); by default a new figure is made and returned.
     """
-    figure, (top, middle, bottom) = new_figure(3, 1, figsize=(7.6, 8.6), sharex=True)
+    figure, (top, middle, bottom) = axes_for(ax, 3, 1, figsize=(7.6, 8.6), sharex=True)
     colours = (BLUE, ORANGE, GREEN, RED)
     top.plot(distance, outputs["rho1"] * 1e3, color=GREY, label=r"curvature $\rho_1$ [1/km]")
     thetas = sorted(k for k in outputs if k.startswith("theta_"))
@@ -415,8 +450,8 @@ def figure_simulation(distance: np.ndarray, outputs: Mapping[str, np.ndarray], *
     if steering:
         middle.legend(loc="upper right", ncol=4)
     middle.set_title("(b) wheelset yaw relative to its bogie", loc="left")
-    forces = sorted((k for k in outputs if k[:1] == "Q" and k[1:].isdigit()), key=lambda s: int(s[1:]))
-    panel = "(c) lateral force on the flanging wheel"
+    forces = sorted((k for k in outputs if k[:1] == "Y" and k[1:].isdigit()), key=lambda s: int(s[1:]))
+    panel = "(c) lateral force Y on the flanging wheel"
     if not forces:  # the contact from profile tables: the lateral force Y of every wheel (Q is its vertical load)
         forces = sorted((k for k in outputs if k[:1] == "Y" and k[1:-1].isdigit() and k[-1:] in "LR"),
                         key=lambda s: (int(s[1:-1]), s[-1]))
@@ -424,7 +459,7 @@ def figure_simulation(distance: np.ndarray, outputs: Mapping[str, np.ndarray], *
     for k, name in enumerate(forces):
         bottom.plot(distance, outputs[name] * 1e-3, color=colours[k % 4], label=name,
                     linestyle="-" if k < 4 else "--")
-    bottom.set_ylabel(("Q" if panel.endswith("flanging wheel") else "Y") + " [kN]")
+    bottom.set_ylabel("Y [kN]")
     bottom.set_xlabel(r"distance of the leading wheelset $d_1$ [m]")
     if forces:
         bottom.legend(loc="upper right", ncol=4)
@@ -432,6 +467,8 @@ def figure_simulation(distance: np.ndarray, outputs: Mapping[str, np.ndarray], *
         bottom.text(0.5, 0.5, "no wheel/rail forces in this run", transform=bottom.transAxes, ha="center")
     bottom.set_title(panel, loc="left")
     bottom.set_xlim(float(distance[0]), float(distance[-1]))
+    if ax is not None:
+        return ax
     figure.suptitle(title)
     figure.tight_layout()
     return figure

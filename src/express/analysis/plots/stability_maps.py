@@ -12,7 +12,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from express.analysis.plots._base import BLUE, GREEN, GREY, ORANGE, PURPLE, RED, new_figure, styled
+from express.analysis.plots._base import BLUE, GREEN, GREY, ORANGE, PURPLE, RED, axes_for, styled
 from express.base.diagnostics import ArgumentError
 
 __all__ = ["figure_damping_vs_speed", "figure_eigen_locus", "figure_root_locus_complex", "mode_branches"]
@@ -39,7 +39,7 @@ def _real_window(values: np.ndarray) -> tuple[float, float]:
 
 @styled
 def figure_eigen_locus(speeds_kmh: np.ndarray, eigenvalues: np.ndarray, *, title: str,
-                       critical_kmh: float | None = None):
+                       critical_kmh: float | None = None, ax=None):
     """Real part of every eigenvalue against speed, the largest one bold.
 
     Parameters
@@ -52,9 +52,12 @@ def figure_eigen_locus(speeds_kmh: np.ndarray, eigenvalues: np.ndarray, *, title
     title : str
     critical_kmh : float, optional
         Marked with a dashed vertical line.
+    ax : matplotlib.axes.Axes, optional
+        Draw into this axes and return it (the figure's layout is then the caller's); by
+        default a new figure is made and returned.
     """
     speeds, values = _locus_arrays(speeds_kmh, eigenvalues)
-    figure, axis = new_figure(figsize=(7.0, 4.4))
+    figure, axis = axes_for(ax, figsize=(7.0, 4.4))
     real = values.real
     for column in range(real.shape[1]):
         axis.plot(speeds, real[:, column], color=GREY, linewidth=0.6, alpha=0.6)
@@ -70,6 +73,8 @@ def figure_eigen_locus(speeds_kmh: np.ndarray, eigenvalues: np.ndarray, *, title
     axis.set_xlim(float(speeds[0]), float(speeds[-1]))
     axis.set_title(title)
     axis.legend(loc="lower left", framealpha=0.9)
+    if ax is not None:
+        return ax
     figure.tight_layout()
     return figure
 
@@ -82,6 +87,7 @@ def figure_root_locus_complex(
     title: str = "root locus",
     critical_kmh: float | None = None,
     max_frequency_hz: float | None = None,
+    ax=None,
 ):
     """Root locus in the complex plane: real part against frequency, speed as colour.
 
@@ -99,18 +105,21 @@ def figure_root_locus_complex(
         The least stable eigenvalue at the speed nearest to it is marked.
     max_frequency_hz : float, optional
         Upper limit of the frequency axis; default: the highest frequency shown.
+    ax : matplotlib.axes.Axes, optional
+        Draw into this axes and return it (the figure's layout is then the caller's; the colour bar takes its room from ``ax``); by
+        default a new figure is made and returned.
 
     Returns
     -------
-    matplotlib.figure.Figure
-        One axes with one scatter (the eigenvalues) and a colour bar of speed.
+    matplotlib.figure.Figure or matplotlib.axes.Axes
+        One axes with one scatter (the eigenvalues) and a colour bar of speed (``ax`` when given).
     """
     speeds, values = _locus_arrays(speeds_kmh, eigenvalues)
     left, right = _real_window(values)
     colour = np.broadcast_to(speeds[:, None], values.shape)
     shown = (values.imag >= 0) & (values.real >= left)
     frequency = values.imag / (2 * np.pi)
-    figure, axis = new_figure(figsize=(7.0, 4.8))
+    figure, axis = axes_for(ax, figsize=(7.0, 4.8))
     points = axis.scatter(values.real[shown], frequency[shown], c=colour[shown], s=5, cmap="viridis",
                           vmin=float(speeds.min()), vmax=float(speeds.max()), linewidths=0, rasterized=True)
     figure.colorbar(points, ax=axis, label="speed V [km/h]")
@@ -127,6 +136,8 @@ def figure_root_locus_complex(
     axis.set_xlabel("real part of eigenvalue [1/s]")
     axis.set_ylabel("frequency Im/2π [Hz]")
     axis.set_title(title)
+    if ax is not None:
+        return ax
     figure.tight_layout()
     return figure
 
@@ -176,6 +187,7 @@ def figure_damping_vs_speed(
     title: str = "damping ratio against speed",
     critical_kmh: float | None = None,
     max_frequency_hz: float | None = None,
+    ax=None,
 ):
     """Damping ratio ``zeta = -Re(lambda) / |lambda|`` of each mode against speed.
 
@@ -196,11 +208,14 @@ def figure_damping_vs_speed(
         Marked with a dashed vertical line.
     max_frequency_hz : float, optional
         Modes whose frequency exceeds it at every speed are left out.
+    ax : matplotlib.axes.Axes, optional
+        Draw into this axes and return it (the figure's layout is then the caller's); by
+        default a new figure is made and returned.
 
     Returns
     -------
-    matplotlib.figure.Figure
-        One axes, one line per mode drawn, plus the zero line.
+    matplotlib.figure.Figure or matplotlib.axes.Axes
+        One axes, one line per mode drawn, plus the zero line (``ax`` when given).
     """
     speeds, values = _locus_arrays(speeds_kmh, branches)
     if labels is not None and len(labels) != values.shape[1]:
@@ -213,7 +228,7 @@ def figure_damping_vs_speed(
              and (max_frequency_hz is None or np.nanmin(np.where(oscillating[:, j], frequency[:, j], np.inf))
                   <= max_frequency_hz)]
     drawn.sort(key=lambda j: float(np.nanmin(zeta[:, j])))
-    figure, axis = new_figure(figsize=(7.0, 4.6))
+    figure, axis = axes_for(ax, figsize=(7.0, 4.6))
     palette = (RED, BLUE, GREEN, ORANGE, PURPLE)
     for rank, j in enumerate(drawn):
         if rank < highlight:
@@ -235,5 +250,7 @@ def figure_damping_vs_speed(
     axis.set_title(title)
     if (drawn and highlight > 0) or critical_kmh is not None:
         axis.legend(loc="upper right", framealpha=0.9)
+    if ax is not None:
+        return ax
     figure.tight_layout()
     return figure

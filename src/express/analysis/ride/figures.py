@@ -29,6 +29,7 @@ def figure_ride_spectra(
     *,
     title: str = "car-body acceleration PSDs",
     caption: str | None = None,
+    ax=None,
 ):
     """Acceleration PSDs of output points, one panel per direction, log-log.
 
@@ -44,19 +45,22 @@ def figure_ride_spectra(
         Point name -> axis (``"x"``, ``"y"``, ``"z"``) -> PSD [(m/s^2)^2/Hz], shape (F,).
         Axes absent from every point get no panel.
     title, caption : str
+    ax : matplotlib.axes.Axes or sequence of them, optional
+        Draw into these axes (one per panel drawn, in the order y, z, x) and return them
+        (the figure's layout, title and caption are then the caller's); by default a new
+        figure is made and returned.
     """
     import matplotlib
-    from matplotlib.figure import Figure
 
-    from express.analysis.plots import STYLE
+    from express.analysis.plots import STYLE, axes_for
 
     f = np.asarray(frequencies, dtype=float)
     axes_used = [axis for axis in ("y", "z", "x") if any(axis in by_axis for by_axis in spectra.values())]
     if not axes_used:
         raise ArgumentError("figure_ride_spectra: no spectrum to draw")
     with matplotlib.rc_context(STYLE):
-        figure = Figure(figsize=(4.4 * len(axes_used) + 0.8, 4.4))
-        panels = np.atleast_1d(figure.subplots(1, len(axes_used), sharey=False))
+        figure, panels = axes_for(ax, 1, len(axes_used), figsize=(4.4 * len(axes_used) + 0.8, 4.4), sharey=False)
+        panels = np.atleast_1d(panels)
         for panel, axis in zip(panels, axes_used, strict=True):
             for k, (point, by_axis) in enumerate(spectra.items()):
                 if axis not in by_axis:
@@ -75,6 +79,8 @@ def figure_ride_spectra(
             panel.set_title(f"{_TITLES[axis]} ({axis})")
             panel.grid(True, which="minor", alpha=0.15)
             panel.legend(loc="lower left", fontsize=7.0, framealpha=0.9)
+        if ax is not None:
+            return ax
         figure.suptitle(title)
         figure.tight_layout(rect=(0, 0.05 if caption else 0, 1, 1))
         if caption:

@@ -73,6 +73,7 @@ from express.analysis.ride.spectral import (
     spectral_rms,
 )
 from express.assembly.kinematics import end_motion
+from express.base.data import DataRecord, columns_frame
 from express.base.diagnostics import AnalysisError, InputError
 from express.base.names import did_you_mean
 from express.model.modal_body import modal_motion
@@ -382,8 +383,8 @@ def _output_rows(vehicle: VehicleModel, inputs: RailInputs, speed: float) -> tup
 # --- response ----------------------------------------------------------------------------
 
 
-@dataclass(frozen=True)
-class RideResponse:
+@dataclass(frozen=True, repr=False)
+class RideResponse(DataRecord):
     """Stationary random response of a vehicle on a track, one-sided PSDs in Hz.
 
     Attributes
@@ -421,6 +422,25 @@ class RideResponse:
     directions: dict[str, tuple[str, ...]]
     wheel_sides: dict[str, tuple[str, ...]]
     notes: tuple[str, ...] = ()
+
+    def to_xarray(self):
+        """The response as an :class:`xarray.Dataset` over ``frequency`` [Hz], ``output``
+        and ``component`` (:func:`express.analysis.result_data.ride_dataset`)."""
+        from express.analysis.result_data import ride_dataset
+
+        return ride_dataset(self)
+
+    def to_pandas(self):
+        """The PSDs as a :class:`pandas.DataFrame` indexed by ``frequency [Hz]``, one column
+        per output ``<name> [<unit>^2/Hz]``."""
+        columns = {"frequency": self.frequencies, **{n: self.psd[:, i] for i, n in enumerate(self.names)}}
+        units = {"frequency": "Hz", **{n: f"({u})^2/Hz" if u else "1/Hz" for n, u in zip(self.names, self.units, strict=True)}}
+        return columns_frame(columns, units, index="frequency")
+
+    def _summary(self) -> list[str]:
+        f = self.frequencies
+        return [f"{len(self.names)} outputs, components {', '.join(self.components)}, at {self.speed:.3f} m/s",
+                f"{f.size} frequencies {f[0]:g}-{f[-1]:g} Hz" if f.size else "no frequencies"]
 
     def index(self, name: str) -> int:
         try:

@@ -13,16 +13,9 @@ __all__ = ["figure_study_map", "figure_tornado"]
 from express.base.units import KMH
 
 
-def _figure(figsize):
-    from matplotlib.figure import Figure
-
-    figure = Figure(figsize=figsize)
-    return figure, figure.subplots()
-
-
 def figure_study_map(
     axes: Sequence[tuple], values: np.ndarray, *, label: str, title: str,
-    scale: float = 1.0, unit: str = "",
+    scale: float = 1.0, unit: str = "", ax=None,
 ):
     """A grid study's output over one parameter (a curve) or two (filled contours).
 
@@ -38,17 +31,20 @@ def figure_study_map(
         The output's name for the colour bar / y axis.
     scale, unit : float, str
         Display factor and unit of the output (``1/3.6``, ``"km/h"``).
+    ax : matplotlib.axes.Axes, optional
+        Draw into this axes and return it (the figure's layout is then the caller's; a
+        colour bar takes its room from ``ax``); by default a new figure is made and returned.
 
     Returns
     -------
-    matplotlib.figure.Figure
+    matplotlib.figure.Figure or matplotlib.axes.Axes
     """
     import textwrap
 
     import matplotlib
     from matplotlib.ticker import ScalarFormatter
 
-    from express.analysis.plots import STYLE
+    from express.analysis.plots import STYLE, axes_for
 
     def unpack(entry):
         name, grid, factor, shown_unit = entry[:4]
@@ -56,7 +52,7 @@ def figure_study_map(
             (entry[4] if len(entry) > 4 else "linear")
 
     with matplotlib.rc_context(STYLE):
-        figure, axis = _figure((6.4, 4.8))
+        figure, axis = axes_for(ax, figsize=(6.4, 4.8))
         shown = np.asarray(values, dtype=float) / scale
         quantity = f"{label} [{unit}]" if unit else label
         _name0, x, xlabel, xscale = unpack(axes[0])
@@ -82,6 +78,8 @@ def figure_study_map(
                 which.set_major_formatter(ScalarFormatter())
                 which.set_minor_formatter(ScalarFormatter())
         axis.set_title("\n".join(textwrap.wrap(title, 64)))
+        if ax is not None:
+            return ax
         figure.tight_layout()
     return figure
 
@@ -98,7 +96,7 @@ def _levels(values: np.ndarray, count: int = 16) -> np.ndarray | int:
     return levels if levels.size >= 3 else 10
 
 
-def figure_tornado(result, *, top: int = 15, change: float = 0.1, title: str = ""):
+def figure_tornado(result, *, top: int = 15, change: float = 0.1, title: str = "", ax=None):
     """Ranked tornado chart of a critical-speed sensitivity.
 
     Each bar is the first-order change of the critical speed [km/h] when one parameter
@@ -112,18 +110,21 @@ def figure_tornado(result, *, top: int = 15, change: float = 0.1, title: str = "
         Parameters shown, largest elasticity first.
     change : float
         Relative parameter change of the bars.
+    ax : matplotlib.axes.Axes, optional
+        Draw into this axes and return it (the figure's layout is then the caller's); by
+        default a new figure is made and returned.
 
     Returns
     -------
-    matplotlib.figure.Figure
+    matplotlib.figure.Figure or matplotlib.axes.Axes
     """
     import matplotlib
 
-    from express.analysis.plots import STYLE
+    from express.analysis.plots import STYLE, axes_for
 
     ranked = [s for s in result.ranked() if s.elasticity != 0][:top]
     with matplotlib.rc_context(STYLE):
-        figure, axis = _figure((6.4, 0.8 + 0.32 * max(len(ranked), 1)))
+        figure, axis = axes_for(ax, figsize=(6.4, 0.8 + 0.32 * max(len(ranked), 1)))
         positions = np.arange(len(ranked))[::-1]
         for y, s in zip(positions, ranked, strict=True):
             delta = change * s.value * s.derivative / KMH
@@ -136,5 +137,7 @@ def figure_tornado(result, *, top: int = 15, change: float = 0.1, title: str = "
         span = max((abs(change * s.value * s.derivative / KMH) for s in ranked), default=1.0) or 1.0
         axis.set_xlim(-1.35 * span, 1.6 * span)
         axis.set_title(title or f"critical speed {result.critical_speed / KMH:.1f} km/h: sensitivities (e = elasticity)")
+        if ax is not None:
+            return ax
         figure.tight_layout()
     return figure

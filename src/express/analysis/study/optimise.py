@@ -2,7 +2,7 @@
 
 ``kind = "optimise"``
     Maximise or minimise one output over the parameters' bounds, subject to bounds on
-    other outputs (``[study.constraints]``, e.g. ``max_QP = { max = 0.8 }``):
+    other outputs (``[study.constraints]``, e.g. ``max_YQ = { max = 0.8 }``):
 
     ``differential-evolution`` (default)
         :func:`scipy.optimize.differential_evolution` in the unit cube of the bounds

@@ -10,9 +10,9 @@ output                     unit    what
                                    10 significant digits)
 ``least_damping_ratio``    --      smallest damping ratio ``-Re/|lambda|`` of the modes at ``speed``
 ``least_damping_frequency`` Hz     frequency of that mode
-``max_Q``                  N       largest lateral wheel/rail force ``|Q|`` of any wheelset on the
+``max_Y``                  N       largest lateral wheel/rail force ``|Y|`` of any wheelset on the
                                    track (time-domain run, flange contact and creep saturation)
-``max_QP``                 --      largest derailment quotient ``|Q/P|`` on the track
+``max_YQ``                 --      largest derailment quotient ``|Y/Q0|`` on the track
 ``max_lever_angle``        rad     largest steering-lever rotation ``|theta|`` on the track
 ``frf_peak_acceleration``  m/s^2   peak acceleration amplitude of an output point (``frf_output``)
                                    in the response to a sinusoidal lateral irregularity (or to
@@ -40,6 +40,10 @@ R = 400 m curve), ``dt``; ``frf_output``, ``frf_input``, ``frf_fmin``, ``frf_fma
 ``frf_points``, ``frf_amplitude``; ``curve_radius`` (default 600 m) and ``curve_cant``
 (default 0) of the steady curve. Quantities are numbers in SI or strings with a unit
 (``"540 km/h"``).
+
+``max_Y`` and ``max_YQ`` were ``max_Q`` and ``max_QP`` before issue 35 (one meaning per
+name: ``Q`` the vertical wheel load, ``Y`` the lateral force); a study that names the old
+ones is refused with the new name (:data:`RENAMED_OUTPUTS`).
 """
 
 from __future__ import annotations
@@ -56,7 +60,7 @@ from express.analysis.critical_options import CriticalOptions, SearchCheck
 from express.analysis.study.critical import CriticalSpeedSearch, StateBlocks
 from express.base.diagnostics import ArgumentError
 
-__all__ = ["OUTPUTS", "OutputSettings", "PointOutputs"]
+__all__ = ["OUTPUTS", "RENAMED_OUTPUTS", "OutputSettings", "PointOutputs", "renamed_message"]
 
 from express.base.names import did_you_mean
 
@@ -66,8 +70,8 @@ OUTPUTS: dict[str, tuple[str, str]] = {
     "critical_frequency": ("Hz", "critical"),
     "least_damping_ratio": ("", "eigen"),
     "least_damping_frequency": ("Hz", "eigen"),
-    "max_Q": ("N", "track"),
-    "max_QP": ("", "track"),
+    "max_Y": ("N", "track"),
+    "max_YQ": ("", "track"),
     "max_lever_angle": ("rad", "track"),
     "frf_peak_acceleration": ("m/s^2", "frf"),
     "frf_peak_frequency": ("Hz", "frf"),
@@ -100,6 +104,18 @@ _QUANTITIES = {
 _OTHERS = ("points", "check", "track", "frf_output", "frf_input", "frf_points")
 #: Track components of ``frf_input`` and the acceleration axis reported for each.
 _FRF_INPUTS = {"alignment": "y", "vertical": "z", "cross_level": "y", "gauge": "y"}
+
+#: Output names before issue 35 -> their names now.
+RENAMED_OUTPUTS = {"max_Q": "max_Y", "max_QP": "max_YQ"}
+
+
+def renamed_message(name: str) -> str | None:
+    """What to say about an output named by its old name (None for any other name)."""
+    new = RENAMED_OUTPUTS.get(name)
+    if new is None:
+        return None
+    return (f"{name!r} is now called {new!r} (Q is the vertical wheel load, Y the lateral force, "
+            "in every contact model)")
 
 
 @dataclass(frozen=True)
@@ -283,7 +299,7 @@ class PointOutputs:
             found = [value for name, value in maxima.items() if re.fullmatch(pattern, name)]
             return max(found) if found else math.nan
 
-        found = {"max_Q": largest(r"Q\d+"), "max_QP": largest(r"QP\d+"), "max_lever_angle": largest(r"theta_.+")}
+        found = {"max_Y": largest(r"Y\d+"), "max_YQ": largest(r"YQ\d+"), "max_lever_angle": largest(r"theta_.+")}
         if "assess" in self.groups:
             found.update(_assessed(vehicle, self._track, result))
         return found

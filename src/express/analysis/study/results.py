@@ -39,6 +39,7 @@ from typing import Any, TextIO
 import numpy as np
 
 from express.analysis.study.outputs import OUTPUTS
+from express.base.data import DataRecord
 from express.base.diagnostics import UsageError
 
 __all__ = ["FORMATS", "Checkpoint", "ResultTable", "checkpoint_path", "result_bytes"]
@@ -165,8 +166,8 @@ class Checkpoint:
         self.path.unlink(missing_ok=True)
 
 
-@dataclass
-class ResultTable:
+@dataclass(repr=False)
+class ResultTable(DataRecord):
     """The results in point order.
 
     Attributes
@@ -213,6 +214,19 @@ class ResultTable:
 
     def error_column(self) -> list[str]:
         return [self.errors.get(i, "") for i in range(len(self.values))]
+
+    def to_xarray(self):
+        """The table as an :class:`xarray.Dataset` over ``point``: each parameter and
+        output with its unit, ``error`` ('' for none)."""
+        from express.analysis.result_data import study_dataset
+
+        columns: dict[str, Any] = {name: self.column(name) for name in (*self.names, *self.outputs)}
+        columns["error"] = self.error_column()
+        return study_dataset(columns, self.units)
+
+    def _summary(self) -> list[str]:
+        return [f"{len(self.values)} points of {', '.join(self.names) or 'no parameters'}"[:120],
+                f"outputs {', '.join(self.outputs)}; {len(self.errors)} with a message"[:120]]
 
 
 def _number(value: float) -> str:

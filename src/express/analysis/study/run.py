@@ -29,13 +29,14 @@ from express.analysis.study.results import FORMATS, Checkpoint, ResultTable, che
 from express.analysis.study.runner import Engine, blocked, make_task
 from express.analysis.study.sampling import study_points, to_ranges
 from express.analysis.study.spec import StudySpec
+from express.base.data import DataRecord
 from express.base.diagnostics import UsageError
 
 __all__ = ["StudySummary", "default_workers", "parameter_units", "run_study"]
 
 
-@dataclass(frozen=True)
-class StudySummary:
+@dataclass(frozen=True, repr=False)
+class StudySummary(DataRecord):
     """What a finished study did.
 
     Attributes
@@ -52,6 +53,8 @@ class StudySummary:
     workers : int
     extra : dict
         ``best`` (optimise), ``indices`` (sobol-indices), ``files`` written besides the output.
+    table : ResultTable or None
+        The results in memory (:meth:`to_xarray`, :meth:`to_pandas`).
     """
 
     output: Path
@@ -61,10 +64,26 @@ class StudySummary:
     seconds: float
     workers: int
     extra: dict = field(default_factory=dict)
+    table: ResultTable | None = field(default=None, repr=False, compare=False)
 
     def as_dict(self) -> dict[str, Any]:
         return {"output": str(self.output), "points": self.points, "computed": self.computed,
                 "failed": self.failed, "seconds": self.seconds, "workers": self.workers, **self.extra}
+
+    def to_xarray(self):
+        """The study's results as an :class:`xarray.Dataset` over ``point`` (each parameter
+        and output with its ``units``; ``error``): the table this run wrote, else the
+        output file read back."""
+        if self.table is not None:
+            return self.table.to_xarray()
+        from express.analysis.result_data import study_dataset
+        from express.analysis.study.results import read_table
+
+        return study_dataset(read_table(self.output), {name: unit for name, (unit, _) in OUTPUTS.items()})
+
+    def _summary(self) -> list[str]:
+        return [f"{self.points} points in {self.output} ({self.computed} computed, {self.failed} failed)",
+                f"{self.seconds:.2f} s on {self.workers} worker(s)"]
 
 
 def default_workers() -> int:
@@ -295,7 +314,7 @@ def run_study(
     checkpoint.remove()
     failed = sum(1 for i in table.errors if np.isnan(table.results[i]).any())
     return StudySummary(output, len(table.values), computed, failed, time.perf_counter() - started,
-                        engine.parallel, {**extra, "files": files})
+                        engine.parallel, {**extra, "files": files}, table)
 
 
 def raise_lost(lost: list[dict], checkpoint: Path, count: int) -> None:

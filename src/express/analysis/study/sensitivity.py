@@ -39,6 +39,7 @@ import sympy as sp
 
 from express.analysis.study.critical import CriticalOptions, StateBlocks, fast_critical_speed
 from express.analysis.study.derivatives import graph_rates, matrix_derivatives
+from express.base.data import DataRecord
 from express.base.diagnostics import ArgumentError, NoCriticalSpeedError
 from express.numeric.statespace import VehicleModel
 
@@ -75,8 +76,8 @@ class ParameterSensitivity:
     elasticity: float
 
 
-@dataclass(frozen=True)
-class CriticalSpeedSensitivity:
+@dataclass(frozen=True, repr=False)
+class CriticalSpeedSensitivity(DataRecord):
     """Result of :func:`critical_speed_sensitivity`.
 
     Attributes
@@ -92,6 +93,19 @@ class CriticalSpeedSensitivity:
     critical_speed: float
     frequency: float
     sensitivities: tuple[ParameterSensitivity, ...]
+
+    def to_xarray(self):
+        """The sensitivities as an :class:`xarray.Dataset` over ``parameter``
+        (:func:`express.analysis.result_data.sensitivity_dataset`)."""
+        from express.analysis.result_data import sensitivity_dataset
+
+        return sensitivity_dataset(self)
+
+    def _summary(self) -> list[str]:
+        top = ", ".join(f"{s.name} {s.elasticity:+.3g}" for s in self.ranked()[:4])
+        return [f"critical speed {self.critical_speed:.3f} m/s ({self.critical_speed * 3.6:.1f} km/h), "
+                f"{self.frequency:.3f} Hz; {len(self.sensitivities)} parameters",
+                f"largest elasticities: {top}"[:160]]
 
     def ranked(self) -> list[ParameterSensitivity]:
         """Largest absolute elasticity first (ties by name)."""

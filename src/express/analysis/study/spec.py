@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Literal, cast, get_args
 
-from express.analysis.study.outputs import OUTPUTS, OutputSettings
+from express.analysis.study.outputs import OUTPUTS, RENAMED_OUTPUTS, OutputSettings, renamed_message
 from express.base.diagnostics import ModelError, Problem
 from express.base.names import did_you_mean
 from express.io.toml_lines import find_line, line_index, parse_toml
@@ -252,7 +252,9 @@ def _outputs(check: _Checker, study: dict) -> tuple[str, ...]:
         check.add(("outputs",), "study.outputs", f"no outputs; offered: {', '.join(OUTPUTS)}")
     good = []
     for name in names:
-        if name not in OUTPUTS:
+        if name in RENAMED_OUTPUTS:
+            check.add(("outputs",), f"output {name}", str(renamed_message(name)))
+        elif name not in OUTPUTS:
             check.add(("outputs",), f"output {name}", f"unknown output{_hint(name, OUTPUTS)} (offered: {', '.join(OUTPUTS)})")
         elif name not in good:
             good.append(name)
@@ -471,7 +473,9 @@ def _optimisation(check: _Checker, study: dict, kind: str, outputs: tuple[str, .
         check.add(("objective",), "study.objective", 'give one of maximise = "OUTPUT" or minimise = "OUTPUT"')
     else:
         sense, name = next(iter(table.items()))
-        if name not in outputs:
+        if name in RENAMED_OUTPUTS:
+            check.add(("objective",), "study.objective", str(renamed_message(name)))
+        elif name not in outputs:
             check.add(("objective",), "study.objective", f"{name!r} is not one of the study's outputs ({', '.join(outputs)})")
         else:
             objective = (sense, name)
@@ -479,6 +483,9 @@ def _optimisation(check: _Checker, study: dict, kind: str, outputs: tuple[str, .
     for name, bounds in (study.get("constraints") or {}).items():
         where = ("constraints", name)
         item = f"constraint {name}"
+        if name in RENAMED_OUTPUTS:
+            check.add(where, item, str(renamed_message(name)))
+            continue
         if name not in outputs:
             check.add(where, item, f"not one of the study's outputs ({', '.join(outputs)})")
             continue

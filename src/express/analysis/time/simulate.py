@@ -7,15 +7,20 @@ Results are indexed by ``d1``, the leading wheelset's distance along the track.
 
 Derived quantities (``rail.md``).  With the paper's dead-band wheel/rail model:
 
-``Q{n}``
+``Y{n}``
     Lateral force from the rail on the flanging wheel of wheelset n [N], the quantity
-    the paper plots (横圧): the flange force plus that wheel's half of the lateral creep
+    the paper plots (横圧, its ``Q``): the flange force plus that wheel's half of the lateral creep
     force (both wheels have the same creep coefficients and lateral creepage), positive
     to the left.  Without flange contact it is half the wheelset's creep force.
-``Qtot{n}``
+``Ytot{n}``
     Total lateral force from the rails on wheelset n [N] (creep plus flange).
-``QP{n}``
-    Derailment quotient ``Q / P`` of the flanging wheel, ``P`` the static wheel load.
+``YQ{n}``
+    Derailment quotient ``Y / Q0`` of the flanging wheel, ``Q0`` the static wheel load
+    (the paper's ``Q / P``).
+
+One meaning per name across the contact models (issue 35): ``Q`` is always a vertical
+wheel load, ``Y`` a lateral force.  The dead-band outputs were called ``Q{n}``, ``Qtot{n}``
+and ``QP{n}`` before; :data:`express.analysis.time.output_names.RENAMED` maps the old names to the new ones.
 ``flange{n}``, ``dy{n}``
     The flange force ``-kR dy`` [N] and the flange penetration ``dy`` [m].
 
@@ -53,8 +58,10 @@ import numpy as np
 from express.analysis.curving.outputs import WheelRailOutputs
 from express.analysis.time.force_elements import contact_tables_of, run_forces
 from express.analysis.time.integrator import DenseSteps, discretize, march
+from express.analysis.time.output_names import OutputTable
 from express.analysis.time.sparse_march import Route, SparseSteps, choose_route, sparse_steps
 from express.analysis.time.track_inputs import TrackInputs, rail_layout, station_index, track_inputs
+from express.base.data import DataRecord, columns_frame
 from express.base.diagnostics import ArgumentError
 from express.base.threads import limited_blas
 from express.forces.bump_stops import BumpStopElement, clearance_force, clearances_of
@@ -74,8 +81,8 @@ __all__ = [
 ]
 
 
-@dataclass
-class SimulationResult:
+@dataclass(repr=False)
+class SimulationResult(DataRecord):
     """Time histories of a simulation.
 
     Attributes
@@ -115,6 +122,10 @@ class SimulationResult:
     wheel_rail: WheelRailOutputs | None = None
     output_units: dict[str, str] = field(default_factory=dict)
 
+    def __post_init__(self) -> None:
+        if not isinstance(self.outputs, OutputTable):
+            self.outputs = OutputTable(self.outputs)
+
     def series(self) -> dict[str, np.ndarray]:
         """Every column: time, d1, each DOF, each DOF rate (``<dof>_dot``), outputs."""
         columns = {"time": self.time, "d1": self.distance}
@@ -125,9 +136,29 @@ class SimulationResult:
         columns.update(self.outputs)
         return columns
 
+    def to_xarray(self):
+        """The time history as an :class:`xarray.Dataset` over ``time`` [s]
+        (:func:`express.analysis.result_data.simulation_dataset`)."""
+        from express.analysis.result_data import simulation_dataset
+
+        return simulation_dataset(self)
+
+    def to_pandas(self):
+        """The time history as a :class:`pandas.DataFrame` of :meth:`series`, indexed by
+        ``time [s]``, units in the column names."""
+        return columns_frame(self.series(), self.units(), index="time")
+
+    def _summary(self) -> list[str]:
+        t = self.time
+        span = f"{t[0]:g}-{t[-1]:g} s, {t.size} instants" if t.size else "no instants"
+        return [f"{span} at {self.speed:.3f} m/s, dt {self.options.get('dt', float('nan')):g} s",
+                f"{len(self.dofs)} DOFs, {len(self.outputs)} outputs"]
+
     def max_abs(self) -> dict[str, float]:
-        """Largest absolute value of every derived output (SI units)."""
-        return {name: float(np.max(np.abs(values))) for name, values in self.outputs.items()}
+        """Largest absolute value of every derived output (SI units), by name (an
+        :class:`~express.analysis.time.output_names.OutputTable`: an old name is refused
+        with the new one)."""
+        return OutputTable({name: float(np.max(np.abs(values))) for name, values in self.outputs.items()})
 
     def units(self) -> dict[str, str]:
         """SI unit of every column of :meth:`series` (``""`` for dimensionless ones)."""
@@ -165,7 +196,7 @@ class SimulationResult:
 
 #: Units of the derived outputs by name prefix (longest prefixes first).
 _OUTPUT_UNITS = (
-    ("Tgamma", "N"), ("wear", "ug/m/mm^2"), ("rcf", ""), ("QP", ""), ("Qtot", "N"), ("Q", "N"), ("flanging", ""), ("flange", "N"), ("NL", "N"), ("NR", "N"),
+    ("Tgamma", "N"), ("wear", "ug/m/mm^2"), ("rcf", ""), ("Q", "N"), ("flanging", ""), ("flange", "N"), ("NL", "N"), ("NR", "N"),
     ("psi_TW", "rad"), ("theta_", "rad"), ("dy", "m"), ("dQQ0", ""), ("rho", "1/m"), ("SY", "N"), ("S", "m"),
     ("stop_", "N"), ("YQ", ""), ("Y", "N"), ("Fx", "N"), ("gamma", "rad"), ("aoa", "rad"), ("u", "m"),
 )
@@ -447,8 +478,8 @@ def _velocities(vehicle: VehicleModel, states: np.ndarray, inputs: TrackInputs, 
 def derived_outputs(vehicle: VehicleModel, q, q_dot, inputs: TrackInputs, speed: float, *, flange=True, saturation=True,
                     deadband=True):
     """The derived quantities of ``rail.md`` from the state histories; ``deadband``
-    False leaves out the dead-band model's wheel/rail forces (``Q{n}``, ``QP{n}``,
-    ``Qtot{n}``, ``flange{n}``, ``dy{n}``: a run with the contact tables has its own)."""
+    False leaves out the dead-band model's wheel/rail forces (``Y{n}``, ``YQ{n}``,
+    ``Ytot{n}``, ``flange{n}``, ``dy{n}``: a run with the contact tables has its own)."""
     ws = vehicle.wheelsets
     iy = [w.y for w in ws]
     ipsi = [w.psi for w in ws]
@@ -464,9 +495,9 @@ def derived_outputs(vehicle: VehicleModel, q, q_dot, inputs: TrackInputs, speed:
     for j, wheelset in enumerate(ws, start=1):
         if deadband:
             wheel = forces["flange"][:, j - 1] + 0.5 * forces["lateral_creep"][:, j - 1]
-            outputs[f"Q{j}"] = wheel
-            outputs[f"QP{j}"] = wheel / wheelset.wheel_load
-            outputs[f"Qtot{j}"] = forces["lateral"][:, j - 1]
+            outputs[f"Y{j}"] = wheel
+            outputs[f"YQ{j}"] = wheel / wheelset.wheel_load
+            outputs[f"Ytot{j}"] = forces["lateral"][:, j - 1]
             outputs[f"flange{j}"] = forces["flange"][:, j - 1]
             outputs[f"dy{j}"] = forces["dy"][:, j - 1]
         bogie = bogies.get(wheelset.name)
