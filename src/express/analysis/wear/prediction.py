@@ -159,7 +159,7 @@ def _measure(vehicle: VehicleModel, grid: ProfileGrid, first: ProfileGrid) -> di
 
     setup = wheelset_contacts(vehicle.model, vehicle.values, vehicle.wheelsets)[0].tables.setup  # type: ignore[union-attr]
     found = critical_speed(vehicle)
-    speed = math.nan if found is None or found.unstable_at_min else found.speed
+    speed = found.speed if found.found and not found.unstable_at_min else math.nan  # stable to the limit: nan
     dims = flange_dimensions(grid.y, grid.z, setup.tapeline_offset)
     worn = grid.z - first.z
     return {"max_depth": float(worn.max()), "profile_volume": float(worn.sum() * grid.spacing * _circumference(vehicle)),
