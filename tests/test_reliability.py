@@ -491,7 +491,7 @@ NON_FINITE_CASES = [
      math.nan, "is not finite at some frequency"),  # frf's own check, before the writer's
     (["ride", CONVENTIONAL, "--track", "ERRI-low", "--points", "20", "-o", "{out}"], "express.analysis.ride.vehicle",
      "ride_response:psd", math.inf, "not a finite number (inf)"),
-    (["curving", STEERED, "--radius", "600", "-o", "{out}"], "express.analysis.curving.steady", "steady_curving",
+    (["curving", STEERED, "--radius", "600", "-o", "{out}"], "express.analysis.curving.settled", "curving_or_settled",
      math.nan, "not a finite number (nan)"),
     (["export", CONVENTIONAL, "-o", "{out}.npz"], "express.export.linear_system", "numeric_matrices", math.nan,
      "not a finite number (nan) at index"),
