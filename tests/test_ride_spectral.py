@@ -275,3 +275,41 @@ def test_bad_input_reports_every_problem() -> None:
     assert len(str(err.value).splitlines()) == 3
     with pytest.raises(InputError, match="kind"):
         two_point_filter_zeros(2.0, "roll")
+
+
+# --- modal superposition (modal_form) against a dense solve ---------------------------
+
+
+def _stable_matrix(n, seed):
+    """A real matrix with eigenvalues in the left half-plane (a shifted random one)."""
+    rng = np.random.default_rng(seed)
+    a = rng.normal(size=(n, n))
+    return a - (np.max(np.linalg.eigvals(a).real) + 0.5) * np.eye(n)
+
+
+@pytest.mark.parametrize("n, seed", [(6, 1), (40, 2), (74, 3)])
+def test_modal_superposition_equals_a_dense_solve(n, seed):
+    """``V diag(1/(i w - lambda)) V^-1 B`` against ``solve(i w I - A, B)`` at 50
+    frequencies: achieved about 1e-14 of the largest entry, asserted 1e-11."""
+    from express.analysis.ride.spectral import modal_form
+
+    a = _stable_matrix(n, seed)
+    b = np.random.default_rng(seed + 10).normal(size=(n, 3))
+    modal = modal_form(a)
+    assert modal is not None and modal.condition < 1e6
+    w = 2 * math.pi * np.geomspace(0.01, 100.0, 50)
+    for omega in w:
+        dense = np.linalg.solve(1j * omega * np.eye(n) - a, b)
+        superposed = modal.right @ ((modal.left @ b) / (1j * omega - modal.eigenvalues)[:, None])
+        assert np.max(np.abs(superposed - dense)) <= 1e-11 * np.max(np.abs(dense))
+
+
+def test_a_defective_matrix_has_no_modal_form():
+    """A Jordan block (two coalesced modes) has no basis of eigenvectors: refused, so the
+    response is solved by the Schur form instead; a diagonalisable matrix is accepted."""
+    from express.analysis.ride.spectral import modal_form
+
+    jordan = np.array([[-1.0, 1.0, 0.0], [0.0, -1.0, 1.0], [0.0, 0.0, -1.0]])
+    assert modal_form(jordan) is None
+    assert modal_form(np.array([[np.nan]])) is None
+    assert modal_form(np.diag([-1.0, -2.0, -3.0])).condition == pytest.approx(1.0)
