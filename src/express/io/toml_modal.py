@@ -23,6 +23,13 @@ Two sources (``docs/model-format.md``, "Flexible bodies")::
 
     # or file = "coach-modes.csv" (express.io.modal_data)
 
+    [flexible.CB.fe]                     # (c) a FE program's universal file (express.io.uff_modes)
+    file = "carbody.unv"
+    nodes = { C1 = 1001, C2 = 1002 }     # the FE node at each point the model uses
+    axes = ["x", "y", "z"]               # the FE axes along body x, y, z (default)
+    modes = { vb1 = 7, to1 = { mode = 9, kind = "torsion" } }   # default: all
+    rigid_below = "0.5 Hz"               # without modes: those below are rigid (default)
+
 Every mode becomes parameters (so ``--set``, studies and sensitivities see them):
 ``<body>_<mode>_w`` its angular frequency [rad/s], ``<body>_<mode>_zeta`` its damping
 ratio (unless a parameter name is given) and ``<body>_<mode>_<point>`` its shape value
@@ -53,7 +60,9 @@ from express.model.records import Derivation, Model, Parameter
 
 __all__ = ["read_flexible"]
 
-_BODY_KEYS = ("damping", "beam", "modes", "file")
+_BODY_KEYS = ("damping", "beam", "modes", "file", "fe")
+_FE_KEYS = ("file", "nodes", "axes", "modes", "rigid_below")
+_AXES = ("x", "y", "z", "-x", "-y", "-z")
 _BEAM_KEYS = ("length", "vertical_EI", "lateral_EI", "torsion_GJ", "torsional_inertia", "vertical", "lateral", "torsion")
 _MODE_KEYS = ("kind", "frequency", "damping", "shapes")
 _LENGTH = Dimension(Fraction(0), Fraction(1), Fraction(0))
@@ -284,6 +293,51 @@ def _given(modes: _Modes, table: dict, path: tuple[str, ...], zeta: sp.Expr) -> 
         modes.add(name, kind, 2 * math.pi * frequency, damping, shapes, counts[kind], reader.line(*where))
 
 
+def _fe(modes: _Modes, table: dict, path: tuple[str, ...], zeta: sp.Expr) -> None:
+    """``[flexible.<body>.fe]``: the modes of a universal file (:mod:`express.io.uff_modes`)."""
+    from express.io.uff_modes import FEModeChoice, read_uff_modes
+
+    reader = modes.reader
+    item = f"flexible {modes.body} fe"
+    reader.unknown_keys(table, _FE_KEYS, path, item)
+    if not isinstance(table.get("file"), str):
+        reader.problem(path + ("file",), item, f"file must be the universal file's name, got {show_value(table.get('file'))}")
+        return
+    nodes: dict[str, int] = {}
+    for point, node in reader.table(table.get("nodes", {}), path + ("nodes",), item).items():
+        if isinstance(node, bool) or not isinstance(node, int) or node <= 0:
+            reader.problem(path + ("nodes", point), item, f"node of {point} must be a positive FE node number, got {show_value(node)}")
+        else:
+            nodes[point] = node
+    if not nodes and "nodes" not in table:
+        reader.problem(path, item, "nodes = { POINT = NODE, ... } names the FE node at each point the model uses")
+    axes = table.get("axes", ["x", "y", "z"])
+    if not (isinstance(axes, list) and len(axes) == 3 and all(a in _AXES for a in axes)
+            and sorted(a.lstrip("-") for a in axes) == ["x", "y", "z"]):
+        reader.problem(path + ("axes",), item, f"axes must name the FE axis along body x, y, z, e.g. [\"z\", \"-x\", \"y\"], "
+                       f"got {show_value(axes)}")
+        return
+    choices = None
+    if "modes" in table:
+        choices = []
+        for name, raw in reader.table(table["modes"], path + ("modes",), item).items():
+            check_id(reader, name, path + ("modes", name), item)
+            spec = raw if isinstance(raw, dict) else {"mode": raw}
+            reader.unknown_keys(spec, ("mode", "kind"), path + ("modes", name), item)
+            number, kind = spec.get("mode"), spec.get("kind")
+            if isinstance(number, bool) or not isinstance(number, int) or kind not in (None, "vertical", "lateral", "torsion"):
+                reader.problem(path + ("modes", name), item, "a mode is its FE mode number, or { mode = N, kind = "
+                               f"\"vertical\" | \"lateral\" | \"torsion\" }}, got {show_value(raw)}")
+                continue
+            choices.append(FEModeChoice(name, number, None if kind is None else ModeKind(kind)))
+    rigid = _number(reader, modes.model, table.get("rigid_below", "0.5 Hz"), path + ("rigid_below",), item,
+                    "rigid_below", _FREQUENCY)
+    where = Path(reader.source).parent / table["file"]
+    for mode in read_uff_modes(where, nodes, (axes[0], axes[1], axes[2]), choices, rigid or 0.0, reader.problems):
+        damping = zeta if mode.zeta is None else parse_expression(repr(mode.zeta))
+        modes.add(mode.name, mode.kind, mode.omega, damping, mode.shapes, mode.order, None, str(where))
+
+
 def read_flexible(reader: TomlReader, table: Any,
                   model: Model) -> tuple[tuple[FlexibleBody, ...], dict[str, Parameter], tuple[Derivation, ...]]:
     """The flexible bodies of ``[flexible]``, the parameters they add and the beams'
@@ -325,9 +379,13 @@ def read_flexible(reader: TomlReader, table: Any,
             for mode in read_modal_data(where, reader.problems):
                 damping = zeta if mode.zeta is None else parse_expression(repr(mode.zeta))
                 modes.add(mode.name, mode.kind, mode.omega, damping, mode.shapes, mode.order, mode.line, str(where))
-        if not modes.modes and "file" not in spec:  # a file's problems are its own
-            reader.problem(path, item, "no modes: give [flexible.NAME.beam], [flexible.NAME.modes.MODE] or file")
-        kind = "beam" if "beam" in spec else str(spec["file"]) if "file" in spec else "modes"
+        if "fe" in spec:
+            _fe(modes, reader.table(spec["fe"], path + ("fe",), item), path + ("fe",), zeta)
+        if not modes.modes and "file" not in spec and "fe" not in spec:  # a file's problems are its own
+            reader.problem(path, item, "no modes: give [flexible.NAME.beam], [flexible.NAME.modes.MODE], file or "
+                           "[flexible.NAME.fe]")
+        kind = ("beam" if "beam" in spec else str(spec["file"]) if "file" in spec
+                else str(spec["fe"].get("file")) if isinstance(spec.get("fe"), dict) else "modes")
         bodies.append(FlexibleBody(body, tuple(modes.modes), kind, reader.line(*path)))
         parameters.update(modes.parameters)
     return tuple(bodies), parameters, tuple(nodes)
