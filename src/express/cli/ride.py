@@ -82,21 +82,27 @@ def run(
         raise UsageError("-o - and --json both write to standard output; choose one")
     table = _is_table(track)
     with output_transaction([model, *([track] if table else [])]) as transaction:
-        if output is not None:
-            transaction.declare(output)
-        if plot is not None:
-            transaction.declare(plot, binary=True)
+        for path, binary in ((output, False), (plot, True)):
+            if path is not None:
+                transaction.declare(path, binary=binary)
         spectra, track_name = _spectra(track, table)
         vehicle = common.load_rail_vehicle(model, overrides, "ride")
         v = common.running_speed(vehicle, speed)
-        response = ride_response(vehicle, spectra, v, np.geomspace(fmin, fmax, points))
-        require_finite("ride: the response PSD (output x frequency)", response.psd)  # before the comfort sums
-        comfort = point_comfort(response)
-        wheels = wheel_forces(response, vehicle)
-        if output is not None:
-            _write_csv(output, response)
-        if plot is not None:
-            _figure(vehicle, response, track_name, plot)
+        instability = _instability(vehicle, v)
+        if instability is not None:  # no PSD exists: the nonlinear run's ride, nothing written
+            nonlinear = _nonlinear(vehicle, spectra, v)
+        else:
+            response = ride_response(vehicle, spectra, v, np.geomspace(fmin, fmax, points))
+            require_finite("ride: the response PSD (output x frequency)", response.psd)  # before the comfort sums
+            comfort = point_comfort(response)
+            wheels = wheel_forces(response, vehicle)
+            if output is not None:
+                _write_csv(output, response)
+            if plot is not None:
+                _figure(vehicle, response, track_name, plot)
+    if instability is not None:
+        return _report_nonlinear(model, vehicle.equations.name, track_name, instability, nonlinear, as_json,
+                                 [p for p in (output, plot) if p is not None])
     for path in [p for p in (output, plot) if p is not None and str(p) != "-"]:
         common.note(f"wrote {path}")
     summary = _summary(model, track_name, response, comfort, wheels)
@@ -105,6 +111,56 @@ def run(
     else:
         _print_table(vehicle.equations.name, summary, sys.stderr if output == "-" else sys.stdout)
     for line in summary["notes"]:
+        common.note(f"note: {line}")
+    return 0
+
+
+def _instability(vehicle: Any, speed: float) -> str | None:
+    """Why the linear model has no stationary response at ``speed`` (None: it has one)."""
+    from express.analysis.frequency import require_stable
+    from express.base.diagnostics import AnalysisError
+
+    try:
+        require_stable(vehicle, speed)
+    except AnalysisError as error:
+        return str(error).split(": its response to a sinusoid")[0]
+    return None
+
+
+def _nonlinear(vehicle: Any, spectra: dict, speed: float) -> Any:
+    """The ride of the nonlinear run (:func:`express.analysis.ride.nonlinear.simulated_ride`)."""
+    from express.analysis.ride.nonlinear import simulated_ride
+    from express.base.diagnostics import InputError
+
+    try:
+        return simulated_ride(vehicle, spectra, speed)
+    except InputError as error:
+        raise UsageError(str(error)) from None
+
+
+def _report_nonlinear(model: Path, name: str, track: str, instability: str, ride: Any, as_json: bool,
+                      not_written: list) -> int:
+    """Print the linear model's instability and the nonlinear run's comfort; exit 0."""
+    notes = [*ride.notes] + [f"{path}: not written (no PSD exists above the linear critical speed)" for path in not_written]
+    if as_json:
+        common.print_json({
+            "model": str(model), "track": track, "speed": ride.speed, "speed_kmh": ride.speed / common.KMH,
+            "linear": {"stable": False, "reason": instability},
+            "nonlinear_run": {"length_m": ride.length, "dt_s": ride.dt, "components": list(ride.components),
+                              "flange_contact": ride.flange_contact,
+                              "output_points": {point: c.as_dict() for point, c in ride.comfort.items()}},
+            "notes": notes, "units": {"rms": "m/s^2", "weighted_rms": "m/s^2", "a_p95": "m/s^2", "speed": "m/s"},
+        })
+    else:
+        print(f"{name}: track {track} at {ride.speed / common.KMH:.1f} km/h: the linear model is unstable "
+              f"({instability}), no stationary PSD exists; the ride of the nonlinear run ({ride.length:g} m, "
+              f"step {ride.dt * 1e3:g} ms, flange contact {'reached' if ride.flange_contact else 'not reached'}):")
+        print(f"  {'point':<14} {'a_x rms':>9} {'a_y rms':>9} {'a_z rms':>9} {'Wz_y':>6} {'Wz_z':>6} {'N_MV':>6}   (m/s^2)")
+        for point, c in ride.comfort.items():
+            rms = "".join(f" {c.rms[a]:9.4f}" if a in c.rms else f" {'-':>9}" for a in "xyz")
+            wz = "".join(f" {c.wz[a]:6.2f}" if a in c.wz else f" {'-':>6}" for a in "yz")
+            print(f"  {point:<14}{rms}{wz} {c.n_mv:6.2f}")
+    for line in notes:
         common.note(f"note: {line}")
     return 0
 
