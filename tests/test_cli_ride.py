@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from cli_support import CONVENTIONAL, assert_fails, assert_input_error, run, run_json, valued_lever
+from express.cli import main
 from express.rail.track.spectra import ERRI_LOW
 from test_ride_vehicle import two_axle_toml
 
@@ -192,16 +193,21 @@ def test_ride_bad_input_exits_2(capsys, tmp_path, argv, mentions):
     assert not output.exists()
 
 
-def test_ride_above_the_critical_speed_exits_1_and_writes_nothing(capsys, tmp_path):
-    """The check of ``express frf`` (``analysis.frequency.require_stable``): the same least-damped mode."""
+def test_ride_above_the_critical_speed_says_so_and_writes_no_psd(capsys, tmp_path):
+    """The check of ``express frf`` (``analysis.frequency.require_stable``): the same
+    least-damped mode.  Unstable is a result: exit 0 with the nonlinear run's ride
+    (``tests/test_ride_nonlinear.py``), and no PSD file or figure (none exists)."""
     output, plot = tmp_path / "psd.csv", tmp_path / "psd.png"
-    err = assert_fails(capsys, 1, "ride", CONVENTIONAL, "--track", "ERRI-low", "--speed", "500", "-o", output,
-                       "--plot", plot, mentions="unstable at 500.0 km/h")
-    assert "no stationary response" in err and "hunting" in err and "Traceback" not in err
-    assert not output.exists() and not plot.exists()
+    status = main(["ride", str(CONVENTIONAL), "--track", "ERRI-low", "--speed", "500", "-o", str(output),
+                   "--plot", str(plot)])
+    captured = capsys.readouterr()
+    assert status == 0 and "Traceback" not in captured.err
+    assert "unstable at 500.0 km/h" in captured.out and "hunting" in captured.out
+    assert "no stationary PSD exists" in captured.out and "the ride of the nonlinear run" in captured.out
+    assert not output.exists() and not plot.exists() and captured.err.count("not written") == 2
     frf = assert_fails(capsys, 1, "frf", CONVENTIONAL, "--speed", "500", mentions="unstable at 500.0 km/h")
     eigenvalue = frf.split("least-damped eigenvalue ")[1].split(",")[0]
-    assert f"least-damped eigenvalue {eigenvalue}," in err
+    assert f"least-damped eigenvalue {eigenvalue}," in captured.out
 
 
 @pytest.mark.parametrize("level", [1, 5])
