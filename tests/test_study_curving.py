@@ -20,14 +20,17 @@ from express.rail.track import load_track
 
 ROOT = Path(__file__).resolve().parents[1]
 MODEL = ROOT / "examples" / "forced-steering.toml"
-OUTPUTS = ["max_YQ2m", "max_SY2m", "max_dQQ0", "max_aoa", "max_Tgamma", "steady_aoa", "steady_YQ", "steady_SY"]
+OUTPUTS = ["max_YQ2m", "max_SY2m", "max_dQQ0", "max_aoa", "max_Tgamma", "steady_aoa", "steady_YQ", "steady_SY",
+           "step_dt", "step_error"]
 
 
 @pytest.mark.slow
 def test_curving_outputs_of_a_study_are_the_librarys(tmp_path):
     """Two points (kx1 1 and 4 MN/m) along the bundled R400 at 95 km/h and in a steady
     R 500 m curve with 100 mm cant: every output equal to the library's own run of the
-    point (to 1e-12 relative: the same computation)."""
+    point at the step the study's step check chose (to 1e-12 relative: the same
+    computation), and that step converged: every criterion within 1 % of its limit of
+    the run at twice the step."""
     study = tmp_path / "study.toml"
     study.write_text(f'[study]\nmodel = "{MODEL}"\nkind = "grid"\noutputs = {OUTPUTS!r}\n'.replace("'", '"')
                      + '[study.parameters]\nkx1 = { values = ["1 MN/m", "4 MN/m"] }\n'
@@ -40,7 +43,8 @@ def test_curving_outputs_of_a_study_are_the_librarys(tmp_path):
     base = load_vehicle(str(MODEL))
     for row, kx1 in enumerate((1e6, 4e6)):
         vehicle = base.with_values({"kx1": kx1})
-        run = simulate(vehicle, track, speed=95 / 3.6, progress=False)
+        assert table["step_error"][row] <= 0.01 and table["step_dt"][row] in (0.005, 0.0025, 0.00125, 0.000625)
+        run = simulate(vehicle, track, speed=95 / 3.6, dt=table["step_dt"][row], progress=False)
         outputs, assessment = assess_run(vehicle, track, run)
         criteria = {c.name: c.value for c in assessment.criteria}
         steady = steady_curving(vehicle, SteadyCurve(500.0, 0.1), speeds=95 / 3.6)[0].wheel_rail
@@ -55,6 +59,30 @@ def test_curving_outputs_of_a_study_are_the_librarys(tmp_path):
             assert table[name][row] == pytest.approx(value, rel=1e-12), name
         assert np.isnan(table["max_Tgamma"][row])  # the dead-band contact has no frictional power
     assert table["max_SY2m"][0] != table["max_SY2m"][1]  # the parameter moves it
+
+
+def test_a_study_without_the_step_check_runs_at_its_step(tmp_path):
+    """``step_check = false``: the track run at ``dt`` alone (step_dt = dt, step_error 0),
+    its outputs the library's run at that step (1e-12); a non-boolean is refused."""
+    from express.base.diagnostics import InputError
+
+    study = tmp_path / "study.toml"
+    study.write_text(f'[study]\nmodel = "{MODEL}"\nkind = "grid"\noutputs = ["max_SY2m", "step_dt", "step_error"]\n'
+                     '[study.parameters]\nkx1 = { values = ["1 MN/m"] }\n'
+                     '[study.options]\ntrack = "R400"\nspeed = "95 km/h"\ndt = "4 ms"\nstep_check = false\n')
+    output = tmp_path / "out.csv"
+    run_study(read_study(study), output, workers=1)
+    table = read_table(output)
+    assert table["step_dt"][0] == 0.004 and table["step_error"][0] == 0.0
+    vehicle = load_vehicle(str(MODEL)).with_values({"kx1": 1e6})
+    track = load_track("R400")
+    run = simulate(vehicle, track, speed=95 / 3.6, dt=0.004, progress=False)
+    criteria = {c.name: c.value for c in assess_run(vehicle, track, run)[1].criteria}
+    expected = max(v for k, v in criteria.items() if k.startswith("SY") and not k.endswith("_rms"))
+    assert table["max_SY2m"][0] == pytest.approx(expected, rel=1e-12)
+    study.write_text(study.read_text().replace("step_check = false", 'step_check = "no"'))
+    with pytest.raises(InputError, match="step_check.*must be true or false"):
+        read_study(study)
 
 
 def test_a_bundled_track_by_its_name_and_a_wrong_one(tmp_path):

@@ -26,6 +26,10 @@ output                     unit    what
 ``max_aoa``                rad     largest angle of attack ``|aoa|`` of any wheelset on the track run
 ``max_Tgamma``             N       largest frictional power ``Tgamma`` of any wheel on the track run
                                    (contact from profiles; nan for the dead-band contact)
+``step_dt``                s       the step of the assessed track run: ``dt``, halved until the
+                                   EN 14363 outputs agree with the run at twice the step
+                                   (``express simulate --assess``'s step check)
+``step_error``             --      that check's largest change of a criterion over its limit
 ``steady_aoa``             rad     the leading wheelset's angle of attack in the steady curve
                                    (``curve_radius``, ``curve_cant``, ``speed``; ``express curving``)
 ``steady_YQ``              --      largest Y/Q of any wheel in that steady curve
@@ -38,7 +42,10 @@ The options (``[study.options]``) are those of the matching commands: ``v_min``,
 file or a bundled track's name, ``"R400"``, as ``--track`` takes it; default the paper's
 R = 400 m curve), ``dt``; ``frf_output``, ``frf_input``, ``frf_fmin``, ``frf_fmax``,
 ``frf_points``, ``frf_amplitude``; ``curve_radius`` (default 600 m) and ``curve_cant``
-(default 0) of the steady curve. Quantities are numbers in SI or strings with a unit
+(default 0) of the steady curve; ``step_check`` (default true: a track run with EN 14363
+outputs is checked against the run at twice its step, the step halved until every
+criterion moves by less than 1 % of its limit, :mod:`express.analysis.time.step_check`; a
+point that does not converge says so). Quantities are numbers in SI or strings with a unit
 (``"540 km/h"``).
 
 ``max_Y`` and ``max_YQ`` were ``max_Q`` and ``max_QP`` before issue 35 (one meaning per
@@ -80,6 +87,8 @@ OUTPUTS: dict[str, tuple[str, str]] = {
     "max_dQQ0": ("", "assess"),
     "max_aoa": ("rad", "assess"),
     "max_Tgamma": ("N", "assess"),
+    "step_dt": ("s", "assess"),
+    "step_error": ("", "assess"),
     "steady_aoa": ("rad", "steady"),
     "steady_YQ": ("", "steady"),
     "steady_SY": ("N", "steady"),
@@ -101,7 +110,7 @@ _QUANTITIES = {
     "curve_radius": ("length", 600.0, 1.0, 1e6),
     "curve_cant": ("length", 0.0, -0.3, 0.3),
 }
-_OTHERS = ("points", "check", "track", "frf_output", "frf_input", "frf_points")
+_OTHERS = ("points", "check", "track", "frf_output", "frf_input", "frf_points", "step_check")
 #: Track components of ``frf_input`` and the acceleration axis reported for each.
 _FRF_INPUTS = {"alignment": "y", "vertical": "z", "cross_level": "y", "gauge": "y"}
 
@@ -139,6 +148,7 @@ class OutputSettings:
     frf_amplitude: float = 1e-3
     curve_radius: float = 600.0
     curve_cant: float = 0.0
+    step_check: bool = True
 
     @property
     def critical(self) -> CriticalOptions:
@@ -188,6 +198,11 @@ class OutputSettings:
             elif key == "frf_input":
                 if raw not in _FRF_INPUTS:
                     problems.append((key, f"must be one of {', '.join(_FRF_INPUTS)}, got {raw!r}"))
+                else:
+                    values[key] = raw
+            elif key == "step_check":
+                if not isinstance(raw, bool):
+                    problems.append((key, f"must be true or false, got {raw!r}"))
                 else:
                     values[key] = raw
             elif key == "frf_output":
@@ -245,7 +260,7 @@ class PointOutputs:
         if "eigen" in self.groups:
             values.update(self._eigen(vehicle))
         if self.groups & {"track", "assess"}:
-            values.update(self._track_run(vehicle))
+            values.update(self._track_run(vehicle, notes))
         if "steady" in self.groups:
             values.update(self._steady(vehicle))
         if "frf" in self.groups:
@@ -281,7 +296,7 @@ class PointOutputs:
         return {"least_damping_ratio": float(ratios[k]),
                 "least_damping_frequency": float(abs(eigenvalues[keep][k].imag) / (2 * np.pi))}
 
-    def _track_run(self, vehicle) -> dict[str, float]:
+    def _track_run(self, vehicle, notes: list[str]) -> dict[str, float]:
         from express.analysis.time.simulate import simulate
 
         if self._track is None:
@@ -292,7 +307,11 @@ class PointOutputs:
         # default paper's curve runs at the model's speed, as `express simulate` without --track)
         own = self._track.speed if self.settings.speed is None and self.settings.track is not None else None
         speed = own if own is not None else self._speed(vehicle)
-        result = simulate(vehicle, self._track, speed=speed, dt=self.settings.dt, progress=False)
+        check = None
+        if "assess" in self.groups and self.settings.step_check:
+            result, check = self._checked_run(vehicle, speed)
+        else:
+            result = simulate(vehicle, self._track, speed=speed, dt=self.settings.dt, progress=False)
         maxima = result.max_abs()
 
         def largest(pattern: str) -> float:
@@ -302,7 +321,29 @@ class PointOutputs:
         found = {"max_Y": largest(r"Y\d+"), "max_YQ": largest(r"YQ\d+"), "max_lever_angle": largest(r"theta_.+")}
         if "assess" in self.groups:
             found.update(_assessed(vehicle, self._track, result))
+            found["step_dt"] = check.dt if check is not None else self.settings.dt
+            found["step_error"] = _step_error(check)
+            if check is not None and not check.converged:
+                notes.append(f"the track run's step did not converge: {check.dt:g} s against {check.compared_dt:g} s "
+                                   f"moves a criterion by {found['step_error']:.1%} of its limit (tolerance "
+                                   f"{check.tolerance:.0%})")
         return found
+
+    def _checked_run(self, vehicle, speed: float):
+        """The track run at ``dt``, checked against twice the step (the step halved until the
+        EN 14363 criteria agree: :func:`express.analysis.time.step_check.checked_simulation`)."""
+        from express.analysis.curving.assessment import assess_run
+        from express.analysis.time.simulate import simulate
+        from express.analysis.time.step_check import checked_simulation
+
+        def simulate_at(step: float):
+            return simulate(vehicle, self._track, speed=speed, dt=step, progress=False)
+
+        def assess(run):
+            return run, assess_run(vehicle, self._track, run)[1]
+
+        result, _assessment, check = checked_simulation(vehicle, simulate_at, assess, self.settings.dt)
+        return result, check
 
     def _steady(self, vehicle) -> dict[str, float]:
         from express.analysis.curving.steady import SteadyCurve, steady_curving
@@ -335,6 +376,13 @@ class PointOutputs:
             amplitude = np.abs(track.of(f"{name}.a{_FRF_INPUTS[s.frf_input]}", s.frf_input))
         k = int(np.argmax(amplitude))
         return {"frf_peak_acceleration": float(amplitude[k]), "frf_peak_frequency": float(frequencies[k])}
+
+
+def _step_error(check) -> float:
+    """The step check's largest change of a criterion over its scale (0 without a check)."""
+    if check is None:
+        return 0.0
+    return max((check.errors[name] / check.scales[name] for name in check.errors), default=0.0)
 
 
 def _assessed(vehicle, track, result) -> dict[str, float]:
