@@ -6,6 +6,7 @@ combined twist (the default), or passing a cross-level ramp or a track file, and
 from __future__ import annotations
 
 import argparse
+import math
 from pathlib import Path
 
 from express.base.diagnostics import EXIT_ASSESSMENT, UsageError
@@ -103,12 +104,14 @@ def _print_standard(vehicle, found, assess: bool) -> None:
     if found.climb is not None:
         c = found.climb
         print(f"flange climb, {c.wheel}: Y/Q {c.y_over_q_curve:.3f} in the curve (Q {c.q_curve / 1e3:.2f} kN, "
-              f"{c.source}), with dQ {c.delta_q / 1e3:.2f} kN on the twist Y/Q {c.y_over_q:.3f}")
+              f"{c.source}), with dQ {c.delta_q / 1e3:.2f} kN on the twist "
+              + (f"Y/Q {c.y_over_q:.3f}" if math.isfinite(c.y_over_q) else "the wheel lifts (Q + dQ <= 0)"))
     if not assess:
         print("no limit applied (--assess applies them)")
         return
     for c in found.assessment.criteria:
-        print(f"{'pass' if c.passed else 'FAIL'}  {c.name}: {c.value:.4g} against {c.limit:.4g} ({c.quantity})")
+        value = f"{c.value:.4g}" if math.isfinite(c.value) else "lifts"
+        print(f"{'pass' if c.passed else 'FAIL'}  {c.name}: {value} against {c.limit:.4g} ({c.quantity})")
     if found.assessment.derailment:
         print(f"derailment: {found.assessment.derailment}")
 

@@ -92,7 +92,16 @@ class TwistAssessment:
                            "cross_level": self.twist.cross_level.tolist()},
                  "delta_q": self.delta_q.tolist(), "wheel_load": self.wheel_load.tolist(),
                  "flange_climb": None if self.climb is None else dict(self.climb.__dict__)}
-        return found | self.assessment.as_dict()
+        return _finite(found | self.assessment.as_dict())
+
+
+def _finite(value):
+    """``value`` with every non-finite float (a lifted wheel's ``Y/Q``) as None, for JSON."""
+    if isinstance(value, dict):
+        return {key: _finite(item) for key, item in value.items()}
+    if isinstance(value, list):
+        return [_finite(item) for item in value]
+    return None if isinstance(value, float) and not math.isfinite(value) else value
 
 
 def flange_climb(vehicle: VehicleModel, delta_q: np.ndarray, *, radius: float = RADIUS, speed: float = SPEED,
@@ -113,7 +122,7 @@ def flange_climb(vehicle: VehicleModel, delta_q: np.ndarray, *, radius: float = 
     else:
         assert settled is not None
         y_over_q, q = float(settled.mean[f"YQ{lead + 1}L"]), float(settled.mean[f"Q{lead + 1}L"])
-        source = f"settled time run ({settled.reason})"
+        source = f"settled time run: {settled.reason.split(' (')[0]}"
     loaded = q + float(delta_q[lead, 0])
     climb = y_over_q * q / loaded if loaded > 0 else math.inf
     angle = flange_angle_of(contact_tables_of(vehicle, None, "fastsim"), DEFAULT_FLANGE_ANGLE)
