@@ -137,6 +137,12 @@ def test_the_flange_climb_adds_the_twist_unloading_to_the_curve(monkeypatch, two
     assert found.wheel == "W1 left" and found.y_over_q == pytest.approx(0.75, rel=1e-12)
     assert found.limit == pytest.approx(nadal_limit(math.radians(70.0), 0.36), rel=1e-12)
     assert flange_climb(two_axle, np.array([[-30e3, 0.0], [0.0, 0.0]])).y_over_q == math.inf
+    mean = {"YQ1L": 0.4, "Q1L": 25e3}
+    run_in = SimpleNamespace(mean=mean, reason="no equilibrium found (the solver's words)")
+    monkeypatch.setattr(settled, "curving_or_settled", lambda *a, **k: [(None, run_in)])
+    found = flange_climb(two_axle, np.array([[-5e3, 5e3], [5e3, -5e3]]))
+    assert found.y_over_q == pytest.approx(0.4 * 25 / 20, rel=1e-12)
+    assert found.source == "settled time run: no equilibrium found"
 
 
 def test_the_twist_command_on_the_standard_twist_and_its_assessment(capsys, two_axle_path):

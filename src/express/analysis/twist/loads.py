@@ -98,7 +98,8 @@ class TwistLoads:
     wheel_load : numpy.ndarray, shape (n_wheelsets,)
         Static wheel load Q0 [N].
     q : numpy.ndarray, shape (n,)
-        The static displacements [m, rad].
+        The static displacements [m, rad] under the model's inputs (without the part of a
+        cross level imposed at the contact springs, :func:`rail_height_loads`).
     """
 
     distance: float
