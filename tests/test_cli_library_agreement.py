@@ -13,9 +13,8 @@ conicity, contact-geometry, study, generate, convert, export, report (byte for b
 showed the expanded equations from the library and the factored ones from the command
 until ``report_html`` generated the readable ones itself).  Not here: ``draw`` (a
 figure; ``tests/test_cli_draw_export_report.py``), ``demo`` (the paper's numbers,
-``tests/test_cli_demo.py``), ``cache`` (no library face), ``twist`` (no bundled model
-has per-rail grounds; ``tests/test_track_components.py`` checks the command against the
-closed form).
+``tests/test_cli_demo.py``), ``cache`` (no library face). ``twist`` on the standard
+twist (the Manchester car, its rail heights imposed at the contact springs).
 """
 
 from __future__ import annotations
@@ -203,3 +202,12 @@ def test_report(capsys, tmp_path):
     status, _, err = run_command(capsys, "report", STEERED, "-o", target)
     assert status == 0, err
     assert target.read_text(encoding="utf-8") == report_html(express.load_vehicle(STEERED))
+
+
+def test_twist(capsys):
+    from express.analysis.twist import assess_twist
+
+    data = run_json(capsys, "twist", "examples/manchester.toml", "--assess", "--no-climb")
+    found = assess_twist(express.load_vehicle("examples/manchester.toml"), climb=False)
+    np.testing.assert_allclose(data["delta_q"], found.delta_q, rtol=1e-12)
+    assert data["criteria"][0]["value"] == pytest.approx(found.assessment.criteria[0].value, rel=1e-12)

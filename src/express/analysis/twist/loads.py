@@ -14,8 +14,13 @@ passage), and each wheel's load change from the model's own wheel-on-rail spring
 
 ``dQ / Q0`` with ``Q0`` the model's static wheel load (``[rail.wheel_rail] wheel_load``)
 is the quasi-static wheel unloading of EN 14363's safety against derailment on twisted
-track (the standard's test twists and limits are not public here: the twist and its
-length are the user's, no limit is applied).
+track (the standard's twist and limits: :mod:`express.analysis.twist.standard`).
+
+A model whose rail grounds take no cross level (one ground under both rails of a
+wheelset, as the bundled wagon's) is twisted by :func:`rail_height_loads`: the rail
+heights imposed at each wheel's own contact spring, ``dQ = -k_z (d q + kappa r)`` with
+``kappa`` the spring's coefficient on its ground's vertical input and ``r`` the rail's
+height, and ``K q = -sum k_z d kappa r`` (the same equations as a ground under each rail).
 """
 
 from __future__ import annotations
@@ -31,7 +36,16 @@ from express.rail.track import Straight, Track
 from express.rail.track.irregularity import MAX_LATERAL_IRREGULARITY, ProfileIrregularity
 from express.rail.vertical_contact import vertical_contacts
 
-__all__ = ["TwistLoads", "quasi_static_loads", "twist_passage", "twist_ramp", "twisted_track"]
+__all__ = [
+    "TwistLoads",
+    "cross_level_heights",
+    "quasi_static_loads",
+    "rail_height_loads",
+    "takes_cross_level",
+    "twist_passage",
+    "twist_ramp",
+    "twisted_track",
+]
 
 
 def twist_ramp(twist: float, length: float, start: float = 0.0) -> ProfileIrregularity:
@@ -84,7 +98,8 @@ class TwistLoads:
     wheel_load : numpy.ndarray, shape (n_wheelsets,)
         Static wheel load Q0 [N].
     q : numpy.ndarray, shape (n,)
-        The static displacements [m, rad].
+        The static displacements [m, rad] under the model's inputs (without the part of a
+        cross level imposed at the contact springs, :func:`rail_height_loads`).
     """
 
     distance: float
@@ -134,7 +149,18 @@ def twist_passage(vehicle: VehicleModel, track: Track, step: float = 0.5,
         for side, spring in enumerate(pair):
             if spring is not None:
                 delta[:, i, side] = -spring.stiffness * (q @ spring.dofs + u @ spring.inputs)
+    if "cross_level" in track.applied_components and not takes_cross_level(vehicle, track):
+        delta += rail_height_loads(vehicle, cross_level_heights(vehicle, track, distance))
     return distance, delta, np.array([w.wheel_load for w in vehicle.wheelsets], dtype=float)
+
+
+def cross_level_heights(vehicle: VehicleModel, track: Track, distance: np.ndarray) -> np.ndarray:
+    """The rail heights ``(-c/2, +c/2)`` of the track's cross level ``c`` under every
+    wheelset with the leading one at each ``distance`` [m], shape (N, n_wheelsets, 2)."""
+    stations = np.array([w.station for w in vehicle.wheelsets], dtype=float)
+    s = np.asarray(distance, dtype=float)[:, None] - (stations.max() - stations)[None, :]
+    c = np.asarray(track.component("cross_level").value(s.ravel()), dtype=float).reshape(s.shape)
+    return np.stack([-c / 2, c / 2], axis=2)
 
 
 def _springs(vehicle: VehicleModel) -> list:
@@ -177,5 +203,69 @@ def quasi_static_loads(vehicle: VehicleModel, track: Track, distance: float, spe
         for side, spring in enumerate(pair):
             if spring is not None:
                 delta[i, side] = -spring.stiffness * (spring.dofs @ q + spring.inputs @ inputs)
+    if "cross_level" in track.applied_components and not takes_cross_level(vehicle, track):
+        delta = delta + rail_height_loads(vehicle, cross_level_heights(vehicle, track, np.array([float(distance)])))[0]
     loads = np.array([w.wheel_load for w in vehicle.wheelsets], dtype=float)
     return TwistLoads(float(distance), tuple(names), delta, loads, q)
+
+
+def takes_cross_level(vehicle: VehicleModel, track: Track) -> bool:
+    """Whether the track's cross level reaches the wheels through the model's rail grounds
+    (a ground under each rail); else :func:`rail_height_loads` imposes it."""
+    import warnings
+
+    from express.analysis.time.track_inputs import ground_plan
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return "cross_level" not in ground_plan(vehicle, track).ignored
+
+
+def rail_height_loads(vehicle: VehicleModel, heights: np.ndarray) -> np.ndarray:
+    """The quasi-static load change of every wheel with its rail raised by ``heights``
+    (module docstring): the rail height imposed at the wheel's contact spring.
+
+    Parameters
+    ----------
+    vehicle : VehicleModel
+        Wheels on vertical springs to grounds with a vertical input (``<G>.z``).
+    heights : numpy.ndarray, shape (N, n_wheelsets, 2)
+        Height of the (left, right) rail under each wheel [m], + up.
+
+    Returns
+    -------
+    numpy.ndarray, shape (N, n_wheelsets, 2)
+        ``dQ`` [N], + more load; NaN where the model has no wheel-on-rail spring.
+
+    Raises
+    ------
+    ArgumentError
+        For a shape that does not fit, a spring whose ground has no vertical input, or a
+        singular ``K``.
+    """
+    heights = np.asarray(heights, dtype=float)
+    springs = _springs(vehicle)
+    if heights.ndim != 3 or heights.shape[1:] != (len(springs), 2):
+        raise ArgumentError(f"rail heights: shape (N, {len(springs)}, 2) needed, got {heights.shape}")
+    vertical = np.array([name.endswith(".z") for name in vehicle.inputs])
+    forcing = np.zeros((heights.shape[0], vehicle.n))
+    kappa = np.zeros((len(springs), 2))
+    for i, pair in enumerate(springs):
+        for side, spring in enumerate(pair):
+            if spring is None:
+                continue
+            kappa[i, side] = float(np.sum(spring.inputs[vertical]))
+            if kappa[i, side] == 0.0:
+                raise ArgumentError(f"{vehicle.name}: the wheel-on-rail spring {spring.element} has no ground with a "
+                                    "vertical input (<G>.z): no rail height reaches it")
+            forcing -= np.outer(spring.stiffness * kappa[i, side] * heights[:, i, side], spring.dofs)
+    try:
+        q = np.linalg.solve(vehicle.stiffness, forcing.T).T
+    except np.linalg.LinAlgError:
+        raise ArgumentError(f"{vehicle.name}: K is singular, no static solution on the twist") from None
+    delta = np.full(heights.shape, np.nan)
+    for i, pair in enumerate(springs):
+        for side, spring in enumerate(pair):
+            if spring is not None:
+                delta[:, i, side] = -spring.stiffness * (q @ spring.dofs + kappa[i, side] * heights[:, i, side])
+    return delta
