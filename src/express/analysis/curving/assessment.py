@@ -35,7 +35,7 @@ and mean; ``docs/wear.md``), without limits.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any, cast
 
 import numpy as np
@@ -321,10 +321,15 @@ def assess_run(vehicle, track, result) -> tuple[WheelRailOutputs, Assessment]:
     if outputs is None:
         inputs = track_inputs(vehicle, track, result.distance, result.speed)
         outputs = wheel_rail_outputs(vehicle, result.q, result.q_dot, inputs, result.speed, contact=contact)
+    from express.analysis.curving.bogie_frames import bogie_frame_criteria
+
     friction = min(w.friction for w in vehicle.wheelsets)
     angle = flange_angle_of(contact, DEFAULT_FLANGE_ANGLE)
-    return outputs, assess(outputs, result.distance, radius=smallest_radius(track), friction=friction,
-                           flange_angle=angle, speed=float(result.speed))
+    assessment = assess(outputs, result.distance, radius=smallest_radius(track), friction=friction,
+                        flange_angle=angle, speed=float(result.speed))
+    frames = tuple(_check(name, quantity, value, limit, "m/s^2")
+                   for name, quantity, value, limit in bogie_frame_criteria(vehicle, result))
+    return outputs, replace(assessment, criteria=assessment.criteria + frames)
 
 
 def assess_steady(vehicle, steady) -> Assessment:
