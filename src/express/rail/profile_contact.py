@@ -108,9 +108,11 @@ def profile_tables(wheel: str, rail: str, *, base: str = "", units: str = "", ga
                           youngs_modulus=youngs_modulus, poisson=poisson)
 
 
-def profile_derivation(*, wheel: str, rail: str, base: str = "", units: str = "", gauge: float, flange_back: float,
-                       inclination: float, wheel_radius: float, amplitude: float, wheel_load: float,
-                       youngs_modulus: float, poisson: float) -> dict[str, float]:
+def profile_derivation(*, wheel: str = "", rail: str = "", base: str = "", units: str = "",
+                       gauge: float = DEFAULTS["gauge"], flange_back: float = DEFAULTS["flange_back"],
+                       inclination: float = DEFAULTS["inclination"], wheel_radius: float = 0.46, amplitude: float,
+                       wheel_load: float, youngs_modulus: float, poisson: float, table: str = "",
+                       **given: float) -> dict[str, float]:
     """The ``"profiles"`` node: the results of :data:`OUTPUTS` (SI).
 
     ``conicity`` is EN 15302's equivalent conicity at ``amplitude``
@@ -118,7 +120,9 @@ def profile_derivation(*, wheel: str, rail: str, base: str = "", units: str = ""
     ``epsilon``, ``sigma``, ``delta0``, ``half_distance`` (l0), ``radius`` are
     :func:`express.rail.contact_tables.linear_contact_parameters` at the amplitude;
     ``f23`` is Kalker's spin coefficient ``G (ab)^1.5 C23`` of the centred contact under
-    the normal force ``wheel_load / cos(delta0)``.
+    the normal force ``wheel_load / cos(delta0)``.  With ``table`` (a contact table file,
+    ``from = "table"``) the profiles are not used:
+    :func:`express.rail.table_contact.table_derivation`, Kalker's coefficients ``given``.
 
     Raises
     ------
@@ -126,6 +130,12 @@ def profile_derivation(*, wheel: str, rail: str, base: str = "", units: str = ""
         Naming what is wrong (a profile file's problems with their lines, a placement
         where the wheels miss the rails, an amplitude beyond the tables).
     """
+    if table:
+        from express.rail.table_contact import table_derivation
+
+        results, linear = table_derivation(table=table, base=base, amplitude=amplitude, wheel_load=wheel_load,
+                                           youngs_modulus=youngs_modulus, poisson=poisson, **given)
+        return {**results, **linear_wheelset_terms(linear, wheel_load, results["f23"])}
     if not 0.0 <= inclination <= 0.2:
         raise ArgumentError(f"inclination {inclination:g}: the tangent must lie in 0..0.2 (1:inf .. 1:5)")
     if not amplitude > 0:
@@ -199,9 +209,15 @@ def contact_terms(node: Derivation) -> dict[str, sp.Symbol]:
     return {key: sp.Symbol(name) for key, name, _ in node.outputs}
 
 
-def _node_tables(node: Derivation, values: Mapping[str, float]) -> ContactTables:
+def _node_tables(node: Derivation, values: Mapping[str, float], wheel_load: float) -> ContactTables:
     arguments = {argument: expression_value(expression, values) for argument, expression, _ in node.inputs}
     settings = dict(node.settings)
+    if settings.get("table"):
+        from express.rail.table_contact import file_tables, given_coefficients, table_path
+
+        tables = file_tables(table_path(settings["table"], settings.get("base", "")), arguments["youngs_modulus"],
+                             arguments["poisson"])
+        return given_coefficients(tables, wheel_load, arguments)
     placement = ("gauge", "flange_back", "inclination", "wheel_radius", "youngs_modulus", "poisson")
     return profile_tables(settings["wheel"], settings["rail"], base=settings.get("base", ""),
                           units=settings.get("units", ""), **{key: arguments[key] for key in placement})
@@ -218,6 +234,6 @@ def wheelset_contacts(model: Model, values: Mapping[str, float], wheelsets) -> l
         if node is None:
             contacts.append(None)
             continue
-        tables = _node_tables(node, values)
+        tables = _node_tables(node, values, data.wheel_load)
         contacts.append(wheelset_contact(tables, data.wheel_load, data.friction, data.rail_stiffness))
     return contacts
