@@ -182,3 +182,16 @@ def test_written_model_keeps_the_table_node(tmp_path):
     again = parse_toml_model(text, str(tmp_path / "again.toml"))
     assert again.values()["Gamma_e_f23"] == 2000.0
     assert again.values()["Gamma_e"] == pytest.approx(model.values()["Gamma_e"], rel=1e-15)
+
+
+def test_profiles_node_takes_given_coefficients_too():
+    """``from = "profiles"`` with ``f23`` given: the linear terms use it (``ky``'s spin part,
+    closed form of docs/contact.md), the other results stay the profiles'."""
+    plain = parse_toml_model(WHEELSET, "wheelset.toml").values()
+    given = parse_toml_model(WHEELSET.replace('amplitude = "A" }', 'amplitude = "A", f23 = "5 kN*m" }'),
+                             "wheelset.toml").values()
+    assert given["Gamma_e_f23"] == 5000.0 and given["Gamma_e"] == plain["Gamma_e"]
+    eps, sigma, l0, r0 = (plain[f"Gamma_e_{key}"] for key in ("epsilon", "sigma", "l0", "r0"))
+    c2 = math.cos(plain["Gamma_e_delta0"]) ** 2
+    change = -2 * (5000.0 - plain["Gamma_e_f23"]) * (eps / c2 - sigma) / (l0 * r0)
+    assert given["Gamma_e_ky"] - plain["Gamma_e_ky"] == pytest.approx(change, rel=1e-9)

@@ -58,7 +58,7 @@ PROFILE_OUTPUTS = (
 #: The profiles known by name (``express.rail.profiles.STANDARD_PROFILES`` and the
 #: ``UIC60`` alias of 60E1): any other text names a file.
 STANDARD_NAMES = frozenset({"S1002", "60E1", "UIC60"})
-_KEYS = ("from", "wheel", "rail", "units", "name", *(key for key, _, _ in PROFILE_INPUTS))
+_KEYS = ("from", "wheel", "rail", "units", "name", "f11", "f22", "f23", "f33", *(key for key, _, _ in PROFILE_INPUTS))
 #: Arguments of a ``from = "table"`` node (a contact table file,
 #: :mod:`express.io.contact_table_file`): (key, dimension, default); Kalker's
 #: coefficients are arguments only where given (else from the table's Hertz ellipse,
@@ -74,6 +74,8 @@ TABLE_INPUTS = (
     ("f33", "spin_coefficient", ""),
 )
 _TABLE_KEYS = ("from", "file", "name", *(key for key, _, _ in TABLE_INPUTS))
+#: Kalker's coefficients a node may give directly (both kinds): the last four of :data:`TABLE_INPUTS`.
+COEFFICIENT_INPUTS = TABLE_INPUTS[4:]
 _RATIO = re.compile(r"\s*1\s*:\s*(\S+)\s*\Z")
 
 
@@ -122,6 +124,8 @@ def _node(reader, spec: dict, path: tuple[str, ...], name: str, table: dict) -> 
         if raw is None:  # the wheelset's own r0 / wheel load
             raw = table.get({"wheel_radius": "r0", "wheel_load": "wheel_load"}[key], 0)
         inputs.append((key, _argument(reader, raw, dimension, (*path, key), item, key), dimension))
+    inputs += [(key, _argument(reader, spec[key], dimension, (*path, key), item, key), dimension)
+               for key, dimension, _ in COEFFICIENT_INPUTS if key in spec]
     outputs = tuple((key, f"{name}_{suffix}" if suffix else name, dimension) for key, suffix, dimension in PROFILE_OUTPUTS)
     return Derivation("profiles", item, tuple(inputs), outputs, reader.line(*path), tuple(settings))
 

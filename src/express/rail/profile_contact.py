@@ -120,7 +120,9 @@ def profile_derivation(*, wheel: str = "", rail: str = "", base: str = "", units
     ``epsilon``, ``sigma``, ``delta0``, ``half_distance`` (l0), ``radius`` are
     :func:`express.rail.contact_tables.linear_contact_parameters` at the amplitude;
     ``f23`` is Kalker's spin coefficient ``G (ab)^1.5 C23`` of the centred contact under
-    the normal force ``wheel_load / cos(delta0)``.  With ``table`` (a contact table file,
+    the normal force ``wheel_load / cos(delta0)``; Kalker's coefficients ``given`` (``f11``,
+    ``f22`` [N], ``f23`` [N m], ``f33`` [N m^2], :data:`express.io.toml_contact.COEFFICIENT_INPUTS`)
+    replace them (``f33`` is not used, ``docs/contact.md``).  With ``table`` (a contact table file,
     ``from = "table"``) the profiles are not used:
     :func:`express.rail.table_contact.table_derivation`, Kalker's coefficients ``given``.
 
@@ -159,6 +161,7 @@ def profile_derivation(*, wheel: str = "", rail: str = "", base: str = "", units
     f11, f22, f23 = (shear * ab * float(np.mean(tables.data[C11, :, centre])),
                      shear * ab * float(np.mean(tables.data[C22, :, centre])),
                      shear * ab**1.5 * float(np.mean(tables.data[C23, :, centre])))
+    f11, f22, f23 = (given.get(key, value) for key, value in (("f11", f11), ("f22", f22), ("f23", f23)))
     return {"conicity": conicity, "epsilon": linear.epsilon, "sigma": linear.sigma, "delta0": linear.delta0,
             "half_distance": linear.half_distance, "radius": linear.radius, "f11": f11, "f22": f22, "f23": f23,
             **linear_wheelset_terms(linear, wheel_load, f23)}
@@ -212,15 +215,16 @@ def contact_terms(node: Derivation) -> dict[str, sp.Symbol]:
 def _node_tables(node: Derivation, values: Mapping[str, float], wheel_load: float) -> ContactTables:
     arguments = {argument: expression_value(expression, values) for argument, expression, _ in node.inputs}
     settings = dict(node.settings)
-    if settings.get("table"):
-        from express.rail.table_contact import file_tables, given_coefficients, table_path
+    from express.rail.table_contact import file_tables, given_coefficients, table_path
 
+    if settings.get("table"):
         tables = file_tables(table_path(settings["table"], settings.get("base", "")), arguments["youngs_modulus"],
                              arguments["poisson"])
         return given_coefficients(tables, wheel_load, arguments)
     placement = ("gauge", "flange_back", "inclination", "wheel_radius", "youngs_modulus", "poisson")
-    return profile_tables(settings["wheel"], settings["rail"], base=settings.get("base", ""),
-                          units=settings.get("units", ""), **{key: arguments[key] for key in placement})
+    tables = profile_tables(settings["wheel"], settings["rail"], base=settings.get("base", ""),
+                            units=settings.get("units", ""), **{key: arguments[key] for key in placement})
+    return given_coefficients(tables, wheel_load, arguments)
 
 
 def wheelset_contacts(model: Model, values: Mapping[str, float], wheelsets) -> list[WheelsetContact | None]:
