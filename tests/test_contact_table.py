@@ -195,3 +195,28 @@ def test_profiles_node_takes_given_coefficients_too():
     c2 = math.cos(plain["Gamma_e_delta0"]) ** 2
     change = -2 * (5000.0 - plain["Gamma_e_f23"]) * (eps / c2 - sigma) / (l0 * r0)
     assert given["Gamma_e_ky"] - plain["Gamma_e_ky"] == pytest.approx(change, rel=1e-9)
+
+
+def test_bundled_example_table():
+    """``examples/contact/cone-0.05.csv`` is the cone of :func:`cone` (docs/model-format.md)."""
+    from pathlib import Path
+
+    from express.io.contact_table_file import read_contact_table
+
+    path = Path(__file__).resolve().parents[1] / "examples" / "contact" / "cone-0.05.csv"
+    columns = read_contact_table(path).columns
+    assert np.allclose(columns["r_L"] - columns["r_R"], 2 * 0.05 * columns["y"], atol=1e-15)
+    assert np.allclose(columns["y_cL"] - columns["y"], 0.75, atol=1e-15)
+
+
+def test_every_problem_of_a_table_at_once(tmp_path):
+    """The table of docs/model-format.md's error example: four problems, in line order."""
+    (tmp_path / "contact.csv").write_text("y, r_L, r_R, delta_L, delta_R, y_cL, roll\nmm, mm, kg, rad, rad, mm, rad\n"
+                                          "0, 460, 460, 0.05, 0.05, 750, 0\n-1, 460, nan, 0.05, 0.05, 750, 0\n")
+    with pytest.raises(ModelError) as error:
+        table_model(tmp_path, '{ from = "table", file = "contact.csv" }')
+    lines = [problem.message.replace(f"{tmp_path}/", "") for problem in error.value.problems]
+    assert lines == ['contact.csv:1: missing column "y_cR"',
+                     "contact.csv:2: column r_R: unit 'kg': 'kg' is not a length (m)",
+                     "contact.csv:4: r_R: 'nan' is not a finite number",
+                     "contact.csv:4: y must increase strictly: -1 mm after 0 mm"]

@@ -95,10 +95,11 @@ def _factors(source: str, line: int, header: list[str], units: list[str], proble
             if not unit:
                 raise UnitError("no unit")
             if unit_dimension(unit) != _DIMENSIONS[wanted]:
-                raise UnitError(f"{unit!r} is not {describe_dimension(_DIMENSIONS[wanted])}")
+                raise UnitError(f"{unit!r} is not a {describe_dimension(_DIMENSIONS[wanted])}")
             factors[name] = unit_factor(unit)
         except UnitError as error:
             problems.append(Problem(source, line, _ITEM, f"column {name}: unit {unit!r}: {error}"))
+            factors[name] = math.nan  # its cells are still checked
     for name, _ in COLUMNS:
         if name not in header:
             problems.append(Problem(source, line - 1, _ITEM, f'missing column "{name}"'))
@@ -142,10 +143,10 @@ def read_contact_table(path: str | Path) -> ContactTableData:
                 problems.append(Problem(source, number, _ITEM, f"{name}: {cell!r} is not a finite number"))
                 value = math.nan
             values[name].append(value * factor)
-    if "y" in values and not problems:
+    if "y" in values and all(math.isfinite(value) for value in values["y"]) and len(values["y"]) >= 2:
         _check_grid(source, lines, values, problems)
     if problems:
-        raise ModelError(problems)
+        raise ModelError(sorted(problems, key=lambda problem: problem.line or 0))
     return ContactTableData(source, {name: np.array(column) for name, column in values.items()})
 
 
@@ -155,11 +156,11 @@ def _check_grid(source: str, lines: list[int], values: dict[str, list[float]], p
         if not y[k] > y[k - 1]:
             problems.append(Problem(source, lines[k], _ITEM, f"y must increase strictly: {y[k] * 1e3:g} mm after "
                                                               f"{y[k - 1] * 1e3:g} mm"))
-    if not y[0] <= 0.0 <= y[-1]:
+    if all(b > a for a, b in zip(y, y[1:], strict=False)) and not y[0] <= 0.0 <= y[-1]:
         problems.append(Problem(source, lines[0], _ITEM, f"y must span 0 (found {y[0] * 1e3:g} .. {y[-1] * 1e3:g} mm)"))
     for name in ("r_L", "r_R", "y_cL", "y_cR"):
         for k, value in enumerate(values.get(name, [])):
-            if not value > 0:
+            if math.isfinite(value) and not value > 0:
                 problems.append(Problem(source, lines[k], _ITEM, f"{name} must be positive, got {value:g} m"))
                 break
 
@@ -175,5 +176,5 @@ def write_contact_table(path: str | Path, columns: dict, comment: str = "") -> N
     lines += [", ".join(names), ", ".join(units[kinds[name]] for name in names)]
     count = len(columns["y"])
     for k in range(count):
-        lines.append(", ".join(f"{columns[name][k] * scale[kinds[name]]:.12g}" for name in names))
+        lines.append(", ".join(f"{columns[name][k] * scale[kinds[name]] + 0.0:.12g}" for name in names))
     Path(path).write_text("\n".join(lines) + "\n", encoding="utf-8")
