@@ -35,6 +35,7 @@ import csv
 import io
 import math
 from dataclasses import dataclass
+from itertools import pairwise
 from pathlib import Path
 
 import numpy as np
@@ -156,7 +157,7 @@ def _check_grid(source: str, lines: list[int], values: dict[str, list[float]], p
         if not y[k] > y[k - 1]:
             problems.append(Problem(source, lines[k], _ITEM, f"y must increase strictly: {y[k] * 1e3:g} mm after "
                                                               f"{y[k - 1] * 1e3:g} mm"))
-    if all(b > a for a, b in zip(y, y[1:], strict=False)) and not y[0] <= 0.0 <= y[-1]:
+    if all(b > a for a, b in pairwise(y)) and not y[0] <= 0.0 <= y[-1]:
         problems.append(Problem(source, lines[0], _ITEM, f"y must span 0 (found {y[0] * 1e3:g} .. {y[-1] * 1e3:g} mm)"))
     for name in ("r_L", "r_R", "y_cL", "y_cR"):
         for k, value in enumerate(values.get(name, [])):
