@@ -220,3 +220,14 @@ def test_every_problem_of_a_table_at_once(tmp_path):
                      "contact.csv:2: column r_R: unit 'kg': 'kg' is not a length (m)",
                      "contact.csv:4: r_R: 'nan' is not a finite number",
                      "contact.csv:4: y must increase strictly: -1 mm after 0 mm"]
+
+
+def test_a_wear_prediction_refuses_a_table(tmp_path):
+    """A table file has no wheel profile to wear: a clear error, not a crash."""
+    from express.analysis.wear.cases import profile_nodes_of
+    from express.base.diagnostics import ArgumentError
+
+    cone(tmp_path)
+    vehicle = vehicle_model(table_model(tmp_path, '{ from = "table", file = "cone.csv" }'))
+    with pytest.raises(ArgumentError, match="does not come from profiles"):
+        profile_nodes_of(vehicle)
