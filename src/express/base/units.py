@@ -126,6 +126,7 @@ _NAMED: tuple[tuple[str, Dimension, str], ...] = (
     ("frequency", _dim(time=-1), "Hz"),
     ("pressure", _dim(mass=1, length=-1, time=-2), "Pa"),
     ("curvature", _dim(length=-1), "1/m"),
+    ("spin_coefficient", _dim(mass=1, length=3, time=-2), "N*m^2"),  # Kalker's f33
 )
 
 #: Dimension by name (``DIMENSIONS["stiffness"]`` is N/m).

@@ -24,7 +24,7 @@ import sympy as sp
 from express.base.units import UnitError, check_dimension, parse_quantity
 from express.model.records import Derivation
 
-__all__ = ["PROFILE_INPUTS", "PROFILE_OUTPUTS", "conicity_value"]
+__all__ = ["PROFILE_INPUTS", "PROFILE_OUTPUTS", "TABLE_INPUTS", "conicity_value"]
 
 #: Arguments of the ``"profiles"`` node: (key, dimension, default); ``None``: the
 #: wheelset's own value (r0, wheel load).  The one definition: the rail layer's
@@ -58,7 +58,24 @@ PROFILE_OUTPUTS = (
 #: The profiles known by name (``express.rail.profiles.STANDARD_PROFILES`` and the
 #: ``UIC60`` alias of 60E1): any other text names a file.
 STANDARD_NAMES = frozenset({"S1002", "60E1", "UIC60"})
-_KEYS = ("from", "wheel", "rail", "units", "name", *(key for key, _, _ in PROFILE_INPUTS))
+_KEYS = ("from", "wheel", "rail", "units", "name", "f11", "f22", "f23", "f33", *(key for key, _, _ in PROFILE_INPUTS))
+#: Arguments of a ``from = "table"`` node (a contact table file,
+#: :mod:`express.io.contact_table_file`): (key, dimension, default); Kalker's
+#: coefficients are arguments only where given (else from the table's Hertz ellipse,
+#: :mod:`express.rail.table_contact`); ``wheel_load`` defaults to the wheelset's.
+TABLE_INPUTS = (
+    ("amplitude", "length", 3e-3),
+    ("wheel_load", "force", None),
+    ("youngs_modulus", "pressure", 206e9),
+    ("poisson", "dimensionless", 0.3),
+    ("f11", "force", ""),
+    ("f22", "force", ""),
+    ("f23", "rotational_stiffness", ""),
+    ("f33", "spin_coefficient", ""),
+)
+_TABLE_KEYS = ("from", "file", "name", *(key for key, _, _ in TABLE_INPUTS))
+#: Kalker's coefficients a node may give directly (both kinds): the last four of :data:`TABLE_INPUTS`.
+COEFFICIENT_INPUTS = TABLE_INPUTS[4:]
 _RATIO = re.compile(r"\s*1\s*:\s*(\S+)\s*\Z")
 
 
@@ -82,9 +99,11 @@ def conicity_value(reader, own: dict, defaults: dict, body: str, nodes: dict[str
 
 def _node(reader, spec: dict, path: tuple[str, ...], name: str, table: dict) -> Derivation:
     item = ".".join(path)
+    if spec.get("from") == "table":
+        return _table_node(reader, spec, path, name, table)
     reader.unknown_keys(spec, _KEYS, path, item)
     if spec.get("from") != "profiles":
-        reader.problem((*path, "from"), item, f'from must be "profiles", got {spec.get("from")!r}')
+        reader.problem((*path, "from"), item, f'from must be "profiles" or "table", got {spec.get("from")!r}')
     settings = []
     for key in ("wheel", "rail"):
         value = spec.get(key)
@@ -105,8 +124,45 @@ def _node(reader, spec: dict, path: tuple[str, ...], name: str, table: dict) -> 
         if raw is None:  # the wheelset's own r0 / wheel load
             raw = table.get({"wheel_radius": "r0", "wheel_load": "wheel_load"}[key], 0)
         inputs.append((key, _argument(reader, raw, dimension, (*path, key), item, key), dimension))
+    inputs += [(key, _argument(reader, spec[key], dimension, (*path, key), item, key), dimension)
+               for key, dimension, _ in COEFFICIENT_INPUTS if key in spec]
     outputs = tuple((key, f"{name}_{suffix}" if suffix else name, dimension) for key, suffix, dimension in PROFILE_OUTPUTS)
     return Derivation("profiles", item, tuple(inputs), outputs, reader.line(*path), tuple(settings))
+
+
+def _table_node(reader, spec: dict, path: tuple[str, ...], name: str, table: dict) -> Derivation:
+    """``conicity = { from = "table", file = "contact.csv", ... }``: a ``"profiles"``
+    derivation whose ``table`` setting names the file, read now so that its problems are
+    the model's (file and line each)."""
+    from express.base.diagnostics import ModelError
+    from express.io.contact_table_file import read_contact_table
+
+    item = ".".join(path)
+    reader.unknown_keys(spec, _TABLE_KEYS, path, item)
+    file = spec.get("file")
+    if not isinstance(file, str) or not file.strip():
+        reader.problem((*path, "file"), item, "file must name a contact table (CSV, docs/model-format.md)")
+        file = "?"
+    else:
+        where = Path(file) if Path(file).is_absolute() else Path(reader.source).parent / file
+        try:
+            read_contact_table(where)
+        except ModelError as error:
+            for problem in error.problems:
+                at = f"{problem.file}:{problem.line}" if problem.line else problem.file
+                reader.problem((*path, "file"), item, f"{at}: {problem.message}")
+    settings = (("table", file), ("base", str(Path(reader.source).parent)))
+    name = reader.name(spec.get("name", name), (*path, "name"), item, "name")
+    inputs = []
+    for key, dimension, default in TABLE_INPUTS:
+        raw = spec.get(key, default)
+        if raw == "":
+            continue  # a coefficient not given
+        if raw is None:
+            raw = table.get("wheel_load", 0)
+        inputs.append((key, _argument(reader, raw, dimension, (*path, key), item, key), dimension))
+    outputs = tuple((key, f"{name}_{suffix}" if suffix else name, dimension) for key, suffix, dimension in PROFILE_OUTPUTS)
+    return Derivation("profiles", item, tuple(inputs), outputs, reader.line(*path), settings)
 
 
 def _argument(reader, raw: Any, dimension: str, path: tuple[str, ...], item: str, key: str) -> sp.Expr:

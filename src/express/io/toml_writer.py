@@ -252,6 +252,11 @@ def _profile_name(text: str, base: str, folder: str | Path | None) -> str:
 def _profiles_node(derivation, folder: str | Path | None) -> str:
     """``conicity = { from = "profiles", ... }`` of a ``"profiles"`` derivation node."""
     settings = dict(derivation.settings)
+    if settings.get("table"):  # a contact table file (express.io.contact_table_file)
+        items = ['from = "table"', f"file = {toml_string(_profile_name(settings['table'], settings.get('base', ''), folder))}",
+                 f"name = {toml_string(derivation.output('conicity'))}"]
+        items += [f"{key} = {value_to_toml(value)}" for key, value, _ in derivation.inputs]
+        return "{ " + ", ".join(items) + " }"
     items = ['from = "profiles"']
     items += [f"{key} = {toml_string(_profile_name(settings[key], settings.get('base', ''), folder))}"
               for key in ("wheel", "rail")]

@@ -108,9 +108,11 @@ def profile_tables(wheel: str, rail: str, *, base: str = "", units: str = "", ga
                           youngs_modulus=youngs_modulus, poisson=poisson)
 
 
-def profile_derivation(*, wheel: str, rail: str, base: str = "", units: str = "", gauge: float, flange_back: float,
-                       inclination: float, wheel_radius: float, amplitude: float, wheel_load: float,
-                       youngs_modulus: float, poisson: float) -> dict[str, float]:
+def profile_derivation(*, wheel: str = "", rail: str = "", base: str = "", units: str = "",
+                       gauge: float = DEFAULTS["gauge"], flange_back: float = DEFAULTS["flange_back"],
+                       inclination: float = DEFAULTS["inclination"], wheel_radius: float = 0.46, amplitude: float,
+                       wheel_load: float, youngs_modulus: float, poisson: float, table: str = "",
+                       **given: float) -> dict[str, float]:
     """The ``"profiles"`` node: the results of :data:`OUTPUTS` (SI).
 
     ``conicity`` is EN 15302's equivalent conicity at ``amplitude``
@@ -118,7 +120,11 @@ def profile_derivation(*, wheel: str, rail: str, base: str = "", units: str = ""
     ``epsilon``, ``sigma``, ``delta0``, ``half_distance`` (l0), ``radius`` are
     :func:`express.rail.contact_tables.linear_contact_parameters` at the amplitude;
     ``f23`` is Kalker's spin coefficient ``G (ab)^1.5 C23`` of the centred contact under
-    the normal force ``wheel_load / cos(delta0)``.
+    the normal force ``wheel_load / cos(delta0)``; Kalker's coefficients ``given`` (``f11``,
+    ``f22`` [N], ``f23`` [N m], ``f33`` [N m^2], :data:`express.io.toml_contact.COEFFICIENT_INPUTS`)
+    replace them (``f33`` is not used, ``docs/contact.md``).  With ``table`` (a contact table file,
+    ``from = "table"``) the profiles are not used:
+    :func:`express.rail.table_contact.table_derivation`, Kalker's coefficients ``given``.
 
     Raises
     ------
@@ -126,6 +132,12 @@ def profile_derivation(*, wheel: str, rail: str, base: str = "", units: str = ""
         Naming what is wrong (a profile file's problems with their lines, a placement
         where the wheels miss the rails, an amplitude beyond the tables).
     """
+    if table:
+        from express.rail.table_contact import table_derivation
+
+        results, linear = table_derivation(table=table, base=base, amplitude=amplitude, wheel_load=wheel_load,
+                                           youngs_modulus=youngs_modulus, poisson=poisson, **given)
+        return {**results, **linear_wheelset_terms(linear, wheel_load, results["f23"])}
     if not 0.0 <= inclination <= 0.2:
         raise ArgumentError(f"inclination {inclination:g}: the tangent must lie in 0..0.2 (1:inf .. 1:5)")
     if not amplitude > 0:
@@ -149,6 +161,7 @@ def profile_derivation(*, wheel: str, rail: str, base: str = "", units: str = ""
     f11, f22, f23 = (shear * ab * float(np.mean(tables.data[C11, :, centre])),
                      shear * ab * float(np.mean(tables.data[C22, :, centre])),
                      shear * ab**1.5 * float(np.mean(tables.data[C23, :, centre])))
+    f11, f22, f23 = (given.get(key, value) for key, value in (("f11", f11), ("f22", f22), ("f23", f23)))
     return {"conicity": conicity, "epsilon": linear.epsilon, "sigma": linear.sigma, "delta0": linear.delta0,
             "half_distance": linear.half_distance, "radius": linear.radius, "f11": f11, "f22": f22, "f23": f23,
             **linear_wheelset_terms(linear, wheel_load, f23)}
@@ -199,12 +212,19 @@ def contact_terms(node: Derivation) -> dict[str, sp.Symbol]:
     return {key: sp.Symbol(name) for key, name, _ in node.outputs}
 
 
-def _node_tables(node: Derivation, values: Mapping[str, float]) -> ContactTables:
+def _node_tables(node: Derivation, values: Mapping[str, float], wheel_load: float) -> ContactTables:
     arguments = {argument: expression_value(expression, values) for argument, expression, _ in node.inputs}
     settings = dict(node.settings)
+    from express.rail.table_contact import file_tables, given_coefficients, table_path
+
+    if settings.get("table"):
+        tables = file_tables(table_path(settings["table"], settings.get("base", "")), arguments["youngs_modulus"],
+                             arguments["poisson"])
+        return given_coefficients(tables, wheel_load, arguments)
     placement = ("gauge", "flange_back", "inclination", "wheel_radius", "youngs_modulus", "poisson")
-    return profile_tables(settings["wheel"], settings["rail"], base=settings.get("base", ""),
-                          units=settings.get("units", ""), **{key: arguments[key] for key in placement})
+    tables = profile_tables(settings["wheel"], settings["rail"], base=settings.get("base", ""),
+                            units=settings.get("units", ""), **{key: arguments[key] for key in placement})
+    return given_coefficients(tables, wheel_load, arguments)
 
 
 def wheelset_contacts(model: Model, values: Mapping[str, float], wheelsets) -> list[WheelsetContact | None]:
@@ -218,6 +238,6 @@ def wheelset_contacts(model: Model, values: Mapping[str, float], wheelsets) -> l
         if node is None:
             contacts.append(None)
             continue
-        tables = _node_tables(node, values)
+        tables = _node_tables(node, values, data.wheel_load)
         contacts.append(wheelset_contact(tables, data.wheel_load, data.friction, data.rail_stiffness))
     return contacts

@@ -58,7 +58,7 @@ class ProfileGrid:
 
 def profile_nodes_of(vehicle: VehicleModel) -> list:
     """The model's profile derivations; ArgumentError unless there is one wheel profile."""
-    nodes = [d for d in vehicle.model.derivations if d.kind == KIND]
+    nodes = [d for d in vehicle.model.derivations if d.kind == KIND and not dict(d.settings).get("table")]  # not a table file
     if not nodes:
         raise ArgumentError(f"{vehicle.model.source}: the contact does not come from profiles (conicity = "
                             "{ from = \"profiles\", ... } in [rail.wheel_rail]): a wear prediction wears a wheel profile")
