@@ -91,10 +91,9 @@ def frequencies(text: str) -> np.ndarray:
     return np.sqrt(sl.eigh(stiffness, mass, eigvals_only=True)) / (2 * math.pi)
 
 
-def hermite_beam(elements: int) -> np.ndarray:
-    """Natural frequencies [Hz] of the same beam on its two springs by an independent
-    finite-element model: Euler-Bernoulli elements with cubic Hermite shape functions
-    (consistent mass), the springs on the nodes at ``L/2 -+ a``."""
+def hermite_matrices(elements: int) -> tuple[np.ndarray, np.ndarray]:
+    """Stiffness and mass matrices of the free-free uniform beam: Euler-Bernoulli
+    elements with cubic Hermite shape functions (consistent mass), DOFs (w, w') per node."""
     h, mu = LENGTH / elements, MASS / LENGTH
     ke = EI / h**3 * np.array([[12, 6 * h, -12, 6 * h], [6 * h, 4 * h * h, -6 * h, 2 * h * h],
                                [-12, -6 * h, 12, -6 * h], [6 * h, 2 * h * h, -6 * h, 4 * h * h]])
@@ -106,6 +105,15 @@ def hermite_beam(elements: int) -> np.ndarray:
         block = slice(2 * e, 2 * e + 4)
         stiffness[block, block] += ke
         mass[block, block] += me
+    return stiffness, mass
+
+
+def hermite_beam(elements: int) -> np.ndarray:
+    """Natural frequencies [Hz] of the same beam on its two springs by an independent
+    finite-element model (:func:`hermite_matrices`), the springs on the nodes at
+    ``L/2 -+ a``."""
+    h = LENGTH / elements
+    stiffness, mass = hermite_matrices(elements)
     for x in (LENGTH / 2 - HALF_BASE, LENGTH / 2 + HALF_BASE):
         node = round(x / h)
         assert abs(node * h - x) < 1e-9

@@ -16,7 +16,7 @@ from cli_support import assert_input_error
 from express.base.diagnostics import Problem
 from express.io.uff_modes import PURITY, FEModeChoice, read_uff_modes
 from express.model.modal_body import ModeKind
-from test_modal_body import BEAM, EI, LENGTH, MASS, beam_model, frequencies
+from test_modal_body import BEAM, LENGTH, beam_model, frequencies, hermite_matrices
 
 NX = Path(__file__).parent / "data" / "fe_modes" / "nx_simulation_output_10_modes.uff"
 #: The NX file's first frequencies [Hz] as its datasets state them (record 12, field 2).
@@ -75,19 +75,9 @@ def free_free_fe_beam(elements: int):
     """The test's uniform car body as a free-free FE beam (Hermite elements, consistent
     mass): node positions [m] from the left end, frequencies [Hz] and the vertical
     translations of the mass-normalised modes [1/sqrt(kg)], shape (nodes, modes)."""
-    h, mu = LENGTH / elements, MASS / LENGTH
-    ke = EI / h**3 * np.array([[12, 6 * h, -12, 6 * h], [6 * h, 4 * h * h, -6 * h, 2 * h * h],
-                               [-12, -6 * h, 12, -6 * h], [6 * h, 2 * h * h, -6 * h, 4 * h * h]])
-    me = mu * h / 420 * np.array([[156, 22 * h, 54, -13 * h], [22 * h, 4 * h * h, 13 * h, -3 * h * h],
-                                  [54, 13 * h, 156, -22 * h], [-13 * h, -3 * h * h, -22 * h, 4 * h * h]])
-    n = 2 * (elements + 1)
-    stiffness, mass = np.zeros((n, n)), np.zeros((n, n))
-    for e in range(elements):
-        block = slice(2 * e, 2 * e + 4)
-        stiffness[block, block] += ke
-        mass[block, block] += me
+    stiffness, mass = hermite_matrices(elements)
     values, vectors = sl.eigh(stiffness, mass)  # eigh normalises to vectors.T M vectors = 1
-    return np.arange(elements + 1) * h, np.sqrt(np.abs(values)) / (2 * math.pi), vectors[0::2]
+    return np.arange(elements + 1) * (LENGTH / elements), np.sqrt(np.abs(values)) / (2 * math.pi), vectors[0::2]
 
 
 def write_beam_uff(path: Path, length_factor: float, force_factor: float, kept: int = 6, units: bool = True):
