@@ -134,3 +134,18 @@ def test_nonlinear_critical_speed_refuses_a_wrong_unit_before_running(convention
         express.nonlinear_critical_speed(conventional, v_start="4 s")
     with pytest.raises(express.InputError, match="dt: unit km/h is a speed"):
         express.nonlinear_critical_speed(conventional, v_start="400 km/h", dt="5 km/h")
+
+
+def test_bare_generate_says_it_leaves_out_the_rail_terms():
+    """``express.generate`` of a model with rail data has no wheel/rail terms
+    (K[W1.rz, W1.y] = 0: no gravitational stiffness, no creep) and says so on its result;
+    ``express.generate_vehicle`` (what ``express generate`` runs) has them and omits nothing."""
+    model = express.load_model("examples/conventional.toml")
+    bare, full = express.generate(model), express.generate_vehicle(model)
+    i, j = bare.equations.dofs.index("W1.rz"), bare.equations.dofs.index("W1.y")
+    assert bare.equations.K[i, j] == 0 and full.equations.K[i, j] != 0
+    assert bare.omitted and "wheel/rail" in bare.omitted[0] and "generate_vehicle" in bare.omitted[0]
+    assert "without the wheel/rail" in repr(bare).splitlines()[0]
+    assert full.omitted == () and "without" not in repr(full).splitlines()[0]
+    assert express.generate(express.load_model("examples/lever.exp")).omitted == ()  # no rail data: nothing left out
+    assert "generate_vehicle" in express.generate.__doc__
