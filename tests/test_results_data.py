@@ -97,6 +97,24 @@ def _study_summary(car, coach):
     return StudySummary(Path("results.csv"), 2, 2, 1, 0.5, 1, {}, _study_table(car, coach))
 
 
+def _settled(car, coach):
+    from express.analysis.curving.settled import SettledCurving
+    from express.analysis.curving.steady import SteadyCurve
+
+    return SettledCurving(SteadyCurve(400.0, 0.1), 25.0, "no equilibrium found", {"Y1L": 2.5e4, "aoa1": 4e-3, "YQ1L": 0.3},
+                          {"Y1L": 1.2e3, "aoa1": 1e-4, "YQ1L": 0.01}, (600.0, 700.0), 0.005)
+
+
+def _wear(car, coach):
+    from pathlib import Path
+
+    from express.analysis.wear.prediction import UNITS, WearPrediction
+
+    first = {name: 0.0 for name in UNITS} | {"critical_speed": None}
+    second = {name: 1.0 for name in UNITS} | {"step": 1, "distance": 5e4, "critical_speed": 60.0}
+    return WearPrediction([first, second], Path("wear"), False, 1)
+
+
 #: kind -> (builder, dimensions of to_xarray(), a variable and its unit, rows of to_pandas():
 #: a number, a dimension's size, or None for the product of the dimensions)
 RECORDS = {
@@ -112,6 +130,8 @@ RECORDS = {
     "sensitivity": (_sensitivity, {"parameter"}, ("elasticity", "1"), None),
     "study table": (_study_table, {"point"}, ("critical_speed", "m/s"), None),
     "study": (_study_summary, {"point"}, ("kx1", "N/m"), None),
+    "settled curving": (_settled, {"statistic"}, ("Y1L", "N"), 2),
+    "wear prediction": (_wear, {"step"}, ("distance", "m"), "step"),
 }
 
 
@@ -224,3 +244,29 @@ def test_old_study_output_names_are_refused_with_the_new_one(tmp_path):
         parse_study(text, path)
     message = str(error.value)
     assert "'max_QP' is now called 'max_YQ'" in message and "'max_Q' is now called 'max_Y'" in message
+
+
+def test_the_settled_run_wear_and_plant_hold_their_numbers(records, car):
+    """The datasets of the settled run, the wear prediction and the control plant hold
+    the records' own numbers (exactly), a missing critical speed as nan."""
+    from express.export.plant import linear_system
+
+    settled = records["settled curving"].to_xarray()
+    assert settled["aoa1"].sel(statistic="amplitude").item() == 1e-4 and settled["aoa1"].attrs["units"] == "rad"
+    assert settled["YQ1L"].attrs["units"] == "1" and settled.attrs["reason"] == "no equilibrium found"
+    assert records["settled curving"].to_pandas()["Y1L [N]"].tolist() == [2.5e4, 1.2e3]
+    wear = records["wear prediction"].to_xarray()
+    assert math.isnan(wear["critical_speed"].values[0]) and wear["critical_speed"].values[1] == 60.0
+    assert wear["critical_speed"].attrs["units"] == "m/s" and records["wear prediction"].to_pandas().index.name == "step"
+    plant = linear_system(car, 30.0)
+    data = plant.to_xarray()
+    np.testing.assert_array_equal(data["A"].values, plant.A)
+    np.testing.assert_array_equal(data["B"].sel(input=plant.inputs[0]).values, plant.B[:, 0])
+    assert set(data.dims) == {"state", "from_state", "input", "output"} and data["speed"].attrs["units"] == "m/s"
+    table = plant.to_pandas()
+    assert len(table) == sum(np.count_nonzero(m) for m in (plant.A, plant.B, plant.C, plant.D))
+    row = table[(table["matrix"] == "A")].iloc[0]
+    i, j = plant.states.index(row["row"]), plant.states.index(row["column"])
+    assert plant.A[i, j] == row["value [SI]"]
+    for record in (plant, records["settled curving"], records["wear prediction"]):
+        assert len(repr(record)) <= REPR_LIMIT and repr(record).startswith(f"<{type(record).__name__}")

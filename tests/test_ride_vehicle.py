@@ -524,7 +524,7 @@ class Negative(PowerLaw):
     "kwargs, error, message",
     [
         ({"speed": 0.0}, InputError, "speed must be > 0"),
-        ({"speed": float("nan")}, InputError, "speed must be > 0"),
+        ({"speed": float("nan")}, InputError, "speed must be finite, got nan"),
         ({"spectra": {"vertical": Negative(1e-6, 2)}}, InputError, "PSD must be >= 0"),
         ({"spectra": {"lateral": PowerLaw(1e-6, 2)}}, InputError, "unknown track component"),
         ({"frequencies": [1.0, 3.0, 2.0]}, InputError, "increase strictly"),

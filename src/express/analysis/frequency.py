@@ -53,6 +53,7 @@ from express.base.data import DataRecord, variable, xarray
 from express.base.diagnostics import ArgumentError
 from express.base.names import did_you_mean
 from express.base.threads import large_problem_threads, limited_blas
+from express.base.units import si_argument, si_arguments
 from express.numeric.statespace import VehicleModel
 
 __all__ = [
@@ -353,10 +354,11 @@ def frequency_response(
         Numerical vehicle with rail data (wheelsets and irregularity inputs).
     frequencies : sequence of float, shape (F,)
         Excitation frequencies ``f`` [Hz], >= 0 (the track wavelength is ``v / f``).
-    amplitude : float
+        Numbers are SI; quantities carry their unit (``["1 Hz", "10 rad/s"]``, a pint array).
+    amplitude : float, str or pint.Quantity
         ``Y`` [m]; default 1 mm as in the paper. The response is linear in it.
-    speed : float, optional
-        [m/s]; the model's own speed by default.
+    speed : float, str or pint.Quantity, optional
+        [m/s] (a number is SI, never km/h; ``"120 km/h"``); the model's own speed by default.
 
     Returns
     -------
@@ -383,12 +385,13 @@ def frequency_response(
     """
     if vehicle.layout is None or not vehicle.wheelsets:
         raise ArgumentError("the model has no rail data (wheelsets): nothing excites it")
-    v = float(vehicle.speed if speed is None else speed)
+    v = float(vehicle.speed if speed is None else si_argument(speed, "speed", "speed"))
     if not v > 0:
         raise ArgumentError(f"speed must be positive, got {v}")
-    f = np.atleast_1d(np.asarray(frequencies, dtype=float))
+    f = np.atleast_1d(si_arguments(frequencies, "frequency", "frequencies"))
     if f.ndim != 1 or not np.all(np.isfinite(f)) or np.any(f < 0):
         raise ArgumentError("frequencies must be a 1-D sequence of finite values >= 0 [Hz]")
+    amplitude = si_argument(amplitude, "length", "amplitude")
     require_stable(vehicle, v)
     w = 2.0 * np.pi * f
     inputs = list(vehicle.inputs)
@@ -494,11 +497,11 @@ def ground_response(
     ----------
     vehicle : VehicleModel
     frequencies : sequence of float, shape (F,)
-        [Hz], >= 0.
+        [Hz], >= 0 (numbers SI; quantities carry their unit).
     inputs : sequence of str, optional
         Input names; by default every ground input (:func:`ground_inputs`).
-    speed : float, optional
-        [m/s], for a model with rail data (creep damping); the model's own by default.
+    speed : float, str or pint.Quantity, optional
+        [m/s] (a number is SI), for a model with rail data (creep damping); the model's own by default.
         Ignored without rail data.
 
     Raises
@@ -530,10 +533,10 @@ def ground_response(
         raise ArgumentError(f"unknown input{'s' if len(unknown) > 1 else ''} {', '.join(unknown)}; "
                          f"inputs: {', '.join(vehicle.inputs) or 'none'}")
     rail = vehicle.layout is not None and bool(vehicle.wheelsets)
-    v = float(vehicle.speed if speed is None else speed) if rail else 1.0
+    v = float(vehicle.speed if speed is None else si_argument(speed, "speed", "speed")) if rail else 1.0
     if not v > 0:
         raise ArgumentError(f"speed must be positive, got {v}")
-    f = np.atleast_1d(np.asarray(frequencies, dtype=float))
+    f = np.atleast_1d(si_arguments(frequencies, "frequency", "frequencies"))
     if f.ndim != 1 or not np.all(np.isfinite(f)) or np.any(f < 0):
         raise ArgumentError("frequencies must be a 1-D sequence of finite values >= 0 [Hz]")
     columns = [vehicle.inputs.index(name) for name in names]

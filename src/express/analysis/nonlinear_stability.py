@@ -56,7 +56,7 @@ from express.analysis.stability import CriticalSpeed, critical_speed
 from express.base.data import DataRecord, variable, xarray
 from express.base.diagnostics import ArgumentError
 from express.base.threads import limited_blas
-from express.base.units import KMH
+from express.base.units import KMH, si_argument
 from express.numeric.statespace import VehicleModel
 from express.rail.options import ContactModel, CreepLaw
 
@@ -447,7 +447,8 @@ def nonlinear_critical_speed(
     vehicle : VehicleModel
         With rail data; the contact from profiles when the model has them.
     v_start : float, optional
-        First speed [m/s]; by default 1.2 times the linear critical speed (which must
+        First speed [m/s] (this and every speed, time and length below: a number is SI, a
+        quantity carries its unit, ``"150 km/h"``, ``"4 s"``); by default 1.2 times the linear critical speed (which must
         then exist below ``v_max``).
     v_min : float
         Lowest speed tried [m/s].
@@ -493,6 +494,12 @@ def nonlinear_critical_speed(
     """
     if vehicle.layout is None or not vehicle.wheelsets:
         raise ArgumentError("the model has no rail data (wheelsets): no hunting to follow")
+    v_start = None if v_start is None else si_argument(v_start, "speed", "v_start")
+    v_min, v_max, step, tolerance = (si_argument(value, "speed", name) for name, value in (
+        ("v_min", v_min), ("v_max", v_max), ("step", step), ("tolerance", tolerance)))
+    duration, dt, window, longest = (si_argument(value, "time", name) for name, value in (
+        ("duration", duration), ("dt", dt), ("window", window), ("longest", longest)))
+    disturbance, threshold = si_argument(disturbance, "length", "disturbance"), si_argument(threshold, "length", "threshold")
     for name, value in (("step", step), ("tolerance", tolerance), ("duration", duration), ("dt", dt),
                         ("disturbance", disturbance), ("threshold", threshold), ("v_min", v_min),
                         ("window", window), ("longest", longest), ("spread", spread)):

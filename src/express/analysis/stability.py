@@ -49,7 +49,7 @@ from express.analysis.modes import EigenResult, Mode, modes_of
 from express.base.data import DataRecord, one_row, variable, xarray
 from express.base.diagnostics import AnalysisError, ArgumentError
 from express.base.threads import large_problem_threads, limited_blas
-from express.base.units import KMH
+from express.base.units import KMH, si_argument, si_arguments
 from express.numeric.statespace import VehicleModel
 
 __all__ = [
@@ -205,8 +205,9 @@ def eigen_analysis(vehicle: VehicleModel, speed: float | None = None) -> EigenRe
     ----------
     vehicle : VehicleModel
         Numerical vehicle (:func:`express.numeric.statespace.vehicle_model`).
-    speed : float, optional
-        Forward speed ``v`` [m/s], > 0; the model's own speed by default.  Ignored
+    speed : float, str or pint.Quantity, optional
+        Forward speed ``v`` [m/s], > 0 (a number is SI, never km/h; a quantity carries its
+        unit: ``"120 km/h"``); the model's own speed by default.  Ignored
         for a model without rail data (:attr:`EigenResult.speed` is then nan).
 
     Returns
@@ -241,7 +242,7 @@ def eigen_analysis(vehicle: VehicleModel, speed: float | None = None) -> EigenRe
     ...
     """
     rail = vehicle.layout is not None and bool(vehicle.wheelsets)  # without rail data A does not depend on the speed
-    speed = vehicle.speed if speed is None else speed
+    speed = vehicle.speed if speed is None else si_argument(speed, "speed", "speed")
     if rail and not speed > 0:
         raise ArgumentError(f"speed must be positive, got {speed}")
     state_matrix = vehicle.state_matrix(float(speed) if rail else 1.0)
@@ -283,7 +284,7 @@ def natural_frequencies(vehicle: VehicleModel) -> np.ndarray:
 
 
 def _speeds(speeds: Iterable[float] | float) -> np.ndarray:
-    array = np.atleast_1d(np.asarray(speeds, dtype=float))
+    array = np.atleast_1d(si_arguments(speeds, "speed", "speeds"))
     if array.ndim != 1:
         raise ArgumentError("speeds must be a 1-D sequence of speeds [m/s]")
     if array.size and not np.all(array > 0):
@@ -306,7 +307,8 @@ def root_locus(vehicle: VehicleModel, speeds: Iterable[float]) -> np.ndarray:
     ----------
     vehicle : VehicleModel
     speeds : sequence of float, shape (S,)
-        Speeds [m/s], > 0.
+        Speeds [m/s], > 0 (numbers SI; quantities carry their unit: ``["60 km/h", 20.0]``
+        or a pint array).
 
     Returns
     -------
@@ -375,8 +377,8 @@ def critical_speed(
     options : CriticalOptions, optional
         The search's options in SI (:class:`~express.analysis.critical_options.CriticalOptions`,
         the one set of defaults); the keywords below override single ones.
-    v_min, v_max : float, optional
-        Speed range scanned [m/s], ``0 < v_min < v_max``.
+    v_min, v_max : float, str or pint.Quantity, optional
+        Speed range scanned [m/s], ``0 < v_min < v_max`` (a number is SI; ``"400 km/h"``).
     tolerance_kmh : float, optional
         Width of the final bracket [km/h]; the speed returned (its midpoint) is within
         half of it of the crossing.
@@ -411,6 +413,8 @@ def critical_speed(
     >>> stable.found, stable.reason
     (False, 'stable up to v_max')
     """
+    v_min = None if v_min is None else si_argument(v_min, "speed", "v_min")
+    v_max = None if v_max is None else si_argument(v_max, "speed", "v_max")
     options = search_options(options, v_min=v_min, v_max=v_max, tolerance_kmh=tolerance_kmh, threshold=threshold,
                              points=points)
     if not options.tolerance > 0:

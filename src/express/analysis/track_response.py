@@ -133,14 +133,14 @@ def track_frequency_response(
     vehicle : VehicleModel
         With rail data.
     frequencies : sequence of float
-        [Hz] > 0, increasing.
+        [Hz] > 0, increasing (numbers SI; quantities carry their unit).
     components : sequence of str, optional
         Of ``alignment``, ``vertical``, ``cross_level``, ``gauge``; default every one
         the model feels.
     amplitude : float
         ``Y`` [m], default 1 mm.
-    speed : float, optional
-        [m/s]; the model's own by default.
+    speed : float, str or pint.Quantity, optional
+        [m/s] (a number is SI; ``"120 km/h"``); the model's own by default.
 
     Raises
     ------
@@ -158,6 +158,7 @@ def track_frequency_response(
     (2,)
     """
     from express.analysis.ride.vehicle import rail_inputs, ride_response
+    from express.base.units import si_argument, si_arguments
     from express.rail.track.spectra import COMPONENTS
 
     inputs = rail_inputs(vehicle)
@@ -171,7 +172,8 @@ def track_frequency_response(
         raise ArgumentError("; ".join(problems))
     if not chosen:
         raise ArgumentError("the model feels no track irregularity (no rail inputs)")
-    f = np.asarray(list(frequencies), dtype=float)
+    f = si_arguments(frequencies, "frequency", "frequencies")
+    amplitude = si_argument(amplitude, "length", "amplitude")
     ride = ride_response(vehicle, dict.fromkeys(chosen, _Unit()), speed=speed, frequencies=f)
     order = [ride.components.index(c) for c in chosen]
     return TrackFrequencyResponse(

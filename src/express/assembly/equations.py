@@ -348,14 +348,21 @@ class GenerationResult:
         (:func:`symbolic_matrix`).
     full_dofs : tuple of str
         Generalized coordinates before elimination (rows of ``T``).
+    omitted : tuple of str
+        What the model describes but the equations leave out, said in words (empty when
+        nothing is): the bare :func:`express.assembly.generator.generate` of a model with
+        rail data leaves out the wheel/rail and curve terms, which
+        :func:`express.rail.build.generate_vehicle` (and ``express generate``) add.
     """
 
     equations: EquationsOfMotion
     warnings: tuple[Problem, ...]
     transformation: sp.MatrixBase
     full_dofs: tuple[str, ...]
+    omitted: tuple[str, ...] = ()
 
     def __repr__(self) -> str:
-        """The equations' short repr and the warnings' count."""
-        return (f"<GenerationResult: {len(self.warnings)} warnings, {len(self.full_dofs)} DOFs before elimination>\n  "
-                + repr(self.equations).replace("\n", "\n  "))
+        """The equations' short repr, the warnings' count and what is left out."""
+        left_out = f"; without {', '.join(self.omitted)}" if self.omitted else ""
+        return (f"<GenerationResult: {len(self.warnings)} warnings, {len(self.full_dofs)} DOFs before elimination"
+                f"{left_out}>\n  " + repr(self.equations).replace("\n", "\n  "))

@@ -252,7 +252,11 @@ def generate(
     keep_virtual : bool
         Keep the virtual DOFs and the virtual elements (the paper's eq. 6).
     added : AddedTerms, optional
-        Terms from the rail modules.
+        Terms from the rail modules. Without them the equations of a model with rail data
+        have no wheel/rail or curve terms (no creep forces, no gravitational stiffness of
+        the contact: ``K[W1.rz, W1.y] = 0``) and the result says so
+        (:attr:`GenerationResult.omitted`); :func:`express.rail.build.generate_vehicle`
+        (``express.generate_vehicle``, what ``express generate`` runs) adds them.
     readable : bool
         Factor every entry for people to read (``b**2*(kLL + kLU)``); ``False`` gives
         the same values expanded (``b**2*kLL + b**2*kLU``), which is all a numerical
@@ -281,7 +285,17 @@ def generate(
     problems = problems or line_problems(model)  # once the ends are known CPs
     if problems:
         raise ModelError(problems)
-    added = added or AddedTerms()
+    omitted = (RAIL_OMITTED,) if added is None and getattr(model, "rail", None) is not None else ()
+    result = _generate_with(model, keep_virtual, added or AddedTerms(), readable)
+    return replace(result, omitted=omitted) if omitted else result
+
+
+#: What :func:`generate` says it left out of a model with rail data given no ``added`` terms.
+RAIL_OMITTED = "the wheel/rail and curve terms (the model has rail data; express.generate_vehicle adds them)"
+
+
+def _generate_with(model: Model, keep_virtual: bool, added: AddedTerms, readable: bool) -> GenerationResult:
+    """:func:`generate` of a checked model with its ``added`` terms."""
     if model.gravity is not None or any(e.preload != 0 for e in model.elements):  # preloads' geometric stiffness
         # the 3-D static model has no gravity (and no given preloads)
         static_equations = generate(static_model(model)) if model.gravity is not None else None

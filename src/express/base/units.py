@@ -49,6 +49,7 @@ __all__ = [
     "is_angular_frequency",
     "parse_quantity",
     "si_argument",
+    "si_arguments",
     "si_unit",
     "to_si",
     "unit_dimension",
@@ -544,6 +545,52 @@ def si_argument(value: object, dimension: str, argument: str) -> float:
     if not math.isfinite(number):
         raise ArgumentError(f"{argument} must be finite, got {number!r}")
     return number
+
+
+def si_arguments(values: object, dimension: str, argument: str):
+    """A library function's array argument in SI (:func:`si_argument` for each value):
+    numbers (SI), a sequence of quantities (text or pint), one pint quantity holding an
+    array, or one quantity as text (a single value).
+
+    Parameters
+    ----------
+    values : array_like, str or pint.Quantity
+    dimension : str
+        Their dimension (a name of :data:`DIMENSIONS`).
+    argument : str
+        The argument's name, for the message.
+
+    Returns
+    -------
+    numpy.ndarray, float
+        The values [SI], of the shape given (0-D for one value).
+
+    Raises
+    ------
+    ArgumentError
+        Naming the argument, as :func:`si_argument`.
+
+    Examples
+    --------
+    >>> si_arguments(["36 km/h", 20.0], "speed", "speeds").tolist()
+    [10.0, 20.0]
+    """
+    import numpy as np
+
+    if hasattr(values, "magnitude") and hasattr(values, "units"):  # a pint quantity, maybe of an array
+        magnitude = np.asarray(values.magnitude, dtype=float)
+        return magnitude * si_argument(f"1 {values.units:~}", dimension, argument)
+    if isinstance(values, str):
+        return np.asarray(si_argument(values, dimension, argument))
+    if isinstance(values, np.ndarray) and values.dtype.kind in "fiu":  # numbers: SI, as they are
+        return values.astype(float)
+    if not isinstance(values, (np.ndarray, list, tuple)) and hasattr(values, "__iter__"):
+        values = list(values)  # a generator, a range
+    array = np.asarray(values, dtype=object)
+    if array.dtype == object and all(isinstance(v, (int, float, np.integer, np.floating)) and not isinstance(v, bool)
+                                     for v in array.flat):
+        return np.asarray(array, dtype=float)
+    return np.asarray([si_argument(v, dimension, argument) for v in array.flat], dtype=float).reshape(array.shape)
 
 
 _EXAMPLE = {"speed": "95 km/h", "length": "600 m", "time": "5 ms", "frequency": "20 Hz"}

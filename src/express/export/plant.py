@@ -6,16 +6,18 @@ definition that the exports and the control plant
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
+from express.base.data import DataRecord, columns_frame, variable, xarray
 from express.numeric.statespace import VehicleModel
 
 __all__ = ["LinearSystem", "check_speed", "linear_system"]
 
 
-@dataclass(frozen=True)
-class LinearSystem:
+@dataclass(frozen=True, repr=False)
+class LinearSystem(DataRecord):
     """A standard state space ``z' = A z + B u``, ``y = C z + D u`` with names.
 
     Attributes
@@ -28,6 +30,11 @@ class LinearSystem:
         the states carry the same names (the state equals the output when ``u = 0``).
     speed : float
         Speed the matrices were evaluated at [m/s].
+
+    As data: :meth:`to_xarray` holds the four matrices over ``state`` / ``from_state`` /
+    ``input`` / ``output`` (units mixed, SI: each entry's is that of its row over its
+    column's); :meth:`to_pandas` is one table of the nonzero entries (matrix, row,
+    column, value).
     """
 
     A: np.ndarray
@@ -38,6 +45,35 @@ class LinearSystem:
     inputs: tuple[str, ...]
     outputs: tuple[str, ...]
     speed: float
+
+    def to_xarray(self) -> Any:
+        """``A``, ``B``, ``C``, ``D`` as an :class:`xarray.Dataset` with labelled dimensions."""
+        mixed = "SI (row unit / column unit)"
+        data = {"A": variable(self.A, ("state", "from_state"), mixed, "state matrix"),
+                "B": variable(self.B, ("state", "input"), mixed, "input matrix"),
+                "C": variable(self.C, ("output", "from_state"), mixed, "output matrix"),
+                "D": variable(self.D, ("output", "input"), mixed, "feedthrough matrix"),
+                "speed": variable(self.speed, (), "m/s", "speed")}
+        coords = {"state": list(self.states), "from_state": list(self.states), "input": list(self.inputs),
+                  "output": list(self.outputs)}
+        return xarray().Dataset(data, coords=coords)
+
+    def to_pandas(self) -> Any:
+        """The nonzero entries of the four matrices, one row each: ``matrix``, ``row``,
+        ``column`` (names) and ``value`` (SI)."""
+        columns: dict[str, list] = {"matrix": [], "row": [], "column": [], "value": []}
+        for name, matrix, rows, cols in (("A", self.A, self.states, self.states), ("B", self.B, self.states, self.inputs),
+                                         ("C", self.C, self.outputs, self.states), ("D", self.D, self.outputs, self.inputs)):
+            for i, j in zip(*np.nonzero(matrix), strict=True):
+                columns["matrix"].append(name)
+                columns["row"].append(rows[i])
+                columns["column"].append(cols[j])
+                columns["value"].append(float(matrix[i, j]))
+        return columns_frame(columns, {"value": "SI"})
+
+    def _summary(self) -> list[str]:
+        return [f"{len(self.states)} states, {len(self.inputs)} inputs, {len(self.outputs)} outputs "
+                f"at {self.speed:.3f} m/s ({self.speed * 3.6:.1f} km/h)"]
 
 
 def linear_system(vehicle: VehicleModel, speed: float) -> LinearSystem:

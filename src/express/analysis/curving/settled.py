@@ -15,11 +15,13 @@ for a settled run). The run's step is the given one (``simulate``'s default 5 ms
 from __future__ import annotations
 
 from dataclasses import dataclass, field, fields, replace
+from typing import Any
 
 import numpy as np
 
 from express.analysis.curving.outputs import WheelRailOutputs
 from express.analysis.curving.steady import NoSteadyStateError, SteadyCurve, SteadyCurving, SteadyCurvingSolver
+from express.base.data import DataRecord, variable, xarray
 from express.base.diagnostics import AnalysisError
 
 __all__ = ["LEAD", "SETTLED", "WINDOW", "SettledCurving", "curving_or_settled", "settled_curving", "settled_length"]
@@ -38,9 +40,13 @@ def settled_length(speed: float) -> float:
     return max(300.0, 20.0 * speed)
 
 
-@dataclass(frozen=True)
-class SettledCurving:
+@dataclass(frozen=True, repr=False)
+class SettledCurving(DataRecord):
     """The settled time run through one curve (module docstring).
+
+    As data (:meth:`to_xarray`): every wheel/rail column a variable over ``statistic``
+    (``mean``, ``amplitude``) with its SI unit; ``to_pandas()`` two rows, one column per
+    quantity (``"Y1L [N]"``).
 
     Attributes
     ----------
@@ -89,6 +95,28 @@ class SettledCurving:
         if worst_angle:
             parts.append(f"{worst_angle} +- {angle[worst_angle] * 1e3:.3g} mrad")
         return "keeps a limit cycle: " + ", ".join(parts)
+
+    def to_xarray(self) -> Any:
+        """The means and half ranges over ``statistic``, the curve's and the run's scalars
+        (:class:`xarray.Dataset`; CF-style ``units`` and ``long_name``; ``"1"`` for ratios)."""
+        from express.analysis.curving.outputs import column_unit
+
+        data = {name: variable(np.array([self.mean[name], self.amplitude[name]], float), "statistic",
+                               column_unit(name) or "1", f"{name}, mean and half range over the window")
+                for name in self.mean}
+        data["radius"] = variable(float(self.curve.radius), (), "m", "curve radius")
+        data["cant"] = variable(float(self.curve.cant), (), "m", "cant")
+        data["speed"] = variable(float(self.speed), (), "m/s", "speed")
+        data["window_start"] = variable(float(self.window[0]), (), "m", "leading wheelset's distance, window start")
+        data["window_end"] = variable(float(self.window[1]), (), "m", "leading wheelset's distance, window end")
+        data["dt"] = variable(float(self.dt), (), "s", "time step of the run")
+        return xarray().Dataset(data, coords={"statistic": ["mean", "amplitude"]},
+                                attrs={"reason": self.reason, "settled": int(self.settled),
+                                       "direction": self.curve.direction})
+
+    def _summary(self) -> list[str]:
+        return [f"R {self.curve.radius:g} m, cant {self.curve.cant * 1e3:g} mm at {self.speed * 3.6:.1f} km/h: "
+                f"{self.reason}", self.describe()[:200]]
 
     def as_dict(self) -> dict:
         return {"radius": float(self.curve.radius), "cant": float(self.curve.cant),

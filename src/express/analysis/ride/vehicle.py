@@ -78,6 +78,7 @@ from express.assembly.kinematics import end_motion
 from express.base.data import DataRecord, columns_frame
 from express.base.diagnostics import AnalysisError, InputError
 from express.base.names import did_you_mean
+from express.base.units import si_argument, si_arguments
 from express.model.modal_body import modal_motion
 from express.model.parameters import expression_value
 from express.model.records import ElementKind, Model
@@ -467,7 +468,7 @@ class RideResponse(DataRecord):
 
 
 def _speed(vehicle: VehicleModel, speed: float | None) -> float:
-    v = float(vehicle.speed if speed is None else speed)
+    v = float(vehicle.speed if speed is None else si_argument(speed, "speed", "speed"))
     if not (math.isfinite(v) and v > 0):
         raise InputError(f"ride: the speed must be > 0 m/s, got {v!r}" + (" (the model has none)" if speed is None else ""))
     return v
@@ -549,10 +550,11 @@ def ride_response(
     spectra : mapping of str to TrackSpectrum
         Spatial spectrum per component of :data:`express.rail.track.spectra.COMPONENTS`
         (anything with ``psd(Omega)`` [m^2/(rad/m)]); e.g. :func:`track_class_spectra`.
-    speed : float, optional
-        [m/s] > 0; the model's own speed by default.
+    speed : float, str or pint.Quantity, optional
+        [m/s] > 0 (a number is SI; a quantity carries its unit, ``"120 km/h"``); the
+        model's own speed by default.
     frequencies : array_like, optional
-        [Hz] > 0, increasing; default :data:`DEFAULT_POINTS` log-spaced over
+        [Hz] > 0, increasing (numbers, or quantities: ``"5 rad/s"`` is 0.796 Hz); default :data:`DEFAULT_POINTS` log-spaced over
         :data:`DEFAULT_BAND`.
 
     Raises
@@ -565,8 +567,8 @@ def ride_response(
     if vehicle.model is None or vehicle.model.rail is None or not vehicle.wheelsets:
         raise InputError("ride: the model has no rail data (no [rail] section with wheelsets)")
     v = _speed(vehicle, speed)
-    f = check_frequencies(np.geomspace(*DEFAULT_BAND, DEFAULT_POINTS) if frequencies is None else frequencies,
-                          "ride_response", positive=True)
+    f = check_frequencies(np.geomspace(*DEFAULT_BAND, DEFAULT_POINTS) if frequencies is None
+                          else si_arguments(frequencies, "frequency", "frequencies"), "ride_response", positive=True)
     unknown = [name for name in spectra if name not in COMPONENTS]
     if unknown:
         raise InputError("; ".join(f"ride: unknown track component {name!r}{did_you_mean(name, COMPONENTS)}" for name in unknown)

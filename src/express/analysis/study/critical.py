@@ -100,10 +100,11 @@ class CriticalResult:
 
     Attributes
     ----------
-    speed : float or None
+    speed : float
         The value :func:`~express.analysis.stability.critical_speed` reports [m/s]
         (bracket midpoint; the exact crossing when ``tolerance`` is 0); ``v_min`` when
-        :attr:`unstable_at_min`; None when stable over the whole range.
+        :attr:`unstable_at_min`; nan when stable over the whole range (not :attr:`found`;
+        before issue 35 None).
     unstable_at_min : bool
     crossing : HopfPoint or None
         The exact crossing (None when unstable at ``v_min``, stable over the range, or
@@ -112,14 +113,28 @@ class CriticalResult:
         Eigenvalue problems solved.
     method : str
         ``"local"``, ``"grid"`` or ``"bisection"`` (how the value was found).
+    mode_frequency : float
+        Frequency of the least stable mode at :attr:`speed` [Hz], without a crossing.
+    found : bool
+        False when the vehicle is stable over the whole range (as
+        :attr:`express.analysis.stability.CriticalSpeed.found`).
     """
 
-    speed: float | None
+    speed: float
     unstable_at_min: bool
     crossing: HopfPoint | None
     evaluations: int
     method: str
     mode_frequency: float = float("nan")
+    found: bool = True
+
+    @property
+    def reason(self) -> str:
+        """Why the search ended, as :attr:`express.analysis.stability.CriticalSpeed.reason`:
+        ``"crossing"``, ``"unstable at v_min"`` or ``"stable up to v_max"``."""
+        if not self.found:
+            return "stable up to v_max"
+        return "unstable at v_min" if self.unstable_at_min else "crossing"
 
     @property
     def frequency(self) -> float:
@@ -406,7 +421,7 @@ class CriticalSpeedSearch:
             return CriticalResult(float(grid[0]), True, None, blocks.evaluations, "grid", _mode_frequency(blocks, grid[0]))
         first = next((i for i in range(1, grid.size) if self._sigma(blocks, i) > options.threshold), None)
         if first is None:
-            return CriticalResult(None, False, None, blocks.evaluations, "grid")
+            return CriticalResult(float("nan"), False, None, blocks.evaluations, "grid", found=False)
         lo, hi = float(grid[first - 1]), float(grid[first])
         crossing = _crossing_in_cell(blocks, lo, hi, options)
         if crossing is None:

@@ -278,9 +278,9 @@ class PointOutputs:
         result = self.search(StateBlocks(vehicle))
         if result.unstable_at_min:
             notes.append(f"already unstable at the lowest speed {options.v_min:.6g} m/s")
-        elif result.speed is None:
+        elif not result.found:
             notes.append(f"no critical speed: stable up to {options.v_max:.6g} m/s")
-        speed = result.speed if result.speed is not None else math.nan
+        speed = result.speed
         if options.check == "local" and options.tolerance == 0:
             speed = _rounded(speed, 12)  # the exact crossing's last bits depend on the starting guess
         return {"critical_speed": speed, "critical_frequency": _rounded(result.frequency, 10)}

@@ -273,7 +273,7 @@ def critical_speed_sensitivity(
     if crossing is None:
         if result.unstable_at_min:
             raise NoCriticalSpeedError(f"already unstable at the lowest speed {options.v_min:g} m/s: no crossing to differentiate")
-        if result.speed is None:
+        if not result.found:
             raise NoCriticalSpeedError(f"stable up to {options.v_max:g} m/s: no critical speed to differentiate")
         raise NoCriticalSpeedError("the crossing could not be located exactly (not a simple oscillatory mode)")
     rates, rate_v = _pencil_derivatives(vehicle, crossing.speed, crossing.eigenvalue, crossing.vector, names)

@@ -22,6 +22,7 @@ import numpy as np
 
 from express.analysis.wear.cases import ProfileGrid, case_depth, initial_grid, profile_text, with_wheel_profile
 from express.analysis.wear.route import Route
+from express.base.data import DataRecord, variable, xarray
 from express.base.diagnostics import ArgumentError, UsageError
 from express.io.output import output_transaction, write_csv, write_text
 from express.numeric.statespace import VehicleModel
@@ -65,16 +66,44 @@ class WearSettings:
             raise ArgumentError("the step bound must be > 0, the smoothing >= 0, the spacing 1 um .. 1 mm")
 
 
-@dataclass(frozen=True)
-class WearPrediction:
+#: The long names of the columns of :data:`UNITS` (CF ``long_name``).
+LONG_NAMES = {"distance": "distance run", "step_distance": "distance of the step",
+              "largest_change": "largest change of the profile in the step", "max_depth": "largest worn depth",
+              "worn_volume": "worn volume", "profile_volume": "volume of the profile", "conicity": "equivalent conicity",
+              "critical_speed": "linear critical speed", "flange_thickness": "flange thickness",
+              "flange_height": "flange height", "flange_slope": "flange slope (qR)"}
+
+
+@dataclass(frozen=True, repr=False)
+class WearPrediction(DataRecord):
     """What :func:`predict_wear` left in ``directory``: a row per step (step 0 the new
     profile; columns :data:`UNITS`, SI), whether it reached the distance, and how many
-    steps were run now (the rest came from the checkpoint)."""
+    steps were run now (the rest came from the checkpoint).
+
+    As data (:meth:`to_xarray`): every column of :data:`UNITS` over ``step``;
+    ``to_pandas()`` one row per step (``"distance [m]"``, ...).
+    """
 
     rows: list[dict[str, float]]
     directory: Path
     finished: bool
     run_now: int
+
+    def to_xarray(self) -> Any:
+        """The rows over ``step`` (:class:`xarray.Dataset`, CF-style ``units``/``long_name``;
+        a missing value, e.g. no critical speed, is nan)."""
+        steps = [int(row["step"]) for row in self.rows]
+        data = {name: variable(np.array([np.nan if row.get(name) is None else float(row[name]) for row in self.rows]),
+                               "step", unit or "1", LONG_NAMES.get(name, name))
+                for name, unit in UNITS.items() if name != "step"}
+        return xarray().Dataset(data, coords={"step": steps}, attrs={"directory": str(self.directory),
+                                                                     "finished": int(self.finished),
+                                                                     "run_now": self.run_now})
+
+    def _summary(self) -> list[str]:
+        last = self.rows[-1] if self.rows else {}
+        return [f"{len(self.rows)} steps to {float(last.get('distance', 0.0)) / 1e3:.1f} km "
+                f"({'finished' if self.finished else 'not finished'}; {self.run_now} run now) in {self.directory}"]
 
 
 def prediction_identity(model_text: str, overrides: dict[str, str], route: Route, settings: WearSettings) -> dict:
