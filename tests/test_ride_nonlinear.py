@@ -37,6 +37,10 @@ def test_below_the_critical_speed_the_run_gives_the_spectral_ride(vehicle):
         for axis in "yz":
             assert c.rms[axis] == pytest.approx(spectral[point].rms[axis], rel=0.08), (point, axis)
         assert c.n_mv == pytest.approx(spectral[point].n_mv, rel=0.05), point
+    data = ride.to_xarray()  # results as data: the same numbers, labelled
+    assert data["rms"].sel(point="floor_front", direction="y") == ride.comfort["floor_front"].rms["y"]
+    assert data["n_mv"].attrs["units"] == "1" and data.attrs["dt_s"] == ride.dt
+    assert len(repr(ride)) <= 600 and ride.to_pandas().shape[0] == 2 * 3
 
 
 @pytest.mark.slow

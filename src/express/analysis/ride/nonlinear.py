@@ -30,6 +30,7 @@ import numpy as np
 
 from express.analysis.ride.summaries import PointComfort, comfort_from_time_histories, simulation_accelerations
 from express.analysis.ride.vehicle import rail_inputs
+from express.base.data import DataRecord, variable, xarray
 from express.base.diagnostics import InputError
 from express.numeric.statespace import VehicleModel
 from express.rail.track.spectra import COMPONENTS
@@ -47,8 +48,8 @@ _BAND_HZ = (0.4, 25.0)
 _FIELD = {"alignment": "irregularity", "vertical": "vertical", "cross_level": "cross_level", "gauge": "gauge"}
 
 
-@dataclass(frozen=True)
-class SimulatedRide:
+@dataclass(frozen=True, repr=False)
+class SimulatedRide(DataRecord):
     """The comfort of a nonlinear run on a random track.
 
     Attributes
@@ -79,6 +80,34 @@ class SimulatedRide:
     flange_contact: bool
     step_change: float | None
     notes: tuple[str, ...]
+
+    def to_xarray(self) -> Any:
+        """RMS, weighted RMS and Wz over ``point`` and ``direction``, N_MV over ``point``
+        (:class:`xarray.Dataset`; CF-style ``units`` and ``long_name``; nan where a point
+        has no such direction)."""
+        points, axes = list(self.comfort), ["x", "y", "z"]
+
+        def table(what: str) -> np.ndarray:
+            return np.array([[getattr(self.comfort[p], what).get(a, np.nan) for a in axes] for p in points], float)
+
+        data = {
+            "rms": variable(table("rms"), ("point", "direction"), "m/s^2", "acceleration rms"),
+            "weighted_rms": variable(table("weighted_rms"), ("point", "direction"), "m/s^2",
+                                     "frequency-weighted acceleration rms (EN 12299)"),
+            "wz": variable(table("wz"), ("point", "direction"), "1", "Sperling's ride index Wz"),
+            "n_mv": variable(np.array([self.comfort[p].n_mv for p in points], float), "point", "1",
+                             "EN 12299 mean comfort N_MV"),
+        }
+        return xarray().Dataset(data, coords={"point": points, "direction": axes},
+                                attrs={"speed_m_per_s": self.speed, "length_m": self.length, "dt_s": self.dt,
+                                       "flange_contact": int(self.flange_contact),
+                                       "step_change": np.nan if self.step_change is None else self.step_change,
+                                       "components": ", ".join(self.components)})
+
+    def _summary(self) -> list[str]:
+        return [f"nonlinear ride at {self.speed:.4g} m/s over {self.length:g} m, step {self.dt * 1e3:g} ms, "
+                f"flange contact {'reached' if self.flange_contact else 'not reached'}",
+                ", ".join(f"{p}: N_MV {c.n_mv:.3g}" for p, c in self.comfort.items())]
 
 
 def _track(spectra: Mapping[str, Any], speed: float, length: float, seed: int) -> Any:
