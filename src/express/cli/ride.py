@@ -72,7 +72,7 @@ def run(
             raise UsageError(f"--fmax {fmax:g} Hz: must be above --fmin {fmin:g} Hz")
         return _modes_convergence(model, overrides, track, speed, np.geomspace(fmin, fmax, points), as_json)
     from express.analysis.ride.summaries import point_comfort, wheel_forces
-    from express.analysis.ride.vehicle import ride_response
+    from express.analysis.ride.vehicle import linear_instability, ride_response
     from express.io.finite import require_finite
     from express.io.output import output_transaction
 
@@ -88,7 +88,7 @@ def run(
         spectra, track_name = _spectra(track, table)
         vehicle = common.load_rail_vehicle(model, overrides, "ride")
         v = common.running_speed(vehicle, speed)
-        instability = _instability(vehicle, v)
+        instability = linear_instability(vehicle, v)
         if instability is not None:  # no PSD exists: the nonlinear run's ride, nothing written
             nonlinear = _nonlinear(vehicle, spectra, v)
         else:
@@ -113,18 +113,6 @@ def run(
     for line in summary["notes"]:
         common.note(f"note: {line}")
     return 0
-
-
-def _instability(vehicle: Any, speed: float) -> str | None:
-    """Why the linear model has no stationary response at ``speed`` (None: it has one)."""
-    from express.analysis.frequency import require_stable
-    from express.base.diagnostics import AnalysisError
-
-    try:
-        require_stable(vehicle, speed)
-    except AnalysisError as error:
-        return str(error).split(": its response to a sinusoid")[0]
-    return None
 
 
 def _nonlinear(vehicle: Any, spectra: dict, speed: float) -> Any:

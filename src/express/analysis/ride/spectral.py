@@ -52,6 +52,7 @@ __all__ = [
     "ModalForm",
     "check_frequencies",
     "check_psd",
+    "coordinate_response",
     "delay_factors",
     "harmonic_realisation",
     "modal_form",
@@ -278,6 +279,38 @@ def resolvent_solve(A: ArrayLike, frequencies: ArrayLike, rhs: ArrayLike) -> Com
     if not np.all(np.isfinite(y)):
         raise np.linalg.LinAlgError("i w I - A is singular at some frequency (an undamped mode)")
     return (z @ y).reshape(n, f.size, n_j).transpose(1, 0, 2)
+
+
+def coordinate_response(
+    a: FloatArray, b: FloatArray, bd: FloatArray, d: tuple[FloatArray, FloatArray, FloatArray],
+    u: ComplexArray, s: ComplexArray, f: FloatArray, n: int,
+) -> ComplexArray:
+    """``(d0 + s d1 + s^2 d2) q`` with ``x = [q; q_D']`` solving ``(s I - A) x = (B + s Bd) u``.
+
+    ``u`` (K, F*J) and ``s = i w`` (F*J,) hold every (frequency, component) column side
+    by side; ``d`` the output matrices (P, n) of ``q``, the first ``n`` states.  By modal
+    superposition (:func:`modal_form`: O(N) per column and output) where the eigenvectors
+    of ``A`` are well conditioned, else by the Schur form (:func:`resolvent_solve`, O(N^2)
+    per column).  Returns (P, F*J).
+
+    Raises
+    ------
+    numpy.linalg.LinAlgError
+        If ``i w I - A`` is singular at one of the frequencies (an undamped mode).
+    """
+    modal = modal_form(a)
+    if modal is not None:
+        poles = s[None, :] - modal.eigenvalues[:, None]
+        if np.any(poles == 0):
+            raise np.linalg.LinAlgError("i w I - A is singular at some frequency (an undamped mode)")
+        xi = ((modal.left @ b) @ u + ((modal.left @ bd) @ u) * s) / poles
+        shapes = modal.right[:n]
+        return (d[0] @ shapes) @ xi + ((d[1] @ shapes) @ xi) * s + ((d[2] @ shapes) @ xi) * s**2
+    n_f = f.size
+    drive = b @ u + (bd @ u) * s
+    x = resolvent_solve(a, f, drive.reshape(-1, n_f, s.size // n_f).transpose(1, 0, 2))[:, :n]
+    q = x.transpose(1, 0, 2).reshape(n, s.size)
+    return d[0] @ q + (d[1] @ q) * s + (d[2] @ q) * s**2
 
 
 def output_spectra(H: ArrayLike, input_spectra: ArrayLike) -> ComplexArray:

@@ -46,8 +46,8 @@ Outputs
   model has no vertical rail inputs.
 
 Each output is ``y = (D0 + i w D1 - w^2 D2) q + (E0 + i w E1) u`` and the state
-``x = [q; q_D']`` solves ``(i w I - A) x = (B + i w Bd) u`` (by modal superposition,
-:func:`.spectral.modal_form`, or the Schur form, :func:`.spectral.resolvent_solve`).
+``x = [q; q_D']`` solves ``(i w I - A) x = (B + i w Bd) u`` (:func:`.spectral.coordinate_response`: by modal superposition
+where it is well conditioned, else by the Schur form).
 Because the components are uncorrelated and each is fully coherent between wheelsets,
 one right-hand side per component suffices: ``u_j(f) = sum_k T[k, j] exp(-i w tau_k)``
 at the driven inputs k, and ``G_y = sum_j |H_yj|^2 G_j`` -- the same as
@@ -69,8 +69,7 @@ from express.analysis.frequency import require_stable
 from express.analysis.ride.spectral import (
     check_frequencies,
     check_psd,
-    modal_form,
-    resolvent_solve,
+    coordinate_response,
     spatial_to_temporal,
     spectral_rms,
 )
@@ -474,16 +473,23 @@ def _speed(vehicle: VehicleModel, speed: float | None) -> float:
     return v
 
 
-def _check_stable(vehicle: VehicleModel, v: float) -> None:
-    """:func:`express.analysis.frequency.require_stable` (the check of ``express frf``),
-    its message said for a random excitation: above the critical speed a free motion
-    grows, so no stationary response (and no PSD) exists."""
+def linear_instability(vehicle: VehicleModel, speed: float) -> str | None:
+    """Why the linear model has no stationary response at ``speed`` [m/s] (the unstable
+    mode, :func:`express.analysis.frequency.require_stable`), None when it has one."""
     try:
-        require_stable(vehicle, v)
+        require_stable(vehicle, speed)
     except AnalysisError as error:
-        reason = str(error).split(": its response to a sinusoid")[0]
+        return str(error).split(": its response to a sinusoid")[0]
+    return None
+
+
+def _check_stable(vehicle: VehicleModel, v: float) -> None:
+    """:func:`linear_instability`'s reason as the error of a random excitation: above the
+    critical speed a free motion grows, so no stationary response (and no PSD) exists."""
+    reason = linear_instability(vehicle, v)
+    if reason is not None:
         raise AnalysisError(f"ride: {vehicle.equations.name}: {reason}: its response to a random track grows "
-                            "without bound, there is no stationary response (PSD, RMS, comfort) to report") from None
+                            "without bound, there is no stationary response (PSD, RMS, comfort) to report")
 
 
 def _undriven_notes(vehicle: VehicleModel, inputs: RailInputs) -> list[str]:
@@ -504,35 +510,6 @@ def _undriven_notes(vehicle: VehicleModel, inputs: RailInputs) -> list[str]:
     if rest:
         notes.append(f"left at zero: inputs the track does not drive (not rail grounds, docs/ride.md): {', '.join(rest)}")
     return notes
-
-
-def _coordinate_outputs(
-    a: FloatArray, b: FloatArray, bd: FloatArray, d: tuple[FloatArray, FloatArray, FloatArray],
-    u: NDArray[np.complex128], s: NDArray[np.complex128], f: FloatArray, n: int,
-) -> NDArray[np.complex128]:
-    """``(d0 + s d1 + s^2 d2) q`` with ``x = [q; q_D']`` solving ``(s I - A) x = (B + s Bd) u``.
-
-    ``u`` (K, F*J) and ``s = i w`` (F*J,) hold every (frequency, component) column side
-    by side.  By modal superposition (:func:`.spectral.modal_form`: O(N) per column and
-    output) where the eigenvectors of ``A`` are well conditioned, else by the Schur form
-    (:func:`.spectral.resolvent_solve`, O(N^2) per column).  Returns (P, F*J).
-    """
-    modal = modal_form(a)
-    if modal is not None:
-        poles = s[None, :] - modal.eigenvalues[:, None]
-        if np.any(poles == 0):
-            raise AnalysisError("ride: i w I - A is singular at some frequency (an undamped mode)")
-        xi = ((modal.left @ b) @ u + ((modal.left @ bd) @ u) * s) / poles
-        shapes = modal.right[:n]
-        return (d[0] @ shapes) @ xi + ((d[1] @ shapes) @ xi) * s + ((d[2] @ shapes) @ xi) * s**2
-    n_f = f.size
-    drive = b @ u + (bd @ u) * s
-    try:
-        x = resolvent_solve(a, f, drive.reshape(-1, n_f, s.size // n_f).transpose(1, 0, 2))[:, :n]
-    except np.linalg.LinAlgError as error:
-        raise AnalysisError(f"ride: {error}") from None
-    q = x.transpose(1, 0, 2).reshape(n, s.size)
-    return d[0] @ q + (d[1] @ q) * s + (d[2] @ q) * s**2
 
 
 def ride_response(
@@ -596,7 +573,10 @@ def ride_response(
     s = np.repeat(1j * w, n_j)  # i w for every (frequency, component) column
     columns = inputs.columns
     d0, d1, d2, e0, e1 = rows.matrices()
-    y = _coordinate_outputs(a, b[:, columns], bd[:, columns], (d0, d1, d2), u, s, f, vehicle.n)
+    try:
+        y = coordinate_response(a, b[:, columns], bd[:, columns], (d0, d1, d2), u, s, f, vehicle.n)
+    except np.linalg.LinAlgError as error:
+        raise AnalysisError(f"ride: {error}") from None
     y = y + e0[:, columns] @ u + (e1[:, columns] @ u) * s
     transfer = y.reshape(-1, n_f, n_j).transpose(1, 0, 2)
     weights = np.stack([input_psd[c] for c in used], axis=1) if used else np.zeros((n_f, 0))
