@@ -29,8 +29,12 @@ from express.base.units import KMH
 __all__ = [
     "AMPLITUDE",
     "DT",
+    "ELEMENT_AMPLITUDE",
+    "ELEMENT_ANGLE",
+    "ELEMENT_FREQUENCY",
     "FMAX",
     "FMIN",
+    "LINEARISATIONS",
     "SEARCH",
     "SPEED",
     "TOLERANCE",
@@ -38,13 +42,18 @@ __all__ = [
     "VMIN",
     "Quantity",
     "add_json_option",
+    "add_linearisation_arguments",
     "add_model_arguments",
     "add_search_arguments",
     "count",
     "figure_path",
     "join_negative_values",
+    "linearisation",
+    "linearisation_spec",
+    "linearised_vehicle",
     "load_rail_vehicle",
     "note",
+    "note_linearisation",
     "print_json",
     "require_package",
     "running_speed",
@@ -283,11 +292,75 @@ def load_rail_vehicle(model: Path, overrides: dict[str, str], command: str) -> A
     return vehicle
 
 
+#: The linearisations of :data:`express.forces.linearisation.KINDS` (for --help without
+#: importing NumPy; a test keeps the two equal).
+LINEARISATIONS = ("tangent", "equivalent", "statistical")
+ELEMENT_AMPLITUDE = Quantity("--element-amplitude", "length", "mm", 0.0, 1000.0, open_low=True)
+ELEMENT_ANGLE = Quantity("--element-angle", "angle", "mrad", 0.0, 1000.0, open_low=True)
+ELEMENT_FREQUENCY = Quantity("--element-frequency", "frequency", "Hz", 0.0, 1000.0, open_low=True)
+
+
+def add_linearisation_arguments(parser: argparse.ArgumentParser, statistical: bool = False) -> None:
+    """``--linearisation`` of the nonlinear elements and the amplitude, angle and frequency
+    of ``equivalent`` (handlers receive ``linearisation``, ``element_amplitude``,
+    ``element_angle``, ``element_frequency``; :func:`linearised_vehicle` applies them)."""
+    kinds = LINEARISATIONS if statistical else LINEARISATIONS[:2]
+    parser.add_argument("--linearisation", choices=kinds, default="tangent",
+                        help="how this linear analysis sees the friction elements and characteristics: tangent at "
+                        "the static state (friction stuck; default), equivalent (describing functions at "
+                        "--element-amplitude/--element-angle and --element-frequency)"
+                        + (", statistical (Gaussian, at each element's own rms response, iterated)" if statistical
+                           else "") + "; docs/analyses.md")
+    parser.add_argument("--element-amplitude", type=ELEMENT_AMPLITUDE, metavar="X",
+                        help=ELEMENT_AMPLITUDE.help("equivalent: deflection amplitude of the translational elements",
+                                                    "1 mm"))
+    parser.add_argument("--element-angle", type=ELEMENT_ANGLE, metavar="A",
+                        help=ELEMENT_ANGLE.help("equivalent: deflection amplitude of the rotational elements", "1 mrad"))
+    parser.add_argument("--element-frequency", type=ELEMENT_FREQUENCY, metavar="F",
+                        help=ELEMENT_FREQUENCY.help("equivalent: frequency of the harmonic motion", "2 Hz"))
+
+
+def linearisation_spec(linearisation: str = "tangent", element_amplitude: float | None = None,
+                       element_angle: float | None = None, element_frequency: float | None = None) -> Any:
+    """The :class:`express.forces.linearisation.Linearisation` the options ask for.
+
+    Raises
+    ------
+    UsageError
+        An amplitude, angle or frequency without ``--linearisation equivalent``.
+    """
+    given = [name for name, value in (("--element-amplitude", element_amplitude), ("--element-angle", element_angle),
+                                      ("--element-frequency", element_frequency)) if value is not None]
+    if given and linearisation != "equivalent":
+        raise UsageError(f"{', '.join(given)}: the amplitude and frequency of --linearisation equivalent")
+    from express.forces.linearisation import Linearisation
+
+    default = Linearisation(linearisation)
+    return Linearisation(linearisation,
+                         amplitude=default.amplitude if element_amplitude is None else element_amplitude,
+                         angle=default.angle if element_angle is None else element_angle,
+                         frequency=default.frequency if element_frequency is None else element_frequency)
+
+
+def linearised_vehicle(vehicle: Any, spec: Any) -> Any:
+    """``vehicle`` seen as ``spec`` says (:func:`express.forces.linearisation.linearised`;
+    ``statistical`` is the ride's own iteration, not applied here)."""
+    if spec.kind != "equivalent":
+        return vehicle
+    from express.forces.linearisation import linearised
+
+    return linearised(vehicle, spec)
+
+
 def linearisation(vehicle: Any) -> dict[str, str]:
     """How the linear analyses see the model's nonlinear elements, by element (empty when
     it has none): friction elements stuck, their pre-slip springs in K (the tangent at
     the static state, ``docs/model-format.md``, "Friction elements"); characteristics
-    their tangents at the static state in K or C ("Nonlinear characteristics")."""
+    their tangents at the static state in K or C ("Nonlinear characteristics"); a
+    linearised vehicle (``--linearisation``) its equivalent values."""
+    spec = getattr(vehicle, "linearisation", None)
+    if spec is not None:
+        return {e.element: f"{spec.describe()}: {e.describe().split(': ', 1)[1]}" for e in vehicle.elements}
     facts = vehicle.facts
     seen = dict.fromkeys(facts.stuck, "stuck (pre-slip spring in K: the tangent at the static state)")
     for element, matrix in facts.tangents:  # from the facts: a warm command derives nothing
@@ -300,6 +373,15 @@ def linearisation(vehicle: Any) -> dict[str, str]:
 def note_linearisation(vehicle: Any) -> dict[str, str]:
     """:func:`linearisation`, said once on standard error when there is anything to say."""
     seen = linearisation(vehicle)
+    spec = getattr(vehicle, "linearisation", None)
+    if spec is not None:
+        groups: dict[str, list[str]] = {}  # elements seen alike, said once
+        for e in vehicle.elements:
+            groups.setdefault(e.describe().split(": ", 1)[1], []).append(e.element)
+        shown = "; ".join(f"{names[0]}{f' (and {len(names) - 1} alike)' if len(names) > 1 else ''}: {text}"
+                          for text, names in groups.items())
+        note(f"nonlinear elements seen by this linear analysis as {spec.describe()}: {shown}")
+        return seen
     stuck = [name for name, text in seen.items() if text.startswith("stuck")]
     tangents = [name for name in seen if name not in stuck]
     if stuck:

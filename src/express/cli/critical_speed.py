@@ -92,6 +92,7 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--creep-law", choices=CREEP_LAWS, default="fastsim",
                         help="with --nonlinear and profiles: the creep law (default fastsim)")
     common.add_json_option(parser)
+    common.add_linearisation_arguments(parser)
     parser.set_defaults(handler=run, numeric=True)
 
 
@@ -100,9 +101,10 @@ def run(
     tolerance: float = SEARCH.tolerance,
     conicities: list[float] | None = None, parameter: str = "Gamma", output: str | None = None,
     plot: Path | None = None, as_json: bool = False, nonlinear: bool = False, vstart: float | None = None,
-    creep_law: CreepLaw = "fastsim",
+    creep_law: CreepLaw = "fastsim", linearisation: str = "tangent", element_amplitude: float | None = None, element_angle: float | None = None, element_frequency: float | None = None,
 ) -> int:
     """Find the critical speed (and the sweep) and write the outputs all together."""
+    spec = common.linearisation_spec(linearisation, element_amplitude, element_angle, element_frequency)
     from express.io.output import output_transaction
 
     if not vmax > vmin:
@@ -110,6 +112,8 @@ def run(
     if nonlinear:
         if conicities is not None:
             raise UsageError("--nonlinear and --conicities: choose one")
+        if spec.kind != "tangent":
+            raise UsageError("--nonlinear marches the whole nonlinear elements: --linearisation is for the linear critical speed")
         return _run_nonlinear(model, overrides, vmin, vmax, tolerance, output, plot, as_json, vstart, creep_law)
     if vstart is not None:
         raise UsageError("--vstart is used only with --nonlinear")
@@ -123,7 +127,7 @@ def run(
             transaction.declare(output)
         if plot is not None:
             transaction.declare(plot, binary=True)
-        vehicle = common.load_rail_vehicle(model, overrides, "critical-speed")
+        vehicle = common.linearised_vehicle(common.load_rail_vehicle(model, overrides, "critical-speed"), spec)
         if conicities is not None and parameter not in vehicle.facts.parameters:
             raise UsageError(f"--parameter {parameter}: the model has no such parameter")
         result, sweep = _compute(vehicle, options, conicities, parameter)

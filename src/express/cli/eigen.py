@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 from express.base.diagnostics import AnalysisError, UsageError
 from express.cli import common
@@ -21,6 +22,7 @@ def add_parser(subparsers) -> None:
     common.add_model_arguments(parser)
     parser.add_argument("--speed", type=common.SPEED, metavar="SPEED", help=common.SPEED.help("running speed", "the model's speed"))
     common.add_json_option(parser)
+    common.add_linearisation_arguments(parser)
     parser.add_argument("--mode", type=common.count("--mode", 1, 100000), metavar="N",
                         help="mode number N of the table (1 = least stable) for --plot/--animate")
     parser.add_argument("--plot", type=common.figure_path, metavar="FILE",
@@ -30,8 +32,10 @@ def add_parser(subparsers) -> None:
 
 
 def run(model: Path, overrides: dict[str, str], *, speed: float | None = None, as_json: bool = False,
-        mode: int | None = None, plot: Path | None = None, animate: str | None = None) -> int:
+        mode: int | None = None, plot: Path | None = None, animate: str | None = None,
+        linearisation: str = "tangent", element_amplitude: float | None = None, element_angle: float | None = None, element_frequency: float | None = None) -> int:
     """Print the modes (and draw one); returns the exit status."""
+    spec = common.linearisation_spec(linearisation, element_amplitude, element_angle, element_frequency)
     if (plot or animate) and mode is None:
         raise UsageError("--plot and --animate draw one mode: give --mode N")
     if animate and Path(animate).suffix.lower() not in (".gif", ".html"):
@@ -45,24 +49,24 @@ def run(model: Path, overrides: dict[str, str], *, speed: float | None = None, a
             for path in (plot, animate):
                 if path is not None:
                     outputs.declare(path, binary=True)
-            status = _table(model, overrides, speed, as_json)
-            _draw_mode(model, overrides, speed, mode, plot, animate)
+            status = _table(model, overrides, speed, as_json, spec)
+            _draw_mode(model, overrides, speed, mode, plot, animate, spec)
         for path in (plot, animate):
             if path is not None:
                 common.note(f"wrote {path}")
         return status
-    return _table(model, overrides, speed, as_json)
+    return _table(model, overrides, speed, as_json, spec)
 
 
 def _draw_mode(model: Path, overrides: dict[str, str], speed: float | None, number: int,
-               plot: Path | None, animate: str | None) -> None:
+               plot: Path | None, animate: str | None, spec: Any) -> None:
     from express.analysis.plots import save_figure
     from express.analysis.stability import eigen_analysis
     from express.cli.draw import model_geometry_of
     from express.drawing.modes import animate_mode_shape, figure_mode_shape, mode_shape
     from express.io.output import write_bytes
 
-    vehicle = common.load_rail_vehicle(model, overrides, "eigen")
+    vehicle = common.linearised_vehicle(common.load_rail_vehicle(model, overrides, "eigen"), spec)
     v = common.running_speed(vehicle, speed)
     shape = mode_shape(vehicle, v, number)  # ArgumentError names the modes there are
     label = eigen_analysis(vehicle, v).modes[number - 1].kind
@@ -73,11 +77,11 @@ def _draw_mode(model: Path, overrides: dict[str, str], speed: float | None, numb
         write_bytes(animate, animate_mode_shape(geometry, shape, Path(animate).suffix.lower(), label))
 
 
-def _table(model: Path, overrides: dict[str, str], speed: float | None, as_json: bool) -> int:
+def _table(model: Path, overrides: dict[str, str], speed: float | None, as_json: bool, spec: Any) -> int:
     from express.analysis.stability import eigen_analysis
     from express.numeric.statespace import load_vehicle
 
-    vehicle = load_vehicle(model, overrides)  # any model: without rail data A has no speed
+    vehicle = common.linearised_vehicle(load_vehicle(model, overrides), spec)  # any model: without rail data A has no speed
     rail = vehicle.layout is not None and bool(vehicle.wheelsets)
     v: float | None = common.running_speed(vehicle, speed) if rail else None
     try:

@@ -50,6 +50,7 @@ def add_parser(subparsers) -> None:
     parser.add_argument("-o", "--output", metavar="FILE", help="amplitudes and phases as CSV (- for standard output)")
     parser.add_argument("--plot", type=common.figure_path, metavar="FILE", help="figure (.png, .svg or .pdf)")
     common.add_json_option(parser)
+    common.add_linearisation_arguments(parser)
     parser.set_defaults(handler=run, numeric=True)
 
 
@@ -57,7 +58,7 @@ def run(
     model: Path, overrides: dict[str, str], *, fmin: float = 0.1, fmax: float = 20.0, points: int = 200,
     amplitude: float = 1e-3, speed: float | None = None, dofs: list[str] | None = None,
     output: str | None = None, plot: Path | None = None, as_json: bool = False,
-    components: list[str] | None = None, log: bool = False,
+    components: list[str] | None = None, log: bool = False, linearisation: str = "tangent", element_amplitude: float | None = None, element_angle: float | None = None, element_frequency: float | None = None,
 ) -> int:
     """Compute the response and write the outputs all together; returns the exit status."""
     import numpy as np
@@ -65,6 +66,7 @@ def run(
     from express.io.output import output_transaction, write_csv
 
     dofs = list(dofs or [])
+    spec = common.linearisation_spec(linearisation, element_amplitude, element_angle, element_frequency)
     if not fmax > fmin:
         raise UsageError(f"--fmax {fmax:g} Hz: must be above --fmin {fmin:g} Hz")
     if output == "-" and as_json:
@@ -79,7 +81,7 @@ def run(
             transaction.declare(plot, binary=True)
         from express.numeric.statespace import load_vehicle
 
-        vehicle = load_vehicle(model, overrides)  # any model: without rail data, from its ground inputs
+        vehicle = common.linearised_vehicle(load_vehicle(model, overrides), spec)  # any model: from its ground inputs
         rail = vehicle.layout is not None and bool(vehicle.wheelsets)
         v = common.running_speed(vehicle, speed) if rail else float("nan")
         frequencies = np.geomspace(fmin, fmax, points)
@@ -96,6 +98,7 @@ def run(
             _figure(vehicle, frequencies, series, amplitude, v, plot, log)
     for path in [p for p in (output, plot) if p is not None and str(p) != "-"]:
         common.note(f"wrote {path}")
+    seen = common.note_linearisation(vehicle)
     peaks = {}
     for name, (values, unit) in series.items():
         k = int(np.argmax(np.abs(values)))
@@ -103,7 +106,7 @@ def run(
     if as_json:
         common.print_json({
             "model": str(model), "speed": v if v == v else None, "speed_kmh": v / common.KMH if v == v else None,
-            "amplitude": amplitude,
+            "amplitude": amplitude, "linearisation": seen,
             "frequencies": frequencies,
             "outputs": {name: {"unit": unit, "amplitude": np.abs(values), "phase_deg": np.degrees(np.angle(values))}
                         for name, (values, unit) in series.items()},

@@ -9,7 +9,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from express.base.diagnostics import ModelError, Problem, UsageError
+from express.base.diagnostics import AnalysisError, ModelError, Problem, UsageError
 from express.cli import common
 
 __all__ = ["MAX_POINTS", "TRACK_CLASSES", "add_parser", "read_psd_table", "run"]
@@ -54,25 +54,31 @@ def add_parser(subparsers) -> None:
                         help="with flexible bodies: the floor RMS and N_MV with 0, 1, ... of their modes kept, "
                         "by frequency (a dropped mode's shapes set to zero; docs/ride.md, 'How many modes')")
     common.add_json_option(parser)
+    common.add_linearisation_arguments(parser, statistical=True)
     parser.set_defaults(handler=run, numeric=True)
 
 
 def run(
     model: Path, overrides: dict[str, str], *, track: str, speed: float | None = None, fmin: float = 0.1,
     fmax: float = 50.0, points: int = 2000, output: str | None = None, plot: Path | None = None,
-    as_json: bool = False, modes_convergence: bool = False,
+    as_json: bool = False, modes_convergence: bool = False, linearisation: str = "tangent", element_amplitude: float | None = None, element_angle: float | None = None, element_frequency: float | None = None,
 ) -> int:
     """Compute the response and write the outputs all together; returns the exit status."""
     import numpy as np
+
+    spec = common.linearisation_spec(linearisation, element_amplitude, element_angle, element_frequency)
 
     if modes_convergence:
         if output is not None or plot is not None:
             raise UsageError("--modes-convergence prints a table (or --json); -o and --plot go without it")
         if not fmax > fmin:
             raise UsageError(f"--fmax {fmax:g} Hz: must be above --fmin {fmin:g} Hz")
-        return _modes_convergence(model, overrides, track, speed, np.geomspace(fmin, fmax, points), as_json)
+        if spec.kind == "statistical":
+            raise UsageError("--modes-convergence: with --linearisation tangent or equivalent (the statistical "
+                             "iteration is of one response)")
+        return _modes_convergence(model, overrides, track, speed, np.geomspace(fmin, fmax, points), as_json, spec)
     from express.analysis.ride.summaries import point_comfort, wheel_forces
-    from express.analysis.ride.vehicle import linear_instability, ride_response
+    from express.analysis.ride.vehicle import linear_instability
     from express.io.finite import require_finite
     from express.io.output import output_transaction
 
@@ -86,13 +92,13 @@ def run(
             if path is not None:
                 transaction.declare(path, binary=binary)
         spectra, track_name = _spectra(track, table)
-        vehicle = common.load_rail_vehicle(model, overrides, "ride")
+        vehicle = common.linearised_vehicle(common.load_rail_vehicle(model, overrides, "ride"), spec)
         v = common.running_speed(vehicle, speed)
         instability = linear_instability(vehicle, v)
         if instability is not None:  # no PSD exists: the nonlinear run's ride, nothing written
             nonlinear = _nonlinear(vehicle, spectra, v)
         else:
-            response = ride_response(vehicle, spectra, v, np.geomspace(fmin, fmax, points))
+            response, vehicle = _response(vehicle, spectra, v, np.geomspace(fmin, fmax, points), spec)
             require_finite("ride: the response PSD (output x frequency)", response.psd)  # before the comfort sums
             comfort = point_comfort(response)
             wheels = wheel_forces(response, vehicle)
@@ -105,7 +111,8 @@ def run(
                                  [p for p in (output, plot) if p is not None])
     for path in [p for p in (output, plot) if p is not None and str(p) != "-"]:
         common.note(f"wrote {path}")
-    summary = _summary(model, track_name, response, comfort, wheels)
+    summary = {**_summary(model, track_name, response, comfort, wheels),
+               "linearisation": common.note_linearisation(vehicle)}
     if as_json:
         common.print_json(summary)
     else:
@@ -113,6 +120,22 @@ def run(
     for line in summary["notes"]:
         common.note(f"note: {line}")
     return 0
+
+
+def _response(vehicle: Any, spectra: dict, speed: float, frequencies: Any, spec: Any) -> tuple[Any, Any]:
+    """The ride response and the vehicle it is of: with ``--linearisation statistical``
+    the fixed point of :func:`express.analysis.ride.statistical.statistical_ride`."""
+    if spec.kind != "statistical":
+        from express.analysis.ride.vehicle import ride_response
+
+        return ride_response(vehicle, spectra, speed, frequencies), vehicle
+    from express.analysis.ride.statistical import statistical_ride
+
+    result = statistical_ride(vehicle, spectra, speed, frequencies)
+    if not result.success:
+        raise AnalysisError(f"ride: --linearisation statistical: {result.message}")
+    common.note(f"statistical linearisation: {result.message} after {result.iterations} iterations")
+    return result.response, result.vehicle
 
 
 def _nonlinear(vehicle: Any, spectra: dict, speed: float) -> Any:
@@ -154,14 +177,14 @@ def _report_nonlinear(model: Path, name: str, track: str, instability: str, ride
 
 
 def _modes_convergence(model: Path, overrides: dict[str, str], track: str, speed: float | None, frequencies: Any,
-                       as_json: bool) -> int:
+                       as_json: bool, spec: Any) -> int:
     """``--modes-convergence``: the comfort with 0, 1, ... modes kept
     (:func:`express.analysis.ride.mode_count.mode_count_convergence`)."""
     from express.analysis.ride.mode_count import mode_count_convergence
     from express.base.diagnostics import ArgumentError
 
     spectra, track_name = _spectra(track, _is_table(track))
-    vehicle = common.load_rail_vehicle(model, overrides, "ride")
+    vehicle = common.linearised_vehicle(common.load_rail_vehicle(model, overrides, "ride"), spec)
     v = common.running_speed(vehicle, speed)
     try:
         steps = mode_count_convergence(vehicle, spectra, v, frequencies)

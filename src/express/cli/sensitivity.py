@@ -34,13 +34,16 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--plot", type=common.figure_path, metavar="FILE",
                         help="critical speed: ranked tornado chart with the elasticities (.png, .svg, .pdf)")
     common.add_json_option(parser)
+    common.add_linearisation_arguments(parser)
     parser.set_defaults(handler=run, numeric=True)
 
 
 def run(model: Path, overrides: dict[str, str], *, quantity: str = "critical-speed", parameters: list[str] | None = None,
         speed: float | None = None, vmin: float = common.SEARCH.v_min, vmax: float = common.SEARCH.v_max,
-        plot: Path | None = None, as_json: bool = False, every: bool = False) -> int:
+        plot: Path | None = None, as_json: bool = False, every: bool = False,
+        linearisation: str = "tangent", element_amplitude: float | None = None, element_angle: float | None = None, element_frequency: float | None = None) -> int:
     """Compute and print the sensitivities; returns the exit status."""
+    spec = common.linearisation_spec(linearisation, element_amplitude, element_angle, element_frequency)
     from express.io.output import output_transaction
 
     if not vmax > vmin:
@@ -52,7 +55,7 @@ def run(model: Path, overrides: dict[str, str], *, quantity: str = "critical-spe
     with output_transaction([model]) as transaction:
         if plot is not None:
             transaction.declare(plot, binary=True)
-        vehicle = common.load_rail_vehicle(model, overrides, "sensitivity")
+        vehicle = common.linearised_vehicle(common.load_rail_vehicle(model, overrides, "sensitivity"), spec)
         names = _names(vehicle, parameters)
         if quantity == "critical-speed":
             summary = _critical(vehicle, names, vmin, vmax, plot)
@@ -62,7 +65,7 @@ def run(model: Path, overrides: dict[str, str], *, quantity: str = "critical-spe
             summary = _design_only(vehicle, summary)
     if plot is not None:
         common.note(f"wrote {plot}")
-    summary = {"model": str(model), **summary}
+    summary = {"model": str(model), **summary, "linearisation": common.note_linearisation(vehicle)}
     if as_json:
         common.print_json(summary)
     else:

@@ -52,7 +52,7 @@ def jenkin_describing(stiffness: float, limit: float, amplitude: float) -> tuple
     if L <= 0.0:  # no friction: the slider slips freely, the spring carries nothing
         return 0.0, 0.0
     d = L / k
-    if X <= d:
+    if d >= X:
         return k, 0.0
     p = math.acos(1.0 - 2.0 * d / X)
     return k / math.pi * (p - 0.5 * math.sin(2.0 * p)), 4.0 * L / (math.pi * X) * (1.0 - d / X)

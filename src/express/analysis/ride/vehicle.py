@@ -44,6 +44,9 @@ Outputs
   elements between the vehicle and the rail grounds of W, on the vehicle (+ up: more
   load); with one ground ``<W>_rail`` each wheel carries half of it.  Absent when the
   model has no vertical rail inputs.
+- ``<E>.deflection``, ``<E>.rate``: deflection [m; rad] and its rate of every friction
+  element and characteristic E (:func:`express.forces.linearisation.nonlinear_rows`),
+  what the statistical linearisation of :mod:`.statistical` reads.
 
 Each output is ``y = (D0 + i w D1 - w^2 D2) q + (E0 + i w E1) u`` and the state
 ``x = [q; q_D']`` solves ``(i w I - A) x = (B + i w Bd) u`` (:func:`.spectral.coordinate_response`: by modal superposition
@@ -78,6 +81,7 @@ from express.base.data import DataRecord, columns_frame
 from express.base.diagnostics import AnalysisError, InputError
 from express.base.names import did_you_mean
 from express.base.units import si_argument, si_arguments
+from express.forces.linearisation import nonlinear_rows
 from express.model.modal_body import modal_motion
 from express.model.parameters import expression_value
 from express.model.records import ElementKind, Model
@@ -325,6 +329,9 @@ def point_rows(vehicle: VehicleModel, body_id: str, offset, what: str, point: st
     return rows
 
 
+_AT_TANGENT = (ElementKind.PARALLEL, ElementKind.FRICTION, ElementKind.CHARACTERISTIC)
+
+
 def _wheel_load_rows(vehicle: VehicleModel, inputs: RailInputs, rows: _Rows) -> dict[str, tuple[str, ...]]:
     """``<W>.dQL``, ``<W>.dQR`` from the z elements between the vehicle and the rail grounds."""
     model = _model(vehicle)
@@ -332,12 +339,16 @@ def _wheel_load_rows(vehicle: VehicleModel, inputs: RailInputs, rows: _Rows) -> 
     hosts = {point.id: point.host for point in model.points}
     points = {point.id: point for point in model.points}
     loads: dict[str, dict[str, np.ndarray]] = {}  # body -> side -> [k dq, c dq, k du, c du]
+    # a friction element or characteristic: its tangent is its stiffness (or damping); a
+    # linearised vehicle's equivalent changes them as it changes K and C
+    seen = {e.element: (e.stiffness - (e.tangent if e.matrix == "K" else 0.0),
+                        e.damping - (e.tangent if e.matrix == "C" else 0.0)) for e in getattr(vehicle, "elements", ())}
     for element in model.elements:
         on_ground = [hosts.get(end) in inputs.rail_grounds for end in (element.s_end, element.t_end)]
         if on_ground[0] == on_ground[1] or element.rotational or element.direction != 2 or element.vector is not None:
             continue
         what = f"element {element.id} (to a rail ground)"
-        if element.kind is not ElementKind.PARALLEL:
+        if element.kind not in _AT_TANGENT:
             raise InputError(f"{what}: a series or clearance element cannot carry the wheel load in a ride analysis")
         body, side = inputs.rail_grounds[hosts[element.s_end if on_ground[0] else element.t_end]]
         if not side:  # one ground under both wheels: the side of the element's wheel end (+y left)
@@ -351,8 +362,9 @@ def _wheel_load_rows(vehicle: VehicleModel, inputs: RailInputs, rows: _Rows) -> 
                 delta_u[vehicle.inputs.index(name)] += sign * _value(vehicle, coefficient, what)
         # the element's force on its vehicle end, + up: -(k d + c d') on S, +(k d + c d') on T
         on_vehicle = -1.0 if on_ground[1] else 1.0
-        k = on_vehicle * _value(vehicle, element.stiffness, what)
-        c = on_vehicle * _value(vehicle, element.damping, what)
+        k_seen, c_seen = seen.get(element.id, (0.0, 0.0))
+        k = on_vehicle * (_value(vehicle, element.stiffness, what) + k_seen)
+        c = on_vehicle * (_value(vehicle, element.damping, what) + c_seen)
         parts = loads.setdefault(body, {}).setdefault(side, np.zeros(2 * (n + m)))
         parts += np.concatenate([k * delta_q, c * delta_q, k * delta_u, c * delta_u])
     for body, by_side in loads.items():
@@ -379,6 +391,10 @@ def _output_rows(vehicle: VehicleModel, inputs: RailInputs, speed: float) -> tup
         relative[w.y], rail[vehicle.inputs.index(f"{w.name}.yR")] = 1.0, -1.0
         rows.add(f"{w.name}.y_rel", "m", d0=relative, e0=rail)
     sides = _wheel_load_rows(vehicle, inputs, rows)
+    for element in nonlinear_rows(vehicle):  # what the statistical linearisation reads
+        unit = "rad" if element.rotational else "m"
+        rows.add(f"{element.element}.deflection", unit, d0=element.gradient, e0=element.inputs)
+        rows.add(f"{element.element}.rate", f"{unit}/s", d1=element.gradient, e1=element.inputs)
     return rows, directions, sides
 
 

@@ -109,8 +109,13 @@ _QUANTITIES = {
     "frf_amplitude": ("length", 1e-3, 1e-9, 0.1),
     "curve_radius": ("length", 600.0, 1.0, 1e6),
     "curve_cant": ("length", 0.0, -0.3, 0.3),
+    "element_amplitude": ("length", 1e-3, 1e-9, 1.0),
+    "element_angle": ("angle", 1e-3, 1e-9, 1.0),
+    "element_frequency": ("frequency", 2.0, 1e-4, 1000.0),
 }
-_OTHERS = ("points", "check", "track", "frf_output", "frf_input", "frf_points", "step_check")
+_OTHERS = ("points", "check", "track", "frf_output", "frf_input", "frf_points", "step_check", "linearisation")
+#: The outputs of the linear analyses: the only ones ``linearisation = "equivalent"`` applies to.
+LINEAR_OUTPUTS = tuple(name for name, (_unit, kind) in OUTPUTS.items() if kind in ("critical", "eigen", "frf"))
 #: Track components of ``frf_input`` and the acceleration axis reported for each.
 _FRF_INPUTS = {"alignment": "y", "vertical": "z", "cross_level": "y", "gauge": "y"}
 
@@ -149,6 +154,17 @@ class OutputSettings:
     curve_radius: float = 600.0
     curve_cant: float = 0.0
     step_check: bool = True
+    linearisation: str = "tangent"
+    element_amplitude: float = 1e-3
+    element_angle: float = 1e-3
+    element_frequency: float = 2.0
+
+    @property
+    def linearisation_spec(self) -> Any:
+        """The :class:`express.forces.linearisation.Linearisation` of ``linearisation``."""
+        from express.forces.linearisation import Linearisation
+
+        return Linearisation(self.linearisation, self.element_amplitude, self.element_angle, self.element_frequency)
 
     @property
     def critical(self) -> CriticalOptions:
@@ -198,6 +214,12 @@ class OutputSettings:
             elif key == "frf_input":
                 if raw not in _FRF_INPUTS:
                     problems.append((key, f"must be one of {', '.join(_FRF_INPUTS)}, got {raw!r}"))
+                else:
+                    values[key] = raw
+            elif key == "linearisation":
+                if raw not in ("tangent", "equivalent"):
+                    problems.append((key, f'must be "tangent" or "equivalent" (the statistical one is the ride\'s), '
+                                          f"got {raw!r}"))
                 else:
                     values[key] = raw
             elif key == "step_check":

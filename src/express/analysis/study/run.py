@@ -121,7 +121,8 @@ def parameter_units(spec: StudySpec) -> dict[str, str]:
 
 def _metadata(spec: StudySpec) -> dict[str, str]:
     return {"study": spec.text, "study_file": spec.path.name, "model": spec.model.name, "kind": spec.kind,
-            "title": spec.title, "software": f"EXPRESS {__version__}"}
+            "title": spec.title, "software": f"EXPRESS {__version__}",
+            "linearisation": spec.settings.linearisation_spec.describe()}
 
 
 def _progress(total: int, done: int, enabled: bool):

@@ -152,6 +152,10 @@ class _Worker:
         if task.track_text is not None and task.track_name is not None:
             settings = replace(settings, track=_materialise(None, task.track_name, task.track_text, task.key))
         self.base = load_vehicle(model)
+        if settings.linearisation != "tangent":  # with_values re-linearises each point
+            from express.forces.linearisation import linearised
+
+            self.base = linearised(self.base, settings.linearisation_spec)
         self.names = task.names
         self.fixed = dict(task.fixed)
         self.output_names = task.outputs

@@ -207,9 +207,32 @@ def _pencil_derivatives(vehicle: VehicleModel, speed: float, eigenvalues, state_
     per_symbol = derivatives.contract(derivatives(values), lam, left, right)  # (symbols, E)
     rates = _rates(vehicle, names)
     jacobian = np.array([rates.get(q, np.zeros(len(names))) for q in derivatives.parameters]).reshape(-1, len(names))
-    result = -(jacobian.T @ per_symbol) / scale
+    result = -(jacobian.T @ per_symbol + _equivalent_terms(vehicle, names, lam, left, right)) / scale
     speed_rate = -np.einsum("ik,ik->k", left.conj(), (-vehicle.damping_creep / speed**2) @ right) * lam / scale
     return result, speed_rate
+
+
+def _equivalent_terms(vehicle: VehicleModel, names: Sequence[str], lam: np.ndarray, left: np.ndarray,
+                      right: np.ndarray) -> np.ndarray:
+    """``u^H (lambda dDC/dp + dDK/dp) x``, shape (len(names), E), of the equivalent
+    elements of a vehicle linearised by ``--linearisation equivalent``
+    (:class:`~express.forces.linearisation.LinearisedVehicle`): the change ``DK``, ``DC``
+    from the tangents follows the describing functions, not the symbols, so it is
+    differenced (central, step ``1e-6`` of the value); zero for any other vehicle."""
+    terms = np.zeros((len(names), lam.size), dtype=complex)
+    if getattr(vehicle, "tangent_vehicle", None) is None:
+        return terms
+    for i, name in enumerate(names):
+        value = float(vehicle.values[name])
+        step = 1e-6 * (abs(value) or 1.0)
+        ends = []
+        for x in (value + step, value - step):
+            seen = vehicle.with_values({name: x})
+            base = getattr(seen, "tangent_vehicle", None) or seen
+            ends.append((seen.stiffness - base.stiffness, seen.damping_base - base.damping_base))
+        dk, dc = ((a - b) / (2 * step) for a, b in zip(ends[0], ends[1], strict=True))
+        terms[i] = np.einsum("ik,ik->k", left.conj(), dk @ right + (dc @ right) * lam)
+    return terms
 
 
 def eigenvalue_derivatives(

@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Literal, cast, get_args
 
-from express.analysis.study.outputs import OUTPUTS, RENAMED_OUTPUTS, OutputSettings, renamed_message
+from express.analysis.study.outputs import LINEAR_OUTPUTS, OUTPUTS, RENAMED_OUTPUTS, OutputSettings, renamed_message
 from express.base.diagnostics import ModelError, Problem
 from express.base.names import did_you_mean
 from express.io.toml_lines import find_line, line_index, parse_toml
@@ -189,6 +189,11 @@ def parse_study(text: str, path: str | Path) -> StudySpec:
     model = _model(check, study, path)
     outputs = _outputs(check, study)
     settings = _settings(check, study.get("options", {}), path)
+    run_outputs = [name for name in outputs if name not in LINEAR_OUTPUTS]
+    if settings.linearisation != "tangent" and run_outputs:
+        check.add(("options", "linearisation"), "study.options.linearisation",
+                  f"the equivalent linearisation is of the linear outputs; {', '.join(run_outputs)} march the whole "
+                  "nonlinear elements: compute them in a study without it")
     parameters: tuple[ParameterRange, ...] = ()
     fixed: dict[str, float] = {}
     if model is not None:

@@ -85,6 +85,10 @@ def run_forces(vehicle: VehicleModel, inputs: TrackInputs, speed: float, *, tabl
         without them friction elements are stuck and characteristics are their tangents at
         the static state, as the linear analyses see them.
     """
+    if clearances and getattr(vehicle, "tangent_vehicle", None) is not None:
+        raise ArgumentError("a vehicle linearised for the linear analyses (express.forces.linearisation) holds its "
+                            "nonlinear elements' equivalents in K and C; a run marches the whole elements: give its "
+                            ".tangent_vehicle")
     coordinates = wheelset_coordinates(vehicle, inputs.y_rail, inputs.rho_wheelsets, speed)
     elements: list[ForceElement] = []
     kind = None
