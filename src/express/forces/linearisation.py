@@ -135,7 +135,8 @@ class ElementLinearisation:
     def describe(self) -> str:
         """One line: the element's equivalent values."""
         unit = ("N m/rad", "N m s/rad") if self.kind.endswith("(rotational)") else ("N/m", "N s/m")
-        return (f"{self.element}: tangent {self.tangent:.6g} in {self.matrix}; k_eq {self.stiffness:.6g} {unit[0]}, "
+        held = f"{'k' if self.matrix == 'K' else 'c'} {self.tangent:.6g} {unit[0] if self.matrix == 'K' else unit[1]}"
+        return (f"{self.element}: tangent {held} in {self.matrix}; k_eq {self.stiffness:.6g} {unit[0]}, "
                 f"c_eq {self.damping:.6g} {unit[1]}")
 
 

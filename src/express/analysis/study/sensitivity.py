@@ -218,13 +218,14 @@ def _equivalent_terms(vehicle: VehicleModel, names: Sequence[str], lam: np.ndarr
     elements of a vehicle linearised by ``--linearisation equivalent``
     (:class:`~express.forces.linearisation.LinearisedVehicle`): the change ``DK``, ``DC``
     from the tangents follows the describing functions, not the symbols, so it is
-    differenced (central, step ``1e-6`` of the value); zero for any other vehicle."""
+    differenced (central, step ``1e-4`` of the value: truncation ~1e-8 relative, against
+    rounding ~1e-12 / 1e-4); zero for any other vehicle."""
     terms = np.zeros((len(names), lam.size), dtype=complex)
     if getattr(vehicle, "tangent_vehicle", None) is None:
         return terms
     for i, name in enumerate(names):
         value = float(vehicle.values[name])
-        step = 1e-6 * (abs(value) or 1.0)
+        step = 1e-4 * (abs(value) or 1.0)
         ends = []
         for x in (value + step, value - step):
             seen = vehicle.with_values({name: x})
