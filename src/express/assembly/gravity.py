@@ -304,7 +304,7 @@ def gravity_terms(model: Model, static_equations: GenerationResult | None,
     terms: list[tuple[str, str, sp.Expr]] = []
     forces: list[tuple[str, str, sp.Expr]] = []
     for element in model.elements:
-        if element.vector is not None:
+        if element.vector is not None and not element.rotational:
             terms += _line_terms(model, element, preloads.get(element.id))
             continue
         force = preloads.get(element.id)

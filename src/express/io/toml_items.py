@@ -28,7 +28,7 @@ __all__ = ["TomlReader", "check_id", "cut_text", "entries", "read_items", "show_
 BODY_KEYS = ("mass", "inertia", "dofs", "position", "label", "outline")
 POINT_KEYS = ("body", "offset")
 ELEMENT_KEYS = ("from", "to", "direction", "stiffness", "damping", "label", "series", "gap", "progressive", "friction",
-                "air_spring", "characteristic", "preload")
+                "air_spring", "characteristic", "preload", "bushing")
 PIN_KEYS = ("virtual", "non_virtual")
 DIRECTIONS = {"x": 0, "y": 1, "z": 2, "1": 0, "2": 1, "3": 2}
 ROTATIONS = {"rx": 0, "ry": 1, "rz": 2}
@@ -179,6 +179,11 @@ def read_items(reader: TomlReader, data: dict, base: tuple[str, ...] = ()):
         )
     elements = []
     for element_id, path, item, spec in entries(reader, data.get("elements", {}), "elements", "TSD", ELEMENT_KEYS, base):
+        if "bushing" in spec:  # one element per axis of its frame (express.io.toml_bushings)
+            from express.io.toml_bushings import read_bushing
+
+            elements.extend(read_bushing(reader, element_id, path, item, spec))
+            continue
         element = read_element(reader, element_id, path, item, spec)
         if element.vector is not None or element.preload != 0:
             from express.io.toml_line_elements import check_line
@@ -207,16 +212,16 @@ def read_element(reader: TomlReader, element_id: str, path: tuple[str, ...], ite
     """One element: translational or rotational, plain, series, clearance or friction."""
     direction = spec.get("direction")
     name = str(direction) if not isinstance(direction, (bool, float, list)) else ""
-    rotational = name in ROTATIONS
+    rotational = name in ROTATIONS or isinstance(direction, dict)
     axis = ROTATIONS.get(name, DIRECTIONS.get(name))
     vector, through_ends = None, False
-    if isinstance(direction, list) or direction == "line":  # along a line (express.assembly.lines)
+    if isinstance(direction, (list, dict)) or direction == "line":  # along a line, about a vector (express.assembly.lines)
         from express.io.toml_line_elements import read_direction
 
         vector, through_ends, axis = read_direction(reader, path, item, direction)
     if axis is None:
         reader.problem(
-            path + ("direction",), item, f"direction must be x, y, z (or 1, 2, 3), rx, ry or rz, a vector [dx, dy, dz] or \"line\", "
+            path + ("direction",), item, f"direction must be x, y, z (or 1, 2, 3), rx, ry or rz, a vector [dx, dy, dz], \"line\" or {{ about = [dx, dy, dz] }}, "
             f"got {show_value(direction)}"
         )
         axis = 0

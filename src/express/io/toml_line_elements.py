@@ -1,4 +1,5 @@
-"""Reading elements along a line (``direction = [dx, dy, dz]`` or ``"line"``) and their
+"""Reading elements along a line (``direction = [dx, dy, dz]`` or ``"line"``), rotational
+elements about a vector (``direction = { about = [dx, dy, dz] }``) and the lines'
 given ``preload`` (:mod:`express.assembly.lines`); problems go to the reader (the
 :class:`express.io.toml_items.TomlReader`, which calls these) with the element's line."""
 
@@ -24,6 +25,15 @@ def read_direction(reader: Any, path: tuple[str, ...], item: str, direction: Any
     vector [-] (exact expressions, not normalised) or, for ``"line"``, None until its
     ends are known (:func:`check_line`)."""
     where = path + ("direction",)
+    if isinstance(direction, dict):  # { about = [dx, dy, dz] }: a rotational element about that axis
+        reader.unknown_keys(direction, ("about",), where, item)
+        if "about" not in direction:
+            reader.problem(where, item, "a rotational element about a vector is direction = { about = [dx, dy, dz] }")
+            return (sp.S.Zero, sp.S.Zero, sp.S.One), False, 2
+        vector = reader.vector(direction["about"], where + ("about",), item, "direction about")
+        if all(sp.sympify(c) == 0 for c in vector):
+            reader.problem(where, item, "direction about the zero vector gives no axis")
+        return vector, False, _first_axis(vector)
     if direction == "line":
         return (sp.S.Zero, sp.S.Zero, sp.S.Zero), True, 2
     vector = reader.vector(direction, where, item, "direction")

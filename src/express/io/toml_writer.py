@@ -68,9 +68,11 @@ _BARE_KEY = re.compile(r"[A-Za-z0-9_-]+\Z")
 
 
 def _direction(element) -> str:
-    """An element's ``direction``: its axis, ``"line"`` or its vector."""
+    """An element's ``direction``: its axis, ``"line"``, its vector or the vector it turns about."""
     if element.vector is None:
         return toml_string(element.axis_name)
+    if element.rotational:
+        return f"{{ about = {_vector(element.vector)} }}"
     return '"line"' if element.through_ends else _vector(element.vector)
 
 

@@ -559,14 +559,19 @@ def _check_element_kinds(model: Model, hosts: dict[str, str], bodies: dict[str, 
     for element in model.elements:
         item = f"TSD {element.id}"
         if element.rotational:
+            axes = [element.axis_name] if element.vector is None else [
+                "r" + "xyz"[a] for a, c in enumerate(element.vector) if sp.sympify(c) != 0]
             for end_name, end in (("S_End", element.s_end), ("T_End", element.t_end)):
                 body = bodies.get(hosts.get(end, ""))
-                if body is not None and element.axis_name not in body.dofs:
-                    problems.append(Problem(
-                        model.source, element.line, item,
-                        f"rotational element about {element.axis_name}: its {end_name} {end} is on body "
-                        f"{body.id}, which has no {element.axis_name} DOF",
-                    ))
+                if body is None:
+                    continue
+                for axis in axes:
+                    if axis not in body.dofs:
+                        problems.append(Problem(
+                            model.source, element.line, item,
+                            f"rotational element about {axis}: its {end_name} {end} is on body "
+                            f"{body.id}, which has no {axis} DOF",
+                        ))
         if element.series:
             for what, value in (("stiffness", element.stiffness), ("damping", element.damping)):
                 if sp.sympify(value) == 0:
