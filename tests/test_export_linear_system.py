@@ -65,6 +65,15 @@ def test_a_speed_that_is_not_positive_is_refused(vehicle, speed):
         numeric_matrices(vehicle, speed)
 
 
+def test_a_speed_with_a_unit_is_the_same_system(vehicle):
+    """``"108 km/h"`` is 30 m/s (issue 35: quantities accepted, never the command line's
+    km/h for bare numbers)."""
+    system, si = linear_system(vehicle, "108 km/h"), linear_system(vehicle, 30.0)
+    assert system.speed == 30.0 and np.array_equal(system.A, si.A) and np.array_equal(system.B, si.B)
+    with pytest.raises(ValueError, match="speed"):
+        linear_system(vehicle, "30 m")
+
+
 def test_the_files_matrices_are_the_linear_systems(vehicle):
     """The file's A is linear_system's, its B and Bd the vehicle's input matrices (the
     system's B + A Bd is not stored: it is not built for the file)."""

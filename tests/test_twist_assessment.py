@@ -186,3 +186,18 @@ def test_the_wagon_twist_assessment_takes_under_2_s():
     assert elapsed < 2.0
     assert found.twist.describe() == "g* 3.41 mm/m over 2a* 14.2 m + g+ 7 mm/m over 2a+ 1.8 m"
     assert found.assessment.criteria[0].value == pytest.approx(2.0669, rel=1e-3)  # regression guard
+
+
+def test_the_loads_take_quantities_as_the_library_does(two_axle):
+    """``distance`` and ``speed`` as text or pint quantities give the SI numbers' loads
+    (issue 35: units in the library are explicit)."""
+    import pint
+
+    units = pint.UnitRegistry()
+    track = twisted_track(0.003, 30.0)
+    si = quasi_static_loads(two_axle, track, 70.0, 20.0)
+    for distance, speed in (("70 m", "72 km/h"), (70.0 * units.meter, 20.0 * units.meter / units.second)):
+        found = quasi_static_loads(two_axle, track, distance, speed)
+        assert found.distance == 70.0 and np.array_equal(found.delta_q, si.delta_q)
+    with pytest.raises(ArgumentError, match="distance"):
+        quasi_static_loads(two_axle, track, "70 s")

@@ -106,7 +106,7 @@ def numeric_matrices(vehicle: VehicleModel, speed: float) -> dict[str, Any]:
     Keys: ``M, C, K, P, Pd`` (the vehicle's equations), ``A, B, Bd`` (state space with
     input rates), ``speed`` [m/s], ``dofs`` and ``inputs`` (names).
     """
-    check_speed(speed)
+    speed = check_speed(speed)
     return {  # A as in linear_system, without its B + A Bd product and identity C (a long train's are dense)
         "M": vehicle.mass,
         "C": vehicle.damping(speed),

@@ -5,12 +5,14 @@ definition that the exports and the control plant
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from express.base.data import DataRecord, columns_frame, variable, xarray
+from express.base.diagnostics import ArgumentError
 from express.numeric.statespace import VehicleModel
 
 __all__ = ["LinearSystem", "check_speed", "linear_system"]
@@ -77,14 +79,14 @@ class LinearSystem(DataRecord):
 
 
 def linear_system(vehicle: VehicleModel, speed: float) -> LinearSystem:
-    """The vehicle's linear model at ``speed`` [m/s] with the input rates removed.
+    """The vehicle's linear model at ``speed`` [m/s; or a quantity] with the input rates removed.
 
     Raises
     ------
-    ValueError
-        If ``speed`` is not a positive finite number.
+    ArgumentError
+        If ``speed`` is not a positive finite speed (a ``ValueError``).
     """
-    check_speed(speed)
+    speed = check_speed(speed)
     a = vehicle.state_matrix(speed)
     b = vehicle.input_matrix(speed)
     bd = vehicle.input_rate_matrix(speed)
@@ -102,6 +104,17 @@ def linear_system(vehicle: VehicleModel, speed: float) -> LinearSystem:
     )
 
 
-def check_speed(speed: float) -> None:
-    if not (np.isfinite(speed) and speed > 0):
-        raise ValueError(f"speed {speed!r}: must be a positive number of m/s")
+def check_speed(speed: Any) -> float:
+    """``speed`` in SI [m/s]: a number (SI) or a quantity (``"95 km/h"``, pint).
+
+    Raises
+    ------
+    ArgumentError
+        Not a positive finite speed (an :class:`InputError`, a ``ValueError``).
+    """
+    from express.base.units import si_argument
+
+    value = float(speed) if isinstance(speed, (int, float, np.floating)) else si_argument(speed, "speed", "speed")
+    if not (math.isfinite(value) and value > 0):
+        raise ArgumentError(f"speed {speed!r}: must be a positive number of m/s")
+    return value

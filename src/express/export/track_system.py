@@ -27,7 +27,7 @@ from math import factorial
 import numpy as np
 
 from express.base.diagnostics import ArgumentError
-from express.export.plant import LinearSystem, linear_system
+from express.export.plant import LinearSystem, check_speed, linear_system
 from express.numeric.statespace import VehicleModel
 
 __all__ = ["ALIGNMENT", "output_rows", "pade_delay", "track_response", "track_system"]
@@ -115,6 +115,7 @@ def track_system(vehicle: VehicleModel, speed: float, *, outputs: Sequence[str] 
     """
     from express.analysis.frequency import irregularity_delays
 
+    speed = check_speed(speed)
     plant = linear_system(vehicle, speed)
     rows, names = output_rows(vehicle, outputs)
     columns = _alignment_columns(vehicle)
@@ -151,6 +152,7 @@ def track_response(vehicle: VehicleModel, speed: float, frequencies: Sequence[fl
     complex [output unit per m]."""
     from express.analysis.frequency import irregularity_delays
 
+    speed = check_speed(speed)
     plant = linear_system(vehicle, speed)
     rows, _ = output_rows(vehicle, outputs)
     columns = _alignment_columns(vehicle)

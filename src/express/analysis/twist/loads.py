@@ -31,6 +31,7 @@ import numpy as np
 
 from express.analysis.time.track_inputs import track_inputs
 from express.base.diagnostics import ArgumentError
+from express.base.units import si_argument
 from express.numeric.statespace import VehicleModel
 from express.rail.track import Straight, Track
 from express.rail.track.irregularity import MAX_LATERAL_IRREGULARITY, ProfileIrregularity
@@ -180,9 +181,9 @@ def quasi_static_loads(vehicle: VehicleModel, track: Track, distance: float, spe
     vehicle : VehicleModel
         A rail vehicle whose wheels stand on vertical springs to rail grounds.
     track : Track
-    distance : float
-        Position of the leading wheelset [m].
-    speed : float, optional
+    distance : float or quantity
+        Position of the leading wheelset [m] (a number is SI; ``"120 m"``, pint).
+    speed : float or quantity, optional
         [m/s] for the cant-deficiency terms of ``P(v)`` on a curve; default the model's.
 
     Raises
@@ -190,8 +191,9 @@ def quasi_static_loads(vehicle: VehicleModel, track: Track, distance: float, spe
     ArgumentError
         If the model has no wheel-on-rail spring (no wheel load to give) or ``K`` is singular.
     """
-    v = vehicle.speed if speed is None else speed
-    inputs = track_inputs(vehicle, track, np.array([float(distance)]), v).u[0]
+    v = vehicle.speed if speed is None else si_argument(speed, "speed", "speed")
+    distance = si_argument(distance, "length", "distance")
+    inputs = track_inputs(vehicle, track, np.array([distance]), v).u[0]
     try:
         q = np.linalg.solve(vehicle.stiffness, vehicle.forcing(v) @ inputs)
     except np.linalg.LinAlgError:
