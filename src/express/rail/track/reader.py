@@ -344,8 +344,13 @@ def track_from_dict(
     Parameters
     ----------
     d : mapping
-        Parsed TOML: optional ``speed``, ``name``, ``description``; an array of
-        ``segment`` tables; an optional ``irregularity`` table (``docs/track.md``).
+        Parsed TOML: optional ``speed``, ``name``, ``description``, ``seed`` (an
+        integer >= 0, default 0: the seed every spectrum table without its own derives
+        its seed from, :func:`~express.rail.track.component_spectra.component_seed`); an
+        array of ``segment`` tables; optional ``irregularity`` (the alignment),
+        ``vertical``, ``cross_level`` and ``gauge`` tables, each of type none, sinusoid,
+        csv, points or spectrum (a spectrum of that component, ``get_spectrum(name,
+        component)``), or a ``measured`` table (``docs/track.md``).
         Quantities are numbers in SI units or strings with a unit (``"95 mm"``,
         ``"400 m"``, ``"120 km/h"``, ``"90 deg"``), checked against the dimension
         of the field (length, speed, angle).
@@ -366,7 +371,9 @@ def track_from_dict(
     ModelError
         Listing every problem, each ``<file>:<line>: <item>: <what is wrong>``, the
         item being ``track``, ``segment <i> (<type>)`` (numbered from 1 in file order)
-        or ``irregularity (<type>)``; a CSV profile's problems carry its own file and line.
+        or ``<table> (<type>)`` (``irregularity (spectrum)``, ``gauge (points)``, ...); a
+        CSV profile's problems carry its own file and line. Two spectrum tables with the
+        same seed are refused (they would draw the same phases).
     """
     report = _Report(source, text)
     base = Path(base_dir) if base_dir is not None else Path(source).parent

@@ -68,8 +68,8 @@ __all__ = [
     "table_problems",
 ]
 
-#: Irregularity components a spectrum can describe. Only ``"alignment"`` (lateral,
-#: ``yR``) is used by the track today.
+#: Irregularity components a spectrum can describe, each a table of a track file
+#: (``irregularity`` for the alignment ``yR``; ``docs/track.md``, "Random components").
 COMPONENTS = ("alignment", "vertical", "cross_level", "gauge")
 
 
