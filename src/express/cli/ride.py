@@ -38,9 +38,10 @@ def add_parser(subparsers) -> None:
         "dynamic wheel load dQ and Y/Q. See docs/ride.md.",
     )
     common.add_model_arguments(parser)
-    parser.add_argument("--track", required=True, metavar="CLASS|FILE.csv",
-                        help=f"track class ({', '.join(TRACK_CLASSES)}) or a CSV table of PSD against "
-                        "wavenumber (docs/ride.md)")
+    parser.add_argument("--track", required=True, metavar="CLASS|FILE.csv|FILE.toml",
+                        help=f"track class ({', '.join(TRACK_CLASSES)}), a CSV table of PSD against "
+                        "wavenumber, or a track file whose components are spectra (each over its band; "
+                        "docs/ride.md)")
     parser.add_argument("--speed", type=common.SPEED, metavar="SPEED", help=common.SPEED.help("running speed", "the model's speed"))
     parser.add_argument("--fmin", type=common.FMIN, default=0.1, metavar="F",
                         help=common.FMIN.help("lowest frequency", "0.1 Hz"))
@@ -87,11 +88,11 @@ def run(
     if output == "-" and as_json:
         raise UsageError("-o - and --json both write to standard output; choose one")
     table = _is_table(track)
-    with output_transaction([model, *([track] if table else [])]) as transaction:
+    with output_transaction([model, *([track] if table or _is_track_file(track) else [])]) as transaction:
         for path, binary in ((output, False), (plot, True)):
             if path is not None:
                 transaction.declare(path, binary=binary)
-        spectra, track_name = _spectra(track, table)
+        spectra, track_name, track_notes = _spectra(track, table)
         vehicle = common.linearised_vehicle(common.load_rail_vehicle(model, overrides, "ride"), spec)
         v = common.running_speed(vehicle, speed)
         instability = linear_instability(vehicle, v)
@@ -108,11 +109,12 @@ def run(
                 _figure(vehicle, response, track_name, plot)
     if instability is not None:
         return _report_nonlinear(model, vehicle.equations.name, track_name, instability, nonlinear, as_json,
-                                 [p for p in (output, plot) if p is not None])
+                                 [p for p in (output, plot) if p is not None], track_notes)
     for path in [p for p in (output, plot) if p is not None and str(p) != "-"]:
         common.note(f"wrote {path}")
     summary = {**_summary(model, track_name, response, comfort, wheels),
                "linearisation": common.note_linearisation(vehicle)}
+    summary["notes"] = [*track_notes, *summary["notes"]]
     if as_json:
         common.print_json(summary)
     else:
@@ -150,9 +152,10 @@ def _nonlinear(vehicle: Any, spectra: dict, speed: float) -> Any:
 
 
 def _report_nonlinear(model: Path, name: str, track: str, instability: str, ride: Any, as_json: bool,
-                      not_written: list) -> int:
+                      not_written: list, track_notes: tuple[str, ...] = ()) -> int:
     """Print the linear model's instability and the nonlinear run's comfort; exit 0."""
-    notes = [*ride.notes] + [f"{path}: not written (no PSD exists above the linear critical speed)" for path in not_written]
+    notes = [*track_notes, *ride.notes] + [f"{path}: not written (no PSD exists above the linear critical speed)"
+                                           for path in not_written]
     if as_json:
         common.print_json({
             "model": str(model), "track": track, "speed": ride.speed, "speed_kmh": ride.speed / common.KMH,
@@ -183,7 +186,9 @@ def _modes_convergence(model: Path, overrides: dict[str, str], track: str, speed
     from express.analysis.ride.mode_count import mode_count_convergence
     from express.base.diagnostics import ArgumentError
 
-    spectra, track_name = _spectra(track, _is_table(track))
+    spectra, track_name, track_notes = _spectra(track, _is_table(track))
+    for line in track_notes:
+        common.note(f"note: {line}")
     vehicle = common.linearised_vehicle(common.load_rail_vehicle(model, overrides, "ride"), spec)
     v = common.running_speed(vehicle, speed)
     try:
@@ -211,21 +216,51 @@ def _modes_convergence(model: Path, overrides: dict[str, str], track: str, speed
 # --- the track ---------------------------------------------------------------------------
 
 
+def _is_track_file(track: str) -> bool:
+    return track.lower().endswith(".toml")
+
+
 def _is_table(track: str) -> bool:
-    return track.lower().endswith(".csv") or Path(track).exists()  # a device or directory: refused by its kind
+    """A PSD table: a .csv name, or any other existing path but a track file (a device or
+    directory: refused by its kind)."""
+    return not _is_track_file(track) and (track.lower().endswith(".csv") or Path(track).exists())
 
 
-def _spectra(track: str, table: bool) -> tuple[dict, str]:
+def _spectra(track: str, table: bool) -> tuple[dict, str, tuple[str, ...]]:
+    """The spectra by component, the track's name and notes on how they were taken."""
     from express.analysis.ride.vehicle import track_class_spectra
     from express.base.diagnostics import InputError
 
+    if _is_track_file(track):
+        return _track_file_spectra(Path(track))
     if table:
-        return read_psd_table(Path(track)), track
+        return read_psd_table(Path(track)), track, ()
     try:
         spectra = track_class_spectra(track)
     except InputError as error:
         raise UsageError(f"--track: {error}") from None
-    return spectra, track
+    return spectra, track, ()
+
+
+def _track_file_spectra(path: Path) -> tuple[dict, str, tuple[str, ...]]:
+    """The spectra of a track file's random components (``type = "spectrum"``), each over
+    the band its realisation is drawn over (:func:`express.rail.track.component_spectra.
+    track_spectra`), and notes: the components taken, the shapes left out, the layout."""
+    from express.rail.track import Straight, load_track
+    from express.rail.track.component_spectra import track_spectra
+
+    loaded = load_track(path)  # a bad file: ModelError, every problem with its line
+    spectra, notes = track_spectra(loaded)
+    if not spectra:
+        raise UsageError(f"--track {path}: the track file has no random component: give [irregularity], "
+                         "[vertical], [cross_level] or [gauge] a type = \"spectrum\" (docs/track.md), or use a "
+                         "track class or a PSD table")
+    taken = [f"{component} from {spectrum.name}" for component, spectrum in spectra.items()]
+    lines = [f"track file {path}: {'; '.join(taken)} (mutually uncorrelated, each fully coherent between the "
+             "wheelsets with its delay: docs/ride.md)", *notes]
+    if any(not isinstance(segment, Straight) for segment in loaded.segments):
+        lines.append(f"track file {path}: its curves and cant are not used (the ride is on straight track)")
+    return spectra, str(path), tuple(lines)
 
 
 def _header_cell(cell: str) -> tuple[str, str | None]:

@@ -11,6 +11,9 @@ The package is split by what each module owns:
   :class:`ProfileIrregularity`, :class:`SpectrumIrregularity`);
 * :mod:`~express.rail.track.spectra`: published spectra (FRA, ERRI) and their registry
   (:func:`get_spectrum`, :func:`register_spectrum`);
+* :mod:`~express.rail.track.component_spectra`: the random components of a track, their
+  seeds (:func:`component_seed`) and band-limited spectra (:class:`BandLimitedSpectrum`,
+  :func:`track_spectra`, what ``express ride --track FILE.toml`` uses);
 * :mod:`~express.rail.track.reader`: track files in TOML and CSV profiles
   (:func:`load_track`, :func:`track_from_dict`, :func:`read_profile_csv`), errors as
   :class:`express.base.diagnostics.ModelError`.
@@ -19,6 +22,7 @@ Conventions and formats: ``docs/track.md``. Every public name is re-exported her
 ``from express.rail.track import paper_curve, load_track, Track`` works.
 """
 
+from express.rail.track.component_spectra import BandLimitedSpectrum, component_seed, track_spectra
 from express.rail.track.geometry import (
     DIRECTIONS,
     MAX_CANT,
@@ -92,6 +96,7 @@ __all__ = [
     "TRACK_COMPONENTS",
     "TRANSITION_SHAPES",
     "AlignmentSpectrum",
+    "BandLimitedSpectrum",
     "CentrelineTable",
     "Curve",
     "ERRIAlignmentSpectrum",
@@ -108,10 +113,12 @@ __all__ = [
     "Track",
     "TrackSpectrum",
     "Transition",
+    "component_seed",
     "get_spectrum",
     "load_track",
     "paper_curve",
     "read_profile_csv",
     "register_spectrum",
     "track_from_dict",
+    "track_spectra",
 ]

@@ -33,6 +33,7 @@ from express.base.diagnostics import ModelError, Problem
 from express.base.units import KMH, UnitError, parse_quantity
 from express.io.toml_lines import KeyPath, find_line, line_index, parse_toml
 from express.rail.track._common import FieldProblem, is_finite_number, is_number
+from express.rail.track.component_spectra import component_seed
 from express.rail.track.geometry import DIRECTIONS, TRANSITION_SHAPES, Curve, Segment, Straight, Track, Transition
 from express.rail.track.irregularity import (
     Irregularity,
@@ -41,7 +42,7 @@ from express.rail.track.irregularity import (
     SinusoidIrregularity,
     SpectrumIrregularity,
 )
-from express.rail.track.spectra import SPECTRA, get_spectrum
+from express.rail.track.spectra import SPECTRA, SPECTRA_BY_COMPONENT, TrackSpectrum, get_spectrum
 from express.rail.track.textfiles import EXCERPT_CHARS, MAX_PROFILE_BYTES, MAX_ROW_PROBLEMS
 from express.rail.track.textfiles import excerpt as _excerpt
 from express.rail.track.textfiles import read_text_file as _read_text
@@ -65,7 +66,7 @@ MAX_TRACK_SPEED = 1000.0 * KMH
 _REQUIRED = object()
 #: Tables of the components besides the alignment (``irregularity``), Track field names.
 _COMPONENT_KEYS = ("vertical", "cross_level", "gauge")
-_TOP_KEYS = ("name", "description", "speed", "segment", "irregularity", *_COMPONENT_KEYS, "measured")
+_TOP_KEYS = ("name", "description", "speed", "seed", "segment", "irregularity", *_COMPONENT_KEYS, "measured")
 #: Fields of each segment type: key -> (dimension, default); dimension None for a word.
 _SEGMENT_FIELDS: dict[str, dict[str, tuple[str | None, Any]]] = {
     "straight": {"length": ("length", _REQUIRED)},
@@ -76,9 +77,11 @@ _SEGMENT_FIELDS: dict[str, dict[str, tuple[str | None, Any]]] = {
 _SEGMENT_CLASSES: dict[str, type[Straight] | type[Transition] | type[Curve]] = {
     "straight": Straight, "transition": Transition, "curve": Curve,
 }
-#: Types a vertical, cross-level or gauge table may have (spectra: the ride analysis).
-_COMPONENT_TYPES = ("none", "sinusoid", "csv", "points")
+#: Types a vertical, cross-level or gauge table may have (all those of the alignment).
+_COMPONENT_TYPES = ("none", "sinusoid", "csv", "points", "spectrum")
 _CHOICES = {"shape": TRANSITION_SHAPES, "direction": DIRECTIONS, "spectrum": tuple(SPECTRA)}
+#: The seed of a spectrum table without one: derived from the track's ``seed``.
+_DERIVED = object()
 #: Fields of each irregularity type, as for the segments; ``file`` and ``seed`` are raw.
 _IRREGULARITY_FIELDS: dict[str, dict[str, tuple[str | None, Any]]] = {
     "none": {},
@@ -86,7 +89,7 @@ _IRREGULARITY_FIELDS: dict[str, dict[str, tuple[str | None, Any]]] = {
                  "phase": ("angle", 0.0)},
     "csv": {"file": (None, None)},
     "points": {"points": (None, _REQUIRED)},
-    "spectrum": {"spectrum": (None, _REQUIRED), "seed": (None, 0), "wavelength_min": ("length", 3.0),
+    "spectrum": {"spectrum": (None, _REQUIRED), "seed": (None, _DERIVED), "wavelength_min": ("length", 3.0),
                  "wavelength_max": ("length", 120.0), "period": ("length", 10_000.0)},
 }
 
@@ -130,15 +133,18 @@ def _quantity(value: Any, key: str, dimension: str) -> tuple[float | None, str |
 
 
 def _read_fields(table: Mapping[str, Any], fields: Mapping[str, tuple[str | None, Any]], report: _Report,
-                 path: KeyPath, item: str) -> tuple[dict[str, Any], set[str]]:
-    """The values of ``fields`` (SI for quantities) and the keys that had a problem."""
+                 path: KeyPath, item: str, choices: Mapping[str, Iterable[str]] | None = None,
+                 ) -> tuple[dict[str, Any], set[str]]:
+    """The values of ``fields`` (SI for quantities) and the keys that had a problem;
+    ``choices`` names the values a missing key may take (default :data:`_CHOICES`)."""
     values: dict[str, Any] = {}
     bad: set[str] = set()
+    known = _CHOICES if choices is None else choices
     for key, (dimension, default) in fields.items():
         if key not in table:
             if default is _REQUIRED:
-                choices = f" (one of {', '.join(_CHOICES[key])})" if key in _CHOICES else ""
-                report.add(path, item, f"missing '{key}'{choices}")
+                listed = f" (one of {', '.join(known[key])})" if key in known else ""
+                report.add(path, item, f"missing '{key}'{listed}")
                 bad.add(key)
             values[key] = None if default is _REQUIRED else default
             continue
@@ -216,16 +222,20 @@ def _segments(raw: Any, report: _Report) -> list[Segment] | None:
     return [segment for segment in segments if segment is not None]
 
 
-def _irregularity(table: Any, report: _Report, base_dir: Path, name: str = "irregularity") -> Irregularity | None:
+def _irregularity(table: Any, report: _Report, base_dir: Path, name: str = "irregularity",
+                  seed: int = 0) -> Irregularity | None:
     """The irregularity of the table ``name`` (``irregularity``: the alignment, or one of
-    :data:`_COMPONENT_KEYS`), or None if it is bad (every problem reported)."""
+    :data:`_COMPONENT_KEYS`), or None if it is bad (every problem reported); ``seed`` is
+    the track's (a spectrum table without its own takes :func:`component_seed` of it)."""
     path: KeyPath = (name,)
     kinds = _IRREGULARITY_FIELDS if name == "irregularity" else _COMPONENT_TYPES
     kind = _kind(table, kinds, report, path, name)
     if kind is None:
         return None
     item = f"{name} ({kind})"
-    values, bad = _read_fields(table, _IRREGULARITY_FIELDS[kind], report, path, item)
+    component = "alignment" if name == "irregularity" else name
+    names = {"spectrum": tuple(SPECTRA_BY_COMPONENT[component])}
+    values, bad = _read_fields(table, _IRREGULARITY_FIELDS[kind], report, path, item, {**_CHOICES, **names})
     if kind == "none":
         return NoIrregularity()
     if kind == "sinusoid":
@@ -236,9 +246,40 @@ def _irregularity(table: Any, report: _Report, base_dir: Path, name: str = "irre
         return _csv_irregularity(values["file"], report, base_dir, item, name)
     if kind == "points":
         return None if "points" in bad else _points_irregularity(values["points"], report, path, item)
+    spectrum = None if "spectrum" in bad else _component_spectrum(values["spectrum"], component)
+    if isinstance(spectrum, str):
+        report.add((*path, "spectrum"), item, spectrum)
+        bad.add("spectrum")
+    else:
+        values["spectrum"] = spectrum
+    if values["seed"] is _DERIVED:
+        values["seed"] = component_seed(seed, component)
     if _report_field_problems(SpectrumIrregularity.field_problems(**values), bad, report, path, item):
         return None
-    return SpectrumIrregularity(get_spectrum(values.pop("spectrum")), **values)
+    return SpectrumIrregularity(**values)
+
+
+def _component_spectrum(name: Any, component: str) -> TrackSpectrum | str:
+    """The spectrum ``name`` of ``component`` (:func:`get_spectrum`), or what is wrong."""
+    if not isinstance(name, str):
+        return f"'spectrum' must be the name of a spectrum (one of {', '.join(SPECTRA_BY_COMPONENT[component])}), " \
+               f"got {name!r}"
+    try:
+        return get_spectrum(name, component)
+    except KeyError as exc:
+        message = str(exc.args[0])
+    elsewhere = [other for other in SPECTRA_BY_COMPONENT if other != component and _known(name, other)]
+    if elsewhere:
+        message += f"; {name!r} is registered for the {', '.join(elsewhere)}, not the {component}"
+    return message
+
+
+def _known(name: str, component: str) -> bool:
+    try:
+        get_spectrum(name, component)
+    except KeyError:
+        return False
+    return True
 
 
 def _points_irregularity(points: Any, report: _Report, path: KeyPath, item: str) -> ProfileIrregularity | None:
@@ -303,8 +344,13 @@ def track_from_dict(
     Parameters
     ----------
     d : mapping
-        Parsed TOML: optional ``speed``, ``name``, ``description``; an array of
-        ``segment`` tables; an optional ``irregularity`` table (``docs/track.md``).
+        Parsed TOML: optional ``speed``, ``name``, ``description``, ``seed`` (an
+        integer >= 0, default 0: the seed every spectrum table without its own derives
+        its seed from, :func:`~express.rail.track.component_spectra.component_seed`); an
+        array of ``segment`` tables; optional ``irregularity`` (the alignment),
+        ``vertical``, ``cross_level`` and ``gauge`` tables, each of type none, sinusoid,
+        csv, points or spectrum (a spectrum of that component, ``get_spectrum(name,
+        component)``), or a ``measured`` table (``docs/track.md``).
         Quantities are numbers in SI units or strings with a unit (``"95 mm"``,
         ``"400 m"``, ``"120 km/h"``, ``"90 deg"``), checked against the dimension
         of the field (length, speed, angle).
@@ -325,7 +371,9 @@ def track_from_dict(
     ModelError
         Listing every problem, each ``<file>:<line>: <item>: <what is wrong>``, the
         item being ``track``, ``segment <i> (<type>)`` (numbered from 1 in file order)
-        or ``irregularity (<type>)``; a CSV profile's problems carry its own file and line.
+        or ``<table> (<type>)`` (``irregularity (spectrum)``, ``gauge (points)``, ...); a
+        CSV profile's problems carry its own file and line. Two spectrum tables with the
+        same seed are refused (they would draw the same phases).
     """
     report = _Report(source, text)
     base = Path(base_dir) if base_dir is not None else Path(source).parent
@@ -338,11 +386,13 @@ def track_from_dict(
         if key in d and not isinstance(d[key], str):
             report.add((key,), "track", f"'{key}' must be a string")
     speed = _track_speed(d, report)
+    seed = _track_seed(d, report)
     segments = _segments(d.get("segment"), report)
     irregularity: Irregularity | None = NoIrregularity()
     if "irregularity" in d:
-        irregularity = _irregularity(d["irregularity"], report, base)
-    components = {key: _irregularity(d[key], report, base, key) for key in _COMPONENT_KEYS if key in d}
+        irregularity = _irregularity(d["irregularity"], report, base, seed=seed)
+    components = {key: _irregularity(d[key], report, base, key, seed) for key in _COMPONENT_KEYS if key in d}
+    _shared_seeds({"irregularity": irregularity, **components}, report)
     if "measured" in d:
         measured = _measured(d["measured"], report, base, [key for key in ("irregularity", *_COMPONENT_KEYS) if key in d])
         if measured is not None:
@@ -354,6 +404,32 @@ def track_from_dict(
     report.raise_if_any()
     assert segments is not None and irregularity is not None  # else a problem was raised
     return Track(tuple(segments), irregularity, speed, **components)  # type: ignore[arg-type]
+
+
+def _track_seed(d: Mapping[str, Any], report: _Report) -> int:
+    """The track's ``seed`` (default 0; 0 if bad, reported)."""
+    seed = d.get("seed", 0)
+    if not isinstance(seed, int) or isinstance(seed, bool) or seed < 0:
+        report.add(("seed",), "track", f"'seed' must be a non-negative integer, got {seed!r}")
+        return 0
+    return seed
+
+
+def _shared_seeds(tables: Mapping[str, Irregularity | None], report: _Report) -> None:
+    """Report a spectrum table whose seed another one has: the two would draw the same
+    phases (correlated components, against the stated independence)."""
+    first: dict[int, str] = {}
+    for name, irregularity in tables.items():
+        if not isinstance(irregularity, SpectrumIrregularity):
+            continue
+        seed = int(irregularity.seed)
+        if seed in first:
+            report.add((name, "seed"), f"{name} (spectrum)",
+                       f"seed {seed} is that of [{first[seed]}] too: the two would draw the same phases "
+                       "(correlated components); give another seed, or leave 'seed' out to derive each "
+                       "component's from the track's 'seed'")
+        else:
+            first[seed] = name
 
 
 def _track_speed(d: Mapping[str, Any], report: _Report) -> float | None:

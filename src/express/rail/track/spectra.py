@@ -27,6 +27,7 @@ and the antiderivative :meth:`~TrackSpectrum.primitive`; then
 
 from __future__ import annotations
 
+import re
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
 from typing import ClassVar
@@ -67,8 +68,8 @@ __all__ = [
     "table_problems",
 ]
 
-#: Irregularity components a spectrum can describe. Only ``"alignment"`` (lateral,
-#: ``yR``) is used by the track today.
+#: Irregularity components a spectrum can describe, each a table of a track file
+#: (``irregularity`` for the alignment ``yR``; ``docs/track.md``, "Random components").
 COMPONENTS = ("alignment", "vertical", "cross_level", "gauge")
 
 
@@ -217,7 +218,9 @@ SPECTRA: dict[str, TrackSpectrum] = SPECTRA_BY_COMPONENT["alignment"]
 
 
 def _key(name: str) -> str:
-    return name.strip().lower().replace("-", "_").replace(" ", "_")
+    """``"FRA-5"``, ``"fra 5"``, ``"fra5"`` -> ``"fra5"``; ``"ERRI-high"`` -> ``"erri_high"``."""
+    key = name.strip().lower().replace("-", "_").replace(" ", "_")
+    return re.sub(r"(?<=[a-z])_(?=[0-9])", "", key)
 
 
 def register_spectrum(key: str, spectrum: TrackSpectrum) -> None:
@@ -255,7 +258,7 @@ def get_spectrum(name: str, component: str = "alignment") -> TrackSpectrum:
     Parameters
     ----------
     name : str
-        E.g. ``"fra5"``, ``"ERRI-high"``.
+        E.g. ``"fra5"``, ``"FRA-5"``, ``"ERRI-high"``.
     component : str
         One of :data:`COMPONENTS`; default ``"alignment"``.
 
