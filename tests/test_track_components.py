@@ -61,7 +61,7 @@ def test_bad_component_tables_are_reported_by_line(tmp_path):
     with pytest.raises(ModelError) as info:
         load_track(tmp_path / "bad.toml")
     text = str(info.value)
-    assert "bad.toml:5: vertical: 'type' must be one of none, sinusoid, csv, points, got 'spectrum'" in text
+    assert "bad.toml:4: vertical (spectrum): missing 'spectrum' (one of erri_low, erri_high" in text
     assert "bad.toml:8: cross_level (points): need at least two points, got 1" in text
     assert "bad.toml:11: gauge (points): 'points' must be an array of [distance, value] pairs" in text
 
