@@ -329,6 +329,9 @@ class FrictionElement(ForceElement):
         self.partner = np.full(len(names), -1, dtype=np.int64) if partner is None else np.asarray(partner, np.int64)
         #: The slider positions the NumPy forces start from (the steady solver's state).
         self.slider = np.zeros(len(names))
+        #: Held: the NumPy forces keep every slider where it is (every element stuck; the
+        #: steady solver's equilibrium for given sliders, ``analysis/curving/transition.py``).
+        self.frozen = False
         self.states = len(names)
 
     @property
@@ -361,12 +364,33 @@ class FrictionElement(ForceElement):
         return map_sliders(np.ascontiguousarray(delta, dtype=float), self.slider, np.ascontiguousarray(self.stiffness, float),
                            np.ascontiguousarray(limits, dtype=float), self.partner)
 
+    def beyond(self, x: np.ndarray, k: int, tolerance: float = 1e-9) -> np.ndarray:
+        """Which elements' spring force at ``x``, their sliders held, exceeds its limit by
+        more than ``tolerance`` of it (a pair in a plane by its circle): shape (n_f,) bool."""
+        trial = self.stiffness * (self.deflections(x, k) - self.slider)
+        size = np.abs(trial)
+        for f, p in enumerate(self.partner):
+            if p >= 0:
+                size[f] = size[p] = float(np.hypot(trial[f], trial[p]))
+        limits = self.limits_at(x, k)
+        lead = {int(p): f for f, p in enumerate(self.partner) if p >= 0}  # a pair's second: its first's limit
+        return size > np.array([limits[lead.get(f, f)] for f in range(size.size)]) * (1 + tolerance)
+
+    def return_mapped(self, x: np.ndarray, k: int) -> np.ndarray:
+        """The sliders after the march's return mapping at ``x`` (shape (n_f,) [m; rad]);
+        :attr:`slider` unchanged."""
+        return self._sliders(self.deflections(x, k), self.limits_at(x, k))
+
     def forces(self, x: np.ndarray, k: int) -> np.ndarray:
+        if self.frozen:
+            return self.stiffness * self.slider
         return self.stiffness * self._sliders(self.deflections(x, k), self.limits_at(x, k))
 
     def slopes(self, x: np.ndarray, k: int, forces: np.ndarray) -> np.ndarray:
-        """Stuck: 0; slipping (the slider follows the deflection): ``k g``, less the limit's
-        own slope ``sign(F) dL/dx`` when it follows a load."""
+        """Stuck (or :attr:`frozen`): 0; slipping (the slider follows the deflection):
+        ``k g``, less the limit's own slope ``sign(F) dL/dx`` when it follows a load."""
+        if self.frozen:
+            return np.zeros_like(self.rows)
         delta, limits = self.deflections(x, k), self.limits_at(x, k)
         trial = self.stiffness * (delta - self.slider)
         size, direction = np.abs(trial), np.sign(trial)

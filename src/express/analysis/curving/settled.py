@@ -9,7 +9,9 @@ the circular curve long enough to settle (:func:`settled_length`) — and the wh
 quantities are read over the last :data:`WINDOW` of the circular curve, where every
 wheelset has been in it for at least half its length: their **mean** (the state the
 vehicle settles to) and their **half range** (the amplitude of the limit cycle it keeps, 0
-for a settled run). The run's step is the given one (``simulate``'s default 5 ms).
+for a settled run). The run's step is the given one (``simulate``'s default 5 ms; from
+:func:`curving_or_settled` the step that resolves the force elements,
+:meth:`~express.analysis.curving.steady.SteadyCurvingSolver.resolved_dt`).
 """
 
 from __future__ import annotations
@@ -21,13 +23,12 @@ import numpy as np
 
 from express.analysis.curving.outputs import WheelRailOutputs
 from express.analysis.curving.steady import NoSteadyStateError, SteadyCurve, SteadyCurving, SteadyCurvingSolver
+from express.analysis.curving.transition import LEAD, transition_length
 from express.base.data import DataRecord, variable, xarray
 from express.base.diagnostics import AnalysisError
 
 __all__ = ["LEAD", "SETTLED", "WINDOW", "SettledCurving", "curving_or_settled", "settled_curving", "settled_length"]
 
-#: Straight track before the transition [m].
-LEAD = 20.0
 #: Length of the circular curve's end over which the run is read [m].
 WINDOW = 100.0
 #: A run whose every quantity's half range is below this share of its size (or of 1 N,
@@ -157,7 +158,7 @@ def settled_curving(vehicle, curve: SteadyCurve, speed: float, reason: str, *, d
     from express.analysis.time.simulate import simulate
     from express.rail.track import Curve, Straight, Track, Transition
 
-    transition = max(50.0, 0.25 * curve.radius)
+    transition = transition_length(curve.radius)
     length = settled_length(speed)
     track = Track((Straight(LEAD), Transition(transition), Curve(length, curve.radius, curve.direction, curve.cant)))
     run = simulate(vehicle, track, speed=speed, dt=dt, progress=False, **options)
@@ -206,12 +207,13 @@ def curving_or_settled(vehicle, curves, speeds,
         try:
             steady = solver.solve(curve, start)
         except NoSteadyStateError as error:
-            found.append((None, settled_curving(vehicle, curve, speed, f"no equilibrium found ({error})", **options)))
+            found.append((None, settled_curving(vehicle, curve, speed, f"no equilibrium found ({error})",
+                                                dt=solver.resolved_dt(), **options)))
             continue
         previous = steady
         settled = None
         if steady.stable is False:
             settled = settled_curving(vehicle, curve, speed, f"the equilibrium is unstable (growth rate "
-                                      f"{steady.growth:.3g} 1/s)", **options)
+                                      f"{steady.growth:.3g} 1/s)", dt=solver.resolved_dt(), **options)
         found.append((steady, settled))
     return found

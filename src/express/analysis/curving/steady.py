@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -182,6 +182,11 @@ class SteadyCurving(DataRecord):
         The largest real part of the eigenvalues of the equations linearised at the
         state, ``A + G dz/dx`` (the time march's own tangent) [1/s]: negative for a stable
         equilibrium; None where not computed (more than :data:`STABILITY_STATES` states).
+        With friction elements, stuck at their sliders (small motions stick).
+    path : str
+        With friction elements, how the state was reached (its sliders): through the
+        curve's transition (:mod:`express.analysis.curving.transition`) or loaded from
+        rest; empty without friction (the equilibrium is unique).
     """
 
     curve: SteadyCurve
@@ -196,6 +201,7 @@ class SteadyCurving(DataRecord):
     iterations: int = 0
     residual: float = 0.0
     growth: float | None = None
+    path: str = ""
 
     @property
     def stable(self) -> bool | None:
@@ -258,10 +264,19 @@ class SteadyCurvingSolver:
     flange, saturation : bool
         The dead-band model's flange contact and creep saturation (both off: the
         linear steady state).
+    path : {"transition", "rest"}
+        With friction elements, the state reached through the curve's transition (a
+        time march into it, then the exact equilibrium on its sliders;
+        :mod:`express.analysis.curving.transition`) or loaded from rest (the sliders at
+        rest, one step).
     """
 
     def __init__(self, vehicle: VehicleModel, speed: float | None = None, *, contact: ContactModel | None = None,
-                 creep_law: CreepLaw = "fastsim", flange: bool = True, saturation: bool = True):
+                 creep_law: CreepLaw = "fastsim", flange: bool = True, saturation: bool = True,
+                 path: str = "transition"):
+        if path not in ("transition", "rest"):
+            raise ArgumentError(f"path must be 'transition' or 'rest', got {path!r}")
+        self.path = path
         if vehicle.layout is None or vehicle.model is None or vehicle.model.rail is None:
             raise ArgumentError("the model has no rail data: add a [rail] section to run it in a curve")
         self.vehicle = vehicle
@@ -350,6 +365,9 @@ class SteadyCurvingSolver:
         if problems:
             raise CurveError("\n".join(problems))
         inputs = self.inputs(curve)
+        friction = self._friction(inputs)
+        if friction is not None:
+            return self._through_transition(curve, inputs, friction)
         equations, forcing = self._equations(inputs)
         try:
             linear = StepSolver(forcing.size).solve(self.a if self.sparse_a is None else self.sparse_a, -forcing)
@@ -370,6 +388,45 @@ class SteadyCurvingSolver:
                              f"{self.speed * 3.6:.1f} km/h: the vehicle cannot follow this curve (relative residual "
                              f"{residual:.1e} after {evaluations} steps; an unstable vehicle has no steady state)")
         return self._result(curve, x, inputs, evaluations, residual, _growth(equations(x)[1]))
+
+    def _friction(self, inputs: TrackInputs):
+        """The friction elements of a nonlinear run on ``inputs`` the path decides (None:
+        none, ``path = "rest"`` or the linear steady state)."""
+        from express.forces.friction import FrictionElement
+
+        if self.path != "transition" or not (self.flange or self.saturation):
+            return None
+        found = self._forces(inputs).of_kind(FrictionElement)
+        return found[0] if found else None
+
+    def resolved_dt(self) -> float:
+        """The step [s] of a time run of this vehicle that resolves its force elements
+        (:func:`express.analysis.curving.transition.resolved_dt`)."""
+        from express.analysis.curving.transition import resolved_dt
+
+        return resolved_dt(self._forces(self.inputs(SteadyCurve(math.inf))), self.vehicle.mass)
+
+    def _through_transition(self, curve: SteadyCurve, inputs: TrackInputs, friction) -> SteadyCurving:
+        """The state reached through the transition (:mod:`express.analysis.curving.transition`)."""
+        from express.analysis.curving.transition import hold_sliders, march_into
+
+        state, friction.slider[:], path = march_into(
+            self.vehicle, curve, self.speed, self.resolved_dt(), friction.ids, contact=self.contact_option,
+            creep_law=self.creep_law, flange=self.flange, saturation=self.saturation)
+        equations, forcing = self._equations(inputs)
+        scale = max(float(np.linalg.norm(forcing)), 1e-300)
+        x, evaluations, residual, rounds = hold_sliders(equations, friction, state, scale, _pseudo_transient)
+        if not residual < _TOLERANCE or friction.beyond(x, 0).any():
+            raise NoSteadyStateError(f"no steady state in R = {curve.radius:g} m with {curve.cant * 1e3:g} mm cant at "
+                                     f"{self.speed * 3.6:.1f} km/h {path}: relative residual {residual:.1e} after "
+                                     f"{rounds} rounds of the sliders held ({evaluations} steps)")
+        friction.frozen = True  # the tangent of small motions: every element sticks
+        try:
+            growth = _growth(equations(x)[1])
+        finally:
+            friction.frozen = False
+        result = self._result(curve, x, inputs, evaluations, residual, growth)
+        return replace(result, path=f"{path} ({rounds} round(s) of the sliders held and returned)")
 
     def _settle(self, curve: SteadyCurve, x: np.ndarray, seconds: float = 10.0, rounds: int = 8) -> np.ndarray:
         """The time march (:func:`express.analysis.time.simulate.simulate`, the same equations)
