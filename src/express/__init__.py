@@ -55,6 +55,7 @@ _PUBLIC = {
     "steady_curving": "express.analysis.curving.steady:steady_curving",
     "ride_response": "express.analysis.ride.vehicle:ride_response",
     "run_study": "express.analysis.study.run:run_study",
+    "study": "express.analysis.study.run:study",
     # tracks and profiles
     "load_track": "express.rail.track:load_track",
     "paper_curve": "express.rail.track:paper_curve",
