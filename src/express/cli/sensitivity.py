@@ -235,8 +235,9 @@ def _print_others(summary: dict, stream) -> None:
         shown = ", ".join(f"{n} {_constant_text(v)}" for n, v in summary["constants"].items())
         print(f"  physical constants (not ranked; d/dp [SI]): {shown}", file=stream)
     if summary.get("without_effect"):
-        print(f"  without effect on the output (no matrix depends on them): {', '.join(summary['without_effect'])}",
-              file=stream)
+        why = ("neither the matrices nor the contact depend on them" if summary["output"] == "steady_curving"
+               else "no matrix depends on them")
+        print(f"  without effect on the output ({why}): {', '.join(summary['without_effect'])}", file=stream)
     if "constants" in summary:
         print("  (--all ranks every parameter together)", file=stream)
 
