@@ -116,3 +116,22 @@ def test_study_refuses_what_is_not_a_study() -> None:
     with pytest.raises(ArgumentError, match="spec must be a StudySpec"):
         study({"model": "x"})  # type: ignore[arg-type]
     assert "study" in express.__all__ and express.study is study
+
+
+def test_an_optimisation_in_memory_is_the_files(tmp_path: Path) -> None:
+    """An optimisation (differential evolution, population 3, 2 iterations): the history in
+    memory equals the netCDF file ``run_study`` writes, and the ``best`` attribute (JSON)
+    is the summary's best point."""
+    import xarray as xr
+
+    from test_study_optimise import OPTIMISE
+
+    path = tmp_path / "opt.toml"
+    path.write_text(OPTIMISE)
+    spec = read_study(path)
+    summary = run_study(spec, tmp_path / "o.nc", workers=1)
+    data = study(spec, workers=1)
+    best = json.loads(data.attrs.pop("best"))  # the file's summary says it; the dataset carries it
+    with xr.open_dataset(tmp_path / "o.nc", engine="scipy") as file:
+        xr.testing.assert_identical(data, file.load())
+    assert best == summary.extra["best"] and best["point"] < data.sizes["point"]
