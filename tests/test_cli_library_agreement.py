@@ -8,7 +8,7 @@ chose it (the track's speed for ``simulate`` and ``curving``: the library's defa
 ``express.simulate``'s ``running_speed``).  Agreement asserted to 1e-12 relative (the same
 code runs; achieved: equal, except the printed JSON's round trip of floats, exact).
 
-Covered: eigen, critical-speed, frf, curving, simulate, ride, sensitivity (both outputs),
+Covered: eigen, critical-speed, frf, curving, simulate, ride, sensitivity (its three outputs),
 conicity, contact-geometry, study, generate, convert, export, report (byte for byte; it
 showed the expanded equations from the library and the factored ones from the command
 until ``report_html`` generated the readable ones itself).  Not here: ``draw`` (a
@@ -96,13 +96,22 @@ def test_ride(capsys, car):
         assert data["wheelsets"][name]["y_rms"] == pytest.approx(forces.as_dict()["y_rms"], rel=1e-12)
 
 
-@pytest.mark.parametrize("output", ["critical-speed", "eigenvalue"])
+@pytest.mark.parametrize("output", ["critical-speed", "eigenvalue", "steady-curving"])
 def test_sensitivity(capsys, car, output):
     from express.analysis.critical_options import CriticalOptions
     from express.analysis.study.sensitivity import critical_speed_sensitivity, eigenvalue_derivatives
 
     names = ["kx1", "ky1", "cyaw"]
     arguments = ["sensitivity", CONVENTIONAL, "--output", output, *[a for n in names for a in ("--parameter", n)]]
+    if output == "steady-curving":
+        from express.analysis.curving.steady import SteadyCurve
+
+        data = run_json(capsys, *arguments, "--radius", "600", "--cant", "100", "--speed", "90")
+        mine = express.steady_curving_sensitivity(car, SteadyCurve(600.0, 0.1), speed=90 * KMH, parameters=names)
+        assert data["values"] == pytest.approx(mine.values, rel=1e-12)
+        for name in names:
+            assert data["sensitivities"][name] == pytest.approx(mine.as_dict()["sensitivities"][name], rel=1e-12)
+        return
     if output == "eigenvalue":
         data = run_json(capsys, *arguments, "--speed", "100")
         eigenvalues, derivatives = eigenvalue_derivatives(car, 100 * KMH, names)

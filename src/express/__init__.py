@@ -55,6 +55,8 @@ _PUBLIC = {
     "steady_curving": "express.analysis.curving.steady:steady_curving",
     "ride_response": "express.analysis.ride.vehicle:ride_response",
     "run_study": "express.analysis.study.run:run_study",
+    "study": "express.analysis.study.run:study",
+    "steady_curving_sensitivity": "express.analysis.study.curving_sensitivity:steady_curving_sensitivity",
     # tracks and profiles
     "load_track": "express.rail.track:load_track",
     "paper_curve": "express.rail.track:paper_curve",
@@ -74,6 +76,7 @@ _PUBLIC = {
     "RideResponse": "express.analysis.ride.vehicle:RideResponse",
     "SimulationResult": "express.analysis.time.simulate:SimulationResult",
     "SteadyCurving": "express.analysis.curving.steady:SteadyCurving",
+    "SteadyCurvingSensitivity": "express.analysis.study.curving_sensitivity:SteadyCurvingSensitivity",
     # errors
     "ExpressError": "express.base.diagnostics:ExpressError",
     "InputError": "express.base.diagnostics:InputError",

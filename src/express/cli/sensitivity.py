@@ -1,6 +1,7 @@
 """``express sensitivity``: exact derivatives of the critical speed (or of the least
-stable eigenvalue at a speed) with respect to every parameter
-(:mod:`express.analysis.study.sensitivity`)."""
+stable eigenvalue at a speed, or of the steady-curving outputs in a curve) with respect
+to every parameter (:mod:`express.analysis.study.sensitivity`,
+:mod:`express.analysis.study.curving_sensitivity`)."""
 
 from __future__ import annotations
 
@@ -10,26 +11,42 @@ from pathlib import Path
 from express.base.diagnostics import UsageError
 from express.cli import common
 
-__all__ = ["add_parser", "run"]
+__all__ = ["CANT", "RADIUS", "add_parser", "run"]
+
+#: ``--radius`` and ``--cant`` of ``--output steady-curving``, as ``express curving`` reads them.
+RADIUS = common.Quantity("--radius", "length", "m", 0.0, 1e6, open_low=True)
+CANT = common.Quantity("--cant", "length", "mm", -500.0, 500.0)
 
 
 def add_parser(subparsers) -> None:
     parser = subparsers.add_parser(
         "sensitivity", help="exact derivatives of the critical speed (or an eigenvalue) with respect to the parameters",
         description="Derivatives from the symbolic matrices: dlambda/dp = y^H (dA/dp) x / (y^H x) for an eigenvalue, "
-        "and dV/dp = -(dRe lambda/dp)/(dRe lambda/dV) at the critical speed (implicit function theorem). "
+        "and dV/dp = -(dRe lambda/dp)/(dRe lambda/dV) at the critical speed (implicit function theorem); in a "
+        "steady curve (--output steady-curving) dx/dp = -(dr/dx)^-1 dr/dp of the steady state r(x, p) = 0, then the "
+        "leading wheelset's angle of attack, the largest Y/Q and the largest |SY|. "
         "Derived parameters follow through the parameter graph. SI units; elasticities (p/V) dV/dp.",
     )
     common.add_model_arguments(parser)
-    parser.add_argument("--output", dest="quantity", choices=("critical-speed", "eigenvalue"), default="critical-speed",
-                        help="critical-speed (default) or eigenvalue: the least stable eigenvalue at --speed")
+    parser.add_argument("--output", dest="quantity", choices=("critical-speed", "eigenvalue", "steady-curving"),
+                        default="critical-speed",
+                        help="critical-speed (default), eigenvalue: the least stable eigenvalue at --speed, or "
+                        "steady-curving: the steady-curving outputs in the curve of --radius and --cant at --speed")
     parser.add_argument("--parameter", dest="parameters", action="append", metavar="NAME",
                         help="only this parameter (repeatable; default: every given parameter but the speed)")
     parser.add_argument("--all", dest="every", action="store_true",
                         help="rank every given parameter together (default: the design parameters, then the physical "
                         "constants such as g and the parameters without effect on the output in separate lists)")
     parser.add_argument("--speed", type=common.SPEED, metavar="SPEED",
-                        help=common.SPEED.help("speed of --output eigenvalue", "the model's speed"))
+                        help=common.SPEED.help("speed of --output eigenvalue or steady-curving", "the model's speed"))
+    parser.add_argument("--radius", type=RADIUS, metavar="R", help=RADIUS.help("curve radius of --output steady-curving"))
+    parser.add_argument("--cant", type=CANT, default=None, metavar="C",
+                        help=CANT.help("cant (rail height difference) of --output steady-curving", "0"))
+    parser.add_argument("--direction", choices=("left", "right"), default=None,
+                        help="curve direction of --output steady-curving; default right")
+    parser.add_argument("--contact", choices=("tables", "deadband"), default=None,
+                        help="wheel/rail contact of --output steady-curving: the profiles' tables (default when the "
+                        "model has profiles) or the dead-band flange and creep saturation")
     common.add_search_arguments(parser)
     parser.add_argument("--plot", type=common.figure_path, metavar="FILE",
                         help="critical speed: ranked tornado chart with the elasticities (.png, .svg, .pdf)")
@@ -41,7 +58,9 @@ def add_parser(subparsers) -> None:
 def run(model: Path, overrides: dict[str, str], *, quantity: str = "critical-speed", parameters: list[str] | None = None,
         speed: float | None = None, vmin: float = common.SEARCH.v_min, vmax: float = common.SEARCH.v_max,
         plot: Path | None = None, as_json: bool = False, every: bool = False,
-        linearisation: str = "tangent", element_amplitude: float | None = None, element_angle: float | None = None, element_frequency: float | None = None) -> int:
+        linearisation: str = "tangent", element_amplitude: float | None = None, element_angle: float | None = None, element_frequency: float | None = None,
+        radius: float | None = None, cant: float | None = None, direction: str | None = None,
+        contact: str | None = None) -> int:
     """Compute and print the sensitivities; returns the exit status."""
     spec = common.linearisation_spec(linearisation, element_amplitude, element_angle, element_frequency)
     from express.io.output import output_transaction
@@ -50,8 +69,18 @@ def run(model: Path, overrides: dict[str, str], *, quantity: str = "critical-spe
         raise UsageError(f"--vmax {vmax / common.KMH:g} km/h: must be above --vmin {vmin / common.KMH:g} km/h")
     if plot is not None and quantity != "critical-speed":
         raise UsageError("--plot draws the tornado chart of --output critical-speed")
-    if speed is not None and quantity != "eigenvalue":
-        raise UsageError("--speed is the speed of --output eigenvalue")
+    if speed is not None and quantity == "critical-speed":
+        raise UsageError("--speed is the speed of --output eigenvalue or steady-curving")
+    curve_options = [name for name, value in (("--radius", radius), ("--cant", cant), ("--direction", direction),
+                                              ("--contact", contact)) if value is not None]
+    if quantity == "steady-curving":
+        if radius is None:
+            raise UsageError("--output steady-curving: give the curve's --radius R (and --cant C, --speed V)")
+        if linearisation != "tangent":
+            raise UsageError(f"--linearisation {linearisation}: steady curving runs the nonlinear elements "
+                             "themselves; the linearisation is of the linear analyses (critical-speed, eigenvalue)")
+    elif curve_options:
+        raise UsageError(f"{', '.join(curve_options)}: the curve of --output steady-curving")
     with output_transaction([model]) as transaction:
         if plot is not None:
             transaction.declare(plot, binary=True)
@@ -59,13 +88,19 @@ def run(model: Path, overrides: dict[str, str], *, quantity: str = "critical-spe
         names = _names(vehicle, parameters)
         if quantity == "critical-speed":
             summary = _critical(vehicle, names, vmin, vmax, plot)
-        else:
+        elif quantity == "eigenvalue":
             summary = _eigenvalue(vehicle, names, common.running_speed(vehicle, speed))
+        else:
+            assert radius is not None
+            summary = _steady_curving(vehicle, names, radius, cant or 0.0, direction or "right",
+                                      common.running_speed(vehicle, speed), contact)
         if parameters is None and not every:
             summary = _design_only(vehicle, summary)
     if plot is not None:
         common.note(f"wrote {plot}")
-    summary = {"model": str(model), **summary, "linearisation": common.note_linearisation(vehicle)}
+    summary = {"model": str(model), **summary}
+    if quantity != "steady-curving":  # a steady curve runs the nonlinear elements: no linearisation to tell
+        summary["linearisation"] = common.note_linearisation(vehicle)
     if as_json:
         common.print_json(summary)
     else:
@@ -96,11 +131,18 @@ def _design_only(vehicle, summary: dict) -> dict:
     constants = [name for name in physical_constants(vehicle) if name in summary["sensitivities"]]
     sensitivities = summary["sensitivities"]
     idle = [name for name, value in sensitivities.items()
-            if name not in constants and not any(value if isinstance(value, list) else [value])]
+            if name not in constants and not any(_numbers(value))]
     hidden = set(constants) | set(idle)
     kept = {key: {n: v for n, v in value.items() if n not in hidden} if key in ("sensitivities", "elasticities") else value
             for key, value in summary.items()}
     return {**kept, "constants": {n: sensitivities[n] for n in constants}, "without_effect": idle}
+
+
+def _numbers(value) -> list:
+    """A sensitivity's numbers: one, a [re, im] pair or ``{output: d}``."""
+    if isinstance(value, dict):
+        return list(value.values())
+    return value if isinstance(value, list) else [value]
 
 
 def _critical(vehicle, names: list[str], vmin: float, vmax: float, plot: Path | None) -> dict:
@@ -131,8 +173,23 @@ def _eigenvalue(vehicle, names: list[str], speed: float) -> dict:
     }
 
 
+def _steady_curving(vehicle, names: list[str], radius: float, cant: float, direction: str, speed: float,
+                    contact: str | None) -> dict:
+    from express.analysis.curving.steady import SteadyCurve
+    from express.analysis.study.curving_sensitivity import steady_curving_sensitivity
+
+    result = steady_curving_sensitivity(vehicle, SteadyCurve(radius, cant, direction), speed=speed, parameters=names,
+                                        contact=contact)
+    for line in result.notes:
+        common.note(line)
+    return {"output": "steady_curving", **result.as_dict()}
+
+
 def _print(name: str, summary: dict, stream=None) -> None:
     stream = stream or sys.stdout  # looked up now: the command line's checked standard output
+    if summary["output"] == "steady_curving":
+        _print_curving(name, summary, stream)
+        return
     if summary["output"] == "critical_speed":
         print(f"{name}: critical speed {summary['critical_speed_kmh']:.2f} km/h "
               f"({summary['critical_speed']:.4f} m/s, {summary['frequency_hz']:.3f} Hz); largest elasticity first",
@@ -152,12 +209,42 @@ def _print(name: str, summary: dict, stream=None) -> None:
     _print_others(summary, stream)
 
 
+def _print_curving(name: str, summary: dict, stream) -> None:
+    values = summary["values"]
+    print(f"{name}: steady curving in R = {summary['radius']:g} m, cant {summary['cant'] * 1e3:g} mm, "
+          f"{summary['speed'] / common.KMH:.1f} km/h ({summary['contact']}): angle of attack "
+          f"{values['steady_aoa'] * 1e3:.4g} mrad, largest Y/Q {values['steady_YQ']:.4g}, largest |SY| "
+          f"{values['steady_SY'] / 1e3:.4g} kN; elasticities (p/y) dy/dp, largest first", file=stream)
+    print(f"  {'parameter':<12} {'aoa':>9} {'Y/Q':>9} {'|SY|':>9}   {'d aoa/dp':>11} {'d Y/Q/dp':>11} {'d|SY|/dp':>11}",
+          file=stream)
+    outputs = ("steady_aoa", "steady_YQ", "steady_SY")
+    elasticities, sensitivities = summary["elasticities"], summary["sensitivities"]
+    rows = sorted(sensitivities, key=lambda n: (-max(abs(elasticities[n][o]) for o in outputs), n))
+    for n in rows:
+        e, d = elasticities[n], sensitivities[n]
+        print(f"  {n:<12} " + " ".join(f"{e[o]:9.4f}" for o in outputs) + "   "
+              + " ".join(f"{d[o]:11.4g}" for o in outputs), file=stream)
+    if summary["differenced"]:
+        print(f"  contact forces differenced (central) for: {', '.join(summary['differenced'])}; the rest from the "
+              "symbolic K and P", file=stream)
+    _print_others(summary, stream)
+
+
 def _print_others(summary: dict, stream) -> None:
     if summary.get("constants"):
-        shown = ", ".join(f"{n} {v if not isinstance(v, list) else v[0]:.4g}" for n, v in summary["constants"].items())
+        shown = ", ".join(f"{n} {_constant_text(v)}" for n, v in summary["constants"].items())
         print(f"  physical constants (not ranked; d/dp [SI]): {shown}", file=stream)
     if summary.get("without_effect"):
-        print(f"  without effect on the output (no matrix depends on them): {', '.join(summary['without_effect'])}",
-              file=stream)
+        why = ("neither the matrices nor the contact depend on them" if summary["output"] == "steady_curving"
+               else "no matrix depends on them")
+        print(f"  without effect on the output ({why}): {', '.join(summary['without_effect'])}", file=stream)
     if "constants" in summary:
         print("  (--all ranks every parameter together)", file=stream)
+
+
+def _constant_text(value) -> str:
+    """A physical constant's derivative: the number (the real part of an eigenvalue's), or
+    the steady-curving outputs' ``aoa/Y/Q/|SY|`` derivatives."""
+    if isinstance(value, dict):
+        return "/".join(f"{number:.4g}" for number in value.values())
+    return f"{value if not isinstance(value, list) else value[0]:.4g}"

@@ -327,6 +327,11 @@ class SteadyCurvingSolver:
         self._held = (inputs, forces)
         return forces
 
+    def force_set(self, inputs: TrackInputs) -> ForceSet:
+        """The nonlinear force elements on ``inputs`` (one instant), as the equations use
+        them: ``z = force_set(inputs).forces(x, 0)``, acting through :attr:`selector`."""
+        return self._forces(inputs)
+
     def feedback(self, x: np.ndarray, inputs: TrackInputs) -> np.ndarray:
         """``z(x)``: the nonlinear forces fed back, as the time march computes them: the
         wheel/rail forces of every wheelset (lateral, then yaw) and the bump stops."""

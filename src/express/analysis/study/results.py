@@ -42,7 +42,7 @@ from express.analysis.study.outputs import OUTPUTS
 from express.base.data import DataRecord
 from express.base.diagnostics import UsageError
 
-__all__ = ["FORMATS", "Checkpoint", "ResultTable", "checkpoint_path", "result_bytes"]
+__all__ = ["FORMATS", "Checkpoint", "MemoryCheckpoint", "ResultTable", "checkpoint_path", "result_bytes", "study_dataset_of"]
 
 FORMATS = (".csv", ".parquet", ".nc")
 _HEADER = "express-study-checkpoint"
@@ -165,6 +165,44 @@ class Checkpoint:
         self.close()
         self.path.unlink(missing_ok=True)
 
+    def exists(self) -> bool:
+        """Whether the checkpoint is stored (its file exists)."""
+        return self.path.exists()
+
+
+class MemoryCheckpoint(Checkpoint):
+    """A checkpoint kept in memory (:func:`express.analysis.study.run.study`): the same
+    records as the file's, nothing written; it cannot be resumed.
+
+    Parameters
+    ----------
+    identity : dict
+        What the study is (as :class:`Checkpoint`).
+    """
+
+    def __init__(self, identity: dict):
+        super().__init__(Path("(in memory)"), identity)
+        self._records: list[dict] = []
+
+    def open(self, resume: bool) -> None:
+        self._records = []
+
+    def append(self, records: Sequence[dict]) -> None:
+        # the file's JSON round trip keeps every double exactly (shortest repr): a copy is the same record
+        self._records.extend(dict(record) for record in records)
+
+    def records(self) -> Iterator[dict]:
+        yield from self._records
+
+    def close(self) -> None:
+        pass
+
+    def remove(self) -> None:
+        self._records = []
+
+    def exists(self) -> bool:
+        return False
+
 
 @dataclass(repr=False)
 class ResultTable(DataRecord):
@@ -261,8 +299,10 @@ def parquet_bytes(table: ResultTable, metadata: dict[str, str]) -> bytes:
     return sink.getvalue()
 
 
-def netcdf_bytes(table: ResultTable, metadata: dict[str, str], grid: Sequence[Sequence[float]] | None) -> bytes:
-    """The netCDF file; ``grid`` holds each parameter's values for a grid study."""
+def study_dataset_of(table: ResultTable, metadata: dict[str, str], grid: Sequence[Sequence[float]] | None = None) -> Any:
+    """The results as the :class:`xarray.Dataset` the ``.nc`` file holds (module docstring):
+    for a grid (``grid``: each parameter's values) the outputs on the grid's axes, else a
+    ``point`` dimension; every variable with its SI ``units``; ``metadata`` as attributes."""
     import xarray as xr
 
     errors = np.array(table.error_column(), dtype=object)
@@ -281,7 +321,12 @@ def netcdf_bytes(table: ResultTable, metadata: dict[str, str], grid: Sequence[Se
         data["error"] = ("point", errors, {})
         dataset = xr.Dataset(data, coords={"point": ("point", np.arange(len(table.values), dtype=np.int32))})
     dataset.attrs.update(metadata)
-    return bytes(dataset.to_netcdf(engine="scipy"))
+    return dataset
+
+
+def netcdf_bytes(table: ResultTable, metadata: dict[str, str], grid: Sequence[Sequence[float]] | None) -> bytes:
+    """The netCDF file (:func:`study_dataset_of`); ``grid`` holds each parameter's values for a grid study."""
+    return bytes(study_dataset_of(table, metadata, grid).to_netcdf(engine="scipy"))
 
 
 def result_bytes(path: str | Path, table: ResultTable, metadata: dict[str, str], grid=None) -> bytes:

@@ -32,7 +32,7 @@ from express.analysis.study.spec import StudySpec
 from express.base.data import DataRecord
 from express.base.diagnostics import UsageError
 
-__all__ = ["StudySummary", "default_workers", "parameter_units", "run_study"]
+__all__ = ["StudySummary", "default_workers", "parameter_units", "run_study", "study"]
 
 
 @dataclass(frozen=True, repr=False)
@@ -267,6 +267,104 @@ def run_study(
     output = Path(output)
     _check_output(spec, output)
     started = time.perf_counter()
+    run = _compute(spec, lambda identity: Checkpoint(checkpoint_path(output), identity), workers=workers,
+                   scheduler=scheduler, resume=resume, progress=progress, max_hours=max_hours)
+    files = _write(spec, output, run.table, run.grid, run.extra)
+    run.checkpoint.remove()
+    return StudySummary(output, len(run.table.values), run.computed, _failed(run.table),
+                        time.perf_counter() - started, run.workers, {**run.extra, "files": files}, run.table)
+
+
+def study(
+    spec: StudySpec | str | Path, *, workers: int | None = None, scheduler: str | None = None,
+    progress: bool = False, max_hours: float | None = None,
+):
+    """Run a study in memory and return its results as an :class:`xarray.Dataset`.
+
+    The same computation as :func:`run_study` (``express study``) with nothing written:
+    the points are kept in memory instead of a checkpoint, and the dataset is the one
+    :func:`run_study` writes to a ``.nc`` file (:func:`express.analysis.study.results.study_dataset_of`),
+    so that every number is the file's, bit for bit.
+
+    Parameters
+    ----------
+    spec : StudySpec or path
+        A checked study (:func:`express.analysis.study.spec.read_study`) or the path of a
+        study file (read and checked here).
+    workers : int, optional
+        Local processes; default all local cores (as ``express study``).
+    scheduler : str, optional
+        Dask scheduler address; the points run on its cluster.
+    progress : bool
+        Show a progress bar on standard error.
+    max_hours : float, optional
+        Refuse a study estimated to take longer (:func:`check_cost`); default :data:`MAX_HOURS`.
+
+    Returns
+    -------
+    xarray.Dataset
+        For a ``grid`` study the outputs on the grid's axes (one dimension per varied
+        parameter, its values [SI] as the coordinate); for the other kinds one ``point``
+        dimension, with the varied parameters as variables. Every variable has its SI
+        ``units`` attribute (``""`` for a pure number); ``error`` holds each point's
+        message (``""`` for none). The attributes are the file's metadata (``study``: the
+        study file's text, ``study_file``, ``model``, ``kind``, ``title``, ``software``,
+        ``linearisation``), and, as JSON text, ``best`` (``optimise``: the best feasible
+        point) or ``indices`` (``sobol-indices``: first-order and total Sobol indices).
+
+    Raises
+    ------
+    InputError, ModelError, UsageError
+        A bad study file or model, or a study refused by its cost.
+
+    Examples
+    --------
+    >>> import express
+    >>> results = express.study("examples/studies/critical_speed_map.toml")  # doctest: +SKIP
+    >>> results.critical_speed.sel(kx1=2e6, method="nearest")  # doctest: +SKIP
+    """
+    import json
+
+    from express.analysis.study.results import MemoryCheckpoint, study_dataset_of
+    from express.analysis.study.spec import read_study
+
+    if isinstance(spec, (str, os.PathLike)):
+        spec = read_study(spec)
+    elif not isinstance(spec, StudySpec):
+        from express.base.diagnostics import ArgumentError
+
+        raise ArgumentError(f"spec must be a StudySpec (express.analysis.study.spec.read_study) or the path of a "
+                            f"study file, got {type(spec).__name__}")
+    run = _compute(spec, MemoryCheckpoint, workers=workers, scheduler=scheduler, resume=False, progress=progress,
+                   max_hours=max_hours)
+    dataset = study_dataset_of(run.table, _metadata(spec), run.grid)
+    for key in ("best", "indices"):
+        if key in run.extra:
+            dataset.attrs[key] = json.dumps(run.extra[key], allow_nan=True)
+    return dataset
+
+
+@dataclass
+class _Run:
+    """What :func:`_compute` did: the table, the points it evaluated, extras, the grid's
+    axes (None unless a grid), the workers used and the checkpoint (to remove)."""
+
+    table: ResultTable
+    computed: int
+    extra: dict
+    grid: list | None
+    workers: int
+    checkpoint: Any
+
+
+def _failed(table: ResultTable) -> int:
+    return sum(1 for i in table.errors if np.isnan(table.results[i]).any())
+
+
+def _compute(spec: StudySpec, make_checkpoint, *, workers: int | None, scheduler: str | None, resume: bool,
+             progress: bool, max_hours: float | None) -> _Run:
+    """Evaluate a study's points (or run its optimiser), each finished chunk appended to
+    the checkpoint ``make_checkpoint(identity)`` makes (a file, or memory)."""
     task = make_task(spec)
     units = parameter_units(spec)
     workers = default_workers() if workers is None else workers
@@ -277,7 +375,7 @@ def run_study(
         engine = Engine(task, min(workers, count), scheduler)
         identity: dict[str, Any] = {"key": task.key, "kind": spec.kind, "study": _digest(spec.text.encode()),
                     "names": list(spec.names), "outputs": list(spec.outputs)}
-        checkpoint = Checkpoint(checkpoint_path(output), identity)
+        checkpoint = make_checkpoint(identity)
         with engine:
             checkpoint.open(resume)
             done = sum(1 for _ in checkpoint.records())
@@ -295,14 +393,14 @@ def run_study(
         identity = {"key": task.key, "kind": spec.kind, "points": len(points),
                     "digest": _digest(np.ascontiguousarray(points).tobytes()),
                     "names": list(spec.names), "outputs": list(spec.outputs)}
-        checkpoint = Checkpoint(checkpoint_path(output), identity)
+        checkpoint = make_checkpoint(identity)
         engine = Engine(task, min(workers, len(points)), scheduler)
         with engine:
             checkpoint.open(resume)
             try:
                 table, computed = _evaluate(engine, checkpoint, points, spec, units, progress, max_hours)
             except UsageError:  # refused before any point was computed: nothing left behind
-                if not resume and checkpoint.path.exists() and not any(True for _ in checkpoint.records()):
+                if not resume and checkpoint.exists() and not any(True for _ in checkpoint.records()):
                     checkpoint.remove()
                 raise
         grid = [r.values for r in spec.parameters] if spec.kind == "grid" else None
@@ -311,19 +409,18 @@ def run_study(
             from express.analysis.study.optimise import sobol_indices
 
             extra["indices"] = sobol_indices(spec, table)
-    files = _write(spec, output, table, grid, extra)
-    checkpoint.remove()
-    failed = sum(1 for i in table.errors if np.isnan(table.results[i]).any())
-    return StudySummary(output, len(table.values), computed, failed, time.perf_counter() - started,
-                        engine.parallel, {**extra, "files": files}, table)
+    return _Run(table, computed, extra, grid, engine.parallel, checkpoint)
 
 
-def raise_lost(lost: list[dict], checkpoint: Path, count: int) -> None:
+def raise_lost(lost: list[dict], checkpoint: Path | None, count: int) -> None:
     """End a study whose points were lost to the machinery: exit status 1, the reason, the
-    checkpoint kept (``--resume`` computes the lost points again)."""
+    checkpoint kept (``--resume`` computes the lost points again; None: a study in memory)."""
     from express.base.diagnostics import AnalysisError
 
     reasons = sorted({record["error"] for record in lost})
+    if checkpoint is None:
+        raise AnalysisError(f"{len(lost)} of {count} points could not be evaluated ({'; '.join(reasons)[:300]}); "
+                            "run the study again (or on fewer workers)")
     raise AnalysisError(f"{len(lost)} of {count} points could not be evaluated ({'; '.join(reasons)[:300]}); the "
                         f"checkpoint {checkpoint} keeps the others: run the study again with --resume to compute them")
 
@@ -363,7 +460,7 @@ def _evaluate(engine: Engine, checkpoint: Checkpoint, points: np.ndarray, spec: 
             bar.close()
     checkpoint.close()
     if lost:
-        raise_lost(lost, checkpoint.path, count)
+        raise_lost(lost, checkpoint.path if checkpoint.exists() else None, count)
     for record in checkpoint.records():
         table.add(record)
     return table, len(todo)
