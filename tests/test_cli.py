@@ -17,6 +17,7 @@ import pytest
 import express
 from cli_support import CONVENTIONAL, LEVER, ROOT, assert_input_error, run
 from express import cli
+from express.cli import runner
 from express.base.diagnostics import AnalysisError, ModelError, OutputError, Problem, UsageError
 
 SRC = ROOT / "src"
@@ -259,7 +260,7 @@ def test_numerical_commands_run_blas_on_one_thread_and_restore_it(capsys, monkey
 def test_error_lines_show_control_characters_as_escapes(text, shown):
     """What the user typed is echoed in errors; a newline or an escape sequence in it
     must not split the line or drive the terminal."""
-    assert cli.printable(text) == shown
+    assert runner.printable(text) == shown
 
 
 def test_a_set_value_with_a_line_break_is_one_error_line(capsys):

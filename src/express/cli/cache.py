@@ -3,7 +3,12 @@
 
 from __future__ import annotations
 
-__all__ = ["add_parser", "run"]
+import sys
+from collections.abc import Sequence
+
+from express.cli.runner import run_command
+
+__all__ = ["add_parser", "main", "run"]
 
 
 def add_parser(subparsers) -> None:
@@ -41,3 +46,9 @@ def run(action: str) -> int:
 
 def _megabytes(size: int) -> str:
     return f"{size / (1024 * 1024):.2f} MB"
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """``express cache`` with ``argv`` (default ``sys.argv[1:]``) alone: its exit status
+    (:func:`express.cli.runner.run_command`, the parsing and errors of :func:`express.cli.main`)."""
+    return run_command(sys.modules[__name__], argv)

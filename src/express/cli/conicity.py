@@ -6,14 +6,16 @@ from __future__ import annotations
 
 import math
 import sys
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
 from express.base.diagnostics import UsageError
 from express.cli import common
 from express.cli.contact_geometry import add_profile_arguments, load_profiles, setup_from, span
+from express.cli.runner import run_command
 
-__all__ = ["add_parser", "figure_conicity", "run"]
+__all__ = ["add_parser", "figure_conicity", "main", "run"]
 
 R0 = common.Quantity("--r0", "length", "m", 0.1, 1.0)
 CONTACT_DISTANCE = common.Quantity("--contact-distance", "length", "m", 0.5, 2.5)
@@ -129,3 +131,9 @@ def figure_conicity(amplitude, tan_gamma, title: str):
         axes.set_title(title)
         figure.tight_layout()
     return figure
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """``express conicity`` with ``argv`` (default ``sys.argv[1:]``) alone: its exit status
+    (:func:`express.cli.runner.run_command`, the parsing and errors of :func:`express.cli.main`)."""
+    return run_command(sys.modules[__name__], argv)

@@ -7,13 +7,15 @@ from __future__ import annotations
 import argparse
 import math
 import sys
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
 from express.base.diagnostics import InputError, UsageError
 from express.cli import common
+from express.cli.runner import run_command
 
-__all__ = ["add_parser", "add_profile_arguments", "figure_contact_geometry", "load_profiles", "run", "setup_from"]
+__all__ = ["add_parser", "add_profile_arguments", "figure_contact_geometry", "load_profiles", "main", "run", "setup_from"]
 
 GAUGE = common.Quantity("--gauge", "length", "m", 0.5, 2.0)
 FLANGE_BACK = common.Quantity("--flange-back", "length", "m", 0.4, 2.0)
@@ -290,3 +292,9 @@ def figure_contact_geometry(table, title: str):
                       f"rails {_ratio(setup.inclination)}")
         figure.tight_layout()
     return figure
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """``express contact-geometry`` with ``argv`` (default ``sys.argv[1:]``) alone: its exit status
+    (:func:`express.cli.runner.run_command`, the parsing and errors of :func:`express.cli.main`)."""
+    return run_command(sys.modules[__name__], argv)

@@ -2,12 +2,15 @@
 
 from __future__ import annotations
 
+import sys
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
 from express.cli import common
+from express.cli.runner import run_command
 
-__all__ = ["add_parser", "run"]
+__all__ = ["add_parser", "main", "run"]
 
 
 def add_parser(subparsers) -> None:
@@ -56,3 +59,9 @@ def _check_loads_back(text: str, output: str, original: Any) -> None:
     lost = [p for p in undefined_name_problems(model) if p.message not in before]
     if lost:
         raise RuntimeError(f"the converted model does not load back: {lost[0].message}")
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """``express convert`` with ``argv`` (default ``sys.argv[1:]``) alone: its exit status
+    (:func:`express.cli.runner.run_command`, the parsing and errors of :func:`express.cli.main`)."""
+    return run_command(sys.modules[__name__], argv)

@@ -6,6 +6,7 @@ from __future__ import annotations
 import argparse
 import math
 import sys
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
@@ -13,9 +14,10 @@ from express.analysis.critical_options import CriticalOptions
 from express.base.diagnostics import UsageError
 from express.cli import common
 from express.cli.common import SEARCH
+from express.cli.runner import run_command
 from express.rail.options import CREEP_LAWS, CreepLaw
 
-__all__ = ["MAX_SWEEP", "add_parser", "parse_range", "run"]
+__all__ = ["MAX_SWEEP", "add_parser", "main", "parse_range", "run"]
 
 #: Most values of one ``--conicities`` sweep.
 MAX_SWEEP = 10_000
@@ -300,3 +302,9 @@ def _bifurcation_figure(vehicle: Any, plot: Path, result: Any) -> None:
         linear_kmh=linear.speed_kmh if linear is not None and linear.found and not linear.unstable_at_min else None,
     )
     plots.save_figure(figure, plot)
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """``express critical-speed`` with ``argv`` (default ``sys.argv[1:]``) alone: its exit status
+    (:func:`express.cli.runner.run_command`, the parsing and errors of :func:`express.cli.main`)."""
+    return run_command(sys.modules[__name__], argv)

@@ -7,13 +7,15 @@ from __future__ import annotations
 import argparse
 import math
 import sys
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
 from express.base.diagnostics import AnalysisError, UsageError
 from express.cli import common
+from express.cli.runner import run_command
 
-__all__ = ["MAX_CURVES", "add_parser", "quantities", "run"]
+__all__ = ["MAX_CURVES", "add_parser", "main", "quantities", "run"]
 
 #: Most steady states one command computes.
 MAX_CURVES = 2000
@@ -213,3 +215,9 @@ def _print_stability(results: list, stream) -> None:
     for r in unstable:
         print(f"UNSTABLE equilibrium at R = {r.curve.radius:g} m, {r.speed / common.KMH:.1f} km/h (growth rate "
               f"{r.growth:.3g} 1/s): a time run does not stay there (express simulate)", file=stream)
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """``express curving`` with ``argv`` (default ``sys.argv[1:]``) alone: its exit status
+    (:func:`express.cli.runner.run_command`, the parsing and errors of :func:`express.cli.main`)."""
+    return run_command(sys.modules[__name__], argv)

@@ -3,12 +3,15 @@
 
 from __future__ import annotations
 
+import sys
+from collections.abc import Sequence
 from pathlib import Path
 
 from express.base.diagnostics import UsageError
 from express.cli import common
+from express.cli.runner import run_command
 
-__all__ = ["add_parser", "run"]
+__all__ = ["add_parser", "main", "run"]
 
 
 def add_parser(subparsers) -> None:
@@ -39,3 +42,9 @@ def run(outdir: Path, *, examples: Path | None = None) -> int:
     cwd = Path.cwd()
     print(f"wrote {summary.relative_to(cwd) if summary.is_absolute() and summary.is_relative_to(cwd) else summary}")
     return 0
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """``express demo`` with ``argv`` (default ``sys.argv[1:]``) alone: its exit status
+    (:func:`express.cli.runner.run_command`, the parsing and errors of :func:`express.cli.main`)."""
+    return run_command(sys.modules[__name__], argv)

@@ -2,11 +2,14 @@
 
 from __future__ import annotations
 
+import sys
+from collections.abc import Sequence
 from pathlib import Path
 
 from express.cli import common
+from express.cli.runner import run_command
 
-__all__ = ["add_parser", "run"]
+__all__ = ["add_parser", "main", "run"]
 
 
 def add_parser(subparsers) -> None:
@@ -72,3 +75,9 @@ def model_geometry_of(model):
 
     values = model.values()
     return model_geometry(model, lambda expression: expression_value(expression, values), classify_bodies(model).role)
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """``express draw`` with ``argv`` (default ``sys.argv[1:]``) alone: its exit status
+    (:func:`express.cli.runner.run_command`, the parsing and errors of :func:`express.cli.main`)."""
+    return run_command(sys.modules[__name__], argv)

@@ -3,13 +3,16 @@
 
 from __future__ import annotations
 
+import sys
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
 from express.base.diagnostics import AnalysisError, UsageError
 from express.cli import common
+from express.cli.runner import run_command
 
-__all__ = ["add_parser", "run"]
+__all__ = ["add_parser", "main", "run"]
 
 
 def add_parser(subparsers) -> None:
@@ -118,3 +121,9 @@ def _table(model: Path, overrides: dict[str, str], speed: float | None, as_json:
         print(f"{mode.real:11.4f} {mode.imag:11.4f} {mode.frequency_hz:8.3f} {mode.damping_ratio:8.4f}  "
               f"{dominant:<40} {mode.kind}" + (f" [series dampers: {series}]" if series else ""))
     return 0
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """``express eigen`` with ``argv`` (default ``sys.argv[1:]``) alone: its exit status
+    (:func:`express.cli.runner.run_command`, the parsing and errors of :func:`express.cli.main`)."""
+    return run_command(sys.modules[__name__], argv)

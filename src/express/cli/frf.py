@@ -4,15 +4,17 @@
 from __future__ import annotations
 
 import sys
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
 from express.base.diagnostics import AnalysisError, UsageError
 from express.base.names import did_you_mean
 from express.cli import common
+from express.cli.runner import run_command
 from express.model.modal_body import coordinate_unit
 
-__all__ = ["MAX_POINTS", "add_parser", "run"]
+__all__ = ["MAX_POINTS", "add_parser", "main", "run"]
 
 #: Most frequencies one run computes.
 MAX_POINTS = 100_000
@@ -225,3 +227,9 @@ def _figure(vehicle: Any, frequencies: Any, series: dict, amplitude: float, spee
     title = (f"{vehicle.name}: response to Y = {amplitude * 1e3:g} mm at {speed / common.KMH:.0f} km/h"
              if speed == speed else f"{vehicle.name}: response to each ground input ({amplitude * 1e3:g} mm)")
     save_figure(figure_frequency_responses(frequencies, panels, title=title, log=log), plot)
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """``express frf`` with ``argv`` (default ``sys.argv[1:]``) alone: its exit status
+    (:func:`express.cli.runner.run_command`, the parsing and errors of :func:`express.cli.main`)."""
+    return run_command(sys.modules[__name__], argv)

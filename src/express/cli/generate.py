@@ -2,12 +2,15 @@
 
 from __future__ import annotations
 
+import sys
+from collections.abc import Sequence
 from pathlib import Path
 
 from express.base.diagnostics import UsageError
 from express.cli import common
+from express.cli.runner import run_command
 
-__all__ = ["add_parser", "run"]
+__all__ = ["add_parser", "main", "run"]
 
 FORMATS = ("json", "matlab", "python", "latex", "text")
 
@@ -61,3 +64,9 @@ def _export(model: Path, overrides: dict[str, str], fmt: str, output: str, *, ke
     text = to_matlab(equations, name or equations.name) if fmt == "matlab" else EXPORTERS[fmt](equations)
     common.print_warnings(tuple(str(w) for w in result.warnings))
     return text, len(equations.dofs)
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """``express generate`` with ``argv`` (default ``sys.argv[1:]``) alone: its exit status
+    (:func:`express.cli.runner.run_command`, the parsing and errors of :func:`express.cli.main`)."""
+    return run_command(sys.modules[__name__], argv)

@@ -2,12 +2,15 @@
 
 from __future__ import annotations
 
+import sys
+from collections.abc import Sequence
 from pathlib import Path
 
 from express.base.diagnostics import UsageError
 from express.cli import common
+from express.cli.runner import run_command
 
-__all__ = ["add_parser", "run"]
+__all__ = ["add_parser", "main", "run"]
 
 
 def add_parser(subparsers) -> None:
@@ -56,3 +59,9 @@ def run(model: Path, overrides: dict[str, str], *, output: str, speed: float | N
         write_text(output, html)
     common.note(f"wrote {output}")
     return 0
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """``express report`` with ``argv`` (default ``sys.argv[1:]``) alone: its exit status
+    (:func:`express.cli.runner.run_command`, the parsing and errors of :func:`express.cli.main`)."""
+    return run_command(sys.modules[__name__], argv)

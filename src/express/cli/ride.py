@@ -6,13 +6,15 @@ from __future__ import annotations
 import csv
 import math
 import sys
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
 from express.base.diagnostics import AnalysisError, ModelError, Problem, UsageError
 from express.cli import common
+from express.cli.runner import run_command
 
-__all__ = ["MAX_POINTS", "TRACK_CLASSES", "add_parser", "read_psd_table", "run"]
+__all__ = ["MAX_POINTS", "TRACK_CLASSES", "add_parser", "main", "read_psd_table", "run"]
 
 #: Most frequencies one run computes.
 MAX_POINTS = 100_000
@@ -425,3 +427,9 @@ def _figure(vehicle: Any, response: Any, track: str, plot: Path) -> None:
     title = f"{vehicle.equations.name}: track {track}, {response.speed / common.KMH:.0f} km/h"
     caption = "solid: PSD; dashed: EN 12299 weighted (Wd lateral/longitudinal, Wb vertical); dotted: Sperling B²·PSD"
     save_figure(figure_ride_spectra(response.frequencies, spectra, title=title, caption=caption), plot)
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """``express ride`` with ``argv`` (default ``sys.argv[1:]``) alone: its exit status
+    (:func:`express.cli.runner.run_command`, the parsing and errors of :func:`express.cli.main`)."""
+    return run_command(sys.modules[__name__], argv)

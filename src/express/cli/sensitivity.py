@@ -6,12 +6,14 @@ to every parameter (:mod:`express.analysis.study.sensitivity`,
 from __future__ import annotations
 
 import sys
+from collections.abc import Sequence
 from pathlib import Path
 
 from express.base.diagnostics import UsageError
 from express.cli import common
+from express.cli.runner import run_command
 
-__all__ = ["CANT", "RADIUS", "add_parser", "run"]
+__all__ = ["CANT", "RADIUS", "add_parser", "main", "run"]
 
 #: ``--radius`` and ``--cant`` of ``--output steady-curving``, as ``express curving`` reads them.
 RADIUS = common.Quantity("--radius", "length", "m", 0.0, 1e6, open_low=True)
@@ -248,3 +250,9 @@ def _constant_text(value) -> str:
     if isinstance(value, dict):
         return "/".join(f"{number:.4g}" for number in value.values())
     return f"{value if not isinstance(value, list) else value[0]:.4g}"
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """``express sensitivity`` with ``argv`` (default ``sys.argv[1:]``) alone: its exit status
+    (:func:`express.cli.runner.run_command`, the parsing and errors of :func:`express.cli.main`)."""
+    return run_command(sys.modules[__name__], argv)

@@ -15,13 +15,15 @@ from __future__ import annotations
 import argparse
 import math
 import sys
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
 from express.base.diagnostics import EXIT_ASSESSMENT, AnalysisError, UsageError
 from express.cli import common
+from express.cli.runner import run_command
 
-__all__ = ["MAX_STEPS", "add_parser", "run"]
+__all__ = ["MAX_STEPS", "add_parser", "main", "run"]
 
 TABLE_SUFFIXES = (".csv", ".npz", ".mat")
 #: A run is refused beyond this many time steps (track length / (speed * dt)).
@@ -284,3 +286,9 @@ def _with_unit(name: str, value: float) -> str:
     if unit == "1/m":
         return f"{value:10.5f} 1/m"
     return f"{value:10.4f}" if math.isfinite(value) else f"{value:>10}"
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """``express simulate`` with ``argv`` (default ``sys.argv[1:]``) alone: its exit status
+    (:func:`express.cli.runner.run_command`, the parsing and errors of :func:`express.cli.main`)."""
+    return run_command(sys.modules[__name__], argv)

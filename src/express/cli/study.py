@@ -5,12 +5,14 @@ from __future__ import annotations
 
 import math
 import sys
+from collections.abc import Sequence
 from pathlib import Path
 
 from express.base.diagnostics import UsageError
 from express.cli import common
+from express.cli.runner import run_command
 
-__all__ = ["add_parser", "run"]
+__all__ = ["add_parser", "main", "run"]
 
 
 def add_parser(subparsers) -> None:
@@ -132,3 +134,9 @@ def _print(spec, summary) -> None:
             print(f"Sobol indices of {output}:" + (f" {entry['note']}" if "note" in entry else ""))
             for k, name in enumerate(entry["parameters"]):
                 print(f"  {name:<12} S1 = {entry['S1'][k]:7.3f}   ST = {entry['ST'][k]:7.3f}")
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """``express study`` with ``argv`` (default ``sys.argv[1:]``) alone: its exit status
+    (:func:`express.cli.runner.run_command`, the parsing and errors of :func:`express.cli.main`)."""
+    return run_command(sys.modules[__name__], argv)

@@ -7,12 +7,15 @@ from __future__ import annotations
 
 import argparse
 import math
+import sys
+from collections.abc import Sequence
 from pathlib import Path
 
 from express.base.diagnostics import EXIT_ASSESSMENT, UsageError
 from express.cli import common
+from express.cli.runner import run_command
 
-__all__ = ["add_parser", "run"]
+__all__ = ["add_parser", "main", "run"]
 
 LENGTH = common.Quantity("--length", "length", "m", 0.1, 10000.0, open_low=True)
 RADIUS = common.Quantity("--radius", "length", "m", 50.0, 10000.0)
@@ -151,3 +154,9 @@ def _passage(vehicle, model: Path, twist: float, length: float, track: Path | No
               f"{row['q0'] / 1e3:7.2f}  {row['at']:7.1f}")
     print(f"largest unloading {worst['unloading']:.4f} ({worst['wheelset']} {worst['wheel']}); no limit applied")
     return 0
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """``express twist`` with ``argv`` (default ``sys.argv[1:]``) alone: its exit status
+    (:func:`express.cli.runner.run_command`, the parsing and errors of :func:`express.cli.main`)."""
+    return run_command(sys.modules[__name__], argv)

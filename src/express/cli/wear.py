@@ -6,12 +6,15 @@ step, with figures; checkpointed after every step, resumed by the same command."
 from __future__ import annotations
 
 import os
+import sys
+from collections.abc import Sequence
 from pathlib import Path
 
 from express.base.diagnostics import UsageError
 from express.cli import common
+from express.cli.runner import run_command
 
-__all__ = ["add_parser", "run"]
+__all__ = ["add_parser", "main", "run"]
 
 DISTANCE = common.Quantity("--distance", "length", "km", 0.0, 1e7, open_low=True)
 BOUND = common.Quantity("--step-bound", "length", "mm", 1e-4, 5.0)
@@ -91,3 +94,8 @@ def run(model: Path, overrides: dict[str, str], *, route: Path, distance: float,
           f"Sh {result.rows[0]['flange_height'] * 1e3:.2f} -> {last['flange_height'] * 1e3:.2f} mm; wrote {output}")
     return 0
 
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """``express wear`` with ``argv`` (default ``sys.argv[1:]``) alone: its exit status
+    (:func:`express.cli.runner.run_command`, the parsing and errors of :func:`express.cli.main`)."""
+    return run_command(sys.modules[__name__], argv)
