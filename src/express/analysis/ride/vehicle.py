@@ -76,6 +76,7 @@ from express.analysis.ride.spectral import (
     spatial_to_temporal,
     spectral_rms,
 )
+from express.analysis.ride.track_classes import TRACK_CLASSES, track_class_spectra
 from express.assembly.kinematics import end_motion
 from express.base.data import DataRecord, columns_frame
 from express.base.diagnostics import AnalysisError, InputError
@@ -86,7 +87,7 @@ from express.model.modal_body import modal_motion
 from express.model.parameters import expression_value
 from express.model.records import ElementKind, Model
 from express.numeric.statespace import VehicleModel
-from express.rail.track.spectra import AAR_CLASSES, COMPONENTS, ERRI_LEVELS, FRA_CLASSES, TrackSpectrum
+from express.rail.track.spectra import COMPONENTS
 
 __all__ = [
     "AXES",
@@ -106,8 +107,6 @@ AXES = ("x", "y", "z")
 #: Default frequency band [Hz] and number of log-spaced frequencies of :func:`ride_response`.
 DEFAULT_BAND = (0.1, 50.0)
 DEFAULT_POINTS = 2000
-#: Named track classes: every component their source defines (all four).
-TRACK_CLASSES = ("ERRI-low", "ERRI-high", *(f"FRA-{k}" for k in range(1, 7)), *(f"AAR-{k}" for k in range(1, 7)))
 ACCELERATION_UNIT = "m/s^2"
 _RAIL_GROUND = re.compile(r"(?P<body>[A-Za-z][A-Za-z0-9_]*?)_rail(?P<side>[LR]?)\.(?P<axis>r?[xyz])\Z")
 # (axis, side) of a rail ground -> coefficient of each component
@@ -134,38 +133,6 @@ def output_points(vehicle: VehicleModel) -> tuple:
     rail = _model(vehicle).rail
     return rail.outputs if rail is not None else ()
 
-
-
-def _key(name: str) -> str:
-    return name.strip().lower().replace("_", "-").replace(" ", "-")
-
-
-def track_class_spectra(name: str) -> dict[str, TrackSpectrum]:
-    """The spectra of a named track class, by component.
-
-    ``ERRI-low`` / ``ERRI-high``: ORE B176 alignment and vertical, DB cross level and
-    gauge; ``FRA-1`` ... ``FRA-6`` and ``AAR-1`` ... ``AAR-6`` (the same US class
-    spectra under either name, :data:`~express.rail.track.spectra.AAR_CLASSES`):
-    alignment, vertical, cross level and gauge (``docs/ride.md``). Case, ``_`` and
-    spaces are ignored.
-
-    Raises
-    ------
-    InputError
-        For an unknown name, listing the known ones.
-    """
-    key = _key(str(name))
-    if key in ("erri-low", "erri-high"):
-        level = key.split("-")[1]
-        return {component: ERRI_LEVELS[component][level] for component in COMPONENTS}
-    match = re.fullmatch(r"(fra|aar)-?([1-6])", key)
-    if match:
-        classes, k = (FRA_CLASSES if match.group(1) == "fra" else AAR_CLASSES), int(match.group(2)) - 1
-        return {component: classes[component][k] for component in COMPONENTS}
-    raise InputError(f"unknown track class {name!r}{did_you_mean(name, TRACK_CLASSES)} (known: {', '.join(TRACK_CLASSES)})")
-
-
-# --- inputs ------------------------------------------------------------------------------
 
 
 @dataclass(frozen=True)
