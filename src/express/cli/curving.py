@@ -126,6 +126,7 @@ def run(
                            "loads": results[0].wheel_rail.loads if results else None, "units": units, "results": rows,
                            "assessments": [a.as_dict() for a in assessments],
                            "stability": [{"growth": r.growth, "stable": r.stable} for r in results],
+                           "paths": [r.path for r in results],
                            "settled": [run.as_dict() for run in settled]})
     elif output != "-":
         if results:
@@ -200,6 +201,9 @@ def _print_table(name: str, where: str, results: list, assessments: list, stream
                          f"{out.track_shift_force[0, j] / 1e3:7.2f}  {flanging:>6} ")
         print("".join(cells), file=stream)
     _print_stability(results, stream)
+    paths = sorted({r.path for r in results if r.path})
+    for path in paths:  # with friction elements the path decides the state
+        print(f"friction: the state reached {path}", file=stream)
 
 
 def _print_stability(results: list, stream) -> None:
