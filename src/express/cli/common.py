@@ -333,7 +333,7 @@ def linearisation_spec(linearisation: str = "tangent", element_amplitude: float 
                                       ("--element-frequency", element_frequency)) if value is not None]
     if given and linearisation != "equivalent":
         raise UsageError(f"{', '.join(given)}: the amplitude and frequency of --linearisation equivalent")
-    from express.forces.linearisation import Linearisation
+    from express.forces.linearisation_choice import Linearisation
 
     default = Linearisation(linearisation)
     return Linearisation(linearisation,

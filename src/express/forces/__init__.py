@@ -15,6 +15,12 @@ A new kind of element is one module here:
 - :mod:`express.forces.deadband` — the paper's dead-band flange spring and creep saturation;
 - :mod:`express.forces.contact` — the wheel/rail contact from profile tables, with the
   vertical wheel loads it is pressed by;
+- :mod:`express.forces.friction` — friction elements (a pre-slip spring and a slider);
+- :mod:`express.forces.characteristic` — nonlinear characteristics (tables and shapes);
 - :mod:`express.forces.wheelsets` — where the wheelsets are in the state (shared by the
   two wheel/rail kinds).
+
+How the linear analyses see the nonlinear elements: :mod:`express.forces.linearisation`
+(the choice itself :mod:`express.forces.linearisation_choice`, the closed forms
+:mod:`express.forces.describing`).
 """
