@@ -45,8 +45,12 @@ def test_linear_and_nonlinear_critical_speed_side_by_side(cli_run):
     # which stays within the 0.1 km/h bracket (1.25 -> 0.625 ms moves it one grid cell, 0.078 km/h)
     assert nonlinear["uncertainty"] == pytest.approx((high - low) + nonlinear["step_change"], rel=1e-9)
     assert nonlinear["converged_in_dt"] and nonlinear["step_change"] * 3.6 <= 0.1 + 1e-9
-    assert nonlinear["dt"] == 0.000625 and [c["dt"] for c in nonlinear["step_checks"]] == [
-        0.005, 0.0025, 0.00125, 0.000625]
+    # converged at 0.625 ms on the machines of 2026-12-01/02, at 1.25 ms on that of 12-03
+    # (174.17 km/h both; the halvings stop when one moves the end by less than the bracket:
+    # the processor's rounding is a change of path, see the regression guard below)
+    assert nonlinear["dt"] in (0.00125, 0.000625)
+    halvings = [0.005, 0.0025, 0.00125, 0.000625]
+    assert [c["dt"] for c in nonlinear["step_checks"]] == halvings[: halvings.index(nonlinear["dt"]) + 1]
     rows = list(csv.DictReader(out.read_text().splitlines()))
     alive = [float(r["amplitude_m"]) for r in rows if r["limit_cycle"] == "1"]
     assert max(alive) > 8e-3 and min(alive) < 2e-3  # flange-contact branch, then the tread cycle
