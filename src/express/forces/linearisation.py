@@ -166,7 +166,28 @@ class LinearisedVehicle(VehicleModel):
 
 def linearised(vehicle: VehicleModel, spec: Linearisation | None) -> VehicleModel:
     """``vehicle`` with its nonlinear elements seen as ``spec`` says; itself for the
-    tangent (or no elements)."""
+    tangent (or no elements).
+
+    Parameters
+    ----------
+    vehicle : VehicleModel
+        A linearised vehicle is taken from its tangent vehicle again.
+    spec : Linearisation or None
+        None or ``tangent``: the symbolic matrices' own tangent.
+
+    Returns
+    -------
+    VehicleModel
+        A :class:`LinearisedVehicle` when any element is replaced; every linear
+        analysis takes it as any vehicle, and :meth:`~LinearisedVehicle.with_values`
+        re-linearises it.
+
+    Examples
+    --------
+    >>> from express import Linearisation, linearised, load_vehicle
+    >>> wagon = load_vehicle("examples/y25-wagon.toml")  # doctest: +SKIP
+    >>> seen = linearised(wagon, Linearisation("equivalent", amplitude="2 mm"))  # doctest: +SKIP
+    """
     base = vehicle.tangent_vehicle if isinstance(vehicle, LinearisedVehicle) else vehicle
     if spec is None or spec.kind == "tangent":
         return base
