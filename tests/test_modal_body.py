@@ -282,11 +282,13 @@ def test_modal_beam_on_two_springs_converges_to_a_finite_element_beam():
     ======  ========  ========  ========  ========
 
     (Rayleigh-Ritz: from above, never worse for more modes.)  Asserted: each at most 1.3
-    times the value measured, the bounce and pitch errors non-increasing."""
+    times the value measured, the bounce and pitch errors non-increasing; the bending
+    errors with 6 and 10 modes at the reference's own accuracy, 3e-7 (another machine's
+    rounding gave 1.7e-7 and 3.8e-8 with 6 modes, 2026-12-03)."""
     reference = hermite_beam(240)[:5]
     assert reference[2] == pytest.approx(6.7939, abs=1e-4)
-    limits = {0: (5.1e-3, 9.0e-4), 2: (8.6e-4, 4.5e-4, 5.8e-6, 3.4e-7), 6: (3.3e-5, 3.0e-5, 6e-8, 1.1e-8),
-              10: (1.5e-5, 5.5e-6, 6e-8, 1.1e-8)}
+    limits = {0: (5.1e-3, 9.0e-4), 2: (8.6e-4, 4.5e-4, 5.8e-6, 3.4e-7), 6: (3.3e-5, 3.0e-5, 3e-7, 3e-7),
+              10: (1.5e-5, 5.5e-6, 3e-7, 3e-7)}
     previous = None
     for modes, bounds in limits.items():
         found = frequencies(beam_model(modes))[: len(bounds)]
