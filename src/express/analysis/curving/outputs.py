@@ -46,7 +46,7 @@ tangent at its station, positive turning the front to the left). Per vehicle: ``
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, fields, replace
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -223,6 +223,14 @@ class WheelRailOutputs:
                                             self.frictional_power[:, j, k], self.patch_area[:, j, k], weights,
                                             radius=radius, density=density) for k in range(2)]
                          for j in range(self.wheelsets)])
+
+    def at(self, instants: ArrayLike) -> WheelRailOutputs:
+        """The outputs at the chosen ``instants`` only (a boolean mask, shape (N,), or
+        indices); ``static_load`` and ``loads`` kept."""
+        chosen = np.asarray(instants)
+        changes = {f.name: getattr(self, f.name)[chosen] for f in fields(self)
+                   if isinstance(getattr(self, f.name), np.ndarray) and f.name != "static_load"}
+        return replace(self, **changes)
 
     def _energy_columns(self) -> dict[str, FloatArray]:
         out: dict[str, FloatArray] = {}

@@ -16,7 +16,7 @@ for a settled run). The run's step is the given one (``simulate``'s default 5 ms
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, fields, replace
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -172,14 +172,7 @@ def settled_curving(vehicle, curve: SteadyCurve, speed: float, reason: str, *, d
     mean = {name: float(np.mean(values[inside])) for name, values in columns.items() if not name.startswith("flanging")}
     amplitude = {name: float(np.ptp(columns[name][inside]) / 2) for name in mean}
     return SettledCurving(curve, float(speed), reason, mean, amplitude, (end - WINDOW, end), float(run.options["dt"]),
-                          _window(outputs, inside))
-
-
-def _window(outputs: WheelRailOutputs, inside: np.ndarray) -> WheelRailOutputs:
-    """``outputs`` at the instants ``inside`` only."""
-    changes = {f.name: getattr(outputs, f.name)[inside] for f in fields(outputs)
-               if isinstance(getattr(outputs, f.name), np.ndarray) and f.name != "static_load"}
-    return replace(outputs, **changes)
+                          outputs.at(inside))
 
 
 def curving_or_settled(vehicle, curves, speeds,

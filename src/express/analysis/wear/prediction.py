@@ -13,6 +13,7 @@ import hashlib
 import json
 import math
 import os
+import tempfile
 from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass
 from pathlib import Path
@@ -22,6 +23,7 @@ import numpy as np
 
 from express.analysis.wear.cases import ProfileGrid, case_depth, initial_grid, profile_text, with_wheel_profile
 from express.analysis.wear.route import Route
+from express.analysis.wear.stepping import METHODS, euler_step, heun_step
 from express.base.data import DataRecord, variable, xarray
 from express.base.diagnostics import ArgumentError, UsageError
 from express.io.output import output_transaction, write_csv, write_text
@@ -33,42 +35,58 @@ __all__ = ["CHECKPOINT", "FORMAT", "UNITS", "WearPrediction", "WearSettings", "p
            "profile_path"]
 
 #: The checkpoint's name in the output directory, and its format's name.
-CHECKPOINT, FORMAT = "checkpoint.json", "express-wear 1"
+CHECKPOINT, FORMAT = "checkpoint.json", "express-wear 2"
+
 #: The columns of ``wear.csv`` and their units.
-UNITS = {"step": "", "distance": "m", "step_distance": "m", "largest_change": "m", "max_depth": "m",
+UNITS = {"step": "", "distance": "m", "step_distance": "m", "largest_change": "m", "step_error": "m",
+         "evaluations": "", "max_depth": "m",
          "worn_volume": "m^3", "profile_volume": "m^3", "conicity": "", "critical_speed": "m/s",
          "flange_thickness": "m", "flange_height": "m", "flange_slope": "m"}
 
 
 @dataclass(frozen=True)
 class WearSettings:
-    """How a prediction steps (``docs/wear.md``), SI.
+    """How a prediction steps (``docs/wear.md``, "The steps"), SI.
 
     Attributes
     ----------
     bound : float
-        Largest change of the profile in one step [m] (default 0.1 mm).
+        Largest change of the profile in one step [m] (default 0.5 mm).
     smoothing : float
         Standard deviation of the Gaussian the step's depth is smoothed with [m] (1 mm).
     spacing : float
         Lateral spacing of the profile's nodes and wear cells [m] (0.1 mm).
     creep_law : str
-        Creep law of the steady states (``"fastsim"``).
+        Creep law of the steady states and time runs (``"fastsim"``).
+    method : {"heun", "euler"}
+        ``"heun"``: the depth rate at the step's start and on the profile the first
+        predicts, averaged (second order), the step's length chosen so that their
+        difference, the local error estimate, stays within ``tolerance``;
+        ``"euler"``: the rate at the start only (first order, the length from ``bound``).
+    tolerance : float
+        Largest local error estimate of a Heun step [m] (default 0.01 mm).
     """
 
-    bound: float = 0.1e-3
+    bound: float = 0.5e-3
     smoothing: float = 1e-3
     spacing: float = 0.1e-3
     creep_law: str = "fastsim"
+    method: str = "heun"
+    tolerance: float = 0.01e-3
 
     def __post_init__(self) -> None:
         if not (self.bound > 0 and self.smoothing >= 0 and 1e-6 <= self.spacing <= 1e-3):
             raise ArgumentError("the step bound must be > 0, the smoothing >= 0, the spacing 1 um .. 1 mm")
+        if self.method not in METHODS or not self.tolerance > 0:
+            raise ArgumentError(f"the method is one of {', '.join(METHODS)} and the tolerance > 0, got "
+                                f"{self.method!r} and {self.tolerance!r} m")
 
 
 #: The long names of the columns of :data:`UNITS` (CF ``long_name``).
 LONG_NAMES = {"distance": "distance run", "step_distance": "distance of the step",
-              "largest_change": "largest change of the profile in the step", "max_depth": "largest worn depth",
+              "largest_change": "largest change of the profile in the step",
+              "step_error": "local error estimate of the step (Heun against Euler)",
+              "evaluations": "evaluations of the route's depth rate in the step", "max_depth": "largest worn depth",
               "worn_volume": "worn volume", "profile_volume": "volume of the profile", "conicity": "equivalent conicity",
               "critical_speed": "linear critical speed", "flange_thickness": "flange thickness",
               "flange_height": "flange height", "flange_slope": "flange slope (qR)"}
@@ -132,15 +150,18 @@ def _case(task: tuple) -> tuple[np.ndarray, dict[str, float]]:
     """The depth per metre of one case (:func:`express.analysis.wear.cases.case_depth`)."""
     from express.analysis.curving.settled import settled_curving
     from express.analysis.curving.steady import NoSteadyStateError, SteadyCurve, SteadyCurvingSolver
+    from express.analysis.wear.random_track import random_track_run
 
-    path, grid, radius, cant, speed, creep_law = task
+    path, grid, case, speed, creep_law = task
     vehicle, solvers = _worn_vehicle(path)
-    if math.isinf(radius):  # straight track: the centred wheelset's steady state wears nothing (docs/wear.md)
+    if case.track is not None:  # the random track's time run (docs/wear.md, "Random track")
+        return case_depth(vehicle, grid, [random_track_run(vehicle, case, speed, creep_law=creep_law)])
+    if case.straight:  # the centred wheelset's steady state wears nothing (docs/wear.md)
         return case_depth(vehicle, grid, [])
     solver = solvers.get(speed)
     if solver is None:
         solver = solvers[speed] = SteadyCurvingSolver(vehicle, speed, creep_law=creep_law)
-    curve = SteadyCurve(radius, cant, "right")
+    curve = SteadyCurve(case.radius, case.cant, "right")
     try:
         state = solver.solve(curve)
     except NoSteadyStateError as error:  # the worn profile may have none: the vehicle run into the curve instead
@@ -176,6 +197,24 @@ class _Cases:
 # ---------------------------------------------------------------- the steps
 
 
+@dataclass(frozen=True)
+class _Rate:
+    """The route's depth rate on any profile of step ``step`` (trial profiles written in
+    ``scratch``, each under its own name: the workers keep a vehicle per file)."""
+
+    cases: _Cases
+    route: Route
+    speeds: Sequence[float | None]
+    settings: WearSettings
+    scratch: Path
+    step: int
+
+    def __call__(self, grid: ProfileGrid, trial: int) -> np.ndarray:
+        path = self.scratch / f"trial-{self.step:03d}-{trial}.csv"
+        write_text(path, profile_text(grid, f"trial profile {trial} of step {self.step + 1}"))
+        return _step_depth(self.cases, self.route, self.speeds, path, grid, self.settings)
+
+
 def profile_path(directory: Path, step: int) -> Path:
     """The profile file of step ``step`` in the output ``directory``."""
     return directory / "profiles" / f"wheel-{step:03d}.csv"
@@ -203,7 +242,7 @@ def _circumference(vehicle: VehicleModel) -> float:
 def _step_depth(cases: _Cases, route: Route, speeds: Sequence[float | None], path: Path, grid: ProfileGrid,
                 settings: WearSettings) -> np.ndarray:
     """The route's smoothed depth per metre run on ``grid`` [m/m]."""
-    tasks = [(str(path), grid, case.radius, case.cant, speed, settings.creep_law)
+    tasks = [(str(path), grid, case, speed, settings.creep_law)
              for case, speed in zip(route.cases, speeds, strict=True)]
     rate = np.zeros(grid.z.size)
     for case, (depth, _) in zip(route.cases, cases.run(tasks), strict=True):
@@ -212,17 +251,17 @@ def _step_depth(cases: _Cases, route: Route, speeds: Sequence[float | None], pat
 
 
 def _write_step(directory: Path, rows: list[dict], grid: ProfileGrid, first: ProfileGrid, identity: dict,
-                figures: bool) -> None:
+                figures: bool, proposal: float | None = None) -> None:
     """wear.csv, the figures and the checkpoint, together (the step's profile is written first)."""
     with output_transaction():
         write_csv(directory / "wear.csv", {name: [row[name] for row in rows] for name in UNITS}, UNITS,
-                  markers=["critical_speed"])
+                  markers=["critical_speed", "step_error"])
         if figures:
             from express.analysis.wear.figures import save_wear_figures
 
             save_wear_figures(directory, rows, grid.y, [_read_grid(directory, row["step"]) for row in rows])
         state = {"format": FORMAT, "identity": identity, "rows": rows, "start": grid.start, "spacing": grid.spacing,
-                 "z": grid.z.tolist(), "z0": first.z.tolist()}
+                 "z": grid.z.tolist(), "z0": first.z.tolist(), "proposal": proposal}
         write_text(directory / CHECKPOINT, json.dumps(state, indent=1, allow_nan=True) + "\n")
 
 
@@ -231,7 +270,7 @@ def _read_grid(directory: Path, step: int) -> np.ndarray:
     return np.loadtxt(profile_path(directory, int(step)), delimiter=",", skiprows=2)[:, 1] * 1e-3
 
 
-def _resume(directory: Path, identity: dict) -> tuple[list[dict], ProfileGrid, ProfileGrid] | None:
+def _resume(directory: Path, identity: dict) -> tuple[list[dict], ProfileGrid, ProfileGrid, float | None] | None:
     path = directory / CHECKPOINT
     if not path.exists():
         return None
@@ -246,7 +285,8 @@ def _resume(directory: Path, identity: dict) -> tuple[list[dict], ProfileGrid, P
         raise UsageError(f"{directory}: holds a wear prediction of another model, route or settings; give another -o "
                          f"DIR (or the same model, route and options to resume it)")
     grid = ProfileGrid(float(state["start"]), float(state["spacing"]), np.array(state["z"], dtype=float))
-    return state["rows"], grid, ProfileGrid(grid.start, grid.spacing, np.array(state["z0"], dtype=float))
+    first = ProfileGrid(grid.start, grid.spacing, np.array(state["z0"], dtype=float))
+    return state["rows"], grid, first, state.get("proposal")
 
 
 def predict_wear(vehicle: VehicleModel, route: Route, speeds: Sequence[float | None], distance: float,
@@ -294,40 +334,48 @@ def predict_wear(vehicle: VehicleModel, route: Route, speeds: Sequence[float | N
     if resumed is None:
         grid = first = initial_grid(vehicle, settings.spacing)
         write_text(profile_path(directory, 0), profile_text(grid, f"{vehicle.name}: new wheel profile, step 0, 0 km"))
-        row = {"step": 0, "distance": 0.0, "step_distance": 0.0, "largest_change": 0.0, "worn_volume": 0.0,
+        row = {"step": 0, "distance": 0.0, "step_distance": 0.0, "largest_change": 0.0, "step_error": 0.0,
+               "evaluations": 0, "worn_volume": 0.0,
                **_measure(with_wheel_profile(vehicle, profile_path(directory, 0)), grid, first)}
         rows = [{name: row[name] for name in UNITS}]
         _write_step(directory, rows, grid, first, identity, figures)
         if progress:
             progress(rows[0])
+        proposal = None
     else:
-        rows, grid, first = resumed
+        rows, grid, first, proposal = resumed
     if rows[-1]["distance"] > distance:
         raise UsageError(f"{directory}: the prediction there has run {rows[-1]['distance'] / 1e3:g} km already, more "
                          f"than --distance {distance / 1e3:g} km; give another -o DIR")
     cases = _Cases(vehicle, workers)
     run_now = 0
     try:
-        while rows[-1]["distance"] < distance and (stop_after is None or run_now < stop_after):
-            step = int(rows[-1]["step"])
-            rate = _step_depth(cases, route, speeds, profile_path(directory, step), grid, settings)
-            remaining = distance - rows[-1]["distance"]
-            peak = float(rate.max())
-            length = remaining if peak * remaining <= settings.bound else settings.bound / peak
-            change = rate * length
-            grid = grid.worn(change)
-            path = profile_path(directory, step + 1)
-            reached = rows[-1]["distance"] + length if length < remaining else distance
-            write_text(path, profile_text(grid, f"{vehicle.name}: worn wheel profile, step {step + 1}, "
-                                                f"{reached / 1e3:.9g} km"))
-            row = {"step": step + 1, "distance": reached, "step_distance": length, "largest_change": float(change.max()),
-                   "worn_volume": rows[-1]["worn_volume"] + float(change.sum() * grid.spacing * _circumference(vehicle)),
-                   **_measure(with_wheel_profile(vehicle, path), grid, first)}
-            rows.append({name: row[name] for name in UNITS})
-            _write_step(directory, rows, grid, first, identity, figures)
-            run_now += 1
-            if progress:
-                progress(rows[-1])
+        with tempfile.TemporaryDirectory(prefix="express-wear-") as scratch:
+            while rows[-1]["distance"] < distance and (stop_after is None or run_now < stop_after):
+                step = int(rows[-1]["step"])
+                rate = _step_depth(cases, route, speeds, profile_path(directory, step), grid, settings)
+                remaining = distance - rows[-1]["distance"]
+                rate_on = _Rate(cases, route, speeds, settings, Path(scratch), step)
+                if settings.method == "heun":
+                    advance = heun_step(rate_on, grid, rate, remaining, proposal, settings.bound, settings.tolerance)
+                else:
+                    advance = euler_step(rate, remaining, settings.bound)
+                proposal = advance.proposal
+                grid = grid.worn(advance.change)
+                path = profile_path(directory, step + 1)
+                reached = rows[-1]["distance"] + advance.length if advance.length < remaining else distance
+                write_text(path, profile_text(grid, f"{vehicle.name}: worn wheel profile, step {step + 1}, "
+                                                    f"{reached / 1e3:.9g} km"))
+                volume = float(advance.change.sum() * grid.spacing * _circumference(vehicle))
+                row = {"step": step + 1, "distance": reached, "step_distance": advance.length,
+                       "largest_change": float(advance.change.max()), "step_error": advance.error,
+                       "evaluations": advance.evaluations, "worn_volume": rows[-1]["worn_volume"] + volume,
+                       **_measure(with_wheel_profile(vehicle, path), grid, first)}
+                rows.append({name: row[name] for name in UNITS})
+                _write_step(directory, rows, grid, first, identity, figures, proposal)
+                run_now += 1
+                if progress:
+                    progress(rows[-1])
     finally:
         cases.close()
     return WearPrediction(rows, directory, rows[-1]["distance"] >= distance, run_now)

@@ -11,6 +11,9 @@ A route file is TOML::
     cant = "100 mm"                   # default 0
     speed = "100 km/h"                # or cant_deficiency = "0.8 m/s^2"
     share = 0.25                      # of the distance; all shares sum to 1
+    track = "erri_low"                # optional: run on this random alignment (a time run)
+    run_length = "500 m"              # of the random track read (default 500 m)
+    seed = 0                          # of the random phases (default 0)
 
 Quantities take a unit; a bare number is SI (a speed in m/s: a file is not the command
 line).  :func:`read_route` reports every problem at once, each with its file, line and
@@ -23,6 +26,7 @@ from __future__ import annotations
 
 import hashlib
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -35,7 +39,9 @@ from express.io.toml_lines import find_line, line_index, parse_toml
 __all__ = ["CASE_KEYS", "SHARE_TOLERANCE", "Route", "RouteCase", "read_route", "route_problems", "route_text"]
 
 #: The keys of a ``[[case]]``.
-CASE_KEYS = ("name", "radius", "cant", "speed", "cant_deficiency", "share")
+CASE_KEYS = ("name", "radius", "cant", "speed", "cant_deficiency", "share", "track", "run_length", "seed")
+#: Default length of a random track's run that is read [m], and the longest allowed.
+RUN_LENGTH, MAX_RUN_LENGTH = 500.0, 20_000.0
 #: How far the shares' sum may be from 1.
 SHARE_TOLERANCE = 1e-6
 #: Most cases a route may have.
@@ -59,6 +65,14 @@ class RouteCase:
         Unbalanced lateral acceleration in the track plane [m/s^2] (negative: excess).
     share : float
         Share of the distance run [-].
+    track : str or None
+        Name of the random alignment spectrum
+        (:data:`~express.rail.track.spectra.SPECTRA`) the case runs on as a time run
+        (``docs/wear.md``, "Random track"); None: the steady state.
+    run_length : float
+        Length of the random track's run that is read [m].
+    seed : int
+        Seed of the random alignment's phases.
     line : int or None
         Line of its ``[[case]]`` in the file.
     """
@@ -70,6 +84,9 @@ class RouteCase:
     cant_deficiency: float | None
     share: float
     line: int | None = None
+    track: str | None = None
+    run_length: float = RUN_LENGTH
+    seed: int = 0
 
     @property
     def straight(self) -> bool:
@@ -151,13 +168,40 @@ def _case(entry: Any, number: int, index: dict, source: str, problems: list[Prob
     if isinstance(share, bool) or not isinstance(share, (int, float)) or not 0.0 < float(share) <= 1.0:
         problems.append(Problem(source, at("share") or line, f"{where}: share",
                                 f"a share of the distance in (0, 1] is needed, got {share!r}"))
+    track, run_length, seed = _random_track(entry, where, at, source, problems)
     name = entry.get("name", f"case {number}")
     if not isinstance(name, str):
         problems.append(Problem(source, at("name"), f"{where}: name", f"expected a text, got {name!r}"))
     if len(problems) > count:
         return None
     assert radius is not None and cant is not None and isinstance(share, (int, float))
-    return RouteCase(str(name), radius, cant, speed, deficiency, float(share), line)
+    return RouteCase(str(name), radius, cant, speed, deficiency, float(share), line, track, run_length, seed)
+
+
+def _random_track(entry: dict, where: str, at: Callable[[str], int | None], source: str,
+                  problems: list[Problem]) -> tuple[str | None, float, int]:
+    """A case's ``track``, ``run_length`` and ``seed`` (problems appended)."""
+    from express.rail.track.spectra import SPECTRA
+
+    track = entry.get("track")
+    if track is not None and (not isinstance(track, str) or track.strip().lower() not in SPECTRA):
+        problems.append(Problem(source, at("track"), f"{where}: track",
+                                f"a random alignment is one of {', '.join(SPECTRA)}, got {track!r}"
+                                + (did_you_mean(track, tuple(SPECTRA)) if isinstance(track, str) else "")))
+        track = None
+    run_length = _quantity(entry.get("run_length", RUN_LENGTH), "length", f"{where}: run_length", problems, source,
+                           at("run_length"))
+    if run_length is not None and not 10.0 <= run_length <= MAX_RUN_LENGTH:
+        problems.append(Problem(source, at("run_length"), f"{where}: run_length",
+                                f"must be 10 m .. {MAX_RUN_LENGTH:g} m, got {run_length:g} m"))
+    seed = entry.get("seed", 0)
+    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
+        problems.append(Problem(source, at("seed"), f"{where}: seed", f"a whole number >= 0, got {seed!r}"))
+        seed = 0
+    for key in ("run_length", "seed"):
+        if key in entry and "track" not in entry:
+            problems.append(Problem(source, at(key), f"{where}: {key}", "belongs to a random track (track = \"...\")"))
+    return (None if track is None else track.strip().lower()), float(run_length or RUN_LENGTH), int(seed)
 
 
 def read_route(path: str | Path, text: str | None = None) -> Route:
@@ -212,6 +256,9 @@ def route_problems(route: Route, cant_base: float, gravity: float) -> tuple[list
     for number, case in enumerate(route.cases, start=1):
         speed = case.speed
         if case.straight:
+            if case.track is not None and speed is None:
+                problems.append(Problem(route.source, case.line, f"case {number}",
+                                        "a straight case on a random track (track = ...) needs its speed"))
             speeds.append(speed)
             continue
         curve = SteadyCurve(case.radius, case.cant)
