@@ -208,6 +208,8 @@ def test_the_command_gives_the_librarys_numbers(capsys, smooth, track_file):
     (["--output", "time-run", "--track", "R401"], "--track R401: no such file, and not a bundled track"),
     (["--output", "time-run", "--linearisation", "equivalent"], "a time run runs the nonlinear elements"),
     (["--output", "time-run", "--parameter", "Kx1"], "did you mean kx1"),
+    (["--output", "time-run", "--track", "R400", "--speed", "300"], "sensitivity: curve 1 of the track (R = 400 m)"),
+    (["--output", "time-run", "--dt", "1e-5", "--track", "R250", "--speed", "5"], "at most"),
 ])
 def test_bad_usage_exits_2(capsys, argv, mentions):
     assert_input_error(capsys, "sensitivity", STEERED, *argv, mentions=mentions)

@@ -439,7 +439,10 @@ def _switch(output: str, low: MaximumAt, high: MaximumAt) -> str:
         return ""
     if low.holder != high.holder:
         return f"the maximum switched from {low.text()} at p - h to {high.text()} at p + h"
-    return f"the maximum moved from {low.distance:.1f} m at p - h to {high.distance:.1f} m at p + h (same {high.text()})"
+    what = "wheelset" if output == "max_SY2m" else "wheel"
+    unit = "window" if output != "max_dQQ0" else "instant"
+    return (f"the maximum moved from {unit} {low.index} ({low.distance:.2f} m, {low.time:.4f} s) at p - h to {unit} "
+            f"{high.index} ({high.distance:.2f} m, {high.time:.4f} s) at p + h, the same {what} {high.holder}")
 
 
 def time_run_sensitivity(
