@@ -139,9 +139,10 @@ def _shift_forces(vehicle, track, kx1: float) -> tuple[float, float]:
 def test_a_maximum_that_switches_wheelset_is_flagged(vehicle, track_file):
     """A constructed kink in a real run: kx1 lowered from 2 MN/m, the largest (ΣY)2m
     passes from wheelset 2 (the steered bogie's trailing one) to wheelset 4 (SY2 and SY4
-    cross near 1.7 MN/m: found by bisection to 1e-9 relative).  At the crossing the
+    cross at 1.767 MN/m: found by bisection to 1e-9 relative).  At the crossing the
     maximum switches wheelset between the runs at p - h and p + h: flagged, with the
-    switch stated, though its two estimates are both near the mean of the two slopes;
+    switch stated, though its two estimates agree (-7.2056e-4 and -7.2054e-4 N/(N/m), the
+    mean of the two wheelsets' slopes 4.74e-4 and -1.915e-3);
     with the crossing at 0.75 h from the point the estimates disagree: flagged.  The
     other outputs stay smooth there."""
     track = load_track(track_file)
@@ -159,6 +160,9 @@ def test_a_maximum_that_switches_wheelset_is_flagged(vehicle, track_file):
                               step_check=False)
     k = list(OUTPUTS).index("max_SY2m")
     assert not at.differentiable[0, k]
+    # the two estimates agree (to 2e-5 here: both the mean of SY2's and SY4's slopes, 4.7e-4 and -1.9e-3 N/(N/m)),
+    # so the check of the estimates alone would pass it: the switch of wheelset flags it
+    assert abs(at.derivatives[0, k] - at.half_step[0, k]) < 1e-3 * abs(at.half_step[0, k])
     assert "different wheelsets (2, 4)" in at.reasons[0][k]
     assert at.switches[0][k].startswith("the maximum switched from wheelset 4") and "to wheelset 2" in at.switches[0][k]
     assert np.isnan(at.clean[0, k]) and at.as_dict()["sensitivities"]["kx1"]["max_SY2m"] is None
