@@ -8,7 +8,7 @@ chose it (the track's speed for ``simulate`` and ``curving``: the library's defa
 ``express.simulate``'s ``running_speed``).  Agreement asserted to 1e-12 relative (the same
 code runs; achieved: equal, except the printed JSON's round trip of floats, exact).
 
-Covered: eigen, critical-speed, frf, curving, simulate, ride, sensitivity (its three outputs),
+Covered: eigen, critical-speed, frf, curving, simulate, ride, sensitivity (its four outputs),
 conicity, contact-geometry, study, generate, convert, export, report (byte for byte; it
 showed the expanded equations from the library and the factored ones from the command
 until ``report_html`` generated the readable ones itself).  Not here: ``draw`` (a
@@ -126,6 +126,26 @@ def test_sensitivity(capsys, car, output):
         assert data["critical_speed"] == pytest.approx(mine["critical_speed"], rel=1e-12)
         for name in names:
             assert data["sensitivities"][name] == pytest.approx(mine["sensitivities"][name], rel=1e-12)
+
+
+def test_sensitivity_of_the_time_run(capsys, car, tmp_path):
+    """``--output time-run`` along a short curve entry at 60 km/h: every estimate, error and
+    flag, and where the maxima are, the library's."""
+    from cli_support import SHORT_TRACK
+
+    track = tmp_path / "short.toml"
+    track.write_text(SHORT_TRACK, encoding="utf-8")
+    names = ["kx1", "ky1", "cyaw"]
+    data = run_json(capsys, "sensitivity", CONVENTIONAL, "--output", "time-run", "--track", str(track), "--speed", "60",
+                    *[a for n in names for a in ("--parameter", n)])
+    mine = express.time_run_sensitivity(car, express.load_track(track), speed=60 * KMH, parameters=names).as_dict()
+    assert data["values"] == pytest.approx(mine["values"], rel=1e-12) and data["maxima"] == mine["maxima"]
+    for name in names:
+        for output, estimate in mine["estimates"][name].items():
+            got = data["estimates"][name][output]
+            assert (got["h"], got["half_step"]) == pytest.approx((estimate["h"], estimate["half_step"]), rel=1e-12)
+            assert (got["differentiable"], got["reason"], got["switched"]) == (
+                estimate["differentiable"], estimate["reason"], estimate["switched"])
 
 
 def test_conicity(capsys):

@@ -87,7 +87,7 @@ def test_public_record_documents_every_field(name):
 
 #: The result records reachable from ``express.`` (issue 35 item 2): each is data.
 RESULT_RECORDS = ["CriticalSpeed", "EigenResult", "FrequencyResponse", "NonlinearCriticalSpeed", "RideResponse",
-                  "SimulationResult", "SteadyCurving", "SteadyCurvingSensitivity"]
+                  "SimulationResult", "SteadyCurving", "SteadyCurvingSensitivity", "TimeRunSensitivity"]
 
 
 @pytest.mark.parametrize("name", RESULT_RECORDS)

@@ -61,6 +61,7 @@ _PUBLIC = {
     "run_study": "express.analysis.study.run:run_study",
     "study": "express.analysis.study.run:study",
     "steady_curving_sensitivity": "express.analysis.study.curving_sensitivity:steady_curving_sensitivity",
+    "time_run_sensitivity": "express.analysis.study.time_run_sensitivity:time_run_sensitivity",
     # tracks and profiles
     "load_track": "express.rail.track:load_track",
     "paper_curve": "express.rail.track:paper_curve",
@@ -82,6 +83,7 @@ _PUBLIC = {
     "SteadyCurving": "express.analysis.curving.steady:SteadyCurving",
     "StatisticalRide": "express.analysis.ride.statistical:StatisticalRide",
     "SteadyCurvingSensitivity": "express.analysis.study.curving_sensitivity:SteadyCurvingSensitivity",
+    "TimeRunSensitivity": "express.analysis.study.time_run_sensitivity:TimeRunSensitivity",
     # errors
     "ExpressError": "express.base.diagnostics:ExpressError",
     "InputError": "express.base.diagnostics:InputError",

@@ -1,7 +1,8 @@
 """``express sensitivity``: exact derivatives of the critical speed (or of the least
 stable eigenvalue at a speed, or of the steady-curving outputs in a curve) with respect
 to every parameter (:mod:`express.analysis.study.sensitivity`,
-:mod:`express.analysis.study.curving_sensitivity`)."""
+:mod:`express.analysis.study.curving_sensitivity`); checked central differences of the
+time-run outputs of a track run (:mod:`express.analysis.study.time_run_sensitivity`)."""
 
 from __future__ import annotations
 
@@ -13,11 +14,25 @@ from express.base.diagnostics import UsageError
 from express.cli import common
 from express.cli.runner import run_command
 
-__all__ = ["CANT", "RADIUS", "add_parser", "main", "run"]
+__all__ = ["CANT", "RADIUS", "add_parser", "main", "relative_step", "run"]
 
 #: ``--radius`` and ``--cant`` of ``--output steady-curving``, as ``express curving`` reads them.
 RADIUS = common.Quantity("--radius", "length", "m", 0.0, 1e6, open_low=True)
 CANT = common.Quantity("--cant", "length", "mm", -500.0, 500.0)
+
+
+def relative_step(text: str) -> float:
+    """``--step``: a relative step, a number in (0, 0.5)."""
+    import argparse
+    import math
+
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a relative step such as 1e-3, got {text!r}") from None
+    if not (math.isfinite(value) and 0.0 < value < 0.5):
+        raise argparse.ArgumentTypeError(f"{text}: a relative step must lie in (0, 0.5), e.g. 1e-3")
+    return value
 
 
 def add_parser(subparsers) -> None:
@@ -27,13 +42,18 @@ def add_parser(subparsers) -> None:
         "and dV/dp = -(dRe lambda/dp)/(dRe lambda/dV) at the critical speed (implicit function theorem); in a "
         "steady curve (--output steady-curving) dx/dp = -(dr/dx)^-1 dr/dp of the steady state r(x, p) = 0, then the "
         "leading wheelset's angle of attack, the largest Y/Q and the largest |SY|. "
-        "Derived parameters follow through the parameter graph. SI units; elasticities (p/V) dV/dp.",
+        "Derived parameters follow through the parameter graph. SI units; elasticities (p/V) dV/dp. "
+        "--output time-run: central differences of the whole track run (EN 14363 (Y/Q)2m, (SY)2m, dQ/Q0) at "
+        "p(1 +- step), checked at half the step; a derivative whose two estimates disagree, or whose maximum "
+        "switches wheel, is flagged as not differentiable.",
     )
     common.add_model_arguments(parser)
-    parser.add_argument("--output", dest="quantity", choices=("critical-speed", "eigenvalue", "steady-curving"),
+    parser.add_argument("--output", dest="quantity",
+                        choices=("critical-speed", "eigenvalue", "steady-curving", "time-run"),
                         default="critical-speed",
-                        help="critical-speed (default), eigenvalue: the least stable eigenvalue at --speed, or "
-                        "steady-curving: the steady-curving outputs in the curve of --radius and --cant at --speed")
+                        help="critical-speed (default), eigenvalue: the least stable eigenvalue at --speed, "
+                        "steady-curving: the steady-curving outputs in the curve of --radius and --cant at --speed, "
+                        "or time-run: the EN 14363 outputs of the run along --track at --speed")
     parser.add_argument("--parameter", dest="parameters", action="append", metavar="NAME",
                         help="only this parameter (repeatable; default: every given parameter but the speed)")
     parser.add_argument("--all", dest="every", action="store_true",
@@ -49,6 +69,17 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--contact", choices=("tables", "deadband"), default=None,
                         help="wheel/rail contact of --output steady-curving: the profiles' tables (default when the "
                         "model has profiles) or the dead-band flange and creep saturation")
+    parser.add_argument("--track", metavar="NAME|FILE", default=None,
+                        help="track of --output time-run: a track file or a bundled curve (R250, R400, R600, R1000, "
+                        "R3000, paper); default the paper's curve at the model's speed")
+    parser.add_argument("--dt", type=common.DT, default=None, metavar="DT",
+                        help=common.DT.help("time step of --output time-run (the nominal run's step checked as a "
+                                            "study does, every run at that step)", "0.005 s"))
+    parser.add_argument("--step", type=relative_step, default=None, metavar="REL",
+                        help="relative step of the central differences of --output time-run (default 1e-3; each "
+                        "derivative also at half of it)")
+    parser.add_argument("--no-step-check", dest="step_check", action="store_false",
+                        help="--output time-run: run at --dt without checking it against twice the step")
     common.add_search_arguments(parser)
     parser.add_argument("--plot", type=common.figure_path, metavar="FILE",
                         help="critical speed: ranked tornado chart with the elasticities (.png, .svg, .pdf)")
@@ -62,7 +93,8 @@ def run(model: Path, overrides: dict[str, str], *, quantity: str = "critical-spe
         plot: Path | None = None, as_json: bool = False, every: bool = False,
         linearisation: str = "tangent", element_amplitude: float | None = None, element_angle: float | None = None, element_frequency: float | None = None,
         radius: float | None = None, cant: float | None = None, direction: str | None = None,
-        contact: str | None = None) -> int:
+        contact: str | None = None, track: str | None = None, dt: float | None = None, step: float | None = None,
+        step_check: bool = True) -> int:
     """Compute and print the sensitivities; returns the exit status."""
     spec = common.linearisation_spec(linearisation, element_amplitude, element_angle, element_frequency)
     from express.io.output import output_transaction
@@ -83,7 +115,16 @@ def run(model: Path, overrides: dict[str, str], *, quantity: str = "critical-spe
                              "themselves; the linearisation is of the linear analyses (critical-speed, eigenvalue)")
     elif curve_options:
         raise UsageError(f"{', '.join(curve_options)}: the curve of --output steady-curving")
-    with output_transaction([model]) as transaction:
+    run_options = [name for name, value in (("--track", track), ("--dt", dt), ("--step", step),
+                                            ("--no-step-check", None if step_check else False)) if value is not None]
+    if quantity == "time-run":
+        if linearisation != "tangent":
+            raise UsageError(f"--linearisation {linearisation}: a time run runs the nonlinear elements themselves; "
+                             "the linearisation is of the linear analyses (critical-speed, eigenvalue)")
+    elif run_options:
+        raise UsageError(f"{', '.join(run_options)}: the track run of --output time-run")
+    inputs = [model] + ([Path(track)] if track is not None and Path(track).is_file() else [])
+    with output_transaction(inputs) as transaction:
         if plot is not None:
             transaction.declare(plot, binary=True)
         vehicle = common.linearised_vehicle(common.load_rail_vehicle(model, overrides, "sensitivity"), spec)
@@ -92,6 +133,8 @@ def run(model: Path, overrides: dict[str, str], *, quantity: str = "critical-spe
             summary = _critical(vehicle, names, vmin, vmax, plot)
         elif quantity == "eigenvalue":
             summary = _eigenvalue(vehicle, names, common.running_speed(vehicle, speed))
+        elif quantity == "time-run":
+            summary = _time_run(vehicle, names, track, speed, 0.005 if dt is None else dt, step, step_check)
         else:
             assert radius is not None
             summary = _steady_curving(vehicle, names, radius, cant or 0.0, direction or "right",
@@ -101,7 +144,7 @@ def run(model: Path, overrides: dict[str, str], *, quantity: str = "critical-spe
     if plot is not None:
         common.note(f"wrote {plot}")
     summary = {"model": str(model), **summary}
-    if quantity != "steady-curving":  # a steady curve runs the nonlinear elements: no linearisation to tell
+    if quantity not in ("steady-curving", "time-run"):  # a steady curve runs the nonlinear elements: no linearisation to tell
         summary["linearisation"] = common.note_linearisation(vehicle)
     if as_json:
         common.print_json(summary)
@@ -133,15 +176,17 @@ def _design_only(vehicle, summary: dict) -> dict:
     constants = [name for name in physical_constants(vehicle) if name in summary["sensitivities"]]
     sensitivities = summary["sensitivities"]
     idle = [name for name, value in sensitivities.items()
-            if name not in constants and not any(_numbers(value))]
+            if name not in constants and not any(number is None or number != 0 for number in _numbers(value))]
     hidden = set(constants) | set(idle)
-    kept = {key: {n: v for n, v in value.items() if n not in hidden} if key in ("sensitivities", "elasticities") else value
+    keyed = ("sensitivities", "elasticities", "estimates", "steps")
+    kept = {key: {n: v for n, v in value.items() if n not in hidden} if key in keyed else value
             for key, value in summary.items()}
     return {**kept, "constants": {n: sensitivities[n] for n in constants}, "without_effect": idle}
 
 
 def _numbers(value) -> list:
-    """A sensitivity's numbers: one, a [re, im] pair or ``{output: d}``."""
+    """A sensitivity's numbers: one, a [re, im] pair or ``{output: d}`` (None: a time-run
+    derivative flagged as not differentiable, an effect all the same)."""
     if isinstance(value, dict):
         return list(value.values())
     return value if isinstance(value, list) else [value]
@@ -187,10 +232,37 @@ def _steady_curving(vehicle, names: list[str], radius: float, cant: float, direc
     return {"output": "steady_curving", **result.as_dict()}
 
 
+def _time_run(vehicle, names: list[str], track: str | None, speed: float | None, dt: float, step: float | None,
+              step_check: bool) -> dict:
+    from express.analysis.study.time_run_sensitivity import STEP, time_run_sensitivity
+    from express.analysis.time.simulate import running_speed
+    from express.cli.simulate import MAX_STEPS
+
+    road, where = common.track_and_name(track)  # a clear --track error before any run
+    v = running_speed(vehicle, road, speed)[0]
+    steps = road.length / (v * dt)
+    if steps > MAX_STEPS:
+        raise UsageError(f"--dt {dt:g} s: {steps:,.0f} steps for {road.length:g} m at {v / common.KMH:g} km/h; "
+                         f"at most {MAX_STEPS:,} (give a larger --dt)")
+    from express.analysis.curving.curves import track_problems
+
+    problems = track_problems(vehicle, road, v)
+    if problems:
+        raise UsageError("\n".join(f"sensitivity: {problem}" for problem in problems))
+    result = time_run_sensitivity(vehicle, road, speed=v, dt=dt, parameters=names, step=STEP if step is None else step,
+                                  step_check=step_check)
+    for line in result.notes:
+        common.note(line)
+    return {"output": "time_run", **result.as_dict(), "track": where}
+
+
 def _print(name: str, summary: dict, stream=None) -> None:
     stream = stream or sys.stdout  # looked up now: the command line's checked standard output
     if summary["output"] == "steady_curving":
         _print_curving(name, summary, stream)
+        return
+    if summary["output"] == "time_run":
+        _print_time_run(name, summary, stream)
         return
     if summary["output"] == "critical_speed":
         print(f"{name}: critical speed {summary['critical_speed_kmh']:.2f} km/h "
@@ -232,13 +304,49 @@ def _print_curving(name: str, summary: dict, stream) -> None:
     _print_others(summary, stream)
 
 
+def _print_time_run(name: str, summary: dict, stream) -> None:
+    import math
+
+    values, maxima = summary["values"], summary["maxima"]
+    print(f"{name}: {summary['track']}; {summary['speed'] / common.KMH:.1f} km/h, dt {summary['dt']:g} s: "
+          f"(Y/Q)2m {values['max_YQ2m']:.4g} (wheel {maxima['max_YQ2m']['holder']} at "
+          f"{maxima['max_YQ2m']['distance']:.1f} m), (SY)2m {values['max_SY2m'] / 1e3:.4g} kN (wheelset "
+          f"{maxima['max_SY2m']['holder']} at {maxima['max_SY2m']['distance']:.1f} m), dQ/Q0 "
+          f"{values['max_dQQ0']:.4g} (wheel {maxima['max_dQQ0']['holder']} at {maxima['max_dQQ0']['distance']:.1f} m)",
+          file=stream)
+    print(f"  central differences at p(1 +- {summary['step']:g}), checked at half the step (+- the difference); "
+          f"'not diff.': the two disagree by more than {summary['tolerance']:.0%} or the maximum switches wheel",
+          file=stream)
+    outputs = ("max_YQ2m", "max_SY2m", "max_dQQ0")
+    print(f"  {'parameter':<12} " + " ".join(f"{'d ' + o + '/dp':>24}" for o in outputs) + "   elasticities",
+          file=stream)
+    estimates, elasticities = summary["estimates"], summary["elasticities"]
+
+    def size(n: str) -> float:
+        return max((abs(e) for e in elasticities[n].values() if e is not None), default=math.inf)
+
+    for n in sorted(estimates, key=lambda n: (-size(n), n)):
+        cells = [f"{e['h']:11.4g} +-{e['error']:9.2g}" if e["differentiable"] else f"{'not diff.':>22}"
+                 for e in (estimates[n][o] for o in outputs)]
+        shown = " ".join(f"{elasticities[n][o]:8.4f}" if elasticities[n][o] is not None else f"{'-':>8}"
+                         for o in outputs)
+        print(f"  {n:<12} " + " ".join(f"{c:>24}" for c in cells) + f"   {shown}", file=stream)
+    for line in summary["not_differentiable"]:
+        print(f"  not differentiable: {line}", file=stream)
+    for n in estimates:
+        for o in outputs:
+            if estimates[n][o]["switched"]:
+                print(f"  {n}: {o}: {estimates[n][o]['switched']}", file=stream)
+    _print_others(summary, stream)
+
+
 def _print_others(summary: dict, stream) -> None:
     if summary.get("constants"):
         shown = ", ".join(f"{n} {_constant_text(v)}" for n, v in summary["constants"].items())
         print(f"  physical constants (not ranked; d/dp [SI]): {shown}", file=stream)
     if summary.get("without_effect"):
-        why = ("neither the matrices nor the contact depend on them" if summary["output"] == "steady_curving"
-               else "no matrix depends on them")
+        why = {"steady_curving": "neither the matrices nor the contact depend on them",
+               "time_run": "the runs are the same to the last bit"}.get(summary["output"], "no matrix depends on them")
         print(f"  without effect on the output ({why}): {', '.join(summary['without_effect'])}", file=stream)
     if "constants" in summary:
         print("  (--all ranks every parameter together)", file=stream)
@@ -248,7 +356,7 @@ def _constant_text(value) -> str:
     """A physical constant's derivative: the number (the real part of an eigenvalue's), or
     the steady-curving outputs' ``aoa/Y/Q/|SY|`` derivatives."""
     if isinstance(value, dict):
-        return "/".join(f"{number:.4g}" for number in value.values())
+        return "/".join("-" if number is None else f"{number:.4g}" for number in value.values())
     return f"{value if not isinstance(value, list) else value[0]:.4g}"
 
 

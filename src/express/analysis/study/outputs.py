@@ -48,6 +48,12 @@ criterion moves by less than 1 % of its limit, :mod:`express.analysis.time.step_
 point that does not converge says so). Quantities are numbers in SI or strings with a unit
 (``"540 km/h"``).
 
+Their sensitivities: ``steady_aoa``, ``steady_YQ``, ``steady_SY`` exactly (implicit
+function theorem, :mod:`express.analysis.study.curving_sensitivity`); ``max_YQ2m``,
+``max_SY2m``, ``max_dQQ0`` by central differences of the whole run, checked at half the
+step and flagged where not differentiable (:mod:`express.analysis.study.time_run_sensitivity`;
+``express sensitivity --output steady-curving`` and ``--output time-run``).
+
 ``max_Y`` and ``max_YQ`` were ``max_Q`` and ``max_QP`` before issue 35 (one meaning per
 name: ``Q`` the vertical wheel load, ``Y`` the lateral force); a study that names the old
 ones is refused with the new name (:data:`RENAMED_OUTPUTS`).
