@@ -147,9 +147,9 @@ RUNS = {"whole": ("heun", 0.5e-3, 0.01e-3, 2, None), "resumed": ("heun", 0.5e-3,
 
 @pytest.fixture(scope="module")
 def runs(vehicle, route, tmp_path_factory):
-    """The tiny route over DISTANCE: the default steps on 2 workers and, stopped after one
-    step then resumed, on one; Euler with bounds 0.1 and 0.05 mm; Heun without the error
-    control (tolerance 1 mm) with bounds 0.2 and 0.1 mm."""
+    """The tiny route over DISTANCE: Heun with its error control on 2 workers and, stopped
+    after one step then resumed, on one; Euler with bounds 0.1 and 0.05 mm; Heun without
+    the error control (tolerance 1 mm) with bounds 0.2 and 0.1 mm."""
     base = tmp_path_factory.mktemp("wear")
     problems, speeds = route_problems(route, 1.5, 9.81)
     assert not problems
@@ -191,7 +191,7 @@ def test_step_size_convergence_and_the_volume(runs):
       at most (asserted 0.025 mm);
     * Heun without error control, bound 0.2 -> 0.1 mm (1 -> 2 steps): by 0.026 mm
       (asserted 0.03 mm);
-    * the default (Heun, tolerance 0.01 mm: 3 steps, 10 evaluations) within 0.011 mm of
+    * Heun with its error control (tolerance 0.01 mm: 3 steps, 10 evaluations) within 0.011 mm of
       Euler's 0.05 mm (asserted 0.015 mm).
 
     Measured separately (docs/wear.md, "Step-size convergence"): the largest depth falls

@@ -27,9 +27,9 @@ def add_parser(subparsers) -> None:
         "wear", help="wheel-wear prediction over mileage on a route: worn profiles, conicity, critical speed, Sd, Sh",
         description="Wear the model's wheel profile over --distance of a route (a TOML file of curves, speeds and "
         "shares of the distance): each step solves the route's cases as steady states with the profiles' contact (or "
-        "time runs on a random track), in parallel, takes the USFD wear across the profile, smooths it and removes it; "
-        "a Heun step's distance is chosen so that its local error estimate stays within --tolerance and the profile "
-        "changes by at most --step-bound. Writes into DIR the profile of every step, wear.csv "
+        "time runs on a random track), in parallel, takes the USFD wear across the profile, smooths it and removes it, "
+        "the step's distance bounded so that the profile changes by at most --step-bound (and, with --method heun, "
+        "its local error estimate within --tolerance). Writes into DIR the profile of every step, wear.csv "
         "(equivalent conicity, linear critical speed, flange thickness Sd, height Sh, slope qR against the distance), "
         "wear.png, profiles.png and a checkpoint: the same command resumes an interrupted prediction, a longer "
         "--distance continues a finished one. See docs/wear.md.",
@@ -38,11 +38,11 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--route", required=True, type=Path, metavar="FILE", help="the route file (docs/wear.md)")
     parser.add_argument("--distance", required=True, type=DISTANCE, metavar="D", help=DISTANCE.help("distance to run"))
     parser.add_argument("-o", "--output", required=True, type=Path, metavar="DIR", help="output directory (with the checkpoint)")
-    parser.add_argument("--step-bound", type=BOUND, default=0.5e-3, metavar="H",
-                        help=BOUND.help("largest change of the profile in one step", "0.5 mm"))
-    parser.add_argument("--method", choices=("heun", "euler"), default="heun",
-                        help="heun: second order, the step's distance from --tolerance (default); euler: first order, "
-                        "the distance from --step-bound alone")
+    parser.add_argument("--step-bound", type=BOUND, default=0.1e-3, metavar="H",
+                        help=BOUND.help("largest change of the profile in one step", "0.1 mm"))
+    parser.add_argument("--method", choices=("euler", "heun"), default="euler",
+                        help="euler: first order, the step's distance from --step-bound (default); heun: second order "
+                        "with a local error estimate, the distance also within --tolerance (docs/wear.md, \"The steps\")")
     parser.add_argument("--tolerance", type=TOLERANCE, default=0.01e-3, metavar="E",
                         help=TOLERANCE.help("largest local error estimate of a Heun step", "0.01 mm"))
     parser.add_argument("--smoothing", type=SMOOTHING, default=1e-3, metavar="S",
@@ -56,7 +56,7 @@ def add_parser(subparsers) -> None:
 
 
 def run(model: Path, overrides: dict[str, str], *, route: Path, distance: float, output: Path, step_bound: float,
-        smoothing: float, method: str = "heun", tolerance: float = 0.01e-3, workers: int | None = None, stop_after: int | None = None, no_figures: bool = False) -> int:
+        smoothing: float, method: str = "euler", tolerance: float = 0.01e-3, workers: int | None = None, stop_after: int | None = None, no_figures: bool = False) -> int:
     """Read the route, check everything, then step (resuming a checkpoint); exit status."""
     from express.analysis.wear.route import read_route  # a bad route is refused before the heavy imports
 

@@ -51,27 +51,28 @@ class WearSettings:
     Attributes
     ----------
     bound : float
-        Largest change of the profile in one step [m] (default 0.5 mm).
+        Largest change of the profile in one step [m] (default 0.1 mm).
     smoothing : float
         Standard deviation of the Gaussian the step's depth is smoothed with [m] (1 mm).
     spacing : float
         Lateral spacing of the profile's nodes and wear cells [m] (0.1 mm).
     creep_law : str
         Creep law of the steady states and time runs (``"fastsim"``).
-    method : {"heun", "euler"}
-        ``"heun"``: the depth rate at the step's start and on the profile the first
-        predicts, averaged (second order), the step's length chosen so that their
-        difference, the local error estimate, stays within ``tolerance``;
-        ``"euler"``: the rate at the start only (first order, the length from ``bound``).
+    method : {"euler", "heun"}
+        ``"euler"`` (default): the rate at the start only (first order, the length from
+        ``bound``); ``"heun"``: the depth rate at the step's start and on the profile the
+        first predicts, averaged (second order), the step's length chosen so that their
+        difference, the local error estimate, stays within ``tolerance``
+        (:mod:`express.analysis.wear.stepping`).
     tolerance : float
         Largest local error estimate of a Heun step [m] (default 0.01 mm).
     """
 
-    bound: float = 0.5e-3
+    bound: float = 0.1e-3
     smoothing: float = 1e-3
     spacing: float = 0.1e-3
     creep_law: str = "fastsim"
-    method: str = "heun"
+    method: str = "euler"
     tolerance: float = 0.01e-3
 
     def __post_init__(self) -> None:
