@@ -24,7 +24,8 @@ from express.base.diagnostics import ModelError, UsageError
 from express.base.expressions import ExpressionError, parse_expression
 from express.base.limits import LIMITS, limit, read_input_text
 from express.io import load_model, parse_classic, parse_toml_model
-from express.rail.contact import creep_coefficients, kalker_coefficients
+from express.rail.contact import creep_coefficients
+from express.rail.kalker import kalker_coefficients
 from express.rail.nonlinear import saturation_factor
 
 EXAMPLES = Path(CONVENTIONAL).parent
