@@ -17,7 +17,7 @@ PACKAGE = Path(__file__).resolve().parents[1] / "src" / "express"
 
 #: Module prefix -> layer, first match wins (the order of docs/architecture.md).
 LAYERS = [
-    ("express.base", 0), ("express.io.toml_lines", 0), ("express.io.output", 0), ("express.io.archives", 0), ("express.io.finite", 0),
+    ("express.base", 0), ("express.io.toml_lines", 0), ("express.io.output", 0), ("express.io.text_formats", 0), ("express.io.archives", 0), ("express.io.finite", 0),
     ("express.model", 1),
     ("express.io", 2),
     ("express.assembly", 3),

@@ -568,7 +568,8 @@ def test_a_demo_with_a_non_finite_number_writes_nothing(capsys, tmp_path: Path, 
     """The demo's files go through the same writers: a nan in its summary is status 1
     and the files it wrote before are not kept (one transaction)."""
     import express.paper.demo as library
-    from express.io.output import csv_text, json_text, write_text
+    from express.io.output import write_text
+    from express.io.text_formats import csv_text, json_text
 
     def run_demo(outdir, *, examples=None, log=print):
         outdir.mkdir(parents=True, exist_ok=True)

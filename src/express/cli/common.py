@@ -451,7 +451,7 @@ def note(message: str) -> None:
 
 def print_json(data: dict) -> None:
     """``data`` as indented JSON on standard output (NumPy values converted, nan -> null)."""
-    from express.io.output import json_text
+    from express.io.text_formats import json_text
 
     sys.stdout.write(json_text(data))
 
