@@ -10,8 +10,8 @@ import pytest
 
 import express
 from express.analysis.curving.steady import SteadyCurve
+from express.base.arguments import si_argument
 from express.base.diagnostics import ArgumentError
-from express.base.units import si_argument
 
 UNITS = pint.UnitRegistry()
 

@@ -49,11 +49,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from express.base.arguments import si_argument, si_arguments
 from express.base.data import DataRecord, variable, xarray
 from express.base.diagnostics import ArgumentError
 from express.base.names import did_you_mean
 from express.base.threads import large_problem_threads, limited_blas
-from express.base.units import si_argument, si_arguments
 from express.numeric.statespace import VehicleModel
 
 __all__ = [

@@ -53,10 +53,11 @@ import numpy as np
 
 from express.analysis.limit_cycles import CycleCheck, limit_cycle, settle_cycle
 from express.analysis.stability import CriticalSpeed, critical_speed
+from express.base.arguments import si_argument
 from express.base.data import DataRecord, variable, xarray
 from express.base.diagnostics import ArgumentError
 from express.base.threads import limited_blas
-from express.base.units import KMH, si_argument
+from express.base.units import KMH
 from express.numeric.statespace import VehicleModel
 from express.rail.options import ContactModel, CreepLaw
 

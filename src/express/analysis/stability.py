@@ -47,9 +47,10 @@ import numpy as np
 from express.analysis.critical_options import CriticalOptions
 from express.analysis.critical_result import CriticalSpeed
 from express.analysis.modes import EigenResult, Mode, modes_of
+from express.base.arguments import si_argument, si_arguments
 from express.base.diagnostics import AnalysisError, ArgumentError
 from express.base.threads import large_problem_threads, limited_blas
-from express.base.units import KMH, si_argument, si_arguments
+from express.base.units import KMH
 from express.numeric.statespace import VehicleModel
 
 __all__ = [

@@ -158,7 +158,7 @@ def track_frequency_response(
     (2,)
     """
     from express.analysis.ride.vehicle import rail_inputs, ride_response
-    from express.base.units import si_argument, si_arguments
+    from express.base.arguments import si_argument, si_arguments
     from express.rail.track.spectra import COMPONENTS
 
     inputs = rail_inputs(vehicle)

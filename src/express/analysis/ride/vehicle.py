@@ -78,10 +78,10 @@ from express.analysis.ride.spectral import (
 )
 from express.analysis.ride.track_classes import TRACK_CLASSES, track_class_spectra
 from express.assembly.kinematics import end_motion
+from express.base.arguments import si_argument, si_arguments
 from express.base.data import DataRecord, columns_frame
 from express.base.diagnostics import AnalysisError, InputError
 from express.base.names import did_you_mean
-from express.base.units import si_argument, si_arguments
 from express.forces.linearisation import nonlinear_rows
 from express.model.modal_body import modal_motion
 from express.model.parameters import expression_value

@@ -321,7 +321,7 @@ def simulate(
     SimulationResult
         ``options["route"]`` is ``"sparse"`` when the sparse route was taken.
     """
-    from express.base.units import si_argument
+    from express.base.arguments import si_argument
 
     if not isinstance(track, Track):
         raise ArgumentError(f"track must be a Track (express.load_track(\"R400\") or a track file), "
