@@ -38,9 +38,10 @@ from express.assembly.lines import line_problems, line_vector, scale, unit_term
 from express.assembly.pins import NeedsFractionsError, pin_elements, reduced_coordinates
 from express.base.diagnostics import ModelError, Problem
 from express.model.characteristics import characteristic_values
+from express.model.checks import check_model
 from express.model.modal_body import modal_expressions, modal_terms
 from express.model.parameters import display_unit
-from express.model.records import DOF_NAMES, Model, check_model
+from express.model.records import DOF_NAMES, Model
 
 __all__ = [
     "SPARSE_BELOW",

@@ -34,7 +34,7 @@ def pin_elements(model: Model) -> list[tuple[PinnedJoint, Element]]:
     Parameters
     ----------
     model : Model
-        A model validated by :func:`express.model.records.check_model` (each pin has
+        A model validated by :func:`express.model.checks.check_model` (each pin has
         its element).
 
     Returns
