@@ -264,7 +264,7 @@ def test_the_entry_point_is_lazy_and_names_real_modules():
     assert not unknown, "public names from no module of the package:\n" + "\n".join(unknown)
 
 
-@pytest.mark.parametrize(("limit", "what"), [(650, "module")])
+@pytest.mark.parametrize(("limit", "what"), [(600, "module")])
 def test_modules_stay_small(limit, what):
     large = []
     for _, path in _modules():
