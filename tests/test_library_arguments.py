@@ -76,7 +76,7 @@ def _lever():
 
 
 def _track_frf(car, frequencies, speed):
-    from express.analysis.track_response import track_frequency_response
+    from express.analysis.frequency.track_response import track_frequency_response
 
     return track_frequency_response(car, frequencies, components=["alignment"], speed=speed).speed
 

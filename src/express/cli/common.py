@@ -21,7 +21,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
-from express.analysis.critical_options import CriticalOptions
+from express.analysis.stability.critical_options import CriticalOptions
 from express.base.diagnostics import UsageError
 from express.base.names import did_you_mean
 from express.base.units import KMH

@@ -68,7 +68,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from express.analysis.frequency import require_stable
+from express.analysis.frequency.frequency import require_stable
 from express.analysis.ride.spectral import (
     check_frequencies,
     check_psd,
@@ -458,7 +458,7 @@ def _speed(vehicle: VehicleModel, speed: float | None) -> float:
 
 def linear_instability(vehicle: VehicleModel, speed: float) -> str | None:
     """Why the linear model has no stationary response at ``speed`` [m/s] (the unstable
-    mode, :func:`express.analysis.frequency.require_stable`), None when it has one."""
+    mode, :func:`express.analysis.frequency.frequency.require_stable`), None when it has one."""
     try:
         require_stable(vehicle, speed)
     except AnalysisError as error:
