@@ -55,10 +55,10 @@ from scipy.optimize import brentq  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from express.rail.conicity import equivalent_conicity, read_delta_r  # noqa: E402
-from express.rail.contact import kalker_coefficients  # noqa: E402
 from express.rail.contact_geometry import ContactSetup, contact_geometry, prepare_surfaces  # noqa: E402
 from express.rail.creep_law import fastsim, polach  # noqa: E402
 from express.rail.creep_table import tabulated  # noqa: E402
+from express.rail.kalker import kalker_coefficients  # noqa: E402
 from express.rail.profiles import standard_profile  # noqa: E402
 from machine import cpu_name, usable_cores  # noqa: E402
 

@@ -98,7 +98,7 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--runs", type=int, default=21)
     args = parser.parse_args()
-    from express.analysis.stability import critical_speed
+    from express.analysis.stability.stability import critical_speed
     from express.io import load_model
     from express.numeric.statespace import vehicle_model
     from express.rail.build import generate_vehicle

@@ -14,7 +14,7 @@ bundled forced-steering and Manchester cars and the 37-coordinate coach
 
 * **now**: ``express frf ...`` started as ``python -m express`` starts it (``runpy``, after
   importing this script, as the baseline does; the route by
-  :func:`express.analysis.banded.choose_route`, which charges the 0.25 s SciPy import to the
+  :func:`express.analysis.frequency.banded.choose_route`, which charges the 0.25 s SciPy import to the
   banded and Schur routes);
 * **before** (the named baseline): the same command with the route chosen by the rule of
   before (no import charged: the Schur form from ``2 N`` frequencies on, the banded LU when
@@ -62,7 +62,7 @@ TARGET_S = 0.4
 
 def before(n: int, states: int, frequencies: int, layout) -> str:
     """The route rule of before (no SciPy import charged), patched into the ``before`` child."""
-    from express.analysis import banded
+    from express.analysis.frequency import banded
 
     per_call, per_operation = banded._PER_CALL, banded._PER_OPERATION
     schur = banded._SCHUR_OPERATION * 10.0 * states**3 + frequencies * (per_call + per_operation * states**2)
@@ -98,7 +98,7 @@ def _start(command: list[str], environment: dict[str, str]) -> tuple[float, floa
 def _commands(model: Path) -> dict[str, list[str]]:
     argv = ["frf", str(model), "--points", str(POINTS)]
     load = f"sys.path.insert(0, {str(Path(__file__).parent)!r})\nimport bench_frf_route\n"  # both ways alike
-    patch = load + "import express.analysis.banded\nexpress.analysis.banded.choose_route = bench_frf_route.before\n"
+    patch = load + "import express.analysis.frequency.banded\nexpress.analysis.frequency.banded.choose_route = bench_frf_route.before\n"
     return {
         "now": [sys.executable, "-c", _CHILD.format(patch=load, argv=argv)],
         "before": [sys.executable, "-c", _CHILD.format(patch=patch, argv=argv)],
@@ -117,8 +117,8 @@ def _in_process(model: Path, cache: Path) -> tuple[str, str, dict[str, float], f
     import numpy as np
 
     os.environ["EXPRESS_CACHE_DIR"] = str(cache)
-    from express.analysis.banded import band_layout, choose_route
-    from express.analysis.frequency import irregularity_delays, steady_response
+    from express.analysis.frequency.banded import band_layout, choose_route
+    from express.analysis.frequency.frequency import irregularity_delays, steady_response
     from express.base.threads import blas_threads
     from express.numeric.statespace import load_vehicle
 
@@ -148,8 +148,8 @@ def _train_parts(cars: int, cache: Path) -> None:
     import numpy as np
 
     os.environ["EXPRESS_CACHE_DIR"] = str(cache)
-    from express.analysis.banded import band_layout, choose_route
-    from express.analysis.frequency import irregularity_delays, require_stable, steady_response
+    from express.analysis.frequency.banded import band_layout, choose_route
+    from express.analysis.frequency.frequency import irregularity_delays, require_stable, steady_response
     from express.base.threads import blas_threads
     from express.numeric.statespace import load_vehicle
 

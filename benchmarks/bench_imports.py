@@ -2,9 +2,9 @@
 """What an import of SciPy's sparse package costs a warm command (issue 35, item 7).
 
 Three algorithms are written in EXPRESS although SciPy has them: the reverse
-Cuthill-McKee order (``src/express/analysis/banded.py``, used by every ``frf``), the
+Cuthill-McKee order (``src/express/analysis/frequency/banded.py``, used by every ``frf``), the
 θ_m table of the sparse time march (``src/express/analysis/time/sparse_march.py``) and a
-row product (``src/express/analysis/mode_energies.py``, SciPy's sparse product from 200
+row product (``src/express/analysis/modes/mode_energies.py``, SciPy's sparse product from 200
 DOFs up).  They stay copies only where importing SciPy's module would decide a stated
 target: each copy is tested against SciPy (``tests/test_banded.py``,
 ``tests/test_sparse_march.py``).  This script measures, in fresh interpreters, the

@@ -147,8 +147,8 @@ def report(name: str, ours: float, default: float, single: float, target: bool) 
 
 
 def _route(vehicle, frequencies: np.ndarray) -> str:
-    """The route ``frequency_response`` takes (``express.analysis.banded.choose_route``)."""
-    from express.analysis.banded import band_layout, choose_route
+    """The route ``frequency_response`` takes (``express.analysis.frequency.banded.choose_route``)."""
+    from express.analysis.frequency.banded import band_layout, choose_route
 
     layout = band_layout(vehicle.mass, vehicle.damping(vehicle.speed), vehicle.stiffness)
     route = choose_route(vehicle.n, vehicle.form.size, frequencies.size, layout)
@@ -156,7 +156,7 @@ def _route(vehicle, frequencies: np.ndarray) -> str:
 
 
 def bench_frf(vehicle, label: str, runs: int) -> float:
-    from express.analysis.frequency import frequency_response
+    from express.analysis.frequency.frequency import frequency_response
 
     ratio = 0.0
     for count in (FREQUENCIES[2], 10 * FREQUENCIES[2]):
@@ -174,7 +174,7 @@ def bench_frf(vehicle, label: str, runs: int) -> float:
 
 
 def bench_eig(vehicle, label: str, runs: int) -> float:
-    from express.analysis.stability import root_locus
+    from express.analysis.stability.stability import root_locus
 
     small = vehicle.n < 60
     count = SPEEDS_KMH[2] if small else SPEEDS_KMH[2] // 4

@@ -28,12 +28,12 @@ the same process, same run):
    ``q1_rel_diff`` = relative difference of the peak ``|Q1|`` (target <= 1 %).  With
    ``--quick`` the reference covers only the first 100 m.
 3. Critical speed against conicity, 2 vehicles x 40 conicities in 0.02..0.4, with
-   ``express.analysis.stability.critical_speed_vs_conicity`` (target < 2 s for both).
+   ``express.analysis.stability.stability.critical_speed_vs_conicity`` (target < 2 s for both).
    Baseline: regenerate ``vehicle_model(with_values(model, {"Gamma": g}))`` per conicity
    and scan the speed densely (1 km/h steps, largest real part of
    ``numpy.linalg.eigvals(A(v))``), on a few conicities, EXTRAPOLATED to 2 x 40.
 4. A 1000-speed root locus of the 24-DOF forced-steering model with
-   ``express.analysis.stability.root_locus`` (target < 1 s).  Baseline: a loop building
+   ``express.analysis.stability.stability.root_locus`` (target < 1 s).  Baseline: a loop building
    ``A(v)`` from scratch (``numpy.linalg.inv(M)`` each time) and calling
    ``scipy.linalg.eig`` (eigenvalues only).
 
@@ -44,7 +44,7 @@ the same process, same run):
    for information, with the limit switched off (``EXPRESS_BLAS_THREADS=none``: how the
    library ran before) and the whole ``express simulate`` command in-process.
 
-Items 3 and 4 are skipped (and said so) if ``express.analysis.stability`` is missing.
+Items 3 and 4 are skipped (and said so) if ``express.analysis.stability.stability`` is missing.
 The last line of the output is exactly
 ``realtime_factor=<x> speedup_vs_solve_ivp=<y> q1_rel_diff=<z>``.
 Exit code 0 even when a target is missed (``TARGET MISSED`` is printed).
@@ -229,8 +229,8 @@ class Bench:
         print(f"\n== 3. critical speed against conicity: 2 vehicles x {conicities.size} conicities in "
               f"{conicities[0]:g}..{conicities[-1]:g}, medians of {args.runs} runs")
         if stability is None or not hasattr(stability, "critical_speed_vs_conicity"):
-            print("SKIPPED: express.analysis.stability.critical_speed_vs_conicity is not available")
-            self.lines.append("critical speed vs conicity: SKIPPED (no express.analysis.stability)")
+            print("SKIPPED: express.analysis.stability.stability.critical_speed_vs_conicity is not available")
+            self.lines.append("critical speed vs conicity: SKIPPED (no express.analysis.stability.stability)")
             return
 
         def both():
@@ -289,8 +289,8 @@ class Bench:
         print(f"\n== 4. root locus: {speeds.size} speeds {LOCUS_SPEEDS_KMH[0]:g}..{LOCUS_SPEEDS_KMH[1]:g} km/h, "
               f"{vehicle.n}-DOF model ({2 * vehicle.n} states), medians of {args.runs} runs")
         if stability is None or not hasattr(stability, "root_locus"):
-            print("SKIPPED: express.analysis.stability.root_locus is not available")
-            self.lines.append("root locus: SKIPPED (no express.analysis.stability)")
+            print("SKIPPED: express.analysis.stability.stability.root_locus is not available")
+            self.lines.append("root locus: SKIPPED (no express.analysis.stability.stability)")
             return
         start = time.perf_counter()
         stability.root_locus(vehicle, speeds)
@@ -517,7 +517,7 @@ def _run(args) -> int:
     from express.rail.track import paper_curve
 
     try:
-        from express.analysis import stability
+        from express.analysis.stability import stability
     except ImportError:
         stability = None
 

@@ -15,7 +15,7 @@ when other work competes for the CPUs (the CPU used by other processes is printe
 1. **Critical-speed evaluations per second per core** on the 24-DOF forced-steering car
    (48 states), over 48 variants (kx1 x Gamma), each already evaluated
    (:meth:`VehicleModel.with_values` is measured apart):
-   baseline ``express.analysis.stability.critical_speed`` (grid scan, bisection, mode
+   baseline ``express.analysis.stability.stability.critical_speed`` (grid scan, bisection, mode
    label); ``fast_critical_speed`` with ``check = "grid"`` (same grid, Hopf point by
    Newton, bisection replayed: the same values, checked bit for bit) and with
    ``check = "local"`` (each variant starts from the previous crossing, as neighbouring
@@ -109,7 +109,7 @@ def _target(ok: bool) -> str:
 
 
 def evaluations(runs: int, quick: bool) -> float:
-    from express.analysis.stability import critical_speed
+    from express.analysis.stability.stability import critical_speed
     from express.analysis.study.critical import CriticalOptions, fast_critical_speed
     from express.numeric.statespace import load_vehicle
 

@@ -20,7 +20,7 @@ For every train (``examples/make_vehicles.py --cars N``):
   Whether the two printed tables are identical is printed too.
 * in one process of this tree (medians of ``--runs``, taking turns): ``eig`` of ``A``
   on one and on two BLAS threads (and whether their eigenvalues are the same bits),
-  and :func:`express.analysis.modes.modes_of` (the modes' names, energies and dominant
+  and :func:`express.analysis.modes.modes.modes_of` (the modes' names, energies and dominant
   DOFs).
 
 The last line is ``eigen_s=<this tree, largest train> baseline_s=<...> ratio=<...>``.
@@ -74,7 +74,7 @@ def _warm(source: Path, cache: Path, train: Path) -> None:
 _IN_PROCESS = """
 import json, statistics, sys, time
 import numpy as np
-from express.analysis.modes import modes_of
+from express.analysis.modes.modes import modes_of
 from express.base.threads import blas_threads
 from express.numeric.statespace import load_vehicle
 

@@ -17,7 +17,7 @@ PACKAGE = Path(__file__).resolve().parents[1] / "src" / "express"
 
 #: Module prefix -> layer, first match wins (the order of docs/architecture.md).
 LAYERS = [
-    ("express.base", 0), ("express.io.toml_lines", 0), ("express.io.output", 0), ("express.io.archives", 0), ("express.io.finite", 0),
+    ("express.base", 0), ("express.io.toml_lines", 0), ("express.io.output", 0), ("express.io.text_formats", 0), ("express.io.archives", 0), ("express.io.finite", 0),
     ("express.model", 1),
     ("express.io", 2),
     ("express.assembly", 3),
@@ -264,7 +264,7 @@ def test_the_entry_point_is_lazy_and_names_real_modules():
     assert not unknown, "public names from no module of the package:\n" + "\n".join(unknown)
 
 
-@pytest.mark.parametrize(("limit", "what"), [(650, "module")])
+@pytest.mark.parametrize(("limit", "what"), [(600, "module")])
 def test_modules_stay_small(limit, what):
     large = []
     for _, path in _modules():

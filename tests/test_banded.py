@@ -1,4 +1,4 @@
-"""Band layouts and banded solves (express.analysis.banded) against dense algebra."""
+"""Band layouts and banded solves (express.analysis.frequency.banded) against dense algebra."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from express.analysis.banded import (
+from express.analysis.frequency.banded import (
     SCIPY_IMPORT_S,
     band_layout,
     band_storage,
@@ -107,13 +107,13 @@ def test_the_route_does_not_depend_on_what_the_process_imported():
 
 
 def test_the_reverse_cuthill_mckee_order_is_scipys():
-    """The order of express.analysis.banded.reverse_cuthill_mckee (written here so that a
+    """The order of express.analysis.frequency.banded.reverse_cuthill_mckee (written here so that a
     command does not import SciPy's sparse package) is SciPy's, step for step: random
     symmetric patterns with and without diagonals, ties included, and a car's M + C + K."""
     from scipy.sparse import csr_matrix
     from scipy.sparse.csgraph import reverse_cuthill_mckee as scipys
 
-    from express.analysis.banded import reverse_cuthill_mckee
+    from express.analysis.frequency.banded import reverse_cuthill_mckee
     from express.numeric.statespace import load_vehicle
 
     rng = np.random.default_rng(7)

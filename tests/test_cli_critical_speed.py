@@ -18,7 +18,7 @@ def test_critical_speed_json(capsys):
     assert data["critical_speed"] == pytest.approx(data["critical_speed_kmh"] / 3.6)
     # the library's value (the CLI is a thin layer over it); the speed itself is this code's
     # own (421 km/h, a regression guard in tests/test_stability.py)
-    from express.analysis.stability import critical_speed
+    from express.analysis.stability.stability import critical_speed
     from express.numeric.statespace import load_vehicle
 
     library = critical_speed(load_vehicle(CONVENTIONAL), v_max=540 / 3.6)

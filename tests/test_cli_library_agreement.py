@@ -98,7 +98,7 @@ def test_ride(capsys, car):
 
 @pytest.mark.parametrize("output", ["critical-speed", "eigenvalue", "steady-curving"])
 def test_sensitivity(capsys, car, output):
-    from express.analysis.critical_options import CriticalOptions
+    from express.analysis.stability.critical_options import CriticalOptions
     from express.analysis.study.sensitivity import critical_speed_sensitivity, eigenvalue_derivatives
 
     names = ["kx1", "ky1", "cyaw"]

@@ -194,7 +194,7 @@ def test_ride_bad_input_exits_2(capsys, tmp_path, argv, mentions):
 
 
 def test_ride_above_the_critical_speed_says_so_and_writes_no_psd(capsys, tmp_path):
-    """The check of ``express frf`` (``analysis.frequency.require_stable``): the same
+    """The check of ``express frf`` (``analysis.frequency.frequency.require_stable``): the same
     least-damped mode.  Unstable is a result: exit 0 with the nonlinear run's ride
     (``tests/test_ride_nonlinear.py``), and no PSD file or figure (none exists)."""
     output, plot = tmp_path / "psd.csv", tmp_path / "psd.png"

@@ -9,14 +9,14 @@ import math
 import pytest
 from scipy.special import ellipe, ellipk, elliprd
 
-from express.rail import contact
+from express.rail import contact, kalker
 from express.rail.contact import (
     CreepCoefficients,
     HertzContact,
     creep_coefficients,
     hertz_contact,
-    kalker_coefficients,
 )
+from express.rail.kalker import kalker_coefficients
 
 # ---------------------------------------------------------------------------
 # Kalker (1990), Table E.3, typed again for the tests in a different layout:
@@ -24,7 +24,7 @@ from express.rail.contact import (
 #   a/b = 0.1, 0.2, ..., 0.9, 1.0, 1/0.9, 1/0.8, ..., 1/0.1.
 # C11, C22, C23 cross-checked against CONTACT (src/m_hertz.f90, linrol) and
 # OpenRailVehicleDynamics (kalker_coefficient_table.cc).  C33 has no second
-# source (see the comment at the table in express.rail.contact).
+# source (see the comment at the table in express.rail.kalker).
 # ---------------------------------------------------------------------------
 
 POISSON_NODES = (0.0, 0.25, 0.5)
@@ -483,8 +483,9 @@ def test_absurdly_slender_contact_is_refused():
 # ---------------------------------------------------------------------------
 
 
-def test_docstring_examples_run():
-    result = doctest.testmod(contact, verbose=False)
+@pytest.mark.parametrize("module", [contact, kalker])
+def test_docstring_examples_run(module):
+    result = doctest.testmod(module, verbose=False)
     assert result.attempted > 0
     assert result.failed == 0
 
@@ -500,8 +501,8 @@ def test_results_are_plain_floats():
 
 def test_public_api():
     assert set(contact.__all__) == {
-        "CreepCoefficients", "HertzContact", "creep_coefficients",
-        "hertz_contact", "kalker_coefficients",
+        "CreepCoefficients", "HertzContact", "creep_coefficients", "hertz_contact",
     }
+    assert set(kalker.__all__) == {"kalker_coefficients", "require_poisson", "require_positive_finite"}
     assert [f.name for f in dataclasses.fields(HertzContact)] == ["a", "b", "A", "B", "load"]
     assert [f.name for f in dataclasses.fields(CreepCoefficients)] == ["f11", "f22", "f23", "f33"]

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import pytest
 
-from express.analysis.nonlinear_stability import nonlinear_critical_speed
+from express.analysis.stability.nonlinear_stability import nonlinear_critical_speed
 from express.base.units import KMH
 from express.cli import main
 from express.numeric.statespace import load_vehicle

@@ -24,7 +24,7 @@ import pytest
 import sympy as sp
 
 from express.model.parameters import expression_value
-from express.rail.contact import hertz_contact, kalker_coefficients
+from express.rail.contact import hertz_contact
 from express.rail.contact_forces import quasi_static_forces, wheelset_contact
 from express.rail.contact_geometry import ContactSetup, contact_geometry
 from express.rail.contact_tables import (
@@ -39,6 +39,7 @@ from express.rail.contact_tables import (
     linear_contact_parameters,
     rail_deflection_map,
 )
+from express.rail.kalker import kalker_coefficients
 from express.rail.profile_contact import linear_wheelset_terms
 from express.rail.profiles import standard_profile
 from express.rail.wheelrail import wheelset_terms

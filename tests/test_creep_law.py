@@ -13,7 +13,6 @@ import math
 import numpy as np
 import pytest
 
-from express.rail.contact import kalker_coefficients
 from express.rail.creep_law import (
     _fastsim,
     _fastsim_factors,
@@ -23,6 +22,7 @@ from express.rail.creep_law import (
     polach_forces,
     spin_reduction,
 )
+from express.rail.kalker import kalker_coefficients
 
 G = 80e9
 NORMAL = 50e3

@@ -14,9 +14,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from express.rail.contact import kalker_coefficients
 from express.rail.contact_forces import LAWS, quasi_static_forces
 from express.rail.creep_table import TABLE_GRID, TABLE_POISSON, tabulated, tabulated_forces, tabulated_with_moment
+from express.rail.kalker import kalker_coefficients
 
 G = 80e9
 NORMAL = 50e3

@@ -21,8 +21,8 @@ import numpy as np
 import pytest
 
 from express.analysis.curving.steady import SteadyCurve, SteadyCurvingSolver
-from express.analysis.frequency import frequency_response
-from express.analysis.stability import critical_speed
+from express.analysis.frequency.frequency import frequency_response
+from express.analysis.stability.stability import critical_speed
 from express.analysis.time.simulate import simulate
 from express.numeric.statespace import load_vehicle
 from express.rail.track.named import named_track

@@ -17,7 +17,6 @@ from express.model.parameters import expression_value
 from express.model.topology import classify_bodies
 from express.numeric.statespace import load_vehicle
 
-
 ROOT_EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
 
@@ -136,7 +135,7 @@ def test_no_two_labels_overlap(path):
 
 
 def test_mode_shape_matches_the_eigen_analysis():
-    from express.analysis.stability import eigen_analysis
+    from express.analysis.stability.stability import eigen_analysis
 
     vehicle = load_vehicle("examples/conventional.toml")
     result = eigen_analysis(vehicle, vehicle.speed)

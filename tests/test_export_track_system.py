@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from express.analysis.frequency import frequency_response
+from express.analysis.frequency.frequency import frequency_response
 from express.base.diagnostics import ArgumentError
 from express.export.linear_system import to_control, to_scipy
 from express.export.track_system import pade_delay, track_response, track_system

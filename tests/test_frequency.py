@@ -1,4 +1,4 @@
-"""Tests of express.analysis.frequency: the frequency response to a sinusoidal alignment.
+"""Tests of express.analysis.frequency.frequency: the frequency response to a sinusoidal alignment.
 
 The reference is a time simulation of the same linear model (no flange contact, no
 creep saturation) on a straight track with a sinusoidal irregularity of wavelength
@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from express.analysis.frequency import FrequencyResponse, frequency_response, irregularity_delays
+from express.analysis.frequency.frequency import FrequencyResponse, frequency_response, irregularity_delays
 from express.io import load_model
 from express.numeric.statespace import point_lateral_row, vehicle_model
 

@@ -218,7 +218,7 @@ def _closed_form_frequencies(lever, values):
 
 
 def test_lever_natural_frequencies_are_the_closed_form(lever):
-    from express.analysis.stability import eigen_analysis, natural_frequencies
+    from express.analysis.stability.stability import eigen_analysis, natural_frequencies
 
     vehicle, values = _lever_vehicle(damping=0.0)
     expected = _closed_form_frequencies(lever, values)
@@ -234,7 +234,7 @@ def test_lever_natural_frequencies_are_the_closed_form(lever):
 def test_damped_lever_keeps_the_natural_frequencies(lever):
     """With the damper c: |lambda| of each mode is close to the undamped frequency and
     the damping ratios are positive."""
-    from express.analysis.stability import eigen_analysis
+    from express.analysis.stability.stability import eigen_analysis
 
     vehicle, values = _lever_vehicle(damping=1000.0)
     expected = _closed_form_frequencies(lever, values)
@@ -247,7 +247,7 @@ def test_damped_lever_keeps_the_natural_frequencies(lever):
 
 def test_lever_frf_to_ground_inputs_is_the_direct_solution(lever):
     """H(w) = (K - w^2 M + i w C)^-1 (P + i w Pd) from the symbolic matrices, solved here."""
-    from express.analysis.frequency import ground_response
+    from express.analysis.frequency.frequency import ground_response
 
     vehicle, values = _lever_vehicle(damping=1000.0)
     frequencies = np.array([0.0, 5.0, 48.0, 200.0])

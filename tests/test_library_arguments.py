@@ -10,8 +10,8 @@ import pytest
 
 import express
 from express.analysis.curving.steady import SteadyCurve
+from express.base.arguments import si_argument
 from express.base.diagnostics import ArgumentError
-from express.base.units import si_argument
 
 UNITS = pint.UnitRegistry()
 
@@ -76,7 +76,7 @@ def _lever():
 
 
 def _track_frf(car, frequencies, speed):
-    from express.analysis.track_response import track_frequency_response
+    from express.analysis.frequency.track_response import track_frequency_response
 
     return track_frequency_response(car, frequencies, components=["alignment"], speed=speed).speed
 

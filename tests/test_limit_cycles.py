@@ -1,12 +1,12 @@
 """Runs at one speed that tell whether a hunting limit cycle lives there
-(express.analysis.limit_cycles), on the wheelset of tests/test_profile_contact.py."""
+(express.analysis.stability.limit_cycles), on the wheelset of tests/test_profile_contact.py."""
 
 from __future__ import annotations
 
 import pytest
 
-from express.analysis.limit_cycles import SETTLED_WINDOWS, settle_cycle, settled
-from express.analysis.nonlinear_stability import nonlinear_critical_speed
+from express.analysis.stability.limit_cycles import SETTLED_WINDOWS, settle_cycle, settled
+from express.analysis.stability.nonlinear_stability import nonlinear_critical_speed
 from express.base.units import KMH
 from express.io.toml_model import parse_toml_model
 from express.numeric.statespace import vehicle_model

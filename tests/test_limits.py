@@ -24,7 +24,8 @@ from express.base.diagnostics import ModelError, UsageError
 from express.base.expressions import ExpressionError, parse_expression
 from express.base.limits import LIMITS, limit, read_input_text
 from express.io import load_model, parse_classic, parse_toml_model
-from express.rail.contact import creep_coefficients, kalker_coefficients
+from express.rail.contact import creep_coefficients
+from express.rail.kalker import kalker_coefficients
 from express.rail.nonlinear import saturation_factor
 
 EXAMPLES = Path(CONVENTIONAL).parent
@@ -377,7 +378,7 @@ def test_a_frequency_response_of_an_unstable_vehicle_is_no_valid_result(capsys, 
 def test_check_model_refuses_a_wheelset_listed_twice_in_a_model_built_in_python():
     from dataclasses import replace
 
-    from express.model.records import check_model
+    from express.model.checks import check_model
 
     car = load_model(CONVENTIONAL)
     rail = replace(car.rail, wheelsets=car.rail.wheelsets + car.rail.wheelsets[:1])

@@ -56,7 +56,7 @@ def test_car_body_roll_stiffness_is_the_closed_form(generated):
 def test_symmetric_bounce_is_the_three_mass_chain(model):
     """In-phase bounce: car body, both bogie frames and all wheelsets on the series of
     air springs, primary springs and wheel/rail contact springs (3 masses, exact)."""
-    from express.analysis.stability import natural_frequencies
+    from express.analysis.stability.stability import natural_frequencies
 
     values = model.values()
     m = np.diag([values["mc"], 2 * values["mt"], 4 * values["mw"]])
@@ -73,7 +73,7 @@ def test_modes_and_critical_speed_regression_guard(vehicle):
     """Regression guard, not validation: these are this code's own results (docs/parameters.md
     quotes them); no published modal result of vehicle 1 was found to compare with.  The
     in-phase bounce is validated against its closed form above (1.0703 Hz)."""
-    from express.analysis.stability import critical_speed, eigen_analysis
+    from express.analysis.stability.stability import critical_speed, eigen_analysis
 
     result = eigen_analysis(vehicle, 30.0)
     assert result.stable
@@ -90,7 +90,7 @@ def test_modes_and_critical_speed_regression_guard(vehicle):
 
 def test_track_inputs_move_the_car_body_rigidly_at_zero_frequency(vehicle):
     """All four vertical track inputs raised by 1 m lift the whole car by 1 m."""
-    from express.analysis.frequency import ground_response
+    from express.analysis.frequency.frequency import ground_response
 
     response = ground_response(vehicle, [0.0, 1.0])
     assert response.inputs == ("T1_GF.z", "T1_GR.z", "T2_GF.z", "T2_GR.z")

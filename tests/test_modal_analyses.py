@@ -139,8 +139,8 @@ def test_frf_peaks_at_the_bending_along_the_car(coaches):
     0.3 % of the eigenvalue's 8.920 Hz (asserted 1 %: the wheelsets' delays tilt the
     peak); at the centre the rigid twin's response there is 15.5x smaller (asserted > 5x:
     the rigid centre moves in bounce only, far below its 1 Hz resonance)."""
-    from express.analysis.stability import eigen_analysis
-    from express.analysis.track_response import track_frequency_response
+    from express.analysis.frequency.track_response import track_frequency_response
+    from express.analysis.stability.stability import eigen_analysis
 
     speed = 120 / 3.6
     bending = next(m for m in eigen_analysis(coaches["flexible"], speed).modes
@@ -165,7 +165,7 @@ def test_bogie_spacing_zeros_hold_at_the_centre_of_rigid_and_flexible_bodies(coa
     wavelengths, ``f = v (2k + 1) / (2 * 2 lT)`` (0.877, 2.63, ... 9.65 Hz at 120 km/h),
     for the rigid and for the flexible car body (measured 2.6e-10 and 9.6e-12 of the
     band's peak, rounding; asserted 1e-9); over a bogie it does not (>= 0.02, asserted 1e-3)."""
-    from express.analysis.track_response import track_frequency_response
+    from express.analysis.frequency.track_response import track_frequency_response
 
     speed, spacing = 120 / 3.6, 2 * 9.5
     zeros = speed * (2 * np.arange(6) + 1) / (2 * spacing)
@@ -184,7 +184,7 @@ def test_critical_speed_and_the_named_modes_there(coaches):
     both bogies at 278.8 km/h; measured the same to 13 digits, asserted 0.5 %: vertical
     bending does not reach the lateral motion, nor the torsion this hunting mode); at that speed the eigen
     analysis still names ``car body first vertical bending`` near 8.9 Hz, damped."""
-    from express.analysis.stability import critical_speed, eigen_analysis
+    from express.analysis.stability.stability import critical_speed, eigen_analysis
 
     found = {name: critical_speed(vehicle) for name, vehicle in coaches.items()}
     assert found["flexible"].speed == pytest.approx(found["rigid"].speed, rel=5e-3)
@@ -233,7 +233,7 @@ def test_study_over_the_bending_frequency(tmp_path, capsys):
     """
     import csv
 
-    from express.analysis.stability import eigen_analysis
+    from express.analysis.stability.stability import eigen_analysis
     from express.numeric.statespace import load_vehicle
 
     study = tmp_path / "bending.toml"
@@ -269,7 +269,7 @@ frf_points = 600
         peaks.append(float(row["frf_peak_frequency_hz"]))
         assert peaks[-1] == pytest.approx(bending.frequency_hz, rel=0.03), w
     assert peaks == sorted(peaks) and peaks[0] < peaks[-1]
-    from express.analysis.track_response import track_frequency_response
+    from express.analysis.frequency.track_response import track_frequency_response
 
     f = np.geomspace(6.0, 12.0, 600)
     direct = track_frequency_response(vehicle.with_values({"CB_vb1_w": 59.0}), f, components=["vertical"],

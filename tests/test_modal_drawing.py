@@ -83,7 +83,7 @@ def test_draw_eigen_and_report_draw_the_bending(coach, tmp_path, capsys):
     the modes, nothing written); ``express eigen --mode N --plot`` of the bending mode
     writes its deformed shape; the report's mode figures add the first bending; the
     drawing geometry keeps the modes through the cache's data."""
-    from express.analysis.stability import eigen_analysis
+    from express.analysis.stability.stability import eigen_analysis
     from express.drawing.geometry_data import geometry_data, geometry_from_data
     from express.numeric.statespace import load_vehicle
     from express.report.figures import mode_figures

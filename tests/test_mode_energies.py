@@ -1,4 +1,4 @@
-"""express.analysis.mode_energies: the participation and energies of many modes at once,
+"""express.analysis.modes.mode_energies: the participation and energies of many modes at once,
 and modes_of built on them (issue 24: naming the modes of long trains)."""
 
 from __future__ import annotations
@@ -8,8 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from express.analysis import modes as modes_module
-from express.analysis.mode_energies import (
+from express.analysis.modes.mode_energies import (
     DofGroups,
     group_sums,
     kinetic_shares,
@@ -19,8 +18,9 @@ from express.analysis.mode_energies import (
     series_shares,
     top_columns,
 )
-from express.analysis.mode_names import mode_energy
-from express.analysis.modes import modes_of
+from express.analysis.modes.mode_names import mode_energy
+from express.analysis.modes import modes as modes_module
+from express.analysis.modes.modes import modes_of
 from express.io import load_model
 from express.numeric.statespace import vehicle_model
 
@@ -132,7 +132,7 @@ def test_the_numpy_row_product_is_scipys_bit_for_bit(monkeypatch, n, kind):
     """Below ``SCIPY_FROM`` a non-diagonal matrix (a damping with series elements) is
     multiplied without importing SciPy: the same sums in the same order as SciPy's sparse
     product, so a mode's shares do not depend on the model's size class."""
-    from express.analysis import mode_energies
+    from express.analysis.modes import mode_energies
 
     rng = np.random.default_rng(n)
     matrix = np.diag(rng.normal(size=n))

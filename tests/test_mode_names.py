@@ -24,8 +24,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from express.analysis.mode_names import kinematic_frequency, mode_energy
-from express.analysis.stability import eigen_analysis
+from express.analysis.modes.mode_names import kinematic_frequency, mode_energy
+from express.analysis.stability.stability import eigen_analysis
 from express.io import load_model, parse_toml_model, read_classic
 from express.model.parameters import with_values
 from express.numeric.statespace import vehicle_model

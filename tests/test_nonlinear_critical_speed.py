@@ -1,4 +1,4 @@
-"""Nonlinear critical speed by ramp-down (express.analysis.nonlinear_stability) and
+"""Nonlinear critical speed by ramp-down (express.analysis.stability.nonlinear_stability) and
 ``express critical-speed --nonlinear``.
 
 The smallest rail vehicle (a wheelset on springs, tests/test_profile_contact.py) on
@@ -18,7 +18,7 @@ import json
 import pytest
 
 from cli_support import assert_input_error
-from express.analysis.nonlinear_stability import limit_cycle, nonlinear_critical_speed
+from express.analysis.stability.nonlinear_stability import limit_cycle, nonlinear_critical_speed
 from express.base.units import KMH
 from express.cli import main
 from express.io.toml_model import parse_toml_model

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from express.analysis.stability import eigen_analysis
+from express.analysis.stability.stability import eigen_analysis
 from express.assembly.generator import generate
 from express.io import read_classic
 from express.numeric.statespace import load_vehicle

@@ -17,7 +17,7 @@ from scipy.optimize import linear_sum_assignment
 from scipy.sparse import csr_array
 from scipy.sparse.csgraph import connected_components
 
-from express.analysis.stability import max_real_part, root_locus
+from express.analysis.stability.stability import max_real_part, root_locus
 from express.numeric.compiled import EigenBlocks, diagonal_blocks, strong_components
 from express.numeric.statespace import load_vehicle
 

@@ -6,8 +6,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from express.analysis.banded import band_layout, choose_route
-from express.analysis.frequency import (
+from express.analysis.frequency.banded import band_layout, choose_route
+from express.analysis.frequency.frequency import (
     dynamic_stiffness,
     frequency_response,
     ground_response,
@@ -154,7 +154,7 @@ def test_a_train_takes_the_route_its_size_calls_for(train):
     frequencies on the banded LU.  20 cars (480 DOFs, the same band): banded from a
     few dozen frequencies on (20: 0.26 s against 0.5 s of dense solves); a 24-DOF car: stacked up to the 100 000 frequencies ``frf``
     allows."""
-    from express.analysis.banded import BandLayout
+    from express.analysis.frequency.banded import BandLayout
 
     layout = band_layout(train.mass, train.damping(30.0), train.stiffness)
     assert (layout.lower, layout.upper) == (26, 26)
@@ -227,8 +227,8 @@ def test_the_stability_check_by_blocks_is_the_dense_verdict(name):
     car 34 + 6 states, Manchester 42 + 20, forced-steering one block): at speeds on
     both sides of the critical speed it refuses exactly where a dense ``eigvals`` of
     ``A`` finds an unstable eigenvalue."""
-    from express.analysis.frequency import require_stable
-    from express.analysis.modes import stability_threshold
+    from express.analysis.frequency.frequency import require_stable
+    from express.analysis.modes.modes import stability_threshold
 
     vehicle = vehicle_model(load_model(f"examples/{name}"))
     verdicts = []
@@ -253,7 +253,7 @@ def test_the_stability_check_asks_for_the_threads_of_its_largest_block(monkeypat
     train), never for a car."""
     import contextlib
 
-    from express.analysis import frequency
+    from express.analysis.frequency import frequency
 
     asked = []
 

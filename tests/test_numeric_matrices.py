@@ -191,13 +191,13 @@ _PER_POINT = {
 
 
 def _stability():
-    from express.analysis import stability
+    from express.analysis.stability import stability
 
     return stability
 
 
 def _frequency():
-    from express.analysis import frequency
+    from express.analysis.frequency import frequency
 
     return frequency
 

@@ -21,9 +21,6 @@ from express.base.diagnostics import AnalysisError, InputError, OutputError
 from express.io import archives, output
 from express.io.output import (
     check_destination,
-    column_name,
-    csv_text,
-    json_safe,
     mat_bytes,
     npz_bytes,
     output_transaction,
@@ -31,6 +28,7 @@ from express.io.output import (
     write_csv,
     write_text,
 )
+from express.io.text_formats import column_name, csv_text, json_safe
 
 
 def listing(folder: Path) -> list[str]:

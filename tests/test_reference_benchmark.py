@@ -117,7 +117,7 @@ def _eigenvalues(name: str) -> dict[str, np.ndarray]:
 
 @pytest.mark.parametrize("name", list(CASES))
 def test_eigenvalues_match_the_library(name, vehicles):
-    from express.analysis.stability import root_locus
+    from express.analysis.stability.stability import root_locus
 
     vehicle = vehicles[name]
     tolerance = _tolerance(name, "eigenvalues")
@@ -135,7 +135,7 @@ def test_eigenvalues_match_the_library(name, vehicles):
 
 @pytest.mark.parametrize("name", [name for name, case in CASES.items() if case.conicities])
 def test_critical_speeds_match_the_library(name, vehicles):
-    from express.analysis.stability import critical_speed
+    from express.analysis.stability.stability import critical_speed
 
     vehicle = vehicles[name]
     tolerance = _tolerance(name, "critical_speeds")
@@ -161,7 +161,7 @@ def _response(name: str, case) -> dict:
 
 @pytest.mark.parametrize("name", list(CASES))
 def test_frequency_responses_match_the_library(name, vehicles):
-    from express.analysis.frequency import frequency_response, ground_response
+    from express.analysis.frequency.frequency import frequency_response, ground_response
 
     case = CASES[name]
     if case.speeds:

@@ -368,8 +368,8 @@ def test_a_rounding_eigenvalue_is_not_an_instability(capsys) -> None:
     """Young's modulus 1e-300 Pa: no creep forces, the free lateral motions give a double
     eigenvalue 0 that rounding moves to +6.7e-7 1/s (spectrum scale 231 1/s): stable, as a
     threshold relative to the spectrum's scale says; a real instability stays one."""
-    from express.analysis.modes import STABILITY_RTOL
-    from express.analysis.stability import eigen_analysis
+    from express.analysis.modes.modes import STABILITY_RTOL
+    from express.analysis.stability.stability import eigen_analysis
     from express.numeric.statespace import load_vehicle
 
     result = eigen_analysis(load_vehicle(CONVENTIONAL, {"Emod": "1e-300"}), 120 / 3.6)
@@ -480,14 +480,14 @@ def _poisoned(value, bad: float, field: str = ""):
 #: poisoned (module, name, and the field of the result when not its first number), the
 #: bad value, and what the message names.
 NON_FINITE_CASES = [
-    (["eigen", CONVENTIONAL], "express.analysis.stability", "eigen_analysis:modes", math.nan, "eigen: a result"),
-    (["eigen", CONVENTIONAL, "--json"], "express.analysis.stability", "eigen_analysis:modes", math.inf,
+    (["eigen", CONVENTIONAL], "express.analysis.stability.stability", "eigen_analysis:modes", math.nan, "eigen: a result"),
+    (["eigen", CONVENTIONAL, "--json"], "express.analysis.stability.stability", "eigen_analysis:modes", math.inf,
      "result.modes"),
-    (["critical-speed", STEERED], "express.analysis.stability", "critical_speed", math.inf, "critical-speed: a result"),
-    (["critical-speed", STEERED, "--json"], "express.analysis.stability", "critical_speed", math.nan, "result."),
-    (["critical-speed", STEERED, "--conicities", "0.1,0.2", "-o", "{out}"], "express.analysis.stability",
+    (["critical-speed", STEERED], "express.analysis.stability.stability", "critical_speed", math.inf, "critical-speed: a result"),
+    (["critical-speed", STEERED, "--json"], "express.analysis.stability.stability", "critical_speed", math.nan, "result."),
+    (["critical-speed", STEERED, "--conicities", "0.1,0.2", "-o", "{out}"], "express.analysis.stability.stability",
      "critical_speed_vs_conicity", math.inf, "critical_speed_m_s: not a finite number (inf) at row 1"),
-    (["frf", CONVENTIONAL, "--points", "20", "-o", "{out}"], "express.analysis.frequency", "frequency_response",
+    (["frf", CONVENTIONAL, "--points", "20", "-o", "{out}"], "express.analysis.frequency.frequency", "frequency_response",
      math.nan, "is not finite at some frequency"),  # frf's own check, before the writer's
     (["ride", CONVENTIONAL, "--track", "ERRI-low", "--points", "20", "-o", "{out}"], "express.analysis.ride.vehicle",
      "ride_response:psd", math.inf, "not a finite number (inf)"),
@@ -503,7 +503,7 @@ NON_FINITE_CASES = [
      "express.analysis.study.sensitivity", "eigenvalue_derivatives", math.inf, "result.eigenvalue"),
     (["simulate", CONVENTIONAL, "--dt", "0.01", "-o", "{out}.csv"], "express.analysis.time.simulate", "simulate:q",
      math.nan, "a state or output is not finite"),  # diverged at t = 0: no valid step to keep as .diverged.csv
-    (["report", CONVENTIONAL, "-o", "{out}.html"], "express.analysis.stability", "eigen_analysis:modes", math.nan,
+    (["report", CONVENTIONAL, "-o", "{out}.html"], "express.analysis.stability.stability", "eigen_analysis:modes", math.nan,
      "report: a result is not a finite number (nan)"),
 ]
 
@@ -568,7 +568,8 @@ def test_a_demo_with_a_non_finite_number_writes_nothing(capsys, tmp_path: Path, 
     """The demo's files go through the same writers: a nan in its summary is status 1
     and the files it wrote before are not kept (one transaction)."""
     import express.paper.demo as library
-    from express.io.output import csv_text, json_text, write_text
+    from express.io.output import write_text
+    from express.io.text_formats import csv_text, json_text
 
     def run_demo(outdir, *, examples=None, log=print):
         outdir.mkdir(parents=True, exist_ok=True)

@@ -53,7 +53,7 @@ def _ground(car, coach):
 
 
 def _track(car, coach):
-    from express.analysis.track_response import track_frequency_response
+    from express.analysis.frequency.track_response import track_frequency_response
 
     return track_frequency_response(coach, [0.5, 1.0, 2.0], components=["vertical"])
 
@@ -197,7 +197,7 @@ def test_critical_speed_is_a_record_with_its_reason(records, car):
 
 
 def test_nonlinear_critical_speed_has_found_and_reason():
-    from express.analysis.nonlinear_stability import BifurcationPoint, NonlinearCriticalSpeed
+    from express.analysis.stability.nonlinear_stability import BifurcationPoint, NonlinearCriticalSpeed
 
     none = NonlinearCriticalSpeed(None, (math.nan, math.nan), (BifurcationPoint(50.0, 1e-5, 2e-5, False),), None,
                                   "W1", "dead-band", {"dt": 0.005, "tolerance": 0.1, "v_start": 50.0})

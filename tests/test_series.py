@@ -223,7 +223,7 @@ def conventional():
 
 
 def test_a_rigid_bush_gives_the_parallel_damper_critical_speed(conventional):
-    from express.analysis.stability import critical_speed
+    from express.analysis.stability.stability import critical_speed
 
     plain = critical_speed(vehicle_model(conventional))
     rigid = vehicle_model(with_series_yaw_dampers(conventional, 1e11))

@@ -20,7 +20,7 @@ import pytest
 from express.analysis.time.simulate import continuous_rhs, derived_outputs, simulate, track_inputs
 from express.base.diagnostics import OutputError
 from express.io import load_model
-from express.io.output import column_name
+from express.io.text_formats import column_name
 from express.numeric.statespace import vehicle_model
 from express.rail.track import SinusoidIrregularity, Straight, Track, paper_curve
 

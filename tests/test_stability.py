@@ -1,4 +1,4 @@
-"""Tests of express.analysis.stability: eigenvalues, root locus, critical speed.
+"""Tests of express.analysis.stability.stability: eigenvalues, root locus, critical speed.
 
 Independent checks (``docs/rail-conventions.md``):
 
@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from express.analysis.stability import (
+from express.analysis.stability.stability import (
     CriticalSpeed,
     EigenResult,
     Mode,

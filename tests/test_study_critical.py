@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from express.analysis.stability import critical_speed
+from express.analysis.stability.stability import critical_speed
 from express.analysis.study.critical import CriticalOptions, StateBlocks, fast_critical_speed, hopf_point
 from express.numeric.statespace import load_vehicle
 

@@ -14,7 +14,7 @@ from express.analysis.study.results import read_table
 from express.analysis.study.run import run_study, study
 from express.analysis.study.spec import read_study
 from express.base.diagnostics import ArgumentError
-from express.io.output import column_name
+from express.io.text_formats import column_name
 
 ROOT = Path(__file__).resolve().parents[1]
 MODEL = ROOT / "examples" / "forced-steering.toml"

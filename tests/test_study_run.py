@@ -344,7 +344,7 @@ v_max = "600 km/h"
 
 def test_track_frf_and_damping_outputs_equal_the_analyses(tmp_path: Path) -> None:
     """The outputs other than the critical speed, against the library calls they stand for."""
-    from express.analysis.frequency import frequency_response
+    from express.analysis.frequency.frequency import frequency_response
     from express.analysis.time.simulate import simulate
     from express.numeric.statespace import load_vehicle
     from express.rail.track import paper_curve

@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 from threadpoolctl import threadpool_info, threadpool_limits
 
-from express.analysis import frequency, stability
+from express.analysis.frequency import frequency
+from express.analysis.stability import stability
 from express.analysis.time import simulate
 from express.base import threads
 from express.base.threads import ENVIRONMENT_VARIABLE, blas_limit, blas_threads, limited_blas

@@ -28,7 +28,8 @@ from express.rail.track import (
     track_from_dict,
     track_spectra,
 )
-from express.rail.track.spectra import SPECTRA_BY_COMPONENT, TabulatedSpectrum
+from express.rail.track.spectra import SPECTRA_BY_COMPONENT
+from express.rail.track.tabulated_spectra import TabulatedSpectrum
 from test_ride_vehicle import two_axle_toml
 
 #: The file's table of each component.

@@ -8,10 +8,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from express.analysis.frequency import frequency_response
+from express.analysis.frequency.frequency import frequency_response
+from express.analysis.frequency.track_response import track_frequency_response
 from express.analysis.plots import figure_frequency_responses
 from express.analysis.ride.vehicle import ride_response, track_class_spectra
-from express.analysis.track_response import track_frequency_response
 from express.cli import main
 from express.numeric.statespace import load_vehicle
 from test_ride_vehicle import quarter_car_toml, two_axle_toml

@@ -18,10 +18,9 @@ from express.rail.track.spectra import (
     SPECTRA,
     SPECTRA_BY_COMPONENT,
     ERRICrossLevelSpectrum,
-    TabulatedSpectrum,
     get_spectrum,
-    table_problems,
 )
+from express.rail.track.tabulated_spectra import TabulatedSpectrum, table_problems
 
 WC, WR, WS, B = 0.8246, 0.0206, 0.4380, 0.75  # ERRI / DB constants [rad/m], half rail distance [m]
 FRA_WC, K = 0.8245, 0.25

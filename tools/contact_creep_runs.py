@@ -43,7 +43,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "src"))
 
-from express.rail.contact import kalker_coefficients
+from express.rail.kalker import kalker_coefficients
 
 POISSON = 0.3
 SHEAR = 82000.0  # N/mm^2

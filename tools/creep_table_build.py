@@ -21,7 +21,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "src"))
 
-from express.rail.contact import kalker_coefficients
+from express.rail.kalker import kalker_coefficients
 
 POISSON = 0.3
 RATIOS = np.geomspace(0.2, 25.0, 13)  # 1.495 apart: 0.2 ... 5 (9 nodes), then to 25 (flange ellipses)

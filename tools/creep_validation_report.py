@@ -19,9 +19,9 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "src"))
 
-from express.rail.contact import kalker_coefficients  # noqa: E402
 from express.rail.creep_law import fastsim, polach  # noqa: E402
 from express.rail.creep_table import tabulated_with_moment  # noqa: E402
+from express.rail.kalker import kalker_coefficients  # noqa: E402
 
 REGIMES = ("linear", "partial", "full", "spin", "flange", "slender")
 POISSON = 0.3

@@ -1,6 +1,7 @@
 """Writes examples/library-guide.ipynb (the library guide, docs/library.md), unexecuted: run
 ``python tools/make_library_guide.py`` from the repository root after changing it."""
 import nbformat as nbf
+
 nb = nbf.v4.new_notebook()
 cells = []
 md = lambda s: cells.append(nbf.v4.new_markdown_cell(s))
@@ -59,7 +60,7 @@ ax.grid(True)""")
 md("""The exact sensitivities of the critical speed (the implicit function theorem on the
 symbolic matrices' derivatives), checked here against a central difference:""")
 code("""from express.analysis.study.sensitivity import critical_speed_sensitivity
-from express.analysis.critical_options import CriticalOptions
+from express.analysis.stability.critical_options import CriticalOptions
 
 exact = critical_speed_sensitivity(car, ["kx1", "kb2"], CriticalOptions(tolerance=0.0))
 step = 1e-4 * car.values["kx1"]

@@ -56,7 +56,7 @@ class Case:
 
 
 #: The lever of the paper's Figs. 2 and 5 (examples/lever.exp has no values; these are
-#: the ones of the ground_response example, express.analysis.frequency).
+#: the ones of the ground_response example, express.analysis.frequency.frequency).
 LEVER_VALUES = {"J1": 2.0, "J2": 0.5, "b": 0.4, "c": 300.0, "kLL": 5.5e6, "kLU": 5e5, "lLL": 0.06, "lLU": 0.3,
                 "m": 20.0}
 LEVER_UNITS = {"J1": "kg*m^2", "J2": "kg*m^2", "b": "m", "c": "kg/s", "kLL": "kg/s^2", "kLU": "kg/s^2",
@@ -70,7 +70,7 @@ CASES = (
     Case("conventional", "examples/conventional.toml", **RAIL),
     Case("manchester", "examples/manchester.toml", **RAIL),
 )
-#: The scan of the critical speed [m/s] (express.analysis.stability.critical_speed).
+#: The scan of the critical speed [m/s] (express.analysis.stability.stability.critical_speed).
 SCAN: dict[str, float | int] = {"v_min": 1.0, "v_max": 300.0, "points": 200}
 
 
@@ -117,7 +117,7 @@ def reference(case: Case, vehicle, dps: int) -> dict:
 
 def _critical(vehicle, exact, conicity: float):
     """``(speed, eigenvalue)`` at high precision, or None (no crossing in the scan)."""
-    from express.analysis.stability import critical_speed
+    from express.analysis.stability.stability import critical_speed
 
     changed = vehicle.with_values({"Gamma": conicity})
     found = critical_speed(changed, tolerance_kmh=1e-9, threshold=0.0, **SCAN)
@@ -136,8 +136,8 @@ def _critical(vehicle, exact, conicity: float):
 
 def library(case: Case, vehicle) -> dict:
     """The same quantities from the library's public functions (double precision)."""
-    from express.analysis.frequency import frequency_response, ground_response
-    from express.analysis.stability import critical_speed, root_locus
+    from express.analysis.frequency.frequency import frequency_response, ground_response
+    from express.analysis.stability.stability import critical_speed, root_locus
 
     matrices = {"M": vehicle.mass, "K": vehicle.stiffness, "C0": vehicle.damping_base,
                 "C1": vehicle.damping_creep, "P0": vehicle.forcing_base, "P2": vehicle.forcing_speed2,

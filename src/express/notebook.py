@@ -2,8 +2,8 @@
 
 Most results display themselves without it: the equations as LaTeX
 (:meth:`express.assembly.equations.EquationsOfMotion._repr_latex_`), the modes and the
-track responses as tables with units (:meth:`express.analysis.modes.EigenResult.to_pandas`,
-:meth:`express.analysis.track_response.TrackFrequencyResponse.to_xarray`).  A vehicle
+track responses as tables with units (:meth:`express.analysis.modes.modes.EigenResult.to_pandas`,
+:meth:`express.analysis.frequency.track_response.TrackFrequencyResponse.to_xarray`).  A vehicle
 (:class:`express.numeric.statespace.VehicleModel`) draws itself as SVG once this
 extension is loaded: the drawing is a later stage than the numerical model, so the
 numerical model cannot import it (``docs/architecture.md``); the extension registers the

@@ -8,7 +8,7 @@ inputs); the element adds ``k g g^T`` to K, ``c g g^T`` to C and ``-k g h^T``,
 Pinned joints are eliminated exactly by ``q = T q_r`` (``M_r = T^T M T``, likewise C,
 K, P, Pd), applied per element to ``g`` before assembly: ``K_r = sum k (T^T g)(T^T g)^T``.
 The virtual element's ``T^T g`` is the pin constraint itself, hence exactly zero, so
-the virtual stiffness never enters the result.
+the virtual stiffness never enters the result (:mod:`express.assembly.pins`).
 
 Rail modules add their own terms through :class:`AddedTerms` (full coordinates,
 before elimination); the generator treats them like everything else.
@@ -16,13 +16,12 @@ before elimination); the generator treats them like everything else.
 
 from __future__ import annotations
 
-from collections import defaultdict
 from dataclasses import dataclass, field, replace
 from typing import Any
 
 import sympy as sp
 
-from express.assembly.algebra import ExactDomain, inverted_symbols, needs_fractions
+from express.assembly.algebra import ExactDomain, inverted_symbols
 from express.assembly.equations import (
     STROKE,
     ClearanceTerm,
@@ -36,11 +35,13 @@ from express.assembly.friction_loads import load_values, static_loads
 from express.assembly.gravity import gravity_terms, static_model, static_preloads
 from express.assembly.kinematics import end_motion, generalized_coordinates
 from express.assembly.lines import line_problems, line_vector, scale, unit_term
+from express.assembly.pins import NeedsFractionsError, pin_elements, reduced_coordinates
 from express.base.diagnostics import ModelError, Problem
 from express.model.characteristics import characteristic_values
+from express.model.checks import check_model
 from express.model.modal_body import modal_expressions, modal_terms
 from express.model.parameters import display_unit
-from express.model.records import AXES, DOF_NAMES, Model, check_model
+from express.model.records import DOF_NAMES, Model
 
 __all__ = [
     "SPARSE_BELOW",
@@ -48,7 +49,6 @@ __all__ = [
     "GenerationResult",
     "equation_values",
     "generate",
-    "pin_transformation",
     "symbolic_matrix",
 ]
 
@@ -90,10 +90,6 @@ class AddedTerms:
                 yield value
 
 
-class _NeedsFractionsError(Exception):
-    """Pin elimination divides by a parameter: redo in the fraction field."""
-
-
 def _model_expressions(model: Model, added: AddedTerms):
     for body in model.bodies:
         yield body.mass
@@ -107,137 +103,6 @@ def _model_expressions(model: Model, added: AddedTerms):
             yield scale(model, element)
     yield from modal_expressions(model)
     yield from added.expressions()
-
-
-def _pin_elements(model: Model):
-    """The element joining each pin's CPs (validated by :func:`check_model`)."""
-    by_ends = {frozenset((e.s_end, e.t_end)): e for e in model.elements}
-    return [(pin, by_ends[frozenset((pin.virtual, pin.non_virtual))]) for pin in model.pins]
-
-
-def pin_transformation(model: Model, domain: ExactDomain, gradients: dict[str, dict[str, Any]]):
-    """Solve the pin constraints for the virtual DOFs.
-
-    Parameters
-    ----------
-    model : Model
-        Validated model.
-    domain : ExactDomain
-        Arithmetic domain.
-    gradients : dict
-        Element id -> ``{dof: coefficient}`` of its deflection.
-
-    Returns
-    -------
-    virtual : list of str
-        Virtual DOFs, in pin order.
-    solution : dict
-        Virtual DOF -> ``{independent dof: coefficient}`` so that
-        ``q_virtual = sum coefficient * q_dof``.
-
-    Raises
-    ------
-    ModelError
-        If two pins share a virtual DOF or the constraint set is singular.
-    """
-    problems = []
-    virtual_of: dict[str, str] = {}
-    rows: dict[str, dict[str, Any]] = {}
-    owner: dict[str, str] = {}
-    for pin, element in _pin_elements(model):
-        body = model.point(pin.virtual).host
-        dof = f"{body}.{AXES[element.direction]}"
-        if dof in owner:
-            problems.append(
-                Problem(
-                    model.source,
-                    pin.line,
-                    f"pin {pin.id}",
-                    f"pins {owner[dof]} and {pin.id} both take {dof} as their virtual DOF",
-                )
-            )
-            continue
-        owner[dof] = pin.id
-        virtual_of[pin.id] = dof
-        rows[pin.id] = gradients[element.id]
-    if problems:
-        raise ModelError(problems)
-    virtual = list(virtual_of.values())
-    virtual_set = set(virtual)
-
-    # connected components: pin p touches the virtual DOFs in its row
-    parent = {pin_id: pin_id for pin_id in rows}
-
-    def find(item: str) -> str:
-        while parent[item] != item:
-            parent[item] = parent[parent[item]]
-            item = parent[item]
-        return item
-
-    for pin_id, row in rows.items():
-        for dof in row:
-            if dof in virtual_set:
-                parent[find(pin_id)] = find(owner[dof])
-    components: dict[str, list[str]] = defaultdict(list)
-    for pin_id in rows:
-        components[find(pin_id)].append(pin_id)
-
-    solution: dict[str, dict[str, Any]] = {}
-    for pins in components.values():
-        unknowns = [virtual_of[p] for p in pins]
-        if len(pins) == 1:
-            row = rows[pins[0]]
-            pivot = row.get(unknowns[0], domain.zero)
-            if not pivot:
-                raise _singular(model, pins, virtual_of)
-            if not domain.fractions and not _is_constant(pivot):
-                raise _NeedsFractionsError
-            inverse = domain.one / pivot if domain.fractions else domain.domain.domain.quo(
-                domain.domain.domain.one, pivot.LC
-            )
-            solution[unknowns[0]] = {
-                dof: -value * inverse for dof, value in row.items() if dof != unknowns[0]
-            }
-            continue
-        independents = sorted({d for p in pins for d in rows[p] if d not in virtual_set})
-        a_vv = sp.Matrix(
-            [[domain.to_expr(rows[p].get(u, domain.zero)) for u in unknowns] for p in pins]
-        )
-        a_vr = sp.Matrix(
-            [[domain.to_expr(rows[p].get(d, domain.zero)) for d in independents] for p in pins]
-        )
-        if sp.cancel(a_vv.det(method="berkowitz")) == 0:
-            raise _singular(model, pins, virtual_of)
-        x = (-a_vv.LUsolve(a_vr)).applyfunc(sp.cancel)
-        if not domain.fractions and needs_fractions(x):
-            raise _NeedsFractionsError
-        for i, unknown in enumerate(unknowns):
-            solution[unknown] = {
-                dof: domain.from_expr(x[i, j]) for j, dof in enumerate(independents) if x[i, j] != 0
-            }
-    return virtual, solution
-
-
-def _is_constant(element) -> bool:
-    return element.is_ground
-
-
-def _singular(model: Model, pins: list[str], virtual_of: dict[str, str]) -> ModelError:
-    by_id = {pin.id: pin for pin in model.pins}
-    bodies = sorted({dof.split(".")[0] for p in pins for dof in [virtual_of[p]]})
-    names = ", ".join(pins)
-    dofs = ", ".join(virtual_of[p] for p in pins)
-    return ModelError(
-        [
-            Problem(
-                model.source,
-                by_id[pins[0]].line,
-                f"pin{'s' if len(pins) > 1 else ''} {names}",
-                f"the pin constraints do not determine the virtual DOFs {dofs} "
-                f"(singular constraint set; bodies {', '.join(bodies)})",
-            )
-        ]
-    )
 
 
 def generate(
@@ -311,7 +176,7 @@ def _generate_with(model: Model, keep_virtual: bool, added: AddedTerms, readable
               for _, value in mode.shapes if isinstance(value, sp.Symbol)}  # factored apart (algebra.ExactDomain)
     try:
         return _generate(model, keep_virtual, added, ExactDomain(symbols, fractions, inverses or (), shapes), readable)
-    except _NeedsFractionsError:
+    except NeedsFractionsError:
         return _generate(model, keep_virtual, added, ExactDomain(symbols, True), readable)
 
 
@@ -379,24 +244,6 @@ def _deflections(model: Model, added: AddedTerms, domain: ExactDomain, pin_eleme
     ground_inputs.sort(key=lambda name: ground_order[name])
     inputs = ground_inputs + [name for name in added.inputs if name not in ground_inputs]
     return _Deflections(gradients, input_gradients, inputs)
-
-
-def _transformation(model: Model, domain: ExactDomain, full_dofs: list[str], gradients: dict, keep_virtual: bool):
-    """The reduced DOFs, the eliminated virtual DOFs and the rows of ``q = T q_r``."""
-    if not model.pins:
-        virtual: list[str] = []
-        solution: dict[str, dict[str, Any]] = {}
-    else:
-        virtual, solution = pin_transformation(model, domain, gradients)
-    reduced = [dof for dof in full_dofs if dof not in solution]
-    if keep_virtual:  # as the paper's eq. (6): virtual DOFs kept, placed last
-        reduced += virtual
-        virtual, solution = [], {}
-    r_index = {dof: i for i, dof in enumerate(reduced)}
-    t_rows: dict[str, dict[int, Any]] = {dof: {r_index[dof]: domain.one} for dof in reduced}
-    for dof, combination in solution.items():
-        t_rows[dof] = {r_index[d]: v for d, v in combination.items()}
-    return reduced, virtual, t_rows
 
 
 @dataclass
@@ -519,10 +366,10 @@ def _generation_warnings(model: Model, reduced: list[str], mass_matrix, clearanc
 def _generate(model: Model, keep_virtual: bool, added: AddedTerms, domain: ExactDomain, readable: bool) -> GenerationResult:
     # series elements add their damper stroke, a massless first-order coordinate
     full_dofs = generalized_coordinates(model) + [f"{e.id}.{STROKE}" for e in model.elements if e.series]
-    pin_element_ids = {element.id for _, element in _pin_elements(model)}
+    pin_element_ids = {element.id for _, element in pin_elements(model)}
     deflections = _deflections(model, added, domain, pin_element_ids)
     inputs = deflections.inputs
-    reduced, virtual, t_rows = _transformation(model, domain, full_dofs, deflections.gradients, keep_virtual)
+    reduced, virtual, t_rows = reduced_coordinates(model, domain, full_dofs, deflections.gradients, keep_virtual)
     parts = _assemble(model, added, domain, deflections, reduced, t_rows, set() if keep_virtual else pin_element_ids)
     n, m = len(reduced), len(inputs)
     form = domain.readable if readable else domain.to_expr
@@ -565,7 +412,7 @@ def equation_values(model: Model, parameters: tuple[str, ...]) -> tuple[dict[str
     """``(values, units)`` of :class:`EquationsOfMotion`: every parameter's SI value and
     the unit it was written in (or the SI unit of a derived parameter's dimension),
     without the parameters only the virtual elements use (they vanish from the result)."""
-    pin_element_ids = {element.id for _, element in _pin_elements(model)}
+    pin_element_ids = {element.id for _, element in pin_elements(model)}
     virtual_only = {
         symbol.name
         for element in model.elements

@@ -5,7 +5,7 @@ A result record derives from :class:`DataRecord` and defines ``to_xarray()`` (an
 :class:`xarray.Dataset` with labelled dimensions and CF-style ``units`` and
 ``long_name`` attributes on every variable) and ``_summary()`` (a few lines of text);
 ``to_pandas()`` defaults to the dataset as a table (:func:`frame`), with each column's
-unit in its name (``"speed [m/s]"``, as :meth:`express.analysis.modes.EigenResult.to_pandas`)
+unit in its name (``"speed [m/s]"``, as :meth:`express.analysis.modes.modes.EigenResult.to_pandas`)
 and the units also in ``frame.attrs["units"]``.  xarray and pandas are imported only
 when asked.
 """

@@ -21,7 +21,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
-from express.analysis.critical_options import CriticalOptions
+from express.analysis.stability.critical_options import CriticalOptions
 from express.base.diagnostics import UsageError
 from express.base.names import did_you_mean
 from express.base.units import KMH
@@ -451,7 +451,7 @@ def note(message: str) -> None:
 
 def print_json(data: dict) -> None:
     """``data`` as indented JSON on standard output (NumPy values converted, nan -> null)."""
-    from express.io.output import json_text
+    from express.io.text_formats import json_text
 
     sys.stdout.write(json_text(data))
 

@@ -1,5 +1,5 @@
 """``express critical-speed``: the hunting critical speed, optionally against the
-conicity (paper Fig. 11), :func:`express.analysis.stability.critical_speed`."""
+conicity (paper Fig. 11), :func:`express.analysis.stability.stability.critical_speed`."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from express.analysis.critical_options import CriticalOptions
+from express.analysis.stability.critical_options import CriticalOptions
 from express.base.diagnostics import UsageError
 from express.cli import common
 from express.cli.common import SEARCH
@@ -142,7 +142,7 @@ def run(
     summary = {"model": str(model), "v_min": vmin, "v_max": vmax, **_fields(result),
                "linearisation": common.note_linearisation(vehicle)}
     if conicities is not None and sweep is not None:
-        from express.analysis.stability import sweep_as_dict
+        from express.analysis.stability.stability import sweep_as_dict
 
         summary["sweep"] = sweep_as_dict(parameter, conicities, sweep)
     if as_json:
@@ -154,7 +154,7 @@ def run(
 
 def _compute(vehicle: Any, options: CriticalOptions, conicities: list[float] | None,
              parameter: str) -> tuple[Any, list | None]:
-    from express.analysis.stability import critical_speed, critical_speed_vs_conicity
+    from express.analysis.stability.stability import critical_speed, critical_speed_vs_conicity
 
     result = critical_speed(vehicle, options)
     sweep = None
@@ -188,7 +188,7 @@ def _figure(vehicle: Any, plot: Path, vmin: float, vmax: float, result: Any, con
     import numpy as np
 
     from express.analysis import plots
-    from express.analysis.stability import root_locus, unstable_windows
+    from express.analysis.stability.stability import root_locus, unstable_windows
 
     name = vehicle.name
     if conicities is not None and sweep is not None:
@@ -251,8 +251,8 @@ def _run_nonlinear(model: Path, overrides: dict[str, str], vmin: float, vmax: fl
         if plot is not None:
             transaction.declare(plot, binary=True)
         vehicle = common.load_rail_vehicle(model, overrides, "critical-speed")
-        from express.analysis.nonlinear_stability import nonlinear_critical_speed
-        from express.analysis.stability import critical_speed
+        from express.analysis.stability.nonlinear_stability import nonlinear_critical_speed
+        from express.analysis.stability.stability import critical_speed
 
         linear = critical_speed(vehicle, CriticalOptions(v_min=vmin, v_max=vmax, tolerance=tolerance))
         if vstart is None and (not linear.found or linear.unstable_at_min):

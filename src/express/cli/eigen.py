@@ -1,5 +1,5 @@
 """``express eigen``: eigenvalues and modes at one speed
-(:func:`express.analysis.stability.eigen_analysis`)."""
+(:func:`express.analysis.stability.stability.eigen_analysis`)."""
 
 from __future__ import annotations
 
@@ -64,7 +64,7 @@ def run(model: Path, overrides: dict[str, str], *, speed: float | None = None, a
 def _draw_mode(model: Path, overrides: dict[str, str], speed: float | None, number: int,
                plot: Path | None, animate: str | None, spec: Any) -> None:
     from express.analysis.plots import save_figure
-    from express.analysis.stability import eigen_analysis
+    from express.analysis.stability.stability import eigen_analysis
     from express.cli.draw import model_geometry_of
     from express.drawing.modes import animate_mode_shape, figure_mode_shape, mode_shape
     from express.io.output import write_bytes
@@ -81,7 +81,7 @@ def _draw_mode(model: Path, overrides: dict[str, str], speed: float | None, numb
 
 
 def _table(model: Path, overrides: dict[str, str], speed: float | None, as_json: bool, spec: Any) -> int:
-    from express.analysis.stability import eigen_analysis
+    from express.analysis.stability.stability import eigen_analysis
     from express.numeric.statespace import load_vehicle
 
     vehicle = common.linearised_vehicle(load_vehicle(model, overrides), spec)  # any model: without rail data A has no speed

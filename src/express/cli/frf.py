@@ -1,5 +1,5 @@
 """``express frf``: response to a sinusoidal lateral irregularity (paper Fig. 10),
-:func:`express.analysis.frequency.frequency_response`."""
+:func:`express.analysis.frequency.frequency.frequency_response`."""
 
 from __future__ import annotations
 
@@ -133,7 +133,7 @@ def _series(vehicle: Any, dofs: list[str], frequencies: Any, amplitude: float, s
     """name -> (complex amplitudes, unit): output points' accelerations, then the DOFs."""
     import numpy as np
 
-    from express.analysis.frequency import frequency_response
+    from express.analysis.frequency.frequency import frequency_response
 
     for dof in dofs:
         if dof not in vehicle.dofs:
@@ -155,8 +155,8 @@ def _series(vehicle: Any, dofs: list[str], frequencies: Any, amplitude: float, s
 def _track_series(vehicle: Any, components: list[str], frequencies: Any, amplitude: float, speed: float) -> dict:
     """``<point>.a<axis>/<input>`` [m/s^2] and ``<point>.u<axis>/<input>`` [m] of every
     output point for each track component alone
-    (:func:`express.analysis.track_response.track_frequency_response`)."""
-    from express.analysis.track_response import track_frequency_response
+    (:func:`express.analysis.frequency.track_response.track_frequency_response`)."""
+    from express.analysis.frequency.track_response import track_frequency_response
     from express.base.diagnostics import ArgumentError
 
     try:
@@ -178,10 +178,10 @@ def _track_series(vehicle: Any, components: list[str], frequencies: Any, amplitu
 
 def _ground_series(vehicle: Any, dofs: list[str], frequencies: Any, amplitude: float) -> dict:
     """Without rail data: ``<dof>/<input>`` -> displacement amplitude of the DOF for the
-    input alone at ``amplitude`` (:func:`express.analysis.frequency.ground_response`)."""
+    input alone at ``amplitude`` (:func:`express.analysis.frequency.frequency.ground_response`)."""
     import numpy as np
 
-    from express.analysis.frequency import ground_response
+    from express.analysis.frequency.frequency import ground_response
 
     for dof in dofs:
         if dof not in vehicle.dofs:

@@ -278,7 +278,7 @@ def read_psd_table(path: Path) -> dict:
 
     Returns
     -------
-    dict of str to express.rail.track.spectra.TabulatedSpectrum
+    dict of str to express.rail.track.tabulated_spectra.TabulatedSpectrum
 
     Raises
     ------
@@ -288,7 +288,8 @@ def read_psd_table(path: Path) -> dict:
     UsageError
         The file cannot be read.
     """
-    from express.rail.track.spectra import COMPONENTS, TabulatedSpectrum
+    from express.rail.track.spectra import COMPONENTS
+    from express.rail.track.tabulated_spectra import TabulatedSpectrum
 
     source = str(path)
     from express.base.limits import read_input_text

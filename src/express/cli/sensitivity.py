@@ -193,7 +193,7 @@ def _numbers(value) -> list:
 
 
 def _critical(vehicle, names: list[str], vmin: float, vmax: float, plot: Path | None) -> dict:
-    from express.analysis.critical_options import CriticalOptions
+    from express.analysis.stability.critical_options import CriticalOptions
     from express.analysis.study.sensitivity import critical_speed_sensitivity
 
     result = critical_speed_sensitivity(vehicle, names, CriticalOptions(v_min=vmin, v_max=vmax, tolerance=0.0))

@@ -1,6 +1,6 @@
 """Mode shapes: the model drawn displaced along an eigenvector, still or animated.
 
-Mode ``N`` is the ``N``-th mode of :func:`express.analysis.stability.eigen_analysis`
+Mode ``N`` is the ``N``-th mode of :func:`express.analysis.stability.stability.eigen_analysis`
 (1-based, least stable first: one per conjugate pair, sorted by descending real part).
 Its displacement part ``phi`` (complex, shape (n,)) moves every body by
 ``q(t) = a Re(phi e^{i wt})`` (a flexible body's points also by its modal coordinates,

@@ -22,7 +22,7 @@ tread on a straight rail:
    through 1/C in nu; Kalker's asymptotes below g = 0.1.
 3. ``f11 = G a b C11``, ``f22 = G a b C22``, ``G = E_mod/(2 (1 + nu))``.
 
-The table values are read from :func:`express.rail.contact.kalker_coefficients` at the
+The table values are read from :func:`express.rail.kalker.kalker_coefficients` at the
 table's nodes, where it returns them exactly, so there is one copy of the table in
 the source.
 """
@@ -52,7 +52,7 @@ def kalker_table() -> dict[str, tuple[tuple[float, ...], ...]]:
         ``"a_le_b"`` (g = a/b) and ``"a_gt_b"`` (g = b/a): one row per g of
         :data:`G_NODES`, columns C11 at nu = 0, 1/4, 1/2, then C22 at the same nu.
     """
-    from express.rail.contact import kalker_coefficients
+    from express.rail.kalker import kalker_coefficients
 
     def row(a: float, b: float) -> tuple[float, ...]:
         c11 = [kalker_coefficients(a, b, nu)[0] for nu in NU_NODES]

@@ -112,7 +112,7 @@ def check_speed(speed: Any) -> float:
     ArgumentError
         Not a positive finite speed (an :class:`InputError`, a ``ValueError``).
     """
-    from express.base.units import si_argument
+    from express.base.arguments import si_argument
 
     value = float(speed) if isinstance(speed, (int, float, np.floating)) else si_argument(speed, "speed", "speed")
     if not (math.isfinite(value) and value > 0):

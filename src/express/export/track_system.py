@@ -2,7 +2,7 @@
 outputs, the lateral alignment as its one input, and the wheelsets' transport delays.
 
 Each wheelset meets the alignment ``y(t)`` of the leading one ``tau_n = (x_1 - x_n) / v``
-later (:func:`express.analysis.frequency.irregularity_delays`). In the frequency domain
+later (:func:`express.analysis.frequency.frequency.irregularity_delays`). In the frequency domain
 that delay is exact, ``e^{-i w tau_n}`` (:func:`track_response`); a state space cannot
 hold it, so :func:`track_system` puts the ``(N, N)`` Padé approximant of each delay in
 series with the vehicle (:func:`pade_delay`)::
@@ -113,7 +113,7 @@ def track_system(vehicle: VehicleModel, speed: float, *, outputs: Sequence[str] 
         One input, :data:`ALIGNMENT` [m]; the states are the delays' (``delay{n}_{k}``)
         then the vehicle's.
     """
-    from express.analysis.frequency import irregularity_delays
+    from express.analysis.frequency.frequency import irregularity_delays
 
     speed = check_speed(speed)
     plant = linear_system(vehicle, speed)
@@ -150,7 +150,7 @@ def track_response(vehicle: VehicleModel, speed: float, frequencies: Sequence[fl
     """The exact response of the named outputs to a unit alignment ``e^{i w t}`` at the
     leading wheelset, each wheelset delayed by ``e^{-i w tau_n}``: shape (F, n_outputs),
     complex [output unit per m]."""
-    from express.analysis.frequency import irregularity_delays
+    from express.analysis.frequency.frequency import irregularity_delays
 
     speed = check_speed(speed)
     plant = linear_system(vehicle, speed)

@@ -10,8 +10,8 @@ import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 
+from express.base.arguments import si_argument
 from express.base.diagnostics import ArgumentError
-from express.base.units import si_argument
 
 __all__ = ["KINDS", "Linearisation"]
 

@@ -16,6 +16,7 @@ import sympy as sp
 from express.base.diagnostics import ModelError, Problem
 from express.base.expressions import ExpressionError, parse_expression
 from express.base.limits import exceeded, read_input_text
+from express.model.checks import check_model
 from express.model.parameter_ranges import check_ranges
 from express.model.records import (
     AXES,
@@ -27,7 +28,6 @@ from express.model.records import (
     Ground,
     Model,
     PinnedJoint,
-    check_model,
 )
 
 __all__ = ["model_name_from_path", "parse_classic", "read_classic", "read_model_text"]

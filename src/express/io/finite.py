@@ -4,7 +4,7 @@ A non-finite number in a result means the analysis gave none there; EXPRESS neve
 writes or prints it. :func:`require_finite` raises
 :class:`~express.base.diagnostics.AnalysisError` (exit status 1) naming the quantity,
 the first non-finite position and how many there are, before anything is written.
-:func:`express.io.output.csv_text`, :func:`~express.io.output.json_safe`,
+:func:`express.io.text_formats.csv_text`, :func:`~express.io.text_formats.json_safe`,
 :func:`~express.io.output.npz_bytes` and :func:`~express.io.output.mat_bytes` call it,
 so every command's CSV, JSON, NPZ and MAT results are checked in one place; the
 command line checks what a command prints (:class:`FiniteText`). A documented marker of

@@ -21,7 +21,7 @@ Guarantees (``docs/cli.md``, "Outputs"):
   window left is the sequence of renames itself: if a rename fails (the directory
   vanished, the machine stopped) the outputs renamed before it are new and the rest old;
   the error names them.
-- Outputs are deterministic: :func:`csv_text`, :func:`npz_bytes` and :func:`mat_bytes`
+- Outputs are deterministic: :func:`~express.io.text_formats.csv_text`, :func:`npz_bytes` and :func:`mat_bytes`
   give the same bytes for the same data (no dates, fixed zip timestamps).
 
 :func:`write_bytes` / :func:`write_text` join the active transaction when there is one,
@@ -33,10 +33,7 @@ from __future__ import annotations
 
 import contextlib
 import contextvars
-import csv
 import errno
-import io
-import math
 import os
 import stat
 import sys
@@ -49,17 +46,13 @@ from typing import Any
 from express.base.diagnostics import OutputError
 from express.base.interrupts import release, temporary_file
 from express.io.archives import mat_bytes, npz_bytes
-from express.io.finite import non_finite_error, require_finite, require_finite_columns
+from express.io.text_formats import csv_text
 
 __all__ = [
     "STDOUT",
     "Destination",
     "Transaction",
     "check_destination",
-    "column_name",
-    "csv_text",
-    "json_safe",
-    "json_text",
     "mat_bytes",
     "npz_bytes",
     "output_transaction",
@@ -523,69 +516,8 @@ def write_output(path: str | os.PathLike, text: str, inputs: Sequence[str | os.P
 
 
 # --------------------------------------------------------------------------------------
-# formats: CSV with units in the header, JSON, NPZ, MAT
+# CSV files (the text: express.io.text_formats)
 # --------------------------------------------------------------------------------------
-
-_UNIT_TOKENS = {"Hz": "hz", "km/h": "kmh", "m/s": "m_s", "m/s^2": "m_s2", "rad/s": "rad_s", "1/m": "1_m", "1/s": "1_s"}
-
-
-def column_name(name: str, unit: str | None) -> str:
-    """A CSV header with its unit: ``("Q1", "N") -> "Q1_N"``, ``("frequency", "Hz") ->
-    "frequency_hz"``, ``("d1", "m") -> "d1_m"``; dimensionless (``""``, ``"1"``,
-    ``None``) keeps the bare name.
-
-    Examples
-    --------
-    >>> column_name("acc", "m/s^2"), column_name("QP1", "")
-    ('acc_m_s2', 'QP1')
-    """
-    if not unit or unit in ("1", "-"):
-        return name
-    token = _UNIT_TOKENS.get(unit)
-    if token is None:
-        token = unit.replace("^", "").replace("*", "").replace("/", "_").replace(" ", "")
-    return f"{name}_{token}"
-
-
-def csv_text(columns: Mapping[str, Any], units: Mapping[str, str | None] | None = None, *,
-             markers: Iterable[str] = ()) -> str:
-    """CSV text of equally long ``columns`` (name -> values, SI); the header carries each
-    column's unit (:func:`column_name`).  Numbers are written with 9 significant digits;
-    text values as they are; None as an empty cell.
-
-    A nan or inf is no result: :class:`AnalysisError` (:func:`~express.io.finite.require_finite_columns`)
-    unless it is the nan of a column in ``markers``, a documented "no value": an empty cell.
-
-    Examples
-    --------
-    >>> print(csv_text({"t": [0.0, 0.5], "v": [1.0, float("nan")]}, {"t": "s"}, markers=["v"]), end="")
-    t_s,v
-    0,1
-    0.5,
-    """
-    units = units or {}
-    names = list(columns)
-    headers = [column_name(name, units.get(name)) for name in names]
-    cells = [_cells(columns[name]) for name in names]
-    require_finite_columns([columns[name] for name in names], headers, [name in set(markers) for name in names],
-                           cells[0] if cells else [])
-    lengths = {len(column) for column in cells}
-    if len(lengths) > 1:
-        raise ValueError(f"columns of different lengths: {dict(zip(names, map(len, cells), strict=True))}")
-    buffer = io.StringIO()
-    writer = csv.writer(buffer, lineterminator="\n")
-    writer.writerow(headers)
-    writer.writerows(zip(*cells, strict=True))
-    return buffer.getvalue()
-
-
-def _cells(values: Any) -> list[str]:
-    import numpy as np
-
-    array = np.asarray(values)
-    if array.dtype.kind in "biuf":
-        return [f"{float(value):.9g}" if math.isfinite(value) else "" for value in array.astype(float).ravel()]
-    return ["" if value is None else str(value) for value in array.ravel()]
 
 
 def write_csv(
@@ -598,42 +530,3 @@ def write_csv(
 ) -> None:
     """Write :func:`csv_text` of ``columns`` to ``path`` (``"-"``: standard output)."""
     write_text(path, csv_text(columns, units, markers=markers), inputs=inputs)
-
-
-def json_safe(value: Any, where: str = "result") -> Any:
-    """A copy of ``value`` that :func:`json.dumps` accepts with ``allow_nan=False``:
-    NumPy arrays and scalars become lists and Python numbers; None stays ``null`` (the
-    documented "no value").
-
-    Raises
-    ------
-    AnalysisError
-        A nan or inf (:mod:`express.io.finite`), named by its path in ``value``
-        (``where``, keys and indices: ``result.sweep[2].critical_speed``).
-    """
-    import numpy as np
-
-    if isinstance(value, dict):
-        return {str(k): json_safe(v, f"{where}.{k}") for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [json_safe(v, f"{where}[{i}]") for i, v in enumerate(value)]
-    if isinstance(value, np.ndarray):
-        require_finite(where, value)
-        return json_safe(value.tolist(), where)
-    if isinstance(value, (float, np.floating)):
-        number = float(value)
-        if not math.isfinite(number):
-            raise non_finite_error(where, number, "", 1, 1)
-        return number
-    if isinstance(value, np.bool_):
-        return bool(value)
-    if isinstance(value, np.integer):
-        return int(value)
-    return value
-
-
-def json_text(value: Any) -> str:
-    """Indented JSON of :func:`json_safe` ``(value)``, ending in a newline."""
-    import json
-
-    return json.dumps(json_safe(value), indent=2, allow_nan=False) + "\n"

@@ -55,6 +55,7 @@ from express.io.classic import model_name_from_path, read_model_text
 from express.io.toml_contact import conicity_value
 from express.io.toml_items import TomlReader, check_id, cut_text, read_items, show_value, value_kind
 from express.io.toml_lines import parse_toml
+from express.model.checks import check_model
 from express.model.parameters import parameter_problems, resolve
 from express.model.records import (
     Derivation,
@@ -63,7 +64,6 @@ from express.model.records import (
     Parameter,
     RailSpec,
     Wheelset,
-    check_model,
 )
 
 __all__ = ["WHEELSET_KEYS", "parse_toml_model", "read_toml_model"]

@@ -298,7 +298,7 @@ def with_instances(model: Model, substructures: dict[str, Substructure] | list[S
         With every problem of the instances and of the resulting model.
     """
     from express.base.diagnostics import ModelError
-    from express.model.records import check_model
+    from express.model.checks import check_model
 
     if not isinstance(substructures, dict):
         substructures = {sub.name: sub for sub in substructures}

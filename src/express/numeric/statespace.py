@@ -24,13 +24,14 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from express.assembly.equations import STROKE, Matrices
+from express.assembly.equations import STROKE
 from express.assembly.first_order import FirstOrderError, IndefiniteMassError, StateForm, series_limits, state_form
 from express.base.diagnostics import ArgumentError, ModelError, Problem
 from express.base.names import did_you_mean
 from express.base.threads import limited_blas
 from express.base.units import KMH
-from express.numeric.compiled import CompiledMatrices, EigenBlocks, compile_matrices
+from express.numeric.compiled import CompiledMatrices, EigenBlocks
+from express.numeric.derivation import locked_dampers, matrices_at, vehicle_derivation
 from express.numeric.facts import VehicleFacts, facts_of
 from express.numeric.model_numbers import RailNumbers, WheelsetData, missing_problems, point_lateral_row
 from express.numeric.warm import (
@@ -53,7 +54,6 @@ __all__ = [
     "SingularMassError",
     "VehicleModel",
     "WheelsetData",
-    "evaluate_matrices",
     "load_vehicle",
     "point_lateral_row",
     "vehicle_model",
@@ -327,26 +327,6 @@ def _invert_mass(mass: np.ndarray, dofs: tuple[str, ...], source: str) -> np.nda
     return np.linalg.inv(mass)
 
 
-def evaluate_matrices(equations: EquationsOfMotion, values: Mapping[str, float]) -> Matrices[np.ndarray]:
-    """Every matrix of ``equations`` as float arrays at ``values`` (compiled once for
-    this call; keep a :func:`express.numeric.compiled.compile_matrices` to evaluate often).
-
-    Raises
-    ------
-    ArgumentError
-        Naming the parameters that have no value, or for entries that are not finite.
-    """
-    compiled = compile_matrices(equations)
-    return compiled(compiled.vector(values))
-
-
-def _speed_split(compiled: CompiledMatrices, values: Mapping[str, float]) -> tuple[Matrices[np.ndarray], np.ndarray, np.ndarray]:
-    """``(matrices with C0 and P0, C1, P2)`` at ``values`` (the speed's value unused)."""
-    vector = compiled.vector({**values, compiled.speed: 0.0} if compiled.speed else values)
-    split = compiled.speed_split(vector)
-    return split.matrices, split.damping_creep, split.forcing_speed2
-
-
 @limited_blas
 def vehicle_model(model: Model, *, with_rail: bool = True) -> VehicleModel:
     """Generate and evaluate a model's equations at its parameter values.
@@ -367,52 +347,8 @@ def vehicle_model(model: Model, *, with_rail: bool = True) -> VehicleModel:
     ModelError
         For missing parameter values or a singular mass matrix.
     """
-    derivation = _derivation(model, with_rail)
+    derivation = vehicle_derivation(model, with_rail)
     return _evaluate_vehicle(model, *derivation)
-
-
-def _derivation(model: Model, with_rail: bool, key: str | None = None) -> tuple:
-    """``(equations, evaluator, speed name, with_rail, layout, rail numbers)`` of ``model``:
-    read from the derivation cache under ``key`` when there is an entry, else derived
-    (entries expanded, not factored: :func:`express.assembly.generator.generate`) and
-    stored under ``key``."""
-    import sympy as sp
-
-    from express.io.cache import entry_damaged, read_entry, write_entry
-    from express.numeric.derived import read_vehicle_entry, vehicle_entry
-    from express.numeric.program import ProgramError, UnsupportedExpressionError
-    from express.rail.build import generate_vehicle, rail_layout
-
-    speed_name = None
-    if with_rail and model.rail is not None and isinstance(model.rail.speed, sp.Symbol):
-        speed_name = model.rail.speed.name
-    cached = None
-    payload = read_entry(key) if key else None
-    if payload is not None:
-        try:
-            cached = read_vehicle_entry(payload, model)
-            if cached.compiled.speed != (speed_name if speed_name in cached.compiled.parameters else None):
-                raise ProgramError("another speed")
-        except ProgramError:
-            entry_damaged(key or "")
-            cached = None
-    if cached is not None:
-        equations, evaluator = cached.equations, cached.compiled
-    else:
-        equations = generate_vehicle(model, with_rail=with_rail, readable=False).equations
-        evaluator = compile_matrices(equations, speed_name)
-    layout, rail_numbers = None, None
-    if with_rail and model.rail is not None and equations.inputs:
-        layout = rail_layout(model)
-        rail_numbers = RailNumbers(model, equations, layout, cached.rail_numbers if cached else None)
-    if key and cached is None:
-        try:
-            entry = vehicle_entry(equations, evaluator, rail_numbers.compiled if rail_numbers else None)
-        except UnsupportedExpressionError:  # an entry with a function: derived every time
-            entry = None
-        if entry is not None:
-            write_entry(key, entry)
-    return equations, evaluator, speed_name, with_rail, layout, rail_numbers
 
 
 def _evaluate_vehicle(
@@ -426,8 +362,8 @@ def _evaluate_vehicle(
     missing = [name for name in equations.parameters if name not in values]
     if missing:
         raise ModelError(undefined_name_problems(model, missing) or missing_problems(model, missing))
-    finite, locked = _locked_dampers(model, equations, values)
-    matrices = _matrices_at(evaluator, finite, locked, model.source)
+    finite, locked = locked_dampers(model, equations, values)
+    matrices = matrices_at(evaluator, finite, locked, model.source)
     wheelsets: tuple[WheelsetData, ...] = ()
     stations = np.zeros(0)
     speed = float("nan")
@@ -445,21 +381,11 @@ def _evaluate_vehicle(
                       Evaluation(evaluator, speed_name, rail_numbers))
 
 
-def _matrices_at(evaluator: CompiledMatrices, values: Mapping[str, float], locked: list[int], source: str) -> tuple:
-    """``(matrices with C0 and P0, C1, P2)`` at ``values``, the locked dampers' ``C`` infinite."""
-    try:
-        base, c1, p2 = _speed_split(evaluator, values)
-    except ArgumentError as error:
-        raise ModelError([Problem(source, None, "parameters", str(error))]) from None
-    for i in locked:
-        base["C"][i, i] = np.inf
-    return base, c1, p2
-
-
 def _assembled(origin: VehicleOrigin, values: dict[str, float], matrices: tuple, rail: tuple,
                evaluation: Evaluation) -> VehicleModel:
-    """The vehicle of evaluated ``matrices`` (:func:`_matrices_at`) and ``rail`` numbers
-    ``(speed, wheelsets, station positions, layout)``, series elements at a limit removed."""
+    """The vehicle of evaluated ``matrices`` (:func:`express.numeric.derivation.matrices_at`)
+    and ``rail`` numbers ``(speed, wheelsets, station positions, layout)``, series
+    elements at a limit removed."""
     base, c1, p2 = matrices
     speed, wheelsets, stations, layout = rail
     n, m = len(origin.dofs), len(origin.inputs)
@@ -490,7 +416,7 @@ def _assembled(origin: VehicleOrigin, values: dict[str, float], matrices: tuple,
 def _warm_vehicle(warm: WarmVehicle, source: str, twin: Callable[[], VehicleModel]) -> VehicleModel:
     """The vehicle of a warm entry (:mod:`express.numeric.warm`): the same numbers as
     :func:`_evaluate_vehicle` at the file's values, from the same programs."""
-    matrices = _matrices_at(warm.compiled, warm.values, [], source)
+    matrices = matrices_at(warm.compiled, warm.values, [], source)
     speed, stations, rail_numbers = float("nan"), np.zeros(0), None
     wheelsets: tuple[WheelsetData, ...] = ()
     if warm.layout is not None and warm.rail_numbers is not None:
@@ -500,22 +426,6 @@ def _warm_vehicle(warm: WarmVehicle, source: str, twin: Callable[[], VehicleMode
                            facts=replace(warm.facts, source=source))
     return _assembled(origin, dict(warm.values), matrices, (speed, wheelsets, stations, warm.layout),
                       Evaluation(warm.compiled, warm.speed_name, rail_numbers))
-
-
-def _locked_dampers(model: Model, equations: EquationsOfMotion, values: dict[str, float]) -> tuple[dict[str, float], list[int]]:
-    """Values with every infinite damping replaced by 1 for the evaluation, and the
-    strokes of the series elements whose damping has such a parameter (locked by it) (their ``C`` entry is
-    set back to inf for :func:`express.assembly.first_order.series_limits`)."""
-    infinite = [name for name, value in values.items() if value == np.inf]
-    if not infinite:
-        return values, []
-    locked = []
-    for element in model.elements:
-        name = f"{element.id}.{STROKE}"
-        symbols: set = getattr(element.damping, "free_symbols", set())
-        if element.series and name in equations.dofs and {s.name for s in symbols} & set(infinite):
-            locked.append(equations.dofs.index(name))
-    return {**values, **dict.fromkeys(infinite, 1.0)}, locked
 
 
 #: Derived vehicles by derivation-cache key (the bytes of every file read, the options):
@@ -575,7 +485,7 @@ def load_vehicle(
     key = entry_key("vehicle", reads, {"with_rail": with_rail})
     base = _GENERATED.get(key)
     if base is None:
-        derivation = _derivation(model, with_rail, key)
+        derivation = vehicle_derivation(model, with_rail, key)
         try:
             base = _evaluate_vehicle(model, *derivation)
         except ModelError:
@@ -630,7 +540,7 @@ def _symbolic_twin(path: str | Path, with_rail: bool, key: str) -> VehicleModel:
     if entry_key("vehicle", reads, {"with_rail": with_rail}) != key:
         raise ArgumentError(f"{path}: the model (or a file it reads) changed since this vehicle was loaded; "
                             "load it again (express.load_vehicle)")
-    derivation = _derivation(model, with_rail, key)
+    derivation = vehicle_derivation(model, with_rail, key)
     return _evaluate_vehicle(model, *derivation)
 
 

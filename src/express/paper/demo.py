@@ -149,7 +149,8 @@ def run_demo(outdir: str | Path = "demo-out", *, examples: Path | None = None,
         Receives one line per step (progress and key numbers).
     """
     from express.io import load_model
-    from express.io.output import json_text, write_text
+    from express.io.output import write_text
+    from express.io.text_formats import json_text
     from express.rail.build import generate_vehicle
 
     start = time.perf_counter()

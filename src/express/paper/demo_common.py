@@ -57,7 +57,8 @@ def write_table(path: Path, columns: Mapping[str, Any]) -> Path:
     A figure's data may have no value at a point (no critical speed below the scan's
     top, a range not checked): nan is written as an empty cell; an inf is refused
     (``docs/reliability.md``)."""
-    from express.io.output import csv_text, write_text
+    from express.io.output import write_text
+    from express.io.text_formats import csv_text
 
     write_text(path, csv_text(columns, markers=list(columns)))
     return path

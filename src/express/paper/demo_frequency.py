@@ -78,8 +78,8 @@ def _point_place(car, name: str) -> tuple[float, float]:
 
 def measure_floor_response(cars: Cars, frequencies: np.ndarray = FRF_FREQUENCIES) -> FloorResponse:
     """Frequency responses of both cars at their model speed."""
-    from express.analysis.frequency import frequency_response
-    from express.analysis.stability import eigen_analysis
+    from express.analysis.frequency.frequency import frequency_response
+    from express.analysis.stability.stability import eigen_analysis
 
     amplitude = PAPER.irregularity_amplitude.value
     amplitudes, peaks, difference = {}, {}, {}

@@ -80,7 +80,7 @@ def lever_step_response(equations, case: LeverCase | Mapping[str, float], time_s
     """
     from scipy.linalg import expm
 
-    from express.numeric.statespace import evaluate_matrices
+    from express.numeric.derivation import evaluate_matrices
 
     values = {**LEVER_VALUES, **_case_values(case)}
     values = {name: values[name] for name in equations.parameters}

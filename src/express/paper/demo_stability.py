@@ -15,8 +15,8 @@ from pathlib import Path
 
 import numpy as np
 
-from express.analysis.critical_options import CriticalOptions
-from express.analysis.stability import WINDOW_JUMP, unstable_windows
+from express.analysis.stability.critical_options import CriticalOptions
+from express.analysis.stability.stability import WINDOW_JUMP, unstable_windows
 from express.base.units import KMH
 from express.paper.demo_common import Cars, write_figure, write_table
 from express.paper.numbers import PAPER
@@ -119,7 +119,7 @@ class VcrShape:
 def measure_stability(cars: Cars, conicities: np.ndarray = CONICITIES, *, diagnose: bool = True) -> StabilitySweep:
     """Critical speeds of both cars over ``conicities``, the unstable windows where
     ``V_cr`` jumps, and (with ``diagnose``) the link-cut check of the low-conicity fall."""
-    from express.analysis.stability import critical_speed, critical_speed_vs_conicity
+    from express.analysis.stability.stability import critical_speed, critical_speed_vs_conicity
 
     conicities = np.asarray(conicities, dtype=float)
     speeds, unstable, windows, modes, sweeps = {}, {}, {}, {}, {}
@@ -211,7 +211,7 @@ class StabilityMap:
     speeds : numpy.ndarray, shape (S,)
         [m/s].
     eigenvalues : numpy.ndarray, complex, shape (S, 2n)
-        [1/s], row per speed (:func:`express.analysis.stability.root_locus`).
+        [1/s], row per speed (:func:`express.analysis.stability.stability.root_locus`).
     branches : numpy.ndarray, complex, shape (S, M)
         The oscillatory modes followed across speeds (:func:`express.analysis.plots.mode_branches`).
     critical_kmh : float or None
@@ -227,7 +227,7 @@ class StabilityMap:
 def measure_stability_map(car, v_max: float = 150.0, points: int = 300) -> StabilityMap:
     """Root locus of ``car`` from 1 m/s to ``v_max`` [m/s] at ``points`` speeds."""
     from express.analysis.plots import mode_branches
-    from express.analysis.stability import critical_speed, root_locus
+    from express.analysis.stability.stability import critical_speed, root_locus
 
     speeds = np.linspace(1.0, v_max, points)
     eigenvalues = root_locus(car, speeds)

@@ -42,8 +42,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from express.base.diagnostics import ArgumentError
-from express.rail.contact import hertz_contact, kalker_coefficients
+from express.rail.contact import hertz_contact
 from express.rail.contact_geometry import ContactJump, ContactSetup, ContactTable, prepare_surfaces, solve_contact
+from express.rail.kalker import kalker_coefficients
 from express.rail.profiles import Profile
 
 __all__ = [

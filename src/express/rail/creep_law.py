@@ -6,7 +6,7 @@ simulations of traction vehicles running on adhesion limit", Wear 258, 2005, 992
 gives the tangential forces of an elliptic Hertz contact in closed form.  With the
 creepages xi (longitudinal), eta (lateral), phi (spin, 1/m), the normal force N, the
 friction coefficient mu, the semi-axes a (rolling direction) and b, the shear modulus G
-and Kalker's coefficients C11, C22, C23 (:func:`express.rail.contact.kalker_coefficients`):
+and Kalker's coefficients C11, C22, C23 (:func:`express.rail.kalker.kalker_coefficients`):
 
 * spin adds to the lateral creepage when it increases it:
   ``eta_C = eta + phi a`` if ``|eta + phi a| > |eta|``, else ``eta_C = eta``;

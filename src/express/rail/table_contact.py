@@ -28,7 +28,7 @@ import numpy as np
 from express.base.diagnostics import ArgumentError, ModelError
 from express.io.contact_table_file import ContactTableData, read_contact_table, write_contact_table
 from express.rail.conicity import equivalent_conicity
-from express.rail.contact import hertz_contact, kalker_coefficients
+from express.rail.contact import hertz_contact
 from express.rail.contact_geometry import ContactSetup, prepare_surfaces, solve_contact
 from express.rail.contact_tables import (
     ANGLE,
@@ -52,6 +52,7 @@ from express.rail.contact_tables import (
     LinearContact,
     linear_contact_parameters,
 )
+from express.rail.kalker import kalker_coefficients
 from express.rail.profiles import Profile
 
 __all__ = ["COEFFICIENTS", "STEP", "export_profile_table", "file_tables", "given_coefficients", "table_derivation",

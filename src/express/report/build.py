@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import sympy as sp
 
-from express.analysis.critical_options import CriticalOptions
+from express.analysis.stability.critical_options import CriticalOptions
 from express.assembly.equations import EquationsOfMotion
 from express.base.units import KMH
 from express.drawing.geometry import model_geometry
@@ -124,7 +124,7 @@ def _equations_section(vehicle: VehicleModel, readable: EquationsOfMotion | None
 
 
 def _modes_section(vehicle: VehicleModel, speed: float) -> Section:
-    from express.analysis.stability import eigen_analysis
+    from express.analysis.stability.stability import eigen_analysis
     from express.report.figures import mode_figures
 
     result = eigen_analysis(vehicle, speed)
@@ -143,7 +143,7 @@ def _modes_section(vehicle: VehicleModel, speed: float) -> Section:
 
 def _stability_section(vehicle: VehicleModel) -> Section:
     from express.analysis.plots import figure_eigen_locus
-    from express.analysis.stability import critical_speed, root_locus
+    from express.analysis.stability.stability import critical_speed, root_locus
 
     options = CriticalOptions()
     v_min, v_max = options.v_min, options.v_max
@@ -227,7 +227,7 @@ def _curving_section(vehicle: VehicleModel, track=None, track_name: str = "", sp
 def _frequency_section(vehicle: VehicleModel, speed: float) -> Section | None:
     """The response at the output points at ``speed``; for a vehicle unstable there, the
     instability (the steady response does not exist) instead of an error."""
-    from express.analysis.frequency import frequency_response
+    from express.analysis.frequency.frequency import frequency_response
     from express.analysis.plots import figure_frequency_response
     from express.base.diagnostics import AnalysisError
 

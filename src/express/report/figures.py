@@ -56,7 +56,7 @@ def mode_figures(vehicle: VehicleModel, geometry: ModelGeometry, speed: float, m
     """``(figure, caption)`` of the least-damped mode and, when another, of the first
     hunting mode and of a flexible body's first mode (its first bending, else its first
     torsion: the body drawn deformed) (``modes``:
-    :attr:`express.analysis.modes.EigenResult.modes`, least stable first; numbered as
+    :attr:`express.analysis.modes.modes.EigenResult.modes`, least stable first; numbered as
     ``express eigen``)."""
     chosen = [(1, "least-damped mode")]
     hunting = next((k for k, mode in enumerate(modes, start=1) if mode.kind.startswith("hunting")), None)

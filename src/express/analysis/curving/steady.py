@@ -484,7 +484,7 @@ def steady_curving(vehicle: VehicleModel, curves: SteadyCurve | Iterable[SteadyC
     -------
     list of SteadyCurving
     """
-    from express.base.units import si_argument
+    from express.base.arguments import si_argument
 
     if isinstance(curves, SteadyCurve):
         curves = [curves]

@@ -1,5 +1,5 @@
 """Bifurcation diagram of hunting: the limit-cycle amplitude against speed from the
-ramp-down (:func:`express.analysis.nonlinear_stability.nonlinear_critical_speed`), with
+ramp-down (:func:`express.analysis.stability.nonlinear_stability.nonlinear_critical_speed`), with
 the centred running's stability and the linear and nonlinear critical speeds."""
 
 from __future__ import annotations

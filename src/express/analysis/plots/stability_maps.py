@@ -1,7 +1,7 @@
 """Stability maps: the root locus as real parts against speed and in the complex plane
 (speed as colour), and the damping ratio of each mode against speed.
 
-The figures take the eigenvalues of :func:`express.analysis.stability.root_locus` (rows
+The figures take the eigenvalues of :func:`express.analysis.stability.stability.root_locus` (rows
 of speeds, in any order); :func:`mode_branches` follows each mode from one speed to the
 next for the damping-ratio figure.
 """
@@ -48,7 +48,7 @@ def figure_eigen_locus(speeds_kmh: np.ndarray, eigenvalues: np.ndarray, *, title
         Speeds [km/h].
     eigenvalues : numpy.ndarray, complex, shape (S, N)
         Row ``i``: the eigenvalues [1/s] at ``speeds_kmh[i]``
-        (:func:`express.analysis.stability.root_locus`).
+        (:func:`express.analysis.stability.stability.root_locus`).
     title : str
     critical_kmh : float, optional
         Marked with a dashed vertical line.
@@ -155,7 +155,7 @@ def mode_branches(eigenvalues: np.ndarray) -> np.ndarray:
     ----------
     eigenvalues : numpy.ndarray, complex, shape (S, N)
         Row ``i``: the eigenvalues [1/s] at the ``i``-th speed, in any order (as
-        :func:`express.analysis.stability.root_locus` returns them).
+        :func:`express.analysis.stability.stability.root_locus` returns them).
 
     Returns
     -------

@@ -68,7 +68,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from express.analysis.frequency import require_stable
+from express.analysis.frequency.frequency import require_stable
 from express.analysis.ride.spectral import (
     check_frequencies,
     check_psd,
@@ -78,10 +78,10 @@ from express.analysis.ride.spectral import (
 )
 from express.analysis.ride.track_classes import TRACK_CLASSES, track_class_spectra
 from express.assembly.kinematics import end_motion
+from express.base.arguments import si_argument, si_arguments
 from express.base.data import DataRecord, columns_frame
 from express.base.diagnostics import AnalysisError, InputError
 from express.base.names import did_you_mean
-from express.base.units import si_argument, si_arguments
 from express.forces.linearisation import nonlinear_rows
 from express.model.modal_body import modal_motion
 from express.model.parameters import expression_value
@@ -458,7 +458,7 @@ def _speed(vehicle: VehicleModel, speed: float | None) -> float:
 
 def linear_instability(vehicle: VehicleModel, speed: float) -> str | None:
     """Why the linear model has no stationary response at ``speed`` [m/s] (the unstable
-    mode, :func:`express.analysis.frequency.require_stable`), None when it has one."""
+    mode, :func:`express.analysis.frequency.frequency.require_stable`), None when it has one."""
     try:
         require_stable(vehicle, speed)
     except AnalysisError as error:

@@ -1,6 +1,6 @@
 """Fast critical speed: the crossing located exactly, the reported value unchanged.
 
-:func:`express.analysis.stability.critical_speed` scans the largest real part
+:func:`express.analysis.stability.stability.critical_speed` scans the largest real part
 ``sigma(v)`` of the eigenvalues of ``A(v)`` on a geometric grid of speeds and bisects
 the first stable-to-unstable grid cell to a tolerance; it reports the midpoint of the
 final bracket and solves about 50 eigenvalue problems of ``A`` (2n x 2n) per call.
@@ -21,7 +21,7 @@ crossing** (a Hopf point) besides, which the sensitivities need:
 
    ``check = "grid"`` (default)
        every grid speed below the crossing is checked, as the stability code does: the
-       value is that of :func:`~express.analysis.stability.critical_speed` (and of
+       value is that of :func:`~express.analysis.stability.stability.critical_speed` (and of
        ``express critical-speed``) with the same options, bit for bit in practice.
    ``check = "local"``
        with a starting guess (the crossing of a similar vehicle: the previous point of a
@@ -45,13 +45,13 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.linalg
 
-from express.analysis.critical_options import CriticalOptions
+from express.analysis.stability.critical_options import CriticalOptions
 from express.base.diagnostics import ArgumentError
 from express.numeric.statespace import VehicleModel
 
 __all__ = ["CriticalOptions", "CriticalResult", "CriticalSpeedSearch", "HopfPoint", "StateBlocks", "fast_critical_speed", "hopf_point"]
 
-#: The search's defaults (:class:`~express.analysis.critical_options.CriticalOptions`).
+#: The search's defaults (:class:`~express.analysis.stability.critical_options.CriticalOptions`).
 DEFAULT_OPTIONS = CriticalOptions()
 
 #: Relative step of ``s = 1/v`` below which Newton's method keeps its Jacobian (chord
@@ -101,7 +101,7 @@ class CriticalResult:
     Attributes
     ----------
     speed : float
-        The value :func:`~express.analysis.stability.critical_speed` reports [m/s]
+        The value :func:`~express.analysis.stability.stability.critical_speed` reports [m/s]
         (bracket midpoint; the exact crossing when ``tolerance`` is 0); ``v_min`` when
         :attr:`unstable_at_min`; nan when stable over the whole range (not :attr:`found`;
         before issue 35 None).
@@ -117,7 +117,7 @@ class CriticalResult:
         Frequency of the least stable mode at :attr:`speed` [Hz], without a crossing.
     found : bool
         False when the vehicle is stable over the whole range (as
-        :attr:`express.analysis.stability.CriticalSpeed.found`).
+        :attr:`express.analysis.stability.stability.CriticalSpeed.found`).
     """
 
     speed: float
@@ -130,7 +130,7 @@ class CriticalResult:
 
     @property
     def reason(self) -> str:
-        """Why the search ended, as :attr:`express.analysis.stability.CriticalSpeed.reason`:
+        """Why the search ended, as :attr:`express.analysis.stability.stability.CriticalSpeed.reason`:
         ``"crossing"``, ``"unstable at v_min"`` or ``"stable up to v_max"``."""
         if not self.found:
             return "stable up to v_max"
@@ -342,7 +342,7 @@ def _crossing_in_cell(blocks: StateBlocks, lo: float, hi: float, options: Critic
 def fast_critical_speed(
     vehicle: VehicleModel | StateBlocks, options: CriticalOptions = DEFAULT_OPTIONS, guess: HopfPoint | None = None
 ) -> CriticalResult:
-    """Critical speed as :func:`~express.analysis.stability.critical_speed` reports it,
+    """Critical speed as :func:`~express.analysis.stability.stability.critical_speed` reports it,
     with the exact crossing (module docstring).
 
     Parameters

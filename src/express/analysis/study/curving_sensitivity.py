@@ -351,7 +351,7 @@ def steady_curving_sensitivity(
     """
     import scipy.linalg
 
-    from express.base.units import si_argument
+    from express.base.arguments import si_argument
 
     names = _checked(vehicle, curve, parameters)
     v = float(vehicle.speed if speed is None else si_argument(speed, "speed", "speed"))

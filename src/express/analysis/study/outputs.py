@@ -69,7 +69,7 @@ from typing import Any
 
 import numpy as np
 
-from express.analysis.critical_options import CriticalOptions, SearchCheck
+from express.analysis.stability.critical_options import CriticalOptions, SearchCheck
 from express.analysis.study.critical import CriticalSpeedSearch, StateBlocks
 from express.base.diagnostics import ArgumentError
 
@@ -384,7 +384,7 @@ class PointOutputs:
                 "steady_SY": float(np.max(np.abs(outputs.track_shift_force)))}
 
     def _frf(self, vehicle) -> dict[str, float]:
-        from express.analysis.frequency import frequency_response
+        from express.analysis.frequency.frequency import frequency_response
 
         s = self.settings
         model = vehicle.model
@@ -397,7 +397,7 @@ class PointOutputs:
             response = frequency_response(vehicle, frequencies, amplitude=s.frf_amplitude, speed=self._speed(vehicle))
             amplitude = np.abs(np.asarray(response.acceleration_of(name)))
         else:
-            from express.analysis.track_response import track_frequency_response
+            from express.analysis.frequency.track_response import track_frequency_response
 
             track = track_frequency_response(vehicle, frequencies, components=[s.frf_input],
                                              amplitude=s.frf_amplitude, speed=self._speed(vehicle))

@@ -273,7 +273,7 @@ def _number(value: float) -> str:
 
 def csv_bytes(table: ResultTable) -> bytes:
     """The CSV file (module docstring)."""
-    from express.io.output import column_name
+    from express.io.text_formats import column_name
 
     buffer = io.StringIO()
     writer = csv.writer(buffer, lineterminator="\n")

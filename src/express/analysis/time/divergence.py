@@ -9,7 +9,7 @@ from typing import Any
 
 import numpy as np
 
-from express.analysis.stability import eigen_analysis
+from express.analysis.stability.stability import eigen_analysis
 from express.base.units import KMH
 
 __all__ = ["DIVERGED_CLEARANCES", "Divergence", "divergence_message", "find_divergence", "truncate"]

@@ -173,8 +173,8 @@ class SimulationResult(DataRecord):
 
     def to_csv(self) -> str:
         """CSV text: a header of column names with their SI units (``time_s``, ``Q1_N``,
-        :func:`express.io.output.column_name`), then one row per time step."""
-        from express.io.output import csv_text
+        :func:`express.io.text_formats.column_name`), then one row per time step."""
+        from express.io.text_formats import csv_text
 
         return csv_text(self.series(), self.units())
 
@@ -321,7 +321,7 @@ def simulate(
     SimulationResult
         ``options["route"]`` is ``"sparse"`` when the sparse route was taken.
     """
-    from express.base.units import si_argument
+    from express.base.arguments import si_argument
 
     if not isinstance(track, Track):
         raise ArgumentError(f"track must be a Track (express.load_track(\"R400\") or a track file), "

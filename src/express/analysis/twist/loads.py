@@ -30,8 +30,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from express.analysis.time.track_inputs import track_inputs
+from express.base.arguments import si_argument
 from express.base.diagnostics import ArgumentError
-from express.base.units import si_argument
 from express.numeric.statespace import VehicleModel
 from express.rail.track import Straight, Track
 from express.rail.track.irregularity import MAX_LATERAL_IRREGULARITY, ProfileIrregularity

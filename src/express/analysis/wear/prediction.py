@@ -223,7 +223,7 @@ def profile_path(directory: Path, step: int) -> Path:
 
 def _measure(vehicle: VehicleModel, grid: ProfileGrid, first: ProfileGrid) -> dict[str, float]:
     """Conicity, linear critical speed and flange dimensions of the worn vehicle."""
-    from express.analysis.stability import critical_speed
+    from express.analysis.stability.stability import critical_speed
     from express.rail.profile_contact import wheelset_contacts
 
     setup = wheelset_contacts(vehicle.model, vehicle.values, vehicle.wheelsets)[0].tables.setup  # type: ignore[union-attr]

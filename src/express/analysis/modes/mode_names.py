@@ -21,7 +21,7 @@ its share of the dissipated power is listed against its element
 *Hunting* is kept for the kinematic motion of the wheelsets, a pattern of displacement
 rather than of energy (a car body holds much of the kinetic energy of a bogie's hunting
 by its mass alone): an oscillation with damping ratio below 0.5 whose displacement
-(the participation of :class:`express.analysis.modes.Mode`, rotations times the radius
+(the participation of :class:`express.analysis.modes.modes.Mode`, rotations times the radius
 of gyration) is mostly in the running gear (wheelsets, frames, levers), of which the
 wheelsets hold at least :data:`HUNTING_WHEELSET_SHARE`, almost all of it
 (:data:`HUNTING_LATERAL_YAW`) lateral and yaw, at a frequency not above
@@ -37,7 +37,7 @@ from functools import cached_property
 
 import numpy as np
 
-from express.analysis.mode_energies import (
+from express.analysis.modes.mode_energies import (
     STROKE,
     DofGroups,
     group_sums,
@@ -286,11 +286,11 @@ def mode_names(kinetic: np.ndarray, series: Sequence[tuple[tuple[str, float], ..
     Parameters
     ----------
     kinetic : numpy.ndarray, shape (k, m)
-        Every DOF's share of the kinetic energy (:func:`~express.analysis.mode_energies.kinetic_shares`).
+        Every DOF's share of the kinetic energy (:func:`~express.analysis.modes.mode_energies.kinetic_shares`).
     series : sequence of tuple of (str, float)
         Every mode's series elements with their share of the dissipated power, largest first.
     rolls : numpy.ndarray, shape (r, m)
-        Roll centres (:func:`~express.analysis.mode_energies.roll_centres`).
+        Roll centres (:func:`~express.analysis.modes.mode_energies.roll_centres`).
     displacement : numpy.ndarray, shape (k, m)
         Every DOF's share of the displacement (participation), for hunting.
     naming : RoleGroups

@@ -12,7 +12,7 @@ The band is found once per call from the non-zero pattern of ``M + C + K``: the 
 own order or, when narrower, the reverse Cuthill-McKee order
 (:func:`reverse_cuthill_mckee`, the classical bandwidth-reducing permutation, as
 :func:`scipy.sparse.csgraph.reverse_cuthill_mckee` gives it).  :func:`choose_route` weighs it against the dense routes of
-:func:`express.analysis.frequency.steady_response`.
+:func:`express.analysis.frequency.frequency.steady_response`.
 
 Examples
 --------
@@ -194,7 +194,7 @@ SCIPY_IMPORT_S = 0.25
 
 def route_costs(n: int, states: int, frequencies: int, layout: BandLayout) -> dict[str, float]:
     """Estimated wall time [s] of each route of
-    :func:`express.analysis.frequency.steady_response`, by the time model above.
+    :func:`express.analysis.frequency.frequency.steady_response`, by the time model above.
 
     Parameters
     ----------

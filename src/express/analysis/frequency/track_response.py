@@ -8,12 +8,12 @@ feels neither). One component at a time is the sinusoid ``Y sin(2 pi f t)`` at t
 leading wheelset, delayed at the others by their distance behind it; the response of each
 ride output (the output points' accelerations ``<point>.ax, .ay, .az`` [m/s^2], the
 wheels' lateral forces and dynamic loads [N], the wheelsets' lateral displacement on the
-track [m]) is its complex amplitude (phase convention of :mod:`express.analysis.frequency`).
+track [m]) is its complex amplitude (phase convention of :mod:`express.analysis.frequency.frequency`).
 The displacement of an output point is its acceleration divided by ``-w^2``.
 
 The transfer functions are the ride analysis's own: ``G_y = sum_j |H_yj|^2 G_j`` holds
 between this response and the ride spectra by construction, and the alignment response
-equals :func:`express.analysis.frequency.frequency_response` (a different solution
+equals :func:`express.analysis.frequency.frequency.frequency_response` (a different solution
 route; ``tests/test_track_response.py``).
 """
 
@@ -158,7 +158,7 @@ def track_frequency_response(
     (2,)
     """
     from express.analysis.ride.vehicle import rail_inputs, ride_response
-    from express.base.units import si_argument, si_arguments
+    from express.base.arguments import si_argument, si_arguments
     from express.rail.track.spectra import COMPONENTS
 
     inputs = rail_inputs(vehicle)

@@ -1,11 +1,11 @@
 """The critical speed's result record (:class:`CriticalSpeed`): what
-:func:`express.analysis.stability.critical_speed` found, as data."""
+:func:`express.analysis.stability.stability.critical_speed` found, as data."""
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
-from express.analysis.modes import Mode
+from express.analysis.modes.modes import Mode
 from express.base.data import DataRecord, one_row, variable, xarray
 from express.base.units import KMH
 
@@ -14,7 +14,7 @@ __all__ = ["CriticalSpeed"]
 
 @dataclass(frozen=True, repr=False)
 class CriticalSpeed(DataRecord):
-    """Result of :func:`express.analysis.stability.critical_speed`: always a record (as scipy's ``OptimizeResult``),
+    """Result of :func:`express.analysis.stability.stability.critical_speed`: always a record (as scipy's ``OptimizeResult``),
     with :attr:`found` and :attr:`reason` saying what the search found.
 
     Attributes

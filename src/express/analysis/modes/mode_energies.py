@@ -1,6 +1,6 @@
 """The energy and displacement of many modes at once, summed by body and direction.
 
-:func:`express.analysis.modes.modes_of` describes every mode of a vehicle, thousands for
+:func:`express.analysis.modes.modes.modes_of` describes every mode of a vehicle, thousands for
 a long train (100 cars: 2400 DOFs, 2600 modes).  Here the per-DOF quantities of all
 modes are arrays over DOFs x modes, and their sums by body, direction or role are
 grouped sums over index arrays built once per vehicle (:class:`DofGroups`): a few
@@ -194,7 +194,7 @@ def top_columns(values: np.ndarray, count: int) -> np.ndarray:
 
 
 def participation(vectors: np.ndarray, groups: DofGroups, lengths: np.ndarray) -> np.ndarray:
-    """Every DOF's share of the displacement of every mode (:attr:`express.analysis.modes.Mode.dominant`).
+    """Every DOF's share of the displacement of every mode (:attr:`express.analysis.modes.modes.Mode.dominant`).
 
     ``share_i = |l_i phi_i|^2 / sum_j |l_j phi_j|^2`` over the DOFs with mass (a stroke's
     share is 0).
@@ -222,7 +222,7 @@ def participation(vectors: np.ndarray, groups: DofGroups, lengths: np.ndarray) -
 
 def kinetic_shares(vectors: np.ndarray, groups: DofGroups, mass: np.ndarray | RowProduct) -> np.ndarray:
     """Every DOF's share of the kinetic energy of every mode
-    (:mod:`express.analysis.mode_names`): ``T_i = Re(conj(phi_i) (M phi)_i)``, negative
+    (:mod:`express.analysis.modes.mode_names`): ``T_i = Re(conj(phi_i) (M phi)_i)``, negative
     parts taken as 0, divided by their sum.
 
     Parameters

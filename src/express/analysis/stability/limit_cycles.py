@@ -1,7 +1,7 @@
 """Runs at one fixed speed on straight track that tell whether a hunting limit cycle lives
 there: :func:`limit_cycle` (one run of given length) and :func:`settle_cycle` (run on
 until the cycle has settled or died), the two tests of
-:mod:`express.analysis.nonlinear_stability`.
+:mod:`express.analysis.stability.nonlinear_stability`.
 
 Why two.  Near the speed where the cycle ends (a fold: the stable cycle meets an
 unstable one) the motion is slow in both directions: just above it the amplitude creeps

@@ -1,7 +1,7 @@
 """Nonlinear critical speed by the ramp-down method, with the limit-cycle amplitude
 against speed (a bifurcation diagram) (issue 12, item 6).
 
-The linear critical speed (:func:`express.analysis.stability.critical_speed`) is where
+The linear critical speed (:func:`express.analysis.stability.stability.critical_speed`) is where
 the centred running loses its stability for infinitesimal disturbances.  With the
 nonlinear contact the hunting bifurcation is usually subcritical: a limit cycle exists
 well below it, and a large enough disturbance (a track fault) starts hunting there.  The
@@ -19,12 +19,12 @@ smaller one of another branch (S1002 on 60E1 has a flange-contact branch and a t
 branch), which then is followed.  The ramp stops at the first speed where the cycle dies.
 
 **End of the cycle.**  The ramp's few-second test is too coarse near the end of the
-cycle, where the motion creeps and collapses slowly (:mod:`express.analysis.limit_cycles`).
+cycle, where the motion creeps and collapses slowly (:mod:`express.analysis.stability.limit_cycles`).
 So the interval between the last live speed of the ramp (the *anchor*) and the dead one
 is halved until narrower than ``tolerance`` with runs that must *survive*: started from
 the state of the anchor's run, alive when the lateral motion of some wheelset stays above
 ``threshold`` for ``longest`` seconds (or settles earlier), dead when it collapses
-(:func:`express.analysis.limit_cycles.settle_cycle`).  Every try starts from the same
+(:func:`express.analysis.stability.limit_cycles.settle_cycle`).  Every try starts from the same
 state, so whether a speed counts as alive does not depend on the tries before it; the
 speeds tried lie on one grid, ``anchor - k step / 2**n``.  Every run is a
 :func:`express.analysis.time.simulate.simulate` with the contact from the profiles' tables when
@@ -51,12 +51,13 @@ from typing import Any
 
 import numpy as np
 
-from express.analysis.limit_cycles import CycleCheck, limit_cycle, settle_cycle
-from express.analysis.stability import CriticalSpeed, critical_speed
+from express.analysis.stability.limit_cycles import CycleCheck, limit_cycle, settle_cycle
+from express.analysis.stability.stability import CriticalSpeed, critical_speed
+from express.base.arguments import si_argument
 from express.base.data import DataRecord, variable, xarray
 from express.base.diagnostics import ArgumentError
 from express.base.threads import limited_blas
-from express.base.units import KMH, si_argument
+from express.base.units import KMH
 from express.numeric.statespace import VehicleModel
 from express.rail.options import ContactModel, CreepLaw
 
@@ -342,7 +343,7 @@ def _ramp_down(vehicle: VehicleModel, v_start: float, state: np.ndarray, dt: flo
 
 def _settle(vehicle: VehicleModel, speed: float, state: np.ndarray, dt: float, settings: _Settings,
             search: _Search, record: bool) -> CycleCheck:
-    """:func:`express.analysis.limit_cycles.settle_cycle` with the search's options."""
+    """:func:`express.analysis.stability.limit_cycles.settle_cycle` with the search's options."""
     check = settle_cycle(vehicle, speed, state, dt=dt, window=settings.window, longest=settings.longest,
                          spread=settings.spread, threshold=settings.threshold, creep_law=settings.creep_law,
                          contact=settings.contact)
@@ -479,7 +480,7 @@ def nonlinear_critical_speed(
     refinements : int
         Largest number of halvings of ``dt`` (0: no step-size check).
     window, longest, spread : float
-        The runs of the end-of-cycle search (:func:`express.analysis.limit_cycles.
+        The runs of the end-of-cycle search (:func:`express.analysis.stability.limit_cycles.
         settle_cycle`): window length [s], the time a run must survive [s] (40 s), the
         largest relative change of a settled cycle's amplitude [-] (a settled run stops early).
     initial_state : numpy.ndarray, optional

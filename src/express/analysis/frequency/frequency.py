@@ -49,11 +49,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from express.base.arguments import si_argument, si_arguments
 from express.base.data import DataRecord, variable, xarray
 from express.base.diagnostics import ArgumentError
 from express.base.names import did_you_mean
 from express.base.threads import large_problem_threads, limited_blas
-from express.base.units import si_argument, si_arguments
 from express.numeric.statespace import VehicleModel
 
 __all__ = [
@@ -222,7 +222,7 @@ def steady_response(
     """Complex amplitudes ``X`` of every DOF for input amplitudes ``U`` at every frequency.
 
     ``(-w^2 M + i w C(v) + K) X = (P(v) + i w Pd) U``, solved by the cheapest of three
-    routes (:func:`express.analysis.banded.choose_route`, which charges the 0.25 s
+    routes (:func:`express.analysis.frequency.banded.choose_route`, which charges the 0.25 s
     import of SciPy's LAPACK to the two routes that need it), all the same solution to
     rounding:
 
@@ -230,7 +230,7 @@ def steady_response(
       (NumPy only); every small model at a few hundred frequencies, exact to ~1e-14
       of the largest amplitude;
     - ``"banded"``: a banded LU per frequency when the DOFs couple only near the
-      diagonal (trains: :mod:`express.analysis.banded`), as exact;
+      diagonal (trains: :mod:`express.analysis.frequency.banded`), as exact;
     - ``"schur"``: one Schur form of the state matrix, then a back substitution per
       frequency (:func:`express.analysis.ride.spectral.resolvent_solve`),
       ``x = (i w I - A)^-1 (B + i w Bd) U`` and ``X = x[:n]``; for very many
@@ -260,7 +260,7 @@ def steady_response(
     AnalysisError
         At a frequency where the dynamic stiffness is singular.
     """
-    from express.analysis.banded import band_layout, choose_route, solve_banded_stiffness
+    from express.analysis.frequency.banded import band_layout, choose_route, solve_banded_stiffness
 
     w = 2.0 * np.pi * np.asarray(frequencies, dtype=float)
     damping = vehicle.damping(speed)
@@ -314,11 +314,11 @@ def require_stable(vehicle: VehicleModel, speed: float) -> None:
     largest = max(block.size for block in vehicle.eigen_blocks.blocks)
     with large_problem_threads(largest):
         values = vehicle.eigenvalues(speed)
-    from express.analysis.modes import stability_threshold
+    from express.analysis.modes.modes import stability_threshold
 
     if values.size == 0 or not values.real.max() > stability_threshold(values):
         return  # rigid-body modes (eigenvalue 0) are rounding away from stable, not unstable
-    from express.analysis.stability import eigen_analysis
+    from express.analysis.stability.stability import eigen_analysis
     from express.base.diagnostics import AnalysisError
     from express.base.units import KMH
 

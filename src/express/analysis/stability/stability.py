@@ -44,12 +44,13 @@ from typing import Any
 
 import numpy as np
 
-from express.analysis.critical_options import CriticalOptions
-from express.analysis.critical_result import CriticalSpeed
-from express.analysis.modes import EigenResult, Mode, modes_of
+from express.analysis.modes.modes import EigenResult, Mode, modes_of
+from express.analysis.stability.critical_options import CriticalOptions
+from express.analysis.stability.critical_result import CriticalSpeed
+from express.base.arguments import si_argument, si_arguments
 from express.base.diagnostics import AnalysisError, ArgumentError
 from express.base.threads import large_problem_threads, limited_blas
-from express.base.units import KMH, si_argument, si_arguments
+from express.base.units import KMH
 from express.numeric.statespace import VehicleModel
 
 __all__ = [
@@ -120,7 +121,7 @@ def eigen_analysis(vehicle: VehicleModel, speed: float | None = None) -> EigenRe
     -----
     Names (:attr:`Mode.kind`) come from the distribution of each mode's kinetic
     energy over the bodies and directions, hunting from the wheelsets' kinematic
-    displacement (:mod:`express.analysis.mode_names`, ``docs/analyses.md``).
+    displacement (:mod:`express.analysis.modes.mode_names`, ``docs/analyses.md``).
 
     Examples
     --------
@@ -268,7 +269,7 @@ def critical_speed(
     vehicle : VehicleModel
         The vehicle (with rail data: its eigenvalues depend on the speed).
     options : CriticalOptions, optional
-        The search's options in SI (:class:`~express.analysis.critical_options.CriticalOptions`,
+        The search's options in SI (:class:`~express.analysis.stability.critical_options.CriticalOptions`,
         the one set of defaults); the keywords below override single ones.
     v_min, v_max : float, str or pint.Quantity, optional
         Speed range scanned [m/s], ``0 < v_min < v_max`` (a number is SI; ``"400 km/h"``).

@@ -4,8 +4,8 @@ A mode is one eigenvalue of ``A(v)`` with what moves in it: the participation sh
 every DOF (rotations weighed by the body's radius of gyration, so that radians compare
 with metres), the series elements' share of its dissipated power, and a name from the
 distribution of its energy over the bodies and directions
-(:mod:`express.analysis.mode_names`): hunting, wheelset, bogie frame, steering lever or
-car-body modes.  :func:`modes_of` builds them; :mod:`express.analysis.stability` finds the modes
+(:mod:`express.analysis.modes.mode_names`): hunting, wheelset, bogie frame, steering lever or
+car-body modes.  :func:`modes_of` builds them; :mod:`express.analysis.stability.stability` finds the modes
 at a speed and the critical speed.
 """
 
@@ -17,7 +17,7 @@ from functools import cached_property
 
 import numpy as np
 
-from express.analysis.mode_energies import (
+from express.analysis.modes.mode_energies import (
     DofGroups,
     RowProduct,
     group_sums,
@@ -28,7 +28,7 @@ from express.analysis.mode_energies import (
     series_shares,
     top_columns,
 )
-from express.analysis.mode_names import RoleGroups, generic_names, kinematic_frequency, mode_names
+from express.analysis.modes.mode_names import RoleGroups, generic_names, kinematic_frequency, mode_names
 from express.base.data import DataRecord, variable, xarray
 from express.base.units import KMH
 from express.model.topology import Topology
@@ -100,7 +100,7 @@ class Mode:
         Share of every body (sum of its DOFs' shares), largest first.
     series : tuple of (str, float)
         Series (Maxwell) elements with their share of the mode's dissipated power [-],
-        largest first (:mod:`express.analysis.mode_names`). Their strokes have no mass:
+        largest first (:mod:`express.analysis.modes.mode_names`). Their strokes have no mass:
         they are never among :attr:`dominant` nor the subject of :attr:`kind`.
 
     Examples
@@ -197,7 +197,7 @@ class EigenResult(DataRecord):
     --------
     >>> from express.io import load_model
     >>> from express.numeric.statespace import vehicle_model
-    >>> from express.analysis.stability import eigen_analysis
+    >>> from express.analysis.stability.stability import eigen_analysis
     >>> car = vehicle_model(load_model("examples/conventional.toml"))
     >>> result = eigen_analysis(car, 30.0)
     >>> result.stable, len(result.modes) <= 2 * car.n
@@ -379,7 +379,7 @@ def modes_of(
         Build only the ``limit`` least stable modes.
     speed : float, optional
         The speed [m/s] of ``A``: the creep damping and the wheelsets' kinematic
-        frequency for the names (:mod:`express.analysis.mode_names`); the model's own
+        frequency for the names (:mod:`express.analysis.modes.mode_names`); the model's own
         speed by default.
 
     Returns
@@ -391,7 +391,7 @@ def modes_of(
     Notes
     -----
     The modes are described together, :data:`_CHUNK` at a time, as arrays over DOFs x
-    modes (:mod:`express.analysis.mode_energies`).
+    modes (:mod:`express.analysis.modes.mode_energies`).
     """
     layout = _layout(vehicle)
     speed = vehicle.speed if speed is None else speed

@@ -1,5 +1,5 @@
 """The options of every critical-speed search, in SI, with their one set of defaults: the
-linear search (:func:`express.analysis.stability.critical_speed`), the study's fast search,
+linear search (:func:`express.analysis.stability.stability.critical_speed`), the study's fast search,
 the sensitivities, the commands and the report. Light to import (the command line's defaults)."""
 
 from __future__ import annotations
@@ -30,7 +30,7 @@ class CriticalOptions:
     tolerance : float
         Width of the final bisection bracket [m/s] (default 0.1 km/h); 0 asks the study's
         search for the exact crossing instead of the bracket midpoint (the linear search
-        of :func:`~express.analysis.stability.critical_speed` needs it positive).
+        of :func:`~express.analysis.stability.stability.critical_speed` needs it positive).
     threshold : float
         A real part counts as positive only above this [1/s].
     points : int
