@@ -494,7 +494,7 @@ def time_run_sensitivity(
     """
     from express.analysis.curving.curves import CurveError, track_problems
     from express.analysis.time.simulate import running_speed
-    from express.base.units import si_argument
+    from express.base.arguments import si_argument
 
     names = _parameters(vehicle, parameters)
     for label, number in (("step", step), ("tolerance", tolerance), ("floor", floor)):
