@@ -13,11 +13,13 @@ import pytest
 
 from express.analysis.study.critical import CriticalOptions, fast_critical_speed
 from express.analysis.study.sensitivity import (
+    chosen_parameters,
     critical_speed_sensitivity,
     eigenvalue_derivatives,
     parameter_rates,
     sensitivity_parameters,
 )
+from express.base.diagnostics import ArgumentError
 from express.cli import main
 from express.numeric.statespace import load_vehicle
 
@@ -186,3 +188,15 @@ def test_through_the_profiles_derivation_against_finite_difference() -> None:
         minus = fast_critical_speed(vehicle.with_values({record.name: record.value - step}), options).crossing.speed
         # achieved <= 1.5e-8 (kx1; r0, nu <= 1e-9), the central difference's own error
         assert record.derivative == pytest.approx((plus - minus) / (2 * step), rel=5e-8)
+
+
+def test_the_chosen_parameters_are_checked(steered):
+    """Every given parameter for None, duplicates dropped in order, a bare string and
+    unknown names refused (each named, with a suggestion)."""
+    assert chosen_parameters(steered, None) == sensitivity_parameters(steered)
+    assert chosen_parameters(steered, ["lLL", "kx1", "lLL"]) == ["lLL", "kx1"]
+    with pytest.raises(ArgumentError, match="string 'kx1'"):
+        chosen_parameters(steered, "kx1")
+    with pytest.raises(ArgumentError, match=r"kx9: not a given parameter.*did you mean kx2") as caught:
+        chosen_parameters(steered, ["kx9", "zz"])
+    assert "zz: not a given parameter" in str(caught.value)

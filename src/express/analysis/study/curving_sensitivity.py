@@ -397,7 +397,7 @@ def steady_curving_sensitivity(
 
 def _checked(vehicle: VehicleModel, curve, parameters: Sequence[str] | None) -> list[str]:
     """The parameters to differentiate, the vehicle and curve checked."""
-    from express.analysis.study.sensitivity import sensitivity_parameters
+    from express.analysis.study.sensitivity import chosen_parameters
 
     if not isinstance(curve, SteadyCurve):
         raise ArgumentError(f"curve must be a SteadyCurve (e.g. SteadyCurve(radius=600.0, cant=0.15)), got "
@@ -408,15 +408,7 @@ def _checked(vehicle: VehicleModel, curve, parameters: Sequence[str] | None) -> 
     if getattr(vehicle, "tangent_vehicle", None) is not None:
         raise ArgumentError("steady curving runs the nonlinear elements themselves: give the tangent vehicle, not one "
                             "linearised for the linear analyses")
-    known = sensitivity_parameters(vehicle)
-    names = list(dict.fromkeys(known if parameters is None else parameters))
-    unknown = [name for name in names if name not in known]
-    if unknown:
-        from express.base.names import did_you_mean
-
-        raise ArgumentError("; ".join(f"{name}: not a given parameter of the model (nor the speed)"
-                                      f"{did_you_mean(name, known)}" for name in unknown))
-    return names
+    return chosen_parameters(vehicle, parameters)
 
 
 def _symbolic_rates(vehicle: VehicleModel, names: Sequence[str], speed: float, q: np.ndarray,

@@ -46,6 +46,7 @@ from express.numeric.statespace import VehicleModel
 __all__ = [
     "CriticalSpeedSensitivity",
     "ParameterSensitivity",
+    "chosen_parameters",
     "critical_speed_sensitivity",
     "eigenvalue_derivatives",
     "parameter_rates",
@@ -137,6 +138,35 @@ def sensitivity_parameters(vehicle: VehicleModel) -> list[str]:
     speed = _speed_name(vehicle)
     return sorted(name for name, p in model.parameters.items()
                   if name != speed and getattr(p, "expression", None) is None and not getattr(p, "derived_by", None))
+
+
+def chosen_parameters(vehicle: VehicleModel, parameters: Sequence[str] | None) -> list[str]:
+    """The parameters to differentiate: ``parameters`` (duplicates dropped, order kept) or
+    every :func:`sensitivity_parameters` for None.
+
+    Parameters
+    ----------
+    vehicle : VehicleModel
+    parameters : sequence of str or None
+        Names of given parameters.
+
+    Raises
+    ------
+    ArgumentError
+        A string instead of a sequence, or names that are not given parameters (each
+        with a suggestion).
+    """
+    known = sensitivity_parameters(vehicle)
+    if isinstance(parameters, str):
+        raise ArgumentError(f"parameters must be a sequence of names, got the string {parameters!r}")
+    names = list(dict.fromkeys(known if parameters is None else parameters))
+    unknown = [name for name in names if name not in known]
+    if unknown:
+        from express.base.names import did_you_mean
+
+        raise ArgumentError("; ".join(f"{name}: not a given parameter of the model (nor the speed)"
+                                      f"{did_you_mean(name, known)}" for name in unknown))
+    return names
 
 
 #: Arguments of a parameter derivation that are material constants, not design values.

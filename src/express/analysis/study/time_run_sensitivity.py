@@ -402,22 +402,12 @@ def _track(track) -> tuple[Any, str, bool]:
 
 
 def _parameters(vehicle, parameters: Sequence[str] | None) -> list[str]:
-    from express.analysis.study.sensitivity import sensitivity_parameters
+    from express.analysis.study.sensitivity import chosen_parameters
 
     if getattr(vehicle, "tangent_vehicle", None) is not None:
         raise ArgumentError("a time run runs the nonlinear elements themselves: give the tangent vehicle, not one "
                             "linearised for the linear analyses")
-    known = sensitivity_parameters(vehicle)
-    if isinstance(parameters, str):
-        raise ArgumentError(f"parameters must be a sequence of names, got the string {parameters!r}")
-    names = list(dict.fromkeys(known if parameters is None else parameters))
-    unknown = [name for name in names if name not in known]
-    if unknown:
-        from express.base.names import did_you_mean
-
-        raise ArgumentError("; ".join(f"{name}: not a given parameter of the model (nor the speed)"
-                                      f"{did_you_mean(name, known)}" for name in unknown))
-    return names
+    return chosen_parameters(vehicle, parameters)
 
 
 def _step_checked(vehicle, track, speed: float, dt: float) -> tuple[float, list[str]]:

@@ -116,7 +116,8 @@ def case_depth(vehicle: VehicleModel, grid: ProfileGrid, results: list) -> tuple
     """The depth worn off ``grid``'s cells per metre run [m/m] by the steady states
     ``results`` (:class:`~express.analysis.curving.steady.SteadyCurving` of one case, or
     none for straight track; where the curve has no equilibrium, the settled time run
-    into it, :class:`~express.analysis.curving.settled.SettledCurving`, its window's
+    into it, :class:`~express.analysis.curving.settled.SettledCurving`, or a run on a
+    random track, :class:`~express.analysis.wear.random_track.RandomTrackRun`: their
     instants each standing for an equal share of the metre), the mean over all wheels,
     and the case's largest Tγ [N] and whether a wheel is in flange contact."""
     from express.rail.profile_contact import wheelset_contacts

@@ -356,8 +356,8 @@ def predict_wear(vehicle: VehicleModel, route: Route, speeds: Sequence[float | N
                 step = int(rows[-1]["step"])
                 rate = _step_depth(cases, route, speeds, profile_path(directory, step), grid, settings)
                 remaining = distance - rows[-1]["distance"]
-                rate_on = _Rate(cases, route, speeds, settings, Path(scratch), step)
                 if settings.method == "heun":
+                    rate_on = _Rate(cases, route, speeds, settings, Path(scratch), step)
                     advance = heun_step(rate_on, grid, rate, remaining, proposal, settings.bound, settings.tolerance)
                 else:
                     advance = euler_step(rate, remaining, settings.bound)
