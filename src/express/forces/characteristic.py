@@ -26,9 +26,10 @@ from __future__ import annotations
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit, types
+from numba import types
 from numba.extending import overload
 
+from express.base.kernels import kernel
 from express.forces.element import ForceElement, sparse_rows
 from express.forces.law import force_law
 from express.model.parameters import expression_value
@@ -61,35 +62,38 @@ class CharacteristicLaw(NamedTuple):
     zero: np.ndarray
 
 
-@njit(cache=True)
-def _segment(xs, count, r):
-    """The segment ``i`` (``xs[i] <= r < xs[i + 1]``, the end ones beyond the ends)."""
+@kernel
+def _segment(xs, row, count, r):
+    """The segment ``i`` of table ``row`` (``xs[row, i] <= r < xs[row, i + 1]``, the end
+    ones beyond the ends)."""
     low, high = 0, count - 2
     while low < high:  # bisection over the segments' starts
         middle = (low + high + 1) // 2
-        if xs[middle] <= r:
+        if xs[row, middle] <= r:
             low = middle
         else:
             high = middle - 1
     return low
 
 
-@njit(cache=True)
-def table_force(xs, fs, count, r):
-    """``(F(r), F'(r))`` of the piecewise-linear table (module docstring)."""
-    i = _segment(xs, count, r)
-    slope = (fs[i + 1] - fs[i]) / (xs[i + 1] - xs[i])
-    return fs[i] + slope * (r - xs[i]), slope
+@kernel
+def table_force(xs, fs, row, count, r):
+    """``(F(r), F'(r))`` of the piecewise-linear table ``row`` of ``xs``, ``fs`` (shape
+    (n, breakpoints), its first ``count`` used; module docstring).  The tables are indexed
+    in place: a row view handed to a compiled call costs more than the look-up."""
+    i = _segment(xs, row, count, r)
+    slope = (fs[row, i + 1] - fs[row, i]) / (xs[row, i + 1] - xs[row, i])
+    return fs[row, i] + slope * (r - xs[row, i]), slope
 
 
-@njit(cache=True)
+@kernel
 def characteristic_forces(x, k, law, z):
     """``z = kt r - (F(r) - F(0))`` of every element into ``z[law.first:]``."""
     for e in range(law.tangent.size):
         r = law.offset[k, e]
         for i in range(law.places.shape[1]):
             r += law.coefficient[e, i] * x[law.places[e, i]]
-        force, _ = table_force(law.xs[e], law.fs[e], law.counts[e], r)
+        force, _ = table_force(law.xs, law.fs, e, law.counts[e], r)
         z[law.first + e] = law.tangent[e] * r - (force - law.zero[e])
 
 
@@ -135,7 +139,7 @@ class CharacteristicElement(ForceElement):
         self.xs, self.fs, self.count = np.ascontiguousarray(xs, float), np.ascontiguousarray(fs, float), count
         self.tangent, self.velocity, self.rotational = np.ascontiguousarray(tangent, float), velocity, rotational
         self.force, self.mass_inverse = force, mass_inverse
-        self.zero = np.array([table_force(self.xs[e], self.fs[e], int(count[e]), 0.0)[0] for e in range(len(names))])
+        self.zero = np.array([table_force(self.xs, self.fs, e, int(count[e]), 0.0)[0] for e in range(len(names))])
 
     @property
     def names(self) -> tuple[str, ...]:
@@ -158,7 +162,7 @@ class CharacteristicElement(ForceElement):
         return self.rows @ x + self.offset[k]
 
     def _table(self, r: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        pairs = [table_force(self.xs[e], self.fs[e], int(self.count[e]), float(r[e])) for e in range(r.size)]
+        pairs = [table_force(self.xs, self.fs, e, int(self.count[e]), float(r[e])) for e in range(r.size)]
         return np.array([p[0] for p in pairs]), np.array([p[1] for p in pairs])
 
     def forces(self, x: np.ndarray, k: int) -> np.ndarray:

@@ -34,6 +34,7 @@ from numba.extending import overload
 
 from express.base.caches import IdentityCache
 from express.base.diagnostics import ArgumentError
+from express.base.kernels import kernel
 from express.forces.element import ForceElement
 from express.forces.law import force_law
 from express.forces.wheelsets import WheelsetCoordinates, wheel_rail_slopes
@@ -237,7 +238,7 @@ def dynamic_wheel_loads(vehicle, inputs, static: np.ndarray) -> WheelLoadModel |
                           roll, arm)
 
 
-@njit(cache=True)
+@kernel
 def wheel_loads_at(loads, x, k, j):
     """``(Q_left, Q_right)`` [N] of wheelset ``j`` at step ``k`` and state ``x``
     (:class:`WheelLoadModel`)."""
@@ -251,7 +252,7 @@ def wheel_loads_at(loads, x, k, j):
     return left, right
 
 
-@njit(cache=True)
+@kernel
 def pressed_loads(loads, contacts, x, j, y, psi, geometry):
     """``(left, right)`` [N]: what the wheels of wheelset ``j`` (at displacement ``y`` [m]
     from the track, yaw ``psi`` [rad], state ``x``) add to the loads of their vertical
@@ -313,6 +314,10 @@ class ContactFeedback(NamedTuple):
     lift : numpy.ndarray of int, shape like ``roll`` or (0,)
         The wheelsets' vertical coordinates, on which the wheels' rise on their rails
         presses the vertical springs (:func:`pressed_loads`); empty without them.
+    work : numpy.ndarray, shape (2, len(WORK_FIELDS))
+        Scratch space of the wheelset kernel.
+    geometry : numpy.ndarray, shape (2, 2)
+        Scratch space of :func:`pressed_loads`.
     """
 
     first: int
@@ -323,23 +328,25 @@ class ContactFeedback(NamedTuple):
     roll: np.ndarray
     arm: np.ndarray
     lift: np.ndarray
+    work: np.ndarray
+    geometry: np.ndarray
 
 
-@njit(cache=True)
-def linear_wheel_rail(c, y, psi, y_dot, psi_dot, y_rail, rho):
+@kernel
+def linear_wheel_rail(c, j, y, psi, y_dot, psi_dot, y_rail, rho):
     """The model's linear lateral force [N] and yaw moment [N m] on a wheelset with the
-    coefficients ``c`` (a row of :func:`linear_coefficients`)."""
+    coefficients ``c[j]`` (row ``j`` of :func:`linear_coefficients`)."""
     state = (y, psi, y_dot, psi_dot, y_rail, rho)
     sign = (-1.0, -1.0, -1.0, -1.0, 1.0, 1.0)
     lateral = 0.0
     yaw = 0.0
     for i in range(6):
-        lateral += sign[i] * c[_LATERAL_ROW[i]] * state[i]
-        yaw += sign[i] * c[_YAW_ROW[i]] * state[i]
+        lateral += sign[i] * c[j, _LATERAL_ROW[i]] * state[i]
+        yaw += sign[i] * c[j, _YAW_ROW[i]] * state[i]
     return lateral, yaw
 
 
-@njit(cache=True)
+@kernel
 def contact_feedback(x, k, feedback, z, record):
     """Contact forces (:func:`express.rail.contact_forces.profile_wheelset_forces`) less the
     linear terms of every wheelset into ``z``; the forces into ``record`` (n_wheelsets,
@@ -347,8 +354,7 @@ def contact_feedback(x, k, feedback, z, record):
     w = feedback.wheelsets
     count = w.iy.size
     first = feedback.first
-    work = np.empty((2, len(WORK_FIELDS)))
-    geometry = np.empty((2, 2))
+    work, geometry = feedback.work, feedback.geometry
     for j in range(count):
         out = record[j]
         y, psi, y_dot, psi_dot = x[w.iy[j]], x[w.ipsi[j]], x[w.ivy[j]], x[w.ivpsi[j]]
@@ -357,7 +363,7 @@ def contact_feedback(x, k, feedback, z, record):
         press_left, press_right = pressed_loads(feedback.loads, feedback.contacts, x, j, y - y_rail, psi, geometry)
         profile_wheelset_forces(feedback.contacts, j, left + press_left, right + press_right, y - y_rail, psi, y_dot,
                                 psi_dot, rho, w.speed, work, out)
-        lateral, yaw = linear_wheel_rail(feedback.linear[j], y, psi, y_dot, psi_dot, y_rail, rho)
+        lateral, yaw = linear_wheel_rail(feedback.linear, j, y, psi, y_dot, psi_dot, y_rail, rho)
         z[first + j] = out[_OUT_Y] - lateral
         z[first + count + j] = out[_OUT_M] - yaw
         if feedback.roll.size > 0:
@@ -450,7 +456,8 @@ class ContactElement(ForceElement):
         return np.column_stack(columns)
 
     def law(self, first: int) -> ContactFeedback:
-        return ContactFeedback(first, self.coordinates, self.contacts, self.linear, self.loads, *self.roll, self.lift)
+        return ContactFeedback(first, self.coordinates, self.contacts, self.linear, self.loads, *self.roll, self.lift,
+                               np.zeros((2, len(WORK_FIELDS))), np.zeros((2, 2)))
 
     def record_shape(self) -> tuple[int, ...]:
         return (len(self.wheelsets), len(OUTPUTS))

@@ -60,6 +60,8 @@ import numpy as np
 from numba import njit, types
 from numba.extending import overload
 
+from express.base.caches import IdentityCache
+from express.base.kernels import kernel
 from express.forces.characteristic import table_force
 from express.forces.element import ForceElement, sparse_rows
 from express.forces.law import force_law
@@ -111,7 +113,7 @@ class FrictionLaw(NamedTuple):
     partner: np.ndarray
 
 
-@njit(cache=True)
+@kernel
 def load_limit(x, k, load, f, limit):
     """The friction limit of element ``f`` at state ``x`` and step ``k``: ``limit`` when
     constant, else ``factor max(0, N)`` (:class:`LoadLaw`; zero at lift-off)."""
@@ -121,7 +123,7 @@ def load_limit(x, k, load, f, limit):
     for i in range(load.places.shape[1]):
         r += load.coefficient[f, i] * x[load.places[f, i]]
     if load.counts[f] > 0:
-        force, _ = table_force(load.xs[f], load.fs[f], load.counts[f], r)
+        force, _ = table_force(load.xs, load.fs, f, load.counts[f], r)
         dynamic = force - load.zero[f]
     else:
         dynamic = load.stiffness[f] * r
@@ -129,7 +131,7 @@ def load_limit(x, k, load, f, limit):
     return load.factor[f] * normal if normal > 0.0 else 0.0
 
 
-@njit(cache=True)
+@kernel
 def return_mapping(delta, slider, stiffness, limit):
     """The slider's position after the deflection ``delta`` from ``slider`` (stick, or slip
     to the friction limit)."""
@@ -165,7 +167,7 @@ def _replay(delta, slider, stiffness, limit, partner, out):
         out[k] = slider
 
 
-@njit(cache=True)
+@kernel
 def plane_mapping(dx, dy, sx, sy, stiffness, limit):
     """The sliders of a friction pair in a plane after the deflections ``(dx, dy)`` from
     ``(sx, sy)``: stuck while the trial force ``k (d - s)`` lies within the circle of
@@ -178,7 +180,7 @@ def plane_mapping(dx, dy, sx, sy, stiffness, limit):
     return dx - scale * tx / stiffness, dy - scale * ty / stiffness
 
 
-@njit(cache=True)
+@kernel
 def _deflection(x, k, law, f):
     delta = law.offset[k, f]
     for i in range(law.places.shape[1]):
@@ -186,7 +188,7 @@ def _deflection(x, k, law, f):
     return delta
 
 
-@njit(cache=True)
+@kernel
 def friction_forces(x, k, law, z, commit):
     """``z = k s`` of every friction element (the module docstring) into ``z[law.first:]``;
     a pair in a plane (``partner[f] >= 0``; its partner ``-2``) is mapped by its first."""
@@ -261,7 +263,7 @@ class FollowedLoads:
     @property
     def zero(self) -> np.ndarray:
         """``F(0)`` of each characteristic (0 for a spring)."""
-        return np.array([table_force(self.xs[f], self.fs[f], int(c), 0.0)[0] if c > 0 else 0.0
+        return np.array([table_force(self.xs, self.fs, f, int(c), 0.0)[0] if c > 0 else 0.0
                          for f, c in enumerate(self.counts)])
 
     def law(self) -> LoadLaw:
@@ -424,19 +426,22 @@ class FrictionElement(ForceElement):
         largest = float(np.max(omega)) if omega.size else 0.0
         return RESOLVED / largest if largest > 0 else None
 
-    def history_of(self, states: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def history_of(self, states: np.ndarray, limits: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
         """The sliders and forces at every kept state, the march's return mapping replayed:
-        ``(slider, force)``, each shape (steps + 1, n_f)."""
+        ``(slider, force)``, each shape (steps + 1, n_f); ``limits`` the friction limits at
+        the states when already known (``FollowedLoads.limits``)."""
         delta = np.ascontiguousarray(states @ self.rows.T + self.offset[: states.shape[0]])
         sliders = np.zeros_like(delta)
-        limits = np.ascontiguousarray(self.loads.limits(states, self.limit), dtype=float)  # a pair: its first's
+        if limits is None:
+            limits = self.loads.limits(states, self.limit)
+        limits = np.ascontiguousarray(limits, dtype=float)  # a pair: its first's
         _replay(delta, self.slider.copy(), np.ascontiguousarray(self.stiffness, dtype=float), limits, self.partner,
                 sliders)
         return sliders, self.stiffness * (delta - sliders)
 
     def outputs(self, states: np.ndarray, history: np.ndarray) -> dict[str, np.ndarray]:
-        sliders, forces = self.history_of(states)
         limits = self.loads.limits(states, self.limit)
+        sliders, forces = self.history_of(states, limits)
         found = {}
         for f, name in enumerate(self.ids):
             found[f"friction_{name}"] = forces[:, f]
@@ -455,6 +460,32 @@ class FrictionElement(ForceElement):
         return units
 
 
+class _TermNumbers(NamedTuple):
+    """A friction element term's expressions evaluated at the vehicle's values."""
+
+    gradient: dict[str, float]
+    inputs: dict[str, float]
+    values: dict[str, float]
+
+
+#: The friction terms' numbers already evaluated, by equations and values.
+_NUMBERS: IdentityCache[list[_TermNumbers]] = IdentityCache(16)
+
+
+def _term_numbers(vehicle, terms) -> list[_TermNumbers]:
+    """The numbers of ``terms`` at ``vehicle.values``, kept for the same equations and
+    values (a study's runs and a benchmark's repeats evaluate them once)."""
+    values = vehicle.values
+
+    def evaluate() -> list[_TermNumbers]:
+        def numbers(expressions: dict) -> dict[str, float]:
+            return {key: expression_value(value, values) for key, value in expressions.items()}
+
+        return [_TermNumbers(numbers(t.gradient), numbers(t.inputs), numbers(t.values)) for t in terms]
+
+    return _NUMBERS.get_or_make((vehicle.equations,), evaluate, tuple(sorted(values.items())))
+
+
 def friction_elements_of(vehicle, u: np.ndarray) -> FrictionElement | None:
     """The friction elements of ``vehicle`` (a :class:`~express.numeric.statespace.VehicleModel`)
     along the inputs ``u`` (steps + 1, m), or None when it has none."""
@@ -462,18 +493,18 @@ def friction_elements_of(vehicle, u: np.ndarray) -> FrictionElement | None:
     terms = [t for t in equations.element_terms if t.kind == "friction"]
     if not terms:
         return None
+    numbers = _term_numbers(vehicle, terms)
     column = {dof: i for i, dof in enumerate(vehicle.dofs)}  # a stroke left out by the vehicle: no column
     n, m = len(vehicle.dofs), len(equations.inputs)
     gradient, inputs = np.zeros((len(terms), n)), np.zeros((len(terms), m))
-    values = vehicle.values
-    for f, term in enumerate(terms):
-        for dof, value in term.gradient.items():
+    for f, number in enumerate(numbers):
+        for dof, value in number.gradient.items():
             if dof in column:
-                gradient[f, column[dof]] = expression_value(value, values)
-        for name, value in term.inputs.items():
-            inputs[f, equations.inputs.index(name)] = expression_value(value, values)
-    stiffness = np.array([expression_value(t.values["stiffness"], values) for t in terms])
-    limit = np.array([expression_value(t.values["friction"], values) for t in terms])
+                gradient[f, column[dof]] = value
+        for name, value in number.inputs.items():
+            inputs[f, equations.inputs.index(name)] = value
+    stiffness = np.array([number.values["stiffness"] for number in numbers])
+    limit = np.array([number.values["friction"] for number in numbers])
     kinds = {e.id: e.rotational for e in vehicle.model.elements} if vehicle.model is not None else {}
     loads = None
     if any("load_static" in t.values for t in terms):
@@ -492,7 +523,8 @@ def friction_elements_of(vehicle, u: np.ndarray) -> FrictionElement | None:
 def followed_loads(vehicle, terms, u: np.ndarray) -> FollowedLoads:
     """The :class:`FollowedLoads` of the friction element terms ``terms`` (the ``load_*``
     values of :mod:`express.assembly.friction_loads`)."""
-    equations, values = vehicle.equations, vehicle.values
+    equations = vehicle.equations
+    evaluated = _term_numbers(vehicle, terms)
     column = {dof: i for i, dof in enumerate(vehicle.dofs)}
     n_f, size = len(terms), vehicle.form.size
     found = FollowedLoads.none(n_f, size, u.shape[0])
@@ -504,8 +536,8 @@ def followed_loads(vehicle, terms, u: np.ndarray) -> FollowedLoads:
     for f, term in enumerate(terms):
         if "load_static" not in term.values:
             continue
-        number = {key: expression_value(value, values) for key, value in term.values.items() if key.startswith("load")}
-        factor[f], static[f] = expression_value(term.values["friction"], values), number["load_static"]
+        number = {key: value for key, value in evaluated[f].values.items() if key.startswith("load")}
+        factor[f], static[f] = evaluated[f].values["friction"], number["load_static"]
         stiffness[f] = number["load_stiffness"] if counts[f] == 0 else 0.0
         h = np.zeros(len(equations.inputs))
         for key, value in number.items():

@@ -50,10 +50,10 @@ from dataclasses import dataclass
 from typing import Any, NamedTuple
 
 import numpy as np
-from numba import njit
 
 from express.base.caches import IdentityCache
 from express.base.diagnostics import ArgumentError
+from express.base.kernels import kernel
 from express.rail.contact_tables import (
     ANGLE,
     ARM,
@@ -266,27 +266,28 @@ def contact_set(contacts: list[WheelsetContact], law: CreepLaw = "fastsim") -> C
     )
 
 
-@njit(cache=True)
-def _interpolate(data, start, step, count, node, weight, u, side, values):
-    """Fields of ``side`` at ``u`` into ``values[:fields]`` (the first ``count`` nodes of
-    ``data``, kernel layout (yaw nodes, 2, n, fields)), between yaw nodes ``node`` and
-    ``node + 1`` with ``weight``; returns ``u`` clamped to the table."""
+@kernel
+def _interpolate(data, j, start, step, count, node, weight, u, side, work):
+    """Fields of ``side`` of wheelset ``j`` at ``u`` into ``work[side, :fields]`` (the first
+    ``count`` nodes of ``data``, :attr:`ContactSet.tables`), between yaw nodes ``node``
+    and ``node + 1`` with ``weight``; returns ``u`` clamped to the table.  Indexed in
+    place: row views handed to compiled calls cost more than the interpolation."""
     last = start + step * (count - 1)
     clamped = min(max(u, start), last)
     f = (clamped - start) / step
     k = min(max(math.floor(f), 0), count - 2)
     t = f - k
-    row, following = data[node, side, k], data[node, side, k + 1]
-    for i in range(row.size):
-        values[i] = row[i] + t * (following[i] - row[i])
+    for i in range(data.shape[4]):
+        value = data[j, node, side, k, i]
+        work[side, i] = value + t * (data[j, node, side, k + 1, i] - value)
     if weight > 0.0:
-        row, following = data[node + 1, side, k], data[node + 1, side, k + 1]
-        for i in range(row.size):
-            values[i] += weight * (row[i] + t * (following[i] - row[i]) - values[i])
+        for i in range(data.shape[4]):
+            value = data[j, node + 1, side, k, i]
+            work[side, i] += weight * (value + t * (data[j, node + 1, side, k + 1, i] - value) - work[side, i])
     return clamped
 
 
-@njit(cache=True)
+@kernel
 def _centred_arm(data, start, step, side):
     """``arm`` of ``side`` of the centred wheelset without yaw (``u = 0``, kernel layout)."""
     f = -start / step
@@ -295,7 +296,7 @@ def _centred_arm(data, start, step, side):
     return (1.0 - t) * data[0, side, k, ARM] + t * data[0, side, k + 1, ARM]
 
 
-@njit(cache=True)
+@kernel
 def profile_wheelset_forces(contacts, j, load_left, load_right, y, psi, y_dot, psi_dot, rho, speed, work, out):
     """Forces of the rails on wheelset ``j`` of ``contacts`` (see the module docstring)
     into ``out`` (:data:`OUTPUTS`): lateral force ``Y`` [N] and yaw moment ``M`` [N m] on
@@ -320,16 +321,15 @@ def profile_wheelset_forces(contacts, j, load_left, load_right, y, psi, y_dot, p
     (2, len(:data:`WORK_FIELDS`)).
     """
     # size-reason: one numba kernel per wheelset and step, both wheels in one pass (no calls in the hot loop)
-    table, t_start, t_step, t_count = (contacts.tables[j], contacts.table_start[j], contacts.table_step[j],
-                                       contacts.table_count[j])
+    t_start, t_step, t_count = contacts.table_start[j], contacts.table_step[j], contacts.table_count[j]
     friction, shear_modulus = contacts.friction[j], contacts.shear_modulus[j]
     lifted_left, lifted_right = max(load_left, _LIFTED), max(load_right, _LIFTED)
     node, weight = yaw_node(psi, contacts.yaw_count[j])
     extra = 0.0
     for side in range(2):
-        position, over = rail_position(contacts.rail_maps[j], contacts.map_start[j], contacts.map_step[j],
-                              contacts.map_count[j], node, weight, y, side)
-        clamped = _interpolate(table, t_start, t_step, t_count, node, weight, position, side, work[side])
+        position, over = rail_position(contacts.rail_maps, j, contacts.map_start[j], contacts.map_step[j],
+                                       contacts.map_count[j], node, weight, y, side)
+        clamped = _interpolate(contacts.tables, j, t_start, t_step, t_count, node, weight, position, side, work)
         work[side, _U] = clamped
         over += position - clamped
         if abs(over) > abs(extra):
@@ -356,7 +356,7 @@ def profile_wheelset_forces(contacts, j, load_left, load_right, y, psi, y_dot, p
         work[side, _F11] = f11
         # constant over the passes and Newton's steps: the lateral creepage, the pitch arm
         work[side, _ETA] = (lateral_slip + r * roll_rate / speed + q * psi * work[side, LEAD_RATE]) / work[side, COS_ANGLE]
-        work[side, _PITCH_ARM] = _lateral_pitch_arm(sigma, psi, r, work[side])
+        work[side, _PITCH_ARM] = _lateral_pitch_arm(sigma, psi, r, work, side)
     rate = top / bottom
     loads = (lifted_left, lifted_right)
     _creep_pass(work, POLACH, rate, q, friction, shear_modulus, loads, False)
@@ -394,7 +394,7 @@ def profile_wheelset_forces(contacts, j, load_left, load_right, y, psi, y_dot, p
     out[_OUT_BEYOND] = extra
 
 
-@njit(cache=True)
+@kernel
 def _energy(work, side, rate, q, out):
     """The creepages of contact ``side`` at the balanced rotation ``rate``, its lateral
     creep force ``T`` (in the contact plane), the frictional power per unit rolling
@@ -414,7 +414,7 @@ def _energy(work, side, rate, q, out):
     out[_OUT_SEMI_B[side]] = work[side, SEMI_B]
 
 
-@njit(cache=True)
+@kernel
 def _along_axle(sigma, arm, radius, roll):
     """The contact's lateral place on the wheel, along the axle from the wheelset centre
     [m]: the track-plane arm turned back by the roll, ``arm cos(roll) - sigma r sin(roll)``
@@ -425,7 +425,7 @@ def _along_axle(sigma, arm, radius, roll):
     return arm * (1.0 - 0.5 * square) - sigma * radius * roll * (1.0 - square / 6.0)
 
 
-@njit(cache=True)
+@kernel
 def _creepages(work, side, rate, q):
     """``(xi, eta, phi)`` of contact ``side`` for the wheel rotation ``rate = omega / v``
     (``eta`` of the work array, independent of the rotation)."""
@@ -435,7 +435,7 @@ def _creepages(work, side, rate, q):
     return xi, work[side, _ETA], phi
 
 
-@njit(cache=True)
+@kernel
 def _creep_pass(work, law, rate, q, friction, shear_modulus, loads, final):
     """Creep forces of both contacts by ``law`` into ``work``, then the normal forces
     from the wheel loads: ``N cos(delta) + sigma T sin(delta) = Q``.  T is nearly
@@ -465,7 +465,7 @@ def _creep_pass(work, law, rate, q, friction, shear_modulus, loads, final):
             work[side, _SCALE] = new ** (1.0 / 3.0)
 
 
-@njit(cache=True)
+@kernel
 def _balanced_rate(work, rate, q, friction, shear_modulus):
     """The wheel rotation ``omega / v`` that balances the pitch moment of the contacts,
     ``sum(r Fx + m T) = 0`` (``m`` of :func:`_lateral_pitch_arm`): Newton's method from
@@ -501,7 +501,7 @@ def _balanced_rate(work, rate, q, friction, shear_modulus):
     return rate
 
 
-@njit(cache=True)
+@kernel
 def _close_pitch_balance(work):
     """The last Newton step of the pitch balance applied to the final forces linearly:
     the chosen law's forces at the corrected normal forces leave a residual pitch moment
@@ -518,7 +518,7 @@ def _close_pitch_balance(work):
     return change
 
 
-@njit(cache=True)
+@kernel
 def _pitch_moment(work):
     """The contacts' pitch moment about the axle,
     ``sum(r Fx + m T)``, and its slope in the rotation ``omega / v``, ``sum(k r^2)``, from
@@ -532,15 +532,15 @@ def _pitch_moment(work):
     return residual, slope
 
 
-@njit(cache=True)
-def _lateral_pitch_arm(sigma, psi, r, values):
+@kernel
+def _lateral_pitch_arm(sigma, psi, r, work, side):
     """Moment about the axle of a unit lateral creep force at the contact of a wheelset
     yawed by ``psi`` (``docs/contact.md``): the force acts ahead of the wheel's lowest
     point, ``x_w = lead + psi sigma arm``, and along the contact plane, inclined by the
     axle angle (whose sine is tabulated with ``cos(psi)``).  The normal force passes
-    through the axle and has none."""
-    ahead = psi * (values[LEAD_RATE] + sigma * values[ARM])
-    sin_axle = values[SIN_AXLE]
+    through the axle and has none.  ``work[side]`` holds the contact's fields."""
+    ahead = psi * (work[side, LEAD_RATE] + sigma * work[side, ARM])
+    sin_axle = work[side, SIN_AXLE]
     return sigma * ahead * sin_axle + psi * r * math.sqrt(max(1.0 - sin_axle * sin_axle, 0.0))
 
 

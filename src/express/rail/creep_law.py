@@ -45,13 +45,14 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+
+from express.base.kernels import kernel
 
 __all__ = ["FASTSIM_GRID", "fastsim", "polach", "polach_forces", "polach_longitudinal", "polach_with_slope",
            "spin_reduction"]
 
 
-@njit(cache=True)
+@kernel
 def spin_reduction(epsilon_m: float) -> float:
     """Polach's ``K_M`` of the spin force for ``e_M >= 0`` (between ``-2 e_M / 3`` for
     small ``e_M`` and ``-2 / (3 e_M^3)`` for large), written without cancellation."""
@@ -59,7 +60,7 @@ def spin_reduction(epsilon_m: float) -> float:
     return epsilon_m * (0.5 * d * d - d * d * d / 3.0) - math.sqrt(max(2.0 * d - d * d, 0.0)) ** 3 / 3.0
 
 
-@njit(cache=True)
+@kernel
 def polach(normal, friction, a, b, shear_modulus, c11, c22, c23, xi, eta, phi):
     """Tangential forces ``(Fx, Fy)`` [N] on the wheel by Polach's method.
 
@@ -84,7 +85,7 @@ def polach(normal, friction, a, b, shear_modulus, c11, c22, c23, xi, eta, phi):
     return fx, fy
 
 
-@njit(cache=True)
+@kernel
 def polach_with_slope(normal, friction, a, b, shear_modulus, c11, c22, c23, xi, eta, phi):
     """:func:`polach`'s ``(Fx, Fy)`` [N] and the tangent stiffness ``-dFx/dxi`` [N] of
     :func:`polach_longitudinal`."""
@@ -107,7 +108,7 @@ def polach_with_slope(normal, friction, a, b, shear_modulus, c11, c22, c23, xi, 
     return fx, fy, (gain * xi * xi + force * eta_c * eta_c / s_c) / (s_c * s_c)
 
 
-@njit(cache=True)
+@kernel
 def _translational(limit, a, b, shear_modulus, c11, c22, xi, eta, s_c):
     """Polach's force of the translational creepages ``F`` [N] and ``dF / ds_C`` [N]
     (``c`` held) for ``mu N = limit``, ``s_C > 0``."""
@@ -121,7 +122,7 @@ def _translational(limit, a, b, shear_modulus, c11, c22, xi, eta, s_c):
     return 2.0 * limit / math.pi * (e / square + math.atan(e)), 4.0 * limit / math.pi * gain / (square * square)
 
 
-@njit(cache=True)
+@kernel
 def polach_longitudinal(normal, friction, a, b, shear_modulus, c11, c22, xi, eta, eta_c):
     """Polach's longitudinal force ``Fx`` [N] and its tangent stiffness ``-dFx/dxi`` [N]
     at ``xi`` for a lateral creepage ``eta`` (``eta_c`` with the spin's share, held):
@@ -176,7 +177,7 @@ _FACTORS = _fastsim_factors(*FASTSIM_GRID)
 _GRID = _fastsim_grid(*FASTSIM_GRID)
 
 
-@njit(cache=True)
+@kernel
 def _fastsim(normal, friction, a, b, shear_modulus, c11, c22, c23, xi, eta, phi, strip_y, strip_root, shape, k_t,
              k_s):
     if not normal > 0.0:
@@ -229,7 +230,7 @@ def _fastsim(normal, friction, a, b, shear_modulus, c11, c22, c23, xi, eta, phi,
     return fx, fy
 
 
-@njit(cache=True)
+@kernel
 def fastsim(normal, friction, a, b, shear_modulus, c11, c22, c23, xi, eta, phi):
     """Tangential forces ``(Fx, Fy)`` [N] on the wheel by Kalker's FASTSIM.
 

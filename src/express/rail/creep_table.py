@@ -43,7 +43,8 @@ import math
 from importlib import resources
 
 import numpy as np
-from numba import njit
+
+from express.base.kernels import kernel
 
 __all__ = ["TABLE_GRID", "TABLE_POISSON", "load_table", "tabulated", "tabulated_forces", "tabulated_with_moment"]
 
@@ -82,7 +83,7 @@ _RADIUS_STEP = float(_TABLE["radii"][1])
 _SLOPES = np.ascontiguousarray(_TABLE["moment_slopes"], dtype=np.float64)
 
 
-@njit(cache=True)
+@kernel
 def _cell(value, step, nodes):
     """Index of the cell holding ``value`` on uniform nodes ``0, step, ...`` (clamped to
     the grid) and the weight of its upper node."""
@@ -91,7 +92,7 @@ def _cell(value, step, nodes):
     return k, t - k
 
 
-@njit(cache=True)
+@kernel
 def _cubic_weights(t, k, nodes):
     """Catmull-Rom's weights of nodes ``k - 1 ... k + 2`` at ``t`` in cell ``k`` of
     ``nodes`` nodes; beyond an end the missing node is extrapolated linearly from the two
@@ -113,7 +114,7 @@ def _cubic_weights(t, k, nodes):
     return (w0, w1, w2, w3)
 
 
-@njit(cache=True)
+@kernel
 def _interpolate(values, slopes, ratio, ux, uy, up, c11, c22, moment):
     """``(Fx, Fy) / (mu N)``, ``Mz / (mu N c)`` (0 unless ``moment``) at ``a/b = ratio`` and
     the normalised creepage ``(ux >= 0, uy >= 0, up)``, ``|u| > 0`` (``c11, c22``
@@ -165,7 +166,7 @@ def _interpolate(values, slopes, ratio, ux, uy, up, c11, c22, moment):
     return fx - scale * ux, fy - scale * (uy + up), (spin + scale * (uy * k_eta - up * k_phi)) if moment else 0.0
 
 
-@njit(cache=True)
+@kernel
 def _tabulated(values, slopes, normal, friction, a, b, shear_modulus, c11, c22, c23, xi, eta, phi, moment):
     if not normal > 0.0:
         return 0.0, 0.0, 0.0
@@ -191,7 +192,7 @@ def _tabulated(values, slopes, normal, friction, a, b, shear_modulus, c11, c22, 
     return sign_x * fx * limit, sign_y * fy * limit, sign_y * mz * limit * size
 
 
-@njit(cache=True)
+@kernel
 def tabulated_with_moment(normal, friction, a, b, shear_modulus, c11, c22, c23, xi, eta, phi):
     """Tangential forces ``(Fx, Fy)`` [N] and spin moment ``Mz`` [N m] on the wheel from
     the table of the exact theory.
@@ -223,7 +224,7 @@ def tabulated_with_moment(normal, friction, a, b, shear_modulus, c11, c22, c23, 
     return _tabulated(_VALUES, _SLOPES, normal, friction, a, b, shear_modulus, c11, c22, c23, xi, eta, phi, True)
 
 
-@njit(cache=True)
+@kernel
 def tabulated(normal, friction, a, b, shear_modulus, c11, c22, c23, xi, eta, phi):
     """Tangential forces ``(Fx, Fy)`` [N] on the wheel from the table of the exact theory;
     arguments as :func:`tabulated_with_moment` (and :func:`express.rail.creep_law.fastsim`)."""

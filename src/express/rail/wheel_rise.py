@@ -9,14 +9,14 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
+from express.base.kernels import kernel
 from express.rail.contact_tables import ANGLE, ARM, RADIUS, ROLL, YAW_STEP, ContactTables
 
 __all__ = ["contact_rise", "rail_position", "rise_tables", "yaw_node"]
 
 
-@njit(cache=True)
+@kernel
 def yaw_node(psi, count):
     """Yaw node ``k`` below ``|psi|`` and the weight ``t`` of node ``k + 1``, linear in
     ``psi^2`` (constant beyond the last of ``count`` nodes)."""
@@ -27,18 +27,19 @@ def yaw_node(psi, count):
     return k, min((psi * psi - low) / (high - low), 1.0)
 
 
-@njit(cache=True)
-def rail_position(contact, start, step, count, node, weight, y, side):
-    """``u`` of ``side`` at ``y`` from the rail maps (clamped; yaw nodes ``node``,
-    ``node + 1`` with ``weight``) and the overshoot."""
+@kernel
+def rail_position(maps, j, start, step, count, node, weight, y, side):
+    """``u`` of ``side`` of wheelset ``j`` at ``y`` from the rail maps ``maps``
+    (:attr:`~express.rail.contact_forces.ContactSet.rail_maps`; clamped; yaw nodes
+    ``node``, ``node + 1`` with ``weight``) and the overshoot."""
     last = start + step * (count - 1)
     clamped = min(max(y, start), last)
     f = (clamped - start) / step
     k = min(max(math.floor(f), 0), count - 2)
     t = f - k
-    u = (1.0 - t) * contact[node, side, k] + t * contact[node, side, k + 1]
+    u = (1.0 - t) * maps[j, node, side, k] + t * maps[j, node, side, k + 1]
     if weight > 0.0:
-        u += weight * ((1.0 - t) * contact[node + 1, side, k] + t * contact[node + 1, side, k + 1] - u)
+        u += weight * ((1.0 - t) * maps[j, node + 1, side, k] + t * maps[j, node + 1, side, k + 1] - u)
     return u, y - clamped
 
 
@@ -77,16 +78,16 @@ def rise_tables(tables: np.ndarray, sources: list[ContactTables]) -> tuple[np.nd
     return rise, np.ascontiguousarray(lever)
 
 
-@njit(cache=True)
-def _along(field, node, weight, side, k, t):
-    value = field[node, side, k] + t * (field[node, side, k + 1] - field[node, side, k])
+@kernel
+def _along(field, j, node, weight, side, k, t):
+    value = field[j, node, side, k] + t * (field[j, node, side, k + 1] - field[j, node, side, k])
     if weight > 0.0:
-        value += weight * (field[node + 1, side, k] + t * (field[node + 1, side, k + 1] - field[node + 1, side, k])
+        value += weight * (field[j, node + 1, side, k] + t * (field[j, node + 1, side, k + 1] - field[j, node + 1, side, k])
                            - value)
     return value
 
 
-@njit(cache=True)
+@kernel
 def contact_rise(contacts, j, y, psi, out):
     """How wheelset ``j``'s wheels at displacement ``y`` [m] from the track and yaw
     ``psi`` [rad] sit on their rails, into ``out`` (2, 2): per side (left, right) the
@@ -109,12 +110,12 @@ def contact_rise(contacts, j, y, psi, out):
     start, step, count = contacts.table_start[j], contacts.table_step[j], contacts.table_count[j]
     last = start + step * (count - 1)
     for side in range(2):
-        u, _ = rail_position(contacts.rail_maps[j], contacts.map_start[j], contacts.map_step[j], contacts.map_count[j], node,
-                    weight, y, side)
+        u, _ = rail_position(contacts.rail_maps, j, contacts.map_start[j], contacts.map_step[j], contacts.map_count[j],
+                             node, weight, y, side)
         f = (min(max(u, start), last) - start) / step
         k = min(max(math.floor(f), 0), count - 2)
         t = f - k
-        out[side, 0] = _along(contacts.rise[j], node, weight, side, k, t)
-        out[side, 1] = _along(contacts.lever[j], node, weight, side, k, t)
+        out[side, 0] = _along(contacts.rise, j, node, weight, side, k, t)
+        out[side, 1] = _along(contacts.lever, j, node, weight, side, k, t)
 
 

@@ -92,7 +92,7 @@ def contact_rhs(vehicle, track, contacts: list[WheelsetContact], *, speed: float
         q_dot = vehicle.form.velocities(x, inputs.u[0], inputs.u_rate[0])
         history = contact_force_history(x[None, :n], q_dot[None, :], iy, ipsi, inputs.y_rail, inputs.rho_wheelsets,
                                         v, arrays)[0]
-        terms = np.array([linear_wheel_rail(linear[j], x[iy[j]], x[ipsi[j]], q_dot[iy[j]], q_dot[ipsi[j]],
+        terms = np.array([linear_wheel_rail(linear, j, x[iy[j]], x[ipsi[j]], q_dot[iy[j]], q_dot[ipsi[j]],
                                             inputs.y_rail[0, j], inputs.rho_wheelsets[0, j]) for j in range(len(iy))])
         z = np.concatenate([history[:, OUTPUTS.index("Y")] - terms[:, 0], history[:, OUTPUTS.index("M")] - terms[:, 1]])
         return a @ x + b @ inputs.u[0] + bd @ inputs.u_rate[0] + selector @ z
