@@ -23,10 +23,11 @@ from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit, types
+from numba import types
 from numba.extending import overload
 
 from express.assembly.equations import EquationsOfMotion
+from express.base.kernels import kernel
 from express.forces.element import ForceElement, sparse_rows
 from express.forces.law import force_law
 from express.model.parameters import expression_value
@@ -134,7 +135,7 @@ class BumpStopLaw(NamedTuple):
     progressive: np.ndarray
 
 
-@njit(cache=True)
+@kernel
 def bump_stop_forces(x, k, stops, z):
     """Bump-stop forces ``-F`` of :class:`BumpStopLaw` into ``z[stops.first:]``."""
     first = stops.first

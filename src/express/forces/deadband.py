@@ -14,9 +14,10 @@ from __future__ import annotations
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit, types
+from numba import types
 from numba.extending import overload
 
+from express.base.kernels import kernel
 from express.forces.element import ForceElement
 from express.forces.law import force_law
 from express.forces.wheelsets import WheelsetCoordinates, wheel_rail_slopes
@@ -54,7 +55,7 @@ class DeadbandLaw(NamedTuple):
     saturation: bool
 
 
-@njit(cache=True)
+@kernel
 def deadband_feedback(x, k, feedback, z):
     """Flange force plus saturated-minus-linear creep forces (:func:`express.rail.
     nonlinear.wheelset_forces`) of every wheelset into ``z`` from ``feedback.first``."""

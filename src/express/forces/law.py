@@ -22,8 +22,10 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
-from numba import literal_unroll, njit, types
+from numba import literal_unroll, types
 from numba.extending import overload
+
+from express.base.kernels import kernel
 
 __all__ = ["NoForces", "force_law", "stacked_forces"]
 
@@ -51,7 +53,7 @@ def _no_forces(x, k, law, z, record, commit):
     return None
 
 
-@njit(cache=True)
+@kernel
 def stacked_forces(x, k, laws, z, record, commit):
     """Every element's forces into ``z``, in the order of the stack (a tuple of laws);
     internal states updated when ``commit``."""

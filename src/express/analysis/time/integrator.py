@@ -24,6 +24,7 @@ import numpy as np
 from numba import njit
 from scipy.linalg import expm
 
+from express.base.kernels import kernel
 from express.forces.element import ForceSet
 from express.forces.law import stacked_forces
 
@@ -69,7 +70,7 @@ def discretize(a: np.ndarray, dt: float) -> tuple[np.ndarray, np.ndarray, np.nda
     return phi, gamma0, gamma1
 
 
-@njit(cache=True)
+@kernel
 def _products(start, a_t, u, out):
     """``out[i] = start[i] + sum_j a[i, j] u[j]`` from the transpose ``a_t`` (C-contiguous),
     each row summed in the order ``j = 0, 1, ...``; four rows at a time, so that their sums
@@ -93,7 +94,7 @@ def _products(start, a_t, u, out):
         out[row] = total
 
 
-@njit(cache=True)
+@kernel
 def _paired_products(start, a_t, u, b_t, w, out):
     """``out[i] = start[i] + sum_j (a[i, j] u[j] + b[i, j] w[j])``, as :func:`_products`."""
     columns, rows = a_t.shape
