@@ -40,6 +40,7 @@ def documented(docstring: str, section: str) -> set[str]:
     """The names a numpydoc ``section`` (``Parameters``, ``Attributes``) documents."""
     lines = inspect.cleandoc(docstring or "").splitlines()
     names: set[str] = set()
+    previous = ""
     for start, line in enumerate(lines[:-1]):
         if line.strip() == section and set(lines[start + 1].strip()) == {"-"}:
             for entry in lines[start + 2:]:

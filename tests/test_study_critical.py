@@ -3,6 +3,7 @@ code reports, and the exact crossing."""
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import numpy as np
