@@ -7,8 +7,9 @@ compiled function increments and decrements a counter through calls into its run
 (NRT), and its pass that prunes the pairs leaves most of them where a function branches
 or can raise.  In the wheel/rail kernels those calls cost more than the arithmetic: the
 wheels' rise on their rails (``express.rail.wheel_rise.contact_rise``) took 0.41 us a
-call with them and 0.09 us without (2026-12-03, one core), and the march of the Y25
-wagon spent 16 us a step in its friction elements' row views alone.
+call with them and 0.09 us without (2026-12-03, one core), and the Y25 wagon's 30
+friction elements took 14 us an evaluation with them and their tables' row views, 1.2-1.4
+us without (``docs/benchmarks.md``).
 
 A kernel allocates nothing (no ``np.empty``, no ``.copy()``, no array results): its
 caller hands it every array it writes, so it needs no reference counts and is compiled
