@@ -43,8 +43,9 @@ def test_an_allocating_kernel_is_refused():
 
 
 def test_the_contact_kernel_matches_njit_bit_for_bit():
-    """The wheelset kernel compiled as a kernel and as plain njit (its Python source) give
-    the same forces, bit for bit, across the flange (regression of the switch to kernels:
+    """The wheelset kernel compiled as a kernel and as plain njit (its Python source; the
+    helpers it calls are the same kernels in both) give the same forces, bit for bit,
+    across the flange (regression of the switch to kernels:
     the ~20 simulate outputs of the Y25 wagon and the Manchester car were identical too,
     checked by hash when the switch was made)."""
     from express.io import parse_toml_model

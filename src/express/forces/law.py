@@ -10,12 +10,13 @@ A kind registers its law in its own module::
             return lambda x, k, law, z, record, commit: my_forces(x, k, law, z, record)
         return None
 
-where ``my_forces`` (a :func:`express.base.kernels.kernel`: it allocates nothing) writes the element's forces at state ``x`` and step ``k`` into
-``z[law.first : law.first + width]`` (``first``: the element's place in the stack, a field
-of every law) and what it records into ``record``.  ``commit`` is True where ``x`` is a
-state the march keeps (the start and each step's end) and False at the predictor's trial
-state: an element with internal states (a friction slider, kept in an array of its law)
-updates them only when committing.
+where ``my_forces`` (a :func:`express.base.kernels.kernel`: it allocates nothing) writes
+the element's forces at state ``x`` and step ``k`` into ``z[law.first : law.first +
+width]`` (``first``: the element's place in the stack, a field of every law) and what it
+records into ``record``.  ``commit`` is True where ``x`` is a state the march keeps (the
+start and each step's end) and False at the predictor's trial state: an element with
+internal states (a friction slider, kept in an array of its law) updates them only when
+committing.
 """
 
 from __future__ import annotations
