@@ -47,6 +47,7 @@ __all__ = [
     "SPARSE_BELOW",
     "AddedTerms",
     "GenerationResult",
+    "element_deflections",
     "equation_values",
     "generate",
     "symbolic_matrix",
@@ -168,16 +169,69 @@ def _generate_with(model: Model, keep_virtual: bool, added: AddedTerms, readable
         stiffness, forces = gravity_terms(model, static_equations, added.point_inputs, preloads=preloads)
         added = replace(added, stiffness=list(added.stiffness) + stiffness, forces=list(added.forces) + forces,
                         loads=static_loads(model, preloads))
+    domain, fallback = _domains(model, added)
+    try:
+        return _generate(model, keep_virtual, added, domain, readable)
+    except NeedsFractionsError:
+        return _generate(model, keep_virtual, added, fallback, readable)
+
+
+def _domains(model: Model, added: AddedTerms) -> tuple[ExactDomain, ExactDomain]:
+    """The arithmetic domain of ``model``'s expressions, and the one with fractions that a
+    singular set of pins without them needs (:class:`NeedsFractionsError`)."""
     expressions = list(_model_expressions(model, added))
     symbols = set().union(*(sp.sympify(e).free_symbols for e in expressions)) if expressions else set()
     inverses = inverted_symbols(expressions)
-    fractions = inverses is None
     shapes = {value for flexible in getattr(model, "flexible", ()) for mode in flexible.modes
               for _, value in mode.shapes if isinstance(value, sp.Symbol)}  # factored apart (algebra.ExactDomain)
+    return ExactDomain(symbols, inverses is None, inverses or (), shapes), ExactDomain(symbols, True)
+
+
+def element_deflections(model: Model, added: AddedTerms | None = None) -> tuple[ElementTerm, ...]:
+    """Every element's true deflection ``delta = gradient . q + inputs . u`` [m; rad] over
+    the reduced coordinates, as :func:`generate` assembles it (a line element's along
+    its unit vector, a series element's spring ``delta - s``), with its ``stiffness``
+    and ``damping`` values; the pins' joining elements (whose force is a reaction) are
+    left out.  What :mod:`express.export.element_forces` makes the elements' forces of.
+
+    Parameters
+    ----------
+    model : Model
+        A checked model (:func:`generate` has accepted it).
+    added : AddedTerms, optional
+        The rail modules' terms; only their ``point_inputs`` move the elements' ends.
+    """
+    added = added or AddedTerms()
+    domain, fallback = _domains(model, added)
     try:
-        return _generate(model, keep_virtual, added, ExactDomain(symbols, fractions, inverses or (), shapes), readable)
+        return _element_deflections(model, added, domain)
     except NeedsFractionsError:
-        return _generate(model, keep_virtual, added, ExactDomain(symbols, True), readable)
+        return _element_deflections(model, added, fallback)
+
+
+def _element_deflections(model: Model, added: AddedTerms, domain: ExactDomain) -> tuple[ElementTerm, ...]:
+    full_dofs = generalized_coordinates(model) + [f"{e.id}.{STROKE}" for e in model.elements if e.series]
+    pin_element_ids = {element.id for _, element in pin_elements(model)}
+    deflections = _deflections(model, added, domain, pin_element_ids)
+    reduced, _, t_rows = reduced_coordinates(model, domain, full_dofs, deflections.gradients, False)
+    r_index = {dof: i for i, dof in enumerate(reduced)}
+    in_index = {name: i for i, name in enumerate(deflections.inputs)}
+    terms = []
+    for element in model.elements:
+        if element.id in pin_element_ids:
+            continue
+        g: dict[int, Any] = {}
+        for dof, value in deflections.gradients[element.id].items():
+            for j, t in t_rows[dof].items():
+                g[j] = g.get(j, domain.zero) + value * t
+        if element.series:
+            stroke = r_index[f"{element.id}.{STROKE}"]
+            g[stroke] = g.get(stroke, domain.zero) - domain.one
+        h = {in_index[u]: v for u, v in deflections.input_gradients[element.id].items()}
+        values = {"stiffness": element.stiffness, "damping": element.damping}
+        terms.append(unit_term(model, element, _element_term(element, {j: v for j, v in g.items() if v}, h, reduced,
+                                                             deflections.inputs, domain.to_expr, values)))
+    return tuple(terms)
 
 
 def _add_outer(target, left, right, scale) -> None:

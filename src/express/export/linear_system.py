@@ -35,7 +35,9 @@ __all__ = ["LinearSystem", "linear_system", "numeric_matrices", "to_control", "t
 
 def _chosen(vehicle: VehicleModel, speed: float, outputs, track: bool, pade_order: int) -> LinearSystem:
     """:func:`linear_system` with the named ``outputs``, or driven by the track
-    (:func:`express.export.track_system.track_system`)."""
+    (:func:`express.export.track_system.track_system`).  An element's force that reads
+    an input's rate (:mod:`express.export.element_forces`) adds that rate as an input,
+    ``<input>_dot``, after the inputs."""
     from express.export.track_system import output_rows, track_system
 
     if track:
@@ -43,9 +45,13 @@ def _chosen(vehicle: VehicleModel, speed: float, outputs, track: bool, pade_orde
     system = linear_system(vehicle, speed)
     if outputs is None:
         return system
-    rows, names = output_rows(vehicle, outputs)
-    return LinearSystem(system.A, system.B, rows @ system.C, rows @ system.D, system.states, system.inputs, names,
-                        system.speed)
+    rows = output_rows(vehicle, outputs)
+    c, d = rows.state @ system.C, rows.state @ system.D + rows.inputs
+    rates = [j for j in range(rows.rates.shape[1]) if np.any(rows.rates[:, j])]
+    b = np.hstack([system.B, np.zeros((system.B.shape[0], len(rates)))])
+    d = np.hstack([d, rows.rates[:, rates]])
+    inputs = system.inputs + tuple(f"{system.inputs[j]}_dot" for j in rates)
+    return LinearSystem(system.A, b, c, d, system.states, inputs, rows.names, system.speed)
 
 
 def to_control(vehicle: VehicleModel, speed: float, *, outputs=None, track: bool = False, pade_order: int = 6) -> Any:
@@ -61,7 +67,10 @@ def to_control(vehicle: VehicleModel, speed: float, *, outputs=None, track: bool
         [m/s].
     outputs : sequence of str, optional
         The outputs by name (:func:`express.export.track_system.output_rows`: a DOF, its
-        rate ``W1.y_dot``, an output point); every DOF and rate by default.
+        rate ``W1.y_dot``, an output point, an element's force ``force_<element>``
+        [N; N m]); every DOF and rate by default.  A force that reads an input's rate
+        (a damper across stations in a curve) adds the rate as an input, ``<input>_dot``
+        (:mod:`express.export.element_forces`).
     track : bool
         Driven by the track's alignment at the leading wheelset (one input), each
         wheelset's transport delay a Padé approximant

@@ -15,13 +15,15 @@ whose magnitude is exactly 1 at every frequency and whose phase error grows as
 "Hand-off to control design").
 
 Outputs by name: a DOF (``W1.y``), its rate (``W1.y_dot``), an output point's lateral
-displacement (``floor_front``, :attr:`express.numeric.facts.VehicleFacts.outputs`) or
-its velocity (``floor_front_dot``).
+displacement (``floor_front``, :attr:`express.numeric.facts.VehicleFacts.outputs`), its
+velocity (``floor_front_dot``) or an element's force (``force_<element>``,
+:mod:`express.export.element_forces`).
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import dataclass
 from math import factorial
 
 import numpy as np
@@ -30,7 +32,7 @@ from express.base.diagnostics import ArgumentError
 from express.export.plant import LinearSystem, check_speed, linear_system
 from express.numeric.statespace import VehicleModel
 
-__all__ = ["ALIGNMENT", "output_rows", "pade_delay", "track_response", "track_system"]
+__all__ = ["ALIGNMENT", "OutputRows", "output_rows", "pade_delay", "track_response", "track_system"]
 
 #: The name of the track input.
 ALIGNMENT = "alignment"
@@ -63,37 +65,52 @@ def pade_delay(delay: float, order: int) -> tuple[np.ndarray, np.ndarray, np.nda
     return a, b, cc, d
 
 
-def output_rows(vehicle: VehicleModel, outputs: Sequence[str] | None) -> tuple[np.ndarray, tuple[str, ...]]:
-    """Rows over the state ``x = [q; q']`` of the named outputs (module docstring), shape
-    (len(outputs), 2n); every DOF and its rate when ``outputs`` is None."""
+@dataclass(frozen=True)
+class OutputRows:
+    """The named outputs ``y = state @ x + inputs @ u + rates @ u'`` over the state
+    ``x = [q; q_D']`` (shape (k, N)), the inputs and their rates (shape (k, m) each):
+    only an element's force reads the inputs (:mod:`express.export.element_forces`)."""
+
+    names: tuple[str, ...]
+    state: np.ndarray
+    inputs: np.ndarray
+    rates: np.ndarray
+
+
+def output_rows(vehicle: VehicleModel, outputs: Sequence[str] | None) -> OutputRows:
+    """The rows of the named outputs (module docstring); every DOF and its rate when
+    ``outputs`` is None."""
+    from express.export.element_forces import FORCE, element_force_rows
+
     names = tuple(vehicle.dofs) + tuple(f"{vehicle.dofs[i]}_dot" for i in vehicle.form.massive)
-    size = vehicle.form.size
+    size, m = vehicle.form.size, len(vehicle.inputs)
     if outputs is None:
-        return np.eye(size), names
+        return OutputRows(names, np.eye(size), np.zeros((size, m)), np.zeros((size, m)))
+    outputs = tuple(outputs)
+    forces = [name for name in outputs if name.startswith(FORCE) and name not in vehicle.dofs]
+    found = element_force_rows(vehicle, forces) if forces else None
     points = {p.name: np.array(p.row(vehicle.dofs)) for p in vehicle.facts.outputs}
     velocity = {int(i): vehicle.n + j for j, i in enumerate(vehicle.form.massive)}
-    rows, unknown = [], []
-    for name in outputs:
-        row = np.zeros(size)
+    state, inputs, rates = np.zeros((len(outputs), size)), np.zeros((len(outputs), m)), np.zeros((len(outputs), m))
+    unknown = []
+    for r, name in enumerate(outputs):
         base, rate = (name[:-4], True) if name.endswith("_dot") else (name, False)
-        if base in vehicle.dofs and (not rate or vehicle.dofs.index(base) in velocity):
+        if found is not None and name in found.names:
+            f = found.names.index(name)
+            state[r], inputs[r], rates[r] = found.state[f], found.inputs[f], found.rates[f]
+        elif base in vehicle.dofs and (not rate or vehicle.dofs.index(base) in velocity):
             i = vehicle.dofs.index(base)
-            row[velocity[i] if rate else i] = 1.0
-        elif base in points:
-            for i, value in enumerate(points[base]):
-                if value:
-                    if rate and i not in velocity:
-                        unknown.append(name)
-                        break
-                    row[velocity[i] if rate else i] = value
+            state[r, velocity[i] if rate else i] = 1.0
+        elif base in points and not (rate and any(points[base][i] and i not in velocity for i in range(vehicle.n))):
+            for j in np.flatnonzero(points[base]).tolist():
+                state[r, velocity[j] if rate else j] = points[base][j]
         else:
             unknown.append(name)
-        rows.append(row)
     if unknown:
         offered = ", ".join([*list(points)[:5], *vehicle.dofs[:5]])
         raise ArgumentError(f"outputs: no such output {', '.join(map(repr, unknown))} (a DOF, its rate 'W1.y_dot', "
-                            f"or an output point; e.g. {offered})")
-    return np.array(rows).reshape(len(rows), size), tuple(outputs)
+                            f"an output point or an element's force 'force_<element>'; e.g. {offered})")
+    return OutputRows(outputs, state, inputs, rates)
 
 
 def _alignment_columns(vehicle: VehicleModel) -> list[int]:
@@ -117,7 +134,7 @@ def track_system(vehicle: VehicleModel, speed: float, *, outputs: Sequence[str] 
 
     speed = check_speed(speed)
     plant = linear_system(vehicle, speed)
-    rows, names = output_rows(vehicle, outputs)
+    rows = output_rows(vehicle, outputs)
     columns = _alignment_columns(vehicle)
     blocks = [pade_delay(float(tau), pade_order) for tau in irregularity_delays(vehicle, speed)]
     sizes = [block[0].shape[0] for block in blocks]
@@ -136,13 +153,16 @@ def track_system(vehicle: VehicleModel, speed: float, *, outputs: Sequence[str] 
         states += [f"delay{j + 1}_{i + 1}" for i in range(size)]
         start += size
     b_plant = plant.B[:, columns]
-    d_plant = rows @ plant.D[:, columns]
+    # y = R z + (R D + E) u: the alignment acts through the contact, never on an
+    # element's end, so no output reads its rate (rows.rates[:, columns] is zero)
+    feed = (rows.state @ plant.D + rows.inputs)[:, columns]
     n = plant.A.shape[0]
     a_all = np.block([[a_d, np.zeros((k, n))], [b_plant @ c_d, plant.A]])
     b_all = np.vstack([b_d, b_plant @ d_d])
-    c_all = np.hstack([d_plant @ c_d, rows])
-    d_all = d_plant @ d_d
-    return LinearSystem(a_all, b_all, c_all, d_all, tuple(states) + plant.states, (ALIGNMENT,), names, float(speed))
+    c_all = np.hstack([feed @ c_d, rows.state])
+    d_all = feed @ d_d
+    return LinearSystem(a_all, b_all, c_all, d_all, tuple(states) + plant.states, (ALIGNMENT,), rows.names,
+                        float(speed))
 
 
 def track_response(vehicle: VehicleModel, speed: float, frequencies: Sequence[float], *,
@@ -154,7 +174,7 @@ def track_response(vehicle: VehicleModel, speed: float, frequencies: Sequence[fl
 
     speed = check_speed(speed)
     plant = linear_system(vehicle, speed)
-    rows, _ = output_rows(vehicle, outputs)
+    rows = output_rows(vehicle, outputs)
     columns = _alignment_columns(vehicle)
     delays = irregularity_delays(vehicle, speed)
     eye = np.eye(plant.A.shape[0])
@@ -163,5 +183,5 @@ def track_response(vehicle: VehicleModel, speed: float, frequencies: Sequence[fl
         w = 2 * np.pi * f
         drive = np.exp(-1j * w * delays)  # (n_wheelsets,)
         state = np.linalg.solve(1j * w * eye - plant.A, plant.B[:, columns] @ drive)
-        found.append(rows @ (state + plant.D[:, columns] @ drive))
+        found.append(rows.state @ (state + plant.D[:, columns] @ drive) + rows.inputs[:, columns] @ drive)
     return np.array(found)

@@ -16,7 +16,8 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
-from express.assembly.generator import AddedTerms, GenerationResult, generate
+from express.assembly.equations import ElementTerm
+from express.assembly.generator import AddedTerms, GenerationResult, element_deflections, generate
 from express.base.diagnostics import ArgumentError
 from express.base.reads import recording
 from express.model.parameters import register_derivation
@@ -25,7 +26,7 @@ from express.rail.curve import cant_deficiency_forces, curvature_point_inputs, s
 from express.rail.layout import RailLayout
 from express.rail.wheelrail import flange_input, irregularity_input, wheelset_terms
 
-__all__ = ["RailLayout", "generate_vehicle", "rail_layout", "rail_terms"]
+__all__ = ["RailLayout", "generate_vehicle", "rail_layout", "rail_terms", "vehicle_deflections"]
 
 #: Kind of the profiles derivation (:data:`express.rail.profile_contact.KIND`, spelled
 #: here so that a model without profiles never imports that module: it brings Numba and
@@ -106,6 +107,24 @@ def generate_vehicle(
     """
     added = rail_terms(model) if with_rail and model.rail is not None else None
     return generate(model, keep_virtual=keep_virtual, added=added, readable=readable)
+
+
+def vehicle_deflections(model: Model, *, with_rail: bool = True) -> tuple[ElementTerm, ...]:
+    """Every element's deflection in the coordinates of :func:`generate_vehicle`
+    (:func:`express.assembly.generator.element_deflections`): with rail data, the ends'
+    curvature terms move them as in the equations.
+
+    Parameters
+    ----------
+    model : Model
+        A model :func:`generate_vehicle` accepts.
+    with_rail : bool
+        As in :func:`generate_vehicle`.
+    """
+    if not (with_rail and model.rail is not None):
+        return element_deflections(model)
+    layout = rail_layout(model)
+    return element_deflections(model, AddedTerms(inputs=layout.inputs, point_inputs=curvature_point_inputs(model)))
 
 
 def _profile_nodes(model: Model) -> dict[str, Derivation]:
