@@ -132,7 +132,8 @@ def cli_json(tmp_path_factory):
     out = io.StringIO()
     with contextlib.redirect_stdout(out):
         status = main(["critical-speed", str(model), "--nonlinear", "--json", "-o", str(folder / "b.csv"),
-                       "--plot", str(folder / "b.png"), "--vmax", "1000"])
+                       "--plot", str(folder / "b.png"), "--vmax", "1000", "--threshold", "0.1", "--disturbance",
+                       "5 mm"])
     assert status == 0
     return json.loads(out.getvalue()), folder
 
@@ -155,7 +156,12 @@ def test_cli_nonlinear(cli_json, result):
         nonlinear["bracket"][1] - nonlinear["bracket"][0] + nonlinear["step_change"])
     rows = list(csv.DictReader((folder / "b.csv").read_text().splitlines()))
     assert len(rows) == len(nonlinear["speeds"]) and set(rows[0]) == {
-        "speed_m_s", "speed_kmh", "amplitude_m", "limit_cycle", "flange_force_N"}
+        "speed_m_s", "speed_kmh", "amplitude_m", "limit_cycle", "flange_force_N", "flange_contact", "instability"}
+    assert nonlinear["threshold"] == pytest.approx(1e-4) and nonlinear["disturbance"] == pytest.approx(5e-3)
+    # the same attractors (the CLI starts from its own, finer linear critical speed)
+    assert [a["flange_contact"] for a in nonlinear["attractors"]] == [a.flange_contact for a in result.attractors]
+    assert [a["highest"] for a in nonlinear["attractors"]] == pytest.approx([a.highest for a in result.attractors],
+                                                                           rel=1e-3)
     assert (folder / "b.png").stat().st_size > 10_000
 
 
@@ -165,3 +171,6 @@ def test_cli_nonlinear_usage(tmp_path, capsys):
     assert_input_error(capsys, "critical-speed", str(model), "--nonlinear", "--conicities", "0.1,0.2",
                        mentions="choose one")
     assert_input_error(capsys, "critical-speed", str(model), "--vstart", "300", mentions="--vstart")
+    for option in ("--threshold", "--disturbance"):
+        assert_input_error(capsys, "critical-speed", str(model), option, "1", mentions=f"{option} is used only with")
+    assert_input_error(capsys, "critical-speed", str(model), "--nonlinear", "--threshold", "0", mentions="--threshold")

@@ -23,6 +23,10 @@ __all__ = ["MAX_SWEEP", "add_parser", "main", "parse_range", "run"]
 MAX_SWEEP = 10_000
 #: ``--vstart``: the first speed of the ramp-down (``--nonlinear``).
 VSTART = common.Quantity("--vstart", "speed", "km/h", 0.0, 1000.0, open_low=True)
+#: ``--threshold``: the smallest amplitude that counts as a limit cycle (``--nonlinear``).
+THRESHOLD = common.Quantity("--threshold", "length", "mm", 0.0, 50.0, open_low=True)
+#: ``--disturbance``: the wheelsets' initial lateral displacement (``--nonlinear``).
+DISTURBANCE = common.Quantity("--disturbance", "length", "mm", 0.0, 50.0, open_low=True)
 
 
 def parse_range(text: str, option: str = "--conicities") -> list[float]:
@@ -91,6 +95,12 @@ def add_parser(subparsers) -> None:
                         "bifurcation diagram's points")
     parser.add_argument("--vstart", type=VSTART, metavar="SPEED",
                         help=VSTART.help("with --nonlinear: first speed of the ramp-down", "1.2 x the linear V_cr"))
+    parser.add_argument("--threshold", type=THRESHOLD, metavar="LENGTH",
+                        help=THRESHOLD.help("with --nonlinear: the smallest amplitude of the leading wheelset "
+                                            "that counts as a limit cycle", "0.1 mm"))
+    parser.add_argument("--disturbance", type=DISTURBANCE, metavar="LENGTH",
+                        help=DISTURBANCE.help("with --nonlinear: every wheelset's lateral displacement at the start",
+                                              "5 mm"))
     parser.add_argument("--creep-law", choices=CREEP_LAWS, default="fastsim",
                         help="with --nonlinear and profiles: the creep law (default fastsim)")
     common.add_json_option(parser)
@@ -103,7 +113,7 @@ def run(
     tolerance: float = SEARCH.tolerance,
     conicities: list[float] | None = None, parameter: str = "Gamma", output: str | None = None,
     plot: Path | None = None, as_json: bool = False, nonlinear: bool = False, vstart: float | None = None,
-    creep_law: CreepLaw = "fastsim", linearisation: str = "tangent", element_amplitude: float | None = None, element_angle: float | None = None, element_frequency: float | None = None,
+    threshold: float | None = None, disturbance: float | None = None, creep_law: CreepLaw = "fastsim", linearisation: str = "tangent", element_amplitude: float | None = None, element_angle: float | None = None, element_frequency: float | None = None,
 ) -> int:
     """Find the critical speed (and the sweep) and write the outputs all together."""
     spec = common.linearisation_spec(linearisation, element_amplitude, element_angle, element_frequency)
@@ -116,9 +126,11 @@ def run(
             raise UsageError("--nonlinear and --conicities: choose one")
         if spec.kind != "tangent":
             raise UsageError("--nonlinear marches the whole nonlinear elements: --linearisation is for the linear critical speed")
-        return _run_nonlinear(model, overrides, vmin, vmax, tolerance, output, plot, as_json, vstart, creep_law)
-    if vstart is not None:
-        raise UsageError("--vstart is used only with --nonlinear")
+        return _run_nonlinear(model, overrides, vmin, vmax, tolerance, output, plot, as_json, vstart, creep_law,
+                              {k: v for k, v in (("threshold", threshold), ("disturbance", disturbance)) if v is not None})
+    for option, value in (("--vstart", vstart), ("--threshold", threshold), ("--disturbance", disturbance)):
+        if value is not None:
+            raise UsageError(f"{option} is used only with --nonlinear")
     if output is not None and conicities is None:
         raise UsageError("-o is written only with --conicities or --nonlinear")
     if output == "-" and as_json:
@@ -236,8 +248,10 @@ def _print(name: str, result: Any, vmax: float, conicities: list[float] | None, 
 
 
 def _run_nonlinear(model: Path, overrides: dict[str, str], vmin: float, vmax: float, tolerance: float,
-                   output: str | None, plot: Path | None, as_json: bool, vstart: float | None, creep_law: CreepLaw) -> int:
-    """The linear and the nonlinear critical speed (ramp-down), the bifurcation diagram."""
+                   output: str | None, plot: Path | None, as_json: bool, vstart: float | None, creep_law: CreepLaw,
+                   search: dict[str, float]) -> int:
+    """The linear and the nonlinear critical speed (ramp-down), the bifurcation diagram and
+    the attractors; ``search`` the ramp's ``threshold`` and ``disturbance`` when given [m]."""
     from express.base.diagnostics import AnalysisError
     from express.io.output import output_transaction
 
@@ -259,7 +273,9 @@ def _run_nonlinear(model: Path, overrides: dict[str, str], vmin: float, vmax: fl
             raise AnalysisError(f"no linear critical speed between --vmin and --vmax ({vmax / common.KMH:g} km/h) to "
                                 "start the ramp-down above: give --vstart")
         result = nonlinear_critical_speed(vehicle, v_start=vstart, v_min=vmin, tolerance=tolerance,
-                                          creep_law=creep_law, linear=linear)
+                                          creep_law=creep_law, linear=linear,
+                                          threshold=search.get("threshold", 0.1e-3),
+                                          disturbance=search.get("disturbance", 5e-3))
         if output is not None:
             _write_bifurcation(output, result)
         if plot is not None:
@@ -275,6 +291,8 @@ def _run_nonlinear(model: Path, overrides: dict[str, str], vmin: float, vmax: fl
         print(f"{name}: {linear.describe() if linear.found else 'no linear critical speed in the range'}",
               file=stream)
         print(f"{name}: {result.describe()}", file=stream)
+        for attractor in result.attractors:
+            print(f"  {attractor.describe()}", file=stream)
     return 0
 
 
@@ -284,9 +302,12 @@ def _write_bifurcation(output: str, result: Any) -> None:
     points = result.points
     columns = {"speed": [p.speed for p in points], "speed_kmh": [p.speed_kmh for p in points],
                "amplitude": [p.amplitude for p in points], "limit_cycle": [int(p.alive) for p in points],
-               "flange_force": [p.flange_force for p in points]}
+               "flange_force": [p.flange_force for p in points],
+               "flange_contact": [int(p.flange_contact) for p in points],
+               "instability": [p.instability for p in points]}
     # no contact tables, no flange force: an empty cell (docs/cli.md)
-    write_csv(output, columns, {"speed": "m/s", "amplitude": "m", "flange_force": "N"}, markers=("flange_force",))
+    write_csv(output, columns, {"speed": "m/s", "amplitude": "m", "flange_force": "N"},
+              markers=("flange_force", "instability"))
 
 
 def _bifurcation_figure(vehicle: Any, plot: Path, result: Any) -> None:

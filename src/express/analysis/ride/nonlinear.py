@@ -30,6 +30,7 @@ import numpy as np
 
 from express.analysis.ride.summaries import PointComfort, comfort_from_time_histories, simulation_accelerations
 from express.analysis.ride.vehicle import rail_inputs
+from express.analysis.stability.limit_cycles import flange_touched
 from express.base.data import DataRecord, variable, xarray
 from express.base.diagnostics import InputError
 from express.numeric.statespace import VehicleModel
@@ -124,14 +125,6 @@ def _track(spectra: Mapping[str, Any], speed: float, length: float, seed: int) -
     return Track([Straight(length)], **irregularities)
 
 
-def _flange_touched(result: Any) -> bool:
-    """Whether a flange touched its rail: the contact tables' flange flag, else the
-    dead-band model's flange forces ``Y{n}``."""
-    if result.wheel_rail is not None:
-        return bool(np.any(result.wheel_rail.flange_contact))
-    return any(np.any(values != 0) for name, values in result.outputs.items() if name[:1] == "Y" and name[1:].isdigit())
-
-
 def _ride_at(vehicle: VehicleModel, track: Any, speed: float, dt: float) -> tuple[dict[str, PointComfort], bool]:
     from express.analysis.time.simulate import simulate
 
@@ -140,7 +133,7 @@ def _ride_at(vehicle: VehicleModel, track: Any, speed: float, dt: float) -> tupl
     kept = result.distance >= RUN_IN
     comfort = {point: comfort_from_time_histories({axis: values[kept] for axis, values in by_axis.items()}, 1.0 / dt)
                for point, by_axis in accelerations.items()}
-    return comfort, _flange_touched(result)
+    return comfort, flange_touched(result, len(result.q))
 
 
 def _change(fine: dict[str, PointComfort], coarse: dict[str, PointComfort]) -> float:

@@ -31,7 +31,8 @@ from express.numeric.statespace import VehicleModel
 from express.rail.options import ContactModel, CreepLaw
 from express.rail.track import Straight, Track
 
-__all__ = ["SETTLED_WINDOWS", "CycleCheck", "limit_cycle", "settle_cycle", "settled"]
+__all__ = ["SETTLED_WINDOWS", "CycleCheck", "flange_touched", "instability_ratio", "limit_cycle", "settle_cycle",
+           "settled"]
 
 #: Windows over which a settled cycle's amplitude stays within ``spread`` (:func:`settle_cycle`).
 SETTLED_WINDOWS = 4
@@ -59,18 +60,50 @@ def _lateral_force(vehicle: VehicleModel, result: SimulationResult, wheelset: in
     return float(np.max(np.abs(result.outputs[name][-last:]))) if name in result.outputs else math.nan
 
 
+def flange_touched(result: SimulationResult, last: int) -> bool:
+    """Whether a flange touched its rail in the ``last`` samples of a run: the contact
+    tables' flag (contact angle above
+    :data:`~express.analysis.curving.outputs.FLANGE_CONTACT_ANGLE`, 30 degrees), else a
+    dead-band flange force ``Y<n>`` not zero."""
+    if result.wheel_rail is not None:
+        return bool(np.any(result.wheel_rail.flange_contact[-last:]))
+    return any(np.any(values[-last:] != 0) for name, values in result.outputs.items()
+               if name[:1] == "Y" and name[1:].isdigit())
+
+
+def instability_ratio(result: SimulationResult) -> float:
+    """EN 14363's instability criterion of a run: the largest ``ΣY`` rms over 100 m
+    (:func:`express.analysis.curving.instability.instability_rms`) of any wheelset over
+    half its Prud'homme limit (``> 1``: unstable); ``nan`` without the contact tables'
+    forces or for a run shorter than one window."""
+    from express.analysis.curving.assessment import prudhomme_limit
+    from express.analysis.curving.instability import instability_rms
+
+    outputs = result.wheel_rail
+    if outputs is None:
+        return math.nan
+    ratios = []
+    for j in range(outputs.wheelsets):
+        found = instability_rms(result.distance, float(result.speed), outputs.track_shift_force[:, j])
+        if found is not None:
+            ratios.append(found.largest / (0.5 * prudhomme_limit(float(outputs.static_load[j]))))
+    return max(ratios, default=math.nan)
+
+
 def limit_cycle(vehicle: VehicleModel, speed: float, state: np.ndarray, *, duration: float, dt: float,
                 wheelset: int = 0, creep_law: CreepLaw = "fastsim", contact: ContactModel | None = None):
     """Run ``duration`` [s] at ``speed`` from ``state`` on straight track; returns the
     amplitudes of the wheelset's lateral motion over the last and the middle third [m],
-    the largest flange force of the last third [N], the final state and the
-    simulation's contact option."""
+    the largest flange force of the last third [N], the final state, the simulation's
+    contact option, whether a flange touched its rail in the last third
+    (:func:`flange_touched`) and the run's EN 14363 instability ratio
+    (:func:`instability_ratio`)."""
     result = _run(vehicle, speed, state, duration, dt, creep_law, contact)
     y = result.q[:, vehicle.wheelsets[wheelset].y]
     third = max(1, len(y) // 3)
     return (float(np.max(np.abs(y[-third:]))), float(np.max(np.abs(y[-2 * third: -third]))),
             _lateral_force(vehicle, result, wheelset, third), _final_state(vehicle, result),
-            result.options.get("contact", "deadband"))
+            result.options.get("contact", "deadband"), flange_touched(result, third), instability_ratio(result))
 
 
 @dataclass(frozen=True)
@@ -97,6 +130,8 @@ class CycleCheck:
         Time simulated [s].
     contact : str
         The simulation's contact option.
+    flange_contact : bool
+        A flange touched its rail in the last window (:func:`flange_touched`).
     """
 
     speed: float
@@ -108,6 +143,7 @@ class CycleCheck:
     state: np.ndarray = field(repr=False, compare=False)
     duration: float
     contact: str
+    flange_contact: bool = False
 
 
 def settled(amplitudes: list[float] | tuple[float, ...], spread: float) -> bool:
@@ -173,5 +209,7 @@ def settle_cycle(vehicle: VehicleModel, speed: float, state: np.ndarray, *, dt: 
         alive = steady or len(amplitudes) * window >= longest - 1e-9
         if alive:
             break
-    return CycleCheck(speed, alive, steady, tuple(amplitudes), tuple(watched), _lateral_force(vehicle, result, wheelset, len(result.q) - 1),
-                      state, len(amplitudes) * window, result.options.get("contact", "deadband"))
+    last = len(result.q) - 1
+    return CycleCheck(speed, alive, steady, tuple(amplitudes), tuple(watched), _lateral_force(vehicle, result, wheelset, last),
+                      state, len(amplitudes) * window, result.options.get("contact", "deadband"),
+                      flange_touched(result, last))

@@ -51,6 +51,7 @@ from typing import Any
 
 import numpy as np
 
+from express.analysis.stability.attractors import Attractor, attractors
 from express.analysis.stability.limit_cycles import CycleCheck, limit_cycle, settle_cycle
 from express.analysis.stability.stability import CriticalSpeed, critical_speed
 from express.base.arguments import si_argument
@@ -61,7 +62,8 @@ from express.base.units import KMH
 from express.numeric.statespace import VehicleModel
 from express.rail.options import ContactModel, CreepLaw
 
-__all__ = ["BifurcationPoint", "NonlinearCriticalSpeed", "StepCheck", "limit_cycle", "nonlinear_critical_speed"]
+__all__ = ["Attractor", "BifurcationPoint", "NonlinearCriticalSpeed", "StepCheck", "limit_cycle",
+           "nonlinear_critical_speed"]
 
 
 @dataclass(frozen=True)
@@ -80,6 +82,14 @@ class BifurcationPoint:
         A limit cycle: ``amplitude > threshold`` and ``amplitude >= persistence * previous``.
     flange_force : float
         Largest lateral force on a flanging wheel of the watched wheelset in the last third [N].
+    flange_contact : bool
+        A flange touched its rail in the last third
+        (:func:`express.analysis.stability.limit_cycles.flange_touched`).
+    instability : float
+        EN 14363's instability criterion over the run, the largest ``ΣY`` rms over 100 m
+        against half Prud'homme's limit (``> 1`` fails; ``nan`` without the contact
+        tables or for a run under 100 m:
+        :func:`express.analysis.stability.limit_cycles.instability_ratio`).
     """
 
     speed: float
@@ -87,6 +97,8 @@ class BifurcationPoint:
     previous: float
     alive: bool
     flange_force: float = math.nan
+    flange_contact: bool = False
+    instability: float = math.nan
 
     @property
     def speed_kmh(self) -> float:
@@ -152,6 +164,9 @@ class NonlinearCriticalSpeed(DataRecord):
         ``(speed, state)``: the live point of the ramp every try of the last step started
         from [m/s] and the ramp's state there; ``nonlinear_critical_speed(v_start=speed,
         initial_state=state, dt=..., refinements=0)`` repeats the search at another step.
+    attractors : tuple of Attractor
+        Every limit cycle the ramp followed down, highest first, with its speeds,
+        amplitudes and flange contact (:mod:`express.analysis.stability.attractors`).
     """
 
     speed: float | None
@@ -164,6 +179,14 @@ class NonlinearCriticalSpeed(DataRecord):
     state: np.ndarray | None = field(default=None, repr=False, compare=False)
     step_checks: tuple[StepCheck, ...] = ()
     anchor: tuple[float, np.ndarray] | None = field(default=None, repr=False, compare=False)
+    attractors: tuple[Attractor, ...] = ()
+
+    @property
+    def flange_speed(self) -> float | None:
+        """The lowest ramp speed at which a limit cycle runs in flange contact [m/s] (None:
+        none did), to the ramp's ``step`` (:attr:`Attractor.flange_lowest`)."""
+        speeds = [a.flange_lowest for a in self.attractors if a.flange_contact]
+        return min(speeds) if speeds else None
 
     @property
     def speed_kmh(self) -> float | None:
@@ -196,6 +219,12 @@ class NonlinearCriticalSpeed(DataRecord):
             "limit_cycle": variable(np.array([bool(p.alive) for p in points], bool), "run", "1", "a limit cycle lives"),
             "flange_force": variable(np.array([p.flange_force for p in points], float), "run", "N",
                                      "largest lateral force on a flanging wheel"),
+            "flange_contact": variable(np.array([bool(p.flange_contact) for p in points], bool), "run", "1",
+                                       "a flange touched its rail"),
+            "instability": variable(np.array([p.instability for p in points], float), "run", "1",
+                                    "largest SY rms over 100 m against half the Prud'homme limit (EN 14363)"),
+            "flange_speed": variable(self.flange_speed if self.flange_speed is not None else nan, (), "m/s",
+                                     "lowest ramp speed of a flange-contact limit cycle"),
             "critical_speed": variable(self.speed if self.speed is not None else nan, (), "m/s",
                                        "nonlinear critical speed"),
             "bracket_dead": variable(float(self.bracket[0]), (), "m/s", "speed where the cycle died"),
@@ -259,12 +288,18 @@ class NonlinearCriticalSpeed(DataRecord):
         not known (nan here: a bracket's end below ``v_min``, no step check) is None."""
         return _known({"critical_speed": self.speed, "critical_speed_kmh": self.speed_kmh,
                 "bracket": list(self.bracket), "contact": self.contact, "wheelset": self.wheelset,
+                "threshold": self.options.get("threshold"), "disturbance": self.options.get("disturbance"),
                 "dt": self.dt, "uncertainty": self.uncertainty, "step_change": self.step_change,
                 "converged_in_dt": self.converged,
                 "step_checks": [{"dt": c.dt, "critical_speed": c.speed, "bracket": list(c.bracket), "runs": c.runs,
                                  "simulated": c.simulated} for c in self.step_checks],
                 "speeds": [p.speed for p in self.points], "amplitudes": [p.amplitude for p in self.points],
-                "limit_cycle": [bool(p.alive) for p in self.points]})
+                "limit_cycle": [bool(p.alive) for p in self.points],
+                "flange_contact": [bool(p.flange_contact) for p in self.points],
+                "instability": [p.instability for p in self.points],
+                "flange_speed": self.flange_speed,
+                "flange_speed_kmh": None if self.flange_speed is None else self.flange_speed / KMH,
+                "attractors": [a.as_dict() for a in self.attractors]})
 
 
 def _known(value: Any) -> Any:
@@ -313,7 +348,7 @@ def _ramp_point(vehicle: VehicleModel, speed: float, start: np.ndarray, dt: floa
     """One point of the ramp (continued while its motion still decays)."""
     final = start
     for _ in range(1 + settings.extensions):  # a motion still decaying may settle on another cycle
-        amplitude, previous, force, final, search.used = limit_cycle(
+        amplitude, previous, force, final, search.used, flanging, instability = limit_cycle(
             vehicle, speed, final, duration=settings.duration, dt=dt, creep_law=settings.creep_law,
             contact=settings.contact)
         search.simulated += settings.duration
@@ -321,7 +356,7 @@ def _ramp_point(vehicle: VehicleModel, speed: float, start: np.ndarray, dt: floa
         alive = amplitude > settings.threshold and amplitude >= settings.persistence * previous
         if alive or amplitude <= settings.threshold:
             break
-    point = BifurcationPoint(speed, amplitude, previous, alive, force)
+    point = BifurcationPoint(speed, amplitude, previous, alive, force, flanging, instability)
     search.points.append(point)
     return point, final
 
@@ -353,7 +388,7 @@ def _settle(vehicle: VehicleModel, speed: float, state: np.ndarray, dt: float, s
     if record:
         watched = check.watched
         search.points.append(BifurcationPoint(speed, watched[-1], watched[-2] if len(watched) > 1 else watched[-1],
-                                              check.alive, check.flange_force))
+                                              check.alive, check.flange_force, check.flange_contact))
     return check
 
 
@@ -532,10 +567,11 @@ def nonlinear_critical_speed(
                          spread, creep_law, contact)
     first = _Search()
     anchors, ramp_dead = _ramp_down(vehicle, v_start, state, dt, settings, first)
+    found = attractors(first.points)  # the ramp's points alone: the fold search's are appended next
     search, checks = _refined(vehicle, dt, anchors, ramp_dead, settings, first, refinements)
     name = vehicle.wheelsets[0].name
     if search.alive is None:
         return NonlinearCriticalSpeed(None, (search.dead, math.nan), tuple(first.points), linear, name,
-                                      first.used, options, None, tuple(checks))
+                                      first.used, options, None, tuple(checks), attractors=found)
     return NonlinearCriticalSpeed(search.alive, (search.dead, search.alive), tuple(first.points), linear, name,
-                                  search.used, options, search.state, tuple(checks), search.anchor)
+                                  search.used, options, search.state, tuple(checks), search.anchor, found)
