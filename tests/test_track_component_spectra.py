@@ -69,14 +69,10 @@ def test_each_component_draws_from_its_registered_spectrum_with_the_band_varianc
     wavelength_min)``, a telescoping sum of the exact primitive, to rounding (asserted
     1e-12, achieved 2.2e-16); the profile's mean square over one period, sampled every
     0.25 m (the cosines orthogonal on the grid), the same to 1e-9 (achieved 8.9e-16). The band in
-    units: 2.5 m to 0.1 km, period 1.5 km. Alignment classes FRA/AAR 1-4 and AAR 5-6 are
-    not registered for the alignment (its registry keeps its four names): refused."""
+    units: 2.5 m to 0.1 km, period 1.5 km. Every name is registered for every component
+    (issue 32 item 1: ERRI, FRA and AAR classes each)."""
     text = STRAIGHT + _spectrum_table(component, name, seed=4, wavelength_min="2.5 m", wavelength_max="0.1 km",
                                       period="1.5 km")
-    if component == "alignment" and registered in ("fra2", "aar5"):
-        with pytest.raises(ModelError, match="is registered for the vertical, cross_level, gauge, not the alignment"):
-            load_track(_write(tmp_path, text))
-        return
     irregularity = load_track(_write(tmp_path, text)).component(component)
     assert isinstance(irregularity, SpectrumIrregularity)
     spectrum = get_spectrum(registered, component)
@@ -284,9 +280,9 @@ BAD = [
     (_spectrum_table("gauge", "test vertical only"), 8, "gauge (spectrum)",
      "unknown spectrum 'test vertical only' (known gauge spectra: erri_low, erri_high, fra1, fra2, fra3, fra4, fra5, "
      "fra6, aar1, aar2, aar3, aar4, aar5, aar6); 'test vertical only' is registered for the vertical, not the gauge"),
-    (_spectrum_table("alignment", "AAR-5"), 8, "irregularity (spectrum)",
-     "unknown spectrum 'AAR-5' (known alignment spectra: fra5, fra6, erri_low, erri_high); 'AAR-5' is registered for "
-     "the vertical, cross_level, gauge, not the alignment"),
+    (_spectrum_table("alignment", "AAR-7"), 8, "irregularity (spectrum)",
+     "unknown spectrum 'AAR-7' (known alignment spectra: fra5, fra6, erri_low, erri_high, fra1, fra2, fra3, fra4, "
+     "aar1, aar2, aar3, aar4, aar5, aar6)"),
     ('[cross_level]\ntype = "spectrum"\n', 6, "cross_level (spectrum)",
      "missing 'spectrum' (one of erri_low, erri_high, fra1"),
     ('[cross_level]\ntype = "spectrum"\nspectrum = 5\n', 8, "cross_level (spectrum)",

@@ -104,7 +104,7 @@ def test_harmonics_limit_is_the_documented_count():
 
 
 def test_spectrum_field_problems_all_at_once():
-    problems = SpectrumIrregularity.field_problems("fra4", seed=1.5, wavelength_min=-1, period=float("inf"))
+    problems = SpectrumIrregularity.field_problems("fra7", seed=1.5, wavelength_min=-1, period=float("inf"))
     keys = [key for key, _ in problems]
     assert keys == ["spectrum", "seed", "wavelength_min", "period"]
     assert SpectrumIrregularity.field_problems("fra5") == []

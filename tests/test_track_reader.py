@@ -195,7 +195,7 @@ def test_bad_irregularities_from_dict(tmp_path):
     seg = [{"type": "straight", "length": 10}]
     (tmp_path / "bad.csv").write_text("0,0\n5,x\n")
     cases = [
-        ({"type": "spectrum", "spectrum": "fra4"}, "unknown spectrum 'fra4'"),
+        ({"type": "spectrum", "spectrum": "fra7"}, "unknown spectrum 'fra7'"),
         ({"type": "spectrum", "spectrum": "fra5", "seed": -1}, "'seed' must be a non-negative integer"),
         ({"type": "spectrum", "spectrum": "fra5", "wavelength_min": 200},
          "'wavelength_min' (200.0) must be <"),

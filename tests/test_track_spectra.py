@@ -32,7 +32,7 @@ def test_spectrum_constants():
     assert (ERRI_LOW.omega_c, ERRI_LOW.omega_r) == (0.8246, 0.0206)
     assert get_spectrum("ERRI-High") is ERRI_HIGH
     with pytest.raises(KeyError, match="fra5"):
-        get_spectrum("fra4")
+        get_spectrum("fra7")
 
 
 @pytest.mark.parametrize("f, tabulated", [(0.02, 2.3194e-4), (0.1, 6.1608e-6), (0.2, 7.3333e-7)])

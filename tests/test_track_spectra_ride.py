@@ -128,8 +128,9 @@ def test_finite_at_zero_wavenumber_and_total_variance(spectrum) -> None:
     assert spectrum.variance(0.0, 1e9) == pytest.approx(total, rel=1e-6)
 
 
-def test_alignment_registry_keeps_the_track_file_names() -> None:
-    assert set(SPECTRA) == {"fra5", "fra6", "erri_low", "erri_high"}
+def test_every_component_registers_the_erri_fra_and_aar_classes() -> None:
+    assert set(SPECTRA) == set(SPECTRA_BY_COMPONENT["vertical"])
+    assert SPECTRA["fra5"] is FRA_CLASSES["alignment"][4] and SPECTRA["aar3"] is AAR_CLASSES["alignment"][2]
     assert set(SPECTRA_BY_COMPONENT["vertical"]) == {"erri_low", "erri_high", *(f"fra{c}" for c in range(1, 7)),
                                                      *(f"aar{c}" for c in range(1, 7))}
     assert set(SPECTRA_BY_COMPONENT["gauge"]) == set(SPECTRA_BY_COMPONENT["vertical"])

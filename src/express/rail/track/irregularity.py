@@ -354,7 +354,8 @@ class SpectrumIrregularity(Irregularity):
     ----------
     spectrum : TrackSpectrum or str
         The spectrum, or its name in :data:`~express.rail.track.spectra.SPECTRA`
-        (``"fra5"``, ``"fra6"``, ``"erri_low"``, ``"erri_high"``); kept as given, the
+        (``"erri_low"``, ``"erri_high"``, ``"fra1"`` ... ``"fra6"``, ``"aar1"`` ...
+        ``"aar6"``); kept as given, the
         spectrum used is :attr:`psd_spectrum`.
     seed : int
         Seed of the phases, >= 0; the same seed gives the same profile. Default 0.

@@ -495,10 +495,10 @@ ERRI_LEVELS: dict[str, dict[str, TrackSpectrum]] = {
               "high": ERRIGaugeSpectrum("ERRI/DB high gauge", A=1.032e-7)},
 }
 
-# The new components get registry names; alignment keeps its four names (the track-file
-# reader's set), FRA classes 1-4 alignment being available as FRA_CLASSES["alignment"].
+# Every component's classes get registry names (alignment's ERRI levels and FRA classes 5
+# and 6 are registered above under the same names).
 _new: TrackSpectrum
-for _component in ("vertical", "cross_level", "gauge"):
+for _component in ("alignment", "vertical", "cross_level", "gauge"):
     for _level, _new in ERRI_LEVELS[_component].items():
         register_spectrum(f"erri_{_level}", _new)
     for _class, _new in enumerate(FRA_CLASSES.get(_component, ()), 1):
