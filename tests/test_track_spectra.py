@@ -58,7 +58,8 @@ def test_primitive_is_an_antiderivative(name):
 
 
 def test_every_alignment_spectrum_is_registered_once():
-    assert set(SPECTRA) == {"fra5", "fra6", "erri_low", "erri_high"}
+    assert set(SPECTRA) == {"erri_low", "erri_high", *(f"fra{c}" for c in range(1, 7)), *(f"aar{c}" for c in range(1, 7))}
+    assert len({id(spectrum) for spectrum in SPECTRA.values()}) == len(SPECTRA)  # each name its own spectrum
     assert SPECTRA is SPECTRA_BY_COMPONENT["alignment"]
     assert all(sp.component == "alignment" for sp in SPECTRA.values())
     assert get_spectrum("FRA6") is FRA_CLASS_6 and get_spectrum(" Erri_Low ") is ERRI_LOW
