@@ -138,14 +138,17 @@ def test_a_component_the_model_cannot_take_is_named():
     assert not np.any(inputs.u)
     manchester = load_vehicle("examples/manchester.toml")  # one ground under both wheels of each wheelset
     both = Track((Straight(100.0),), vertical=SinusoidIrregularity(0.001, 20.0),
-                 cross_level=SinusoidIrregularity(0.001, 20.0))
-    with pytest.warns(ModelWarning, match="the track's cross_level is not applied"):
+                 cross_level=SinusoidIrregularity(0.001, 20.0), gauge=SinusoidIrregularity(0.001, 20.0))
+    with pytest.warns(ModelWarning, match="the track's gauge is not applied"):
         inputs = track_inputs(manchester, both, np.array([5.0]), SPEED)
     assert inputs.u[0, manchester.inputs.index("T1_GF.z")] == pytest.approx(0.001 * np.sin(2 * np.pi * 5.0 / 20.0))
+    # the cross level is taken at the wheels' contact springs (tests/test_time_rail_heights.py)
+    assert inputs.rail is not None and inputs.rail.heights[0, :2] == pytest.approx(
+        [-0.0005 * np.sin(2 * np.pi * 5.0 / 20.0), 0.0005 * np.sin(2 * np.pi * 5.0 / 20.0)])
     with warnings.catch_warnings():
-        warnings.simplefilter("error")  # vertical level alone: taken, no warning
-        track_inputs(manchester, Track((Straight(100.0),), vertical=SinusoidIrregularity(0.001, 20.0)),
-                     np.array([5.0]), SPEED)
+        warnings.simplefilter("error")  # vertical level and cross level: taken, no warning
+        track_inputs(manchester, Track((Straight(100.0),), vertical=SinusoidIrregularity(0.001, 20.0),
+                                       cross_level=SinusoidIrregularity(0.001, 20.0)), np.array([5.0]), SPEED)
 
 
 # --- time runs against the closed form ---------------------------------------------------

@@ -230,6 +230,8 @@ def dynamic_wheel_loads(vehicle, inputs, static: np.ndarray) -> WheelLoadModel |
         gain = np.concatenate([gain, -(damping[:, :, None] * rows[:, :, places]).transpose(2, 0, 1)[None]], axis=1)
         places = np.concatenate([places, [velocity[int(i)] for i in places]])
         offset = offset - damping[None] * np.einsum("jsm,km->kjs", drive, inputs.u_rate)
+    if inputs.rail is not None:  # the cross level at the contact springs
+        offset = offset + inputs.rail.load_changes()
     roll = np.array([vehicle.dof_index(f"{w.name}.rx") if f"{w.name}.rx" in vehicle.dofs else -1
                      for w in vehicle.wheelsets], dtype=np.int64)
     arm = np.array([spring.arm for spring in every], dtype=float).reshape(count, 2).mean(axis=1)

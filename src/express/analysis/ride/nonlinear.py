@@ -31,6 +31,7 @@ import numpy as np
 from express.analysis.ride.summaries import PointComfort, comfort_from_time_histories, simulation_accelerations
 from express.analysis.ride.vehicle import rail_inputs
 from express.analysis.stability.limit_cycles import flange_touched
+from express.analysis.time.rail_heights import contact_springs
 from express.base.data import DataRecord, variable, xarray
 from express.base.diagnostics import InputError
 from express.numeric.statespace import VehicleModel
@@ -187,6 +188,8 @@ def simulated_ride(vehicle: VehicleModel, spectra: Mapping[str, Any], speed: flo
                          f"{RUN_IN:g} m run-in")
     inputs = rail_inputs(vehicle)
     driven = [name for j, name in enumerate(COMPONENTS) if inputs.names and np.any(inputs.mixing[:, j] != 0)]
+    if "cross_level" not in driven and contact_springs(vehicle) is not None:
+        driven.append("cross_level")  # at the contact springs (express.analysis.time.rail_heights)
     spectra = {name: spectrum for name, spectrum in spectra.items() if name in driven}  # as the spectral ride
     if not spectra:
         raise InputError("simulated ride: the model has no input any of the spectra drives (rail grounds, docs/ride.md)")

@@ -257,8 +257,7 @@ def simulation_accelerations(vehicle: VehicleModel, result: Any, track: Any) -> 
         inputs = track_inputs(vehicle, track, result.distance, result.speed)
         form = vehicle.form
         states = np.concatenate([result.q, result.q_dot[:, form.massive]], axis=1)
-        rates = (states @ vehicle.state_matrix(result.speed).T + inputs.u @ vehicle.input_matrix(result.speed).T
-                 + inputs.u_rate @ vehicle.input_rate_matrix(result.speed).T)
+        rates = states @ vehicle.state_matrix(result.speed).T + inputs.drive(vehicle, result.speed)
         q_ddot = np.zeros_like(result.q)
         q_ddot[:, form.massive] = rates[:, vehicle.n:]
     else:

@@ -77,6 +77,7 @@ from express.analysis.ride.spectral import (
     spectral_rms,
 )
 from express.analysis.ride.track_classes import TRACK_CLASSES, track_class_spectra
+from express.analysis.time.rail_heights import HeightInputs, height_inputs
 from express.assembly.kinematics import end_motion
 from express.base.arguments import si_argument, si_arguments
 from express.base.data import DataRecord, columns_frame
@@ -449,6 +450,14 @@ class RideResponse(DataRecord):
         return float(np.trapezoid(cross, self.frequencies))
 
 
+def _height_inputs(vehicle: VehicleModel, inputs: RailInputs, outputs: list[str]) -> HeightInputs | None:
+    """The cross level at the contact springs (:mod:`express.analysis.time.rail_heights`)
+    when no rail ground takes it, as a time run takes it; None otherwise."""
+    if inputs.names and np.any(inputs.mixing[:, COMPONENTS.index("cross_level")] != 0):
+        return None
+    return height_inputs(vehicle, COMPONENTS, outputs)
+
+
 def _speed(vehicle: VehicleModel, speed: float | None) -> float:
     v = float(vehicle.speed if speed is None else si_argument(speed, "speed", "speed"))
     if not (math.isfinite(v) and v > 0):
@@ -535,32 +544,44 @@ def ride_response(
                          + f" (known: {', '.join(COMPONENTS)})")
     inputs = rail_inputs(vehicle)
     notes = _undriven_notes(vehicle, inputs)
+    rows, directions, sides = _output_rows(vehicle, inputs, v)
+    heights = _height_inputs(vehicle, inputs, rows.names)
+    mixing = inputs.mixing if heights is None else np.vstack([inputs.mixing, heights.mixing])
     used = []
     for j, component in enumerate(COMPONENTS):
-        felt = bool(np.any(inputs.mixing[:, j] != 0)) if inputs.names else False
+        felt = bool(np.any(mixing[:, j] != 0))
         if component in spectra and felt:
             used.append(component)
         elif component in spectra:
             notes.append(f"{component}: the model has no input it drives (rail grounds, docs/ride.md)")
         elif felt:
             notes.append(f"{component}: no spectrum given (e.g. a table without that column): left at zero")
+    if heights is not None and "cross_level" in used:
+        notes.append("cross_level: imposed at the wheels' contact springs (one ground under both rails of a wheelset; "
+                     "docs/track.md)")
     input_psd = {c: check_psd(spatial_to_temporal(spectra[c].psd, f, v), f.size, f"ride ({c} spectrum)") for c in used}
-    rows, directions, sides = _output_rows(vehicle, inputs, v)
-    a, b, bd = vehicle.state_matrix(v), vehicle.input_matrix(v), vehicle.input_rate_matrix(v)
+    a = vehicle.state_matrix(v)
     _check_stable(vehicle, v)
     w = 2.0 * math.pi * f
     n_f, n_j = f.size, len(used)
-    mixing = inputs.mixing[:, [COMPONENTS.index(c) for c in used]]  # (K, J)
-    # u_j at the driven inputs k: T[k, j] exp(-i w tau_k), laid out (K, F*J) for plain matrix products
-    u = (np.exp(-1j * np.outer(inputs.delays(v), w))[:, :, None] * mixing[:, None, :]).reshape(-1, n_f * n_j)
-    s = np.repeat(1j * w, n_j)  # i w for every (frequency, component) column
-    columns = inputs.columns
+    mixing = mixing[:, [COMPONENTS.index(c) for c in used]]  # (K, J)
     d0, d1, d2, e0, e1 = rows.matrices()
+    columns = inputs.columns
+    b, bd = vehicle.input_matrix(v)[:, columns], vehicle.input_rate_matrix(v)[:, columns]
+    e0, e1, positions = e0[:, columns], e1[:, columns], inputs.positions
+    if heights is not None:  # the cross level at the contact springs: one more input per wheel
+        b, bd = np.hstack([b, heights.b]), np.hstack([bd, heights.bd])
+        e0, e1 = np.hstack([e0, heights.e0]), np.hstack([e1, heights.e1])
+        positions = np.concatenate([positions, heights.positions])
+    delays = (positions.max() - positions) / v if positions.size else positions
+    # u_j at the driven inputs k: T[k, j] exp(-i w tau_k), laid out (K, F*J) for plain matrix products
+    u = (np.exp(-1j * np.outer(delays, w))[:, :, None] * mixing[:, None, :]).reshape(-1, n_f * n_j)
+    s = np.repeat(1j * w, n_j)  # i w for every (frequency, component) column
     try:
-        y = coordinate_response(a, b[:, columns], bd[:, columns], (d0, d1, d2), u, s, f, vehicle.n)
+        y = coordinate_response(a, b, bd, (d0, d1, d2), u, s, f, vehicle.n)
     except np.linalg.LinAlgError as error:
         raise AnalysisError(f"ride: {error}") from None
-    y = y + e0[:, columns] @ u + (e1[:, columns] @ u) * s
+    y = y + e0 @ u + (e1 @ u) * s
     transfer = y.reshape(-1, n_f, n_j).transpose(1, 0, 2)
     weights = np.stack([input_psd[c] for c in used], axis=1) if used else np.zeros((n_f, 0))
     psd = np.sum((transfer.real**2 + transfer.imag**2) * weights[:, None, :], axis=2)

@@ -77,7 +77,7 @@ def contact_rhs(vehicle, track, contacts: list[WheelsetContact], *, speed: float
     the static ones (the march adds the load transfer of
     :func:`express.analysis.curving.measure.estimated_wheel_loads`)."""
     v = float(vehicle.speed if speed is None else speed)
-    a, b, bd = vehicle.state_matrix(v), vehicle.input_matrix(v), vehicle.input_rate_matrix(v)
+    a = vehicle.state_matrix(v)
     n = vehicle.n
     ws = vehicle.wheelsets
     columns = [vehicle.form.force[:, w.y] for w in ws] + [vehicle.form.force[:, w.psi] for w in ws]
@@ -95,7 +95,7 @@ def contact_rhs(vehicle, track, contacts: list[WheelsetContact], *, speed: float
         terms = np.array([linear_wheel_rail(linear, j, x[iy[j]], x[ipsi[j]], q_dot[iy[j]], q_dot[ipsi[j]],
                                             inputs.y_rail[0, j], inputs.rho_wheelsets[0, j]) for j in range(len(iy))])
         z = np.concatenate([history[:, OUTPUTS.index("Y")] - terms[:, 0], history[:, OUTPUTS.index("M")] - terms[:, 1]])
-        return a @ x + b @ inputs.u[0] + bd @ inputs.u_rate[0] + selector @ z
+        return a @ x + inputs.drive(vehicle, v)[0] + selector @ z
 
     return rhs
 

@@ -446,6 +446,10 @@ def _dense_steps(vehicle: VehicleModel, a: np.ndarray, v: float, dt: float, inpu
         + inputs.u_rate[:-1] @ (early @ bd).T
         + inputs.u_rate[1:] @ (late @ bd).T
     )
+    if inputs.rail is not None:  # the rail heights at the contact springs, e += G f
+        springs, g = inputs.rail.springs, vehicle.form.force
+        for values, forcing in ((inputs.rail.heights, springs.forcing), (inputs.rail.rates, springs.forcing_rate)):
+            drive += values[:-1] @ (early @ g @ forcing).T + values[1:] @ (late @ g @ forcing).T
     return DenseSteps(*(np.ascontiguousarray(m) for m in (phi, drive, gamma0 @ selector, gamma1 @ selector)))
 
 
@@ -457,6 +461,8 @@ def _sparse_steps(vehicle: VehicleModel, a: np.ndarray, v: float, dt: float, inp
 
     b, bd = csr_matrix(vehicle.input_matrix(v)), csr_matrix(vehicle.input_rate_matrix(v))
     forcing = (b @ inputs.u.T + bd @ inputs.u_rate.T).T
+    if inputs.rail is not None:
+        forcing = forcing + (csr_matrix(vehicle.form.force) @ inputs.rail.forces().T).T
     return sparse_steps(a, dt, forcing, selector)
 
 
@@ -529,7 +535,7 @@ def continuous_rhs(
     simulation benchmark's baseline): no discretization, inputs evaluated at ``t``.
     """
     v = float(vehicle.speed if speed is None else speed)
-    a, b, bd = vehicle.state_matrix(v), vehicle.input_matrix(v), vehicle.input_rate_matrix(v)
+    a = vehicle.state_matrix(v)
     n = vehicle.n
     ws = vehicle.wheelsets
     data = clearances_of(vehicle.equations, vehicle.values, vehicle.dofs) if (flange or saturation) else None
@@ -552,6 +558,6 @@ def continuous_rhs(
         if data is not None and data.count:
             delta = stop_rows @ q + data.inputs @ inputs.u[0]
             z.append(-clearance_force(delta, data.gap, data.stiffness, data.progressive))
-        return a @ x + b @ inputs.u[0] + bd @ inputs.u_rate[0] + selector @ np.concatenate(z)
+        return a @ x + inputs.drive(vehicle, v)[0] + selector @ np.concatenate(z)
 
     return rhs

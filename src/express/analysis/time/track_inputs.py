@@ -6,8 +6,10 @@ The track's other components (vertical level, cross level, gauge: ``docs/track.m
 them (:func:`express.analysis.ride.vehicle.rail_inputs`): a ground ``<B>_rail``,
 ``<B>_railL``, ``<B>_railR`` or one that holds a single wheelset and nothing else. Along z
 a ground takes ``z_v`` (both rails), ``z_v - c/2`` (left) or ``z_v + c/2`` (right); along y
-``yR``, ``yR + g/2``, ``yR - g/2``; each read at the station of its body. A component the
-track carries but no input of the model takes is named in one warning per run.
+``yR``, ``yR + g/2``, ``yR - g/2``; each read at the station of its body. A model with
+one ground under both rails of a wheelset takes the cross level at its wheels' contact
+springs instead (:mod:`express.analysis.time.rail_heights`). A component the track carries
+but the model does not take is named in one warning per run.
 """
 
 from __future__ import annotations
@@ -17,6 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from express.analysis.time.rail_heights import RailHeights, contact_springs, rail_heights
 from express.base.caches import IdentityCache
 from express.base.diagnostics import ArgumentError, ModelWarning
 from express.numeric.statespace import VehicleModel
@@ -28,13 +31,25 @@ __all__ = ["GroundPlan", "TrackInputs", "ground_plan", "rail_layout", "station_i
 
 @dataclass(frozen=True)
 class TrackInputs:
-    """The known inputs along a run: ``u`` and ``u'`` at every instant, shape (N, m)."""
+    """The known inputs along a run: ``u`` and ``u'`` at every instant, shape (N, m);
+    ``rail`` the cross level's rail heights at the contact springs of a model with one
+    ground under both rails of a wheelset (:mod:`express.analysis.time.rail_heights`),
+    None otherwise."""
 
     u: np.ndarray
     u_rate: np.ndarray
     y_rail: np.ndarray  # (N, n_wheelsets)
     rho_wheelsets: np.ndarray  # (N, n_wheelsets)
     rho_stations: np.ndarray  # (N, n_stations)
+    rail: RailHeights | None = None
+
+    def drive(self, vehicle: VehicleModel, v: float) -> np.ndarray:
+        """The state equations' known forcing ``e = B u + Bd u' (+ G f)`` at every instant
+        at speed ``v`` [m/s], shape (N, vehicle.form.size)."""
+        e = self.u @ vehicle.input_matrix(v).T + self.u_rate @ vehicle.input_rate_matrix(v).T
+        if self.rail is not None:
+            e = e + self.rail.forces() @ vehicle.form.force.T
+        return e
 
 
 def track_inputs(vehicle: VehicleModel, track: Track, distance: np.ndarray, speed: float) -> TrackInputs:
@@ -73,7 +88,8 @@ def track_inputs(vehicle: VehicleModel, track: Track, distance: np.ndarray, spee
         u[:, inputs.index(name)] = y_rail[:, j]
         u_rate[:, inputs.index(name)] = speed * y_rail_rate[:, j]
     _rail_ground_inputs(vehicle, track, distance, speed, lead, u, u_rate)
-    return TrackInputs(u, u_rate, y_rail, rho, curvature)
+    heights = rail_heights(vehicle, track, distance, speed) if ground_plan(vehicle, track).at_springs else None
+    return TrackInputs(u, u_rate, y_rail, rho, curvature, heights)
 
 
 @dataclass(frozen=True)
@@ -89,13 +105,16 @@ class GroundPlan:
     mixing : numpy.ndarray, shape (K, 4)
         Coefficient of each component of :data:`~express.rail.track.TRACK_COMPONENTS`.
     ignored : tuple of str
-        Components the track carries that no input takes.
+        Components the track carries that the model does not take.
+    at_springs : bool
+        Whether the cross level is imposed at the contact springs (module docstring).
     """
 
     columns: np.ndarray
     positions: np.ndarray
     mixing: np.ndarray
     ignored: tuple[str, ...]
+    at_springs: bool = False
 
 
 def ground_plan(vehicle: VehicleModel, track: Track) -> GroundPlan:
@@ -120,14 +139,18 @@ def _ground_plan(vehicle: VehicleModel, track: Track) -> GroundPlan:
         keep = [k for k, name in enumerate(found.names) if name not in layout.irregularity]
         columns, positions, mixing = found.columns[keep], found.positions[keep], found.mixing[keep]
     taken = {"alignment"} | {c for j, c in enumerate(TRACK_COMPONENTS) if np.any(mixing[:, j] != 0)}
+    at_springs = "cross_level" not in taken and contact_springs(vehicle) is not None
+    if at_springs:
+        taken.add("cross_level")
     ignored = tuple(c for c in track.applied_components if c not in taken)
     if ignored:
         warnings.warn(f"the track's {', '.join(ignored)} {'is' if len(ignored) == 1 else 'are'} not applied: "
                       f"{vehicle.name} has no rail ground that takes {'it' if len(ignored) == 1 else 'them'} "
                       "(vertical level: a rail ground under each wheelset; cross level: one under each rail, "
-                      "<W>_railL and <W>_railR or one on each side; gauge: such grounds moving in y; docs/track.md)",
+                      "<W>_railL and <W>_railR or one on each side, or a vertical contact spring under each wheel; "
+                      "gauge: grounds under each rail moving in y; docs/track.md)",
                       ModelWarning, stacklevel=4)
-    return GroundPlan(columns, positions, mixing, ignored)
+    return GroundPlan(columns, positions, mixing, ignored, at_springs)
 
 
 def _rail_ground_inputs(vehicle: VehicleModel, track: Track, distance: np.ndarray, speed: float, lead: float,

@@ -220,7 +220,8 @@ def takes_cross_level(vehicle: VehicleModel, track: Track) -> bool:
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        return "cross_level" not in ground_plan(vehicle, track).ignored
+        plan = ground_plan(vehicle, track)
+    return "cross_level" not in plan.ignored and not plan.at_springs
 
 
 def rail_height_loads(vehicle: VehicleModel, heights: np.ndarray) -> np.ndarray:
