@@ -98,7 +98,7 @@ def run(model: Path, overrides: dict[str, str], *, twist: float | None = None, l
 
 
 def _print_standard(vehicle, found, assess: bool) -> None:
-    print(f"{vehicle.name} on the standard twist: {found.twist.describe()} (quasi-static, K q = P u)")
+    print(f"{vehicle.name} on the standard twist: {found.twist.describe()} ({found.method})")
     print(f"{'wheelset':>8}  {'c [mm]':>7}  {'-dQ/Q0 L':>8}  {'-dQ/Q0 R':>8}  {'Q0 [kN]':>7}")
     for i, w in enumerate(vehicle.wheelsets):
         ratio = -found.delta_q[i] / found.wheel_load[i]

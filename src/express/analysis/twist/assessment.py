@@ -6,7 +6,11 @@ Two criteria (:class:`~express.analysis.curving.assessment.Criterion`):
 * ``dQQ0_twist``: the largest quasi-static unloading ``-dQ/Q0`` of any wheel with the
   vehicle standing on the standard twist (:func:`~express.analysis.twist.standard.standard_twist`),
   against :data:`~express.analysis.curving.assessment.UNLOADING_LIMIT` (0.6; the value a
-  public summary of UIC 530-2 gives for twisted track);
+  public summary of UIC 530-2 gives for twisted track). The loads are the linear static
+  solution (:func:`~express.analysis.twist.loads.rail_height_loads`), or, for a vehicle
+  with friction elements or characteristics (which that solution sees stuck or at their
+  tangents), the end of a slow time run onto the twist
+  (:func:`~express.analysis.twist.passage.twist_run_loads`);
 * ``YQ_twist_nadal``: flange climb of the leading outer wheel in a tight curve on the
   twist. The curve's ``Y`` and ``Q`` come from the steady curving (or, where it has no
   steady state, the settled time run: :func:`~express.analysis.curving.settled.curving_or_settled`)
@@ -33,13 +37,16 @@ import numpy as np
 
 from express.analysis.curving.assessment import UNLOADING_LIMIT, Assessment, Criterion, nadal_limit
 from express.analysis.twist.loads import rail_height_loads
+from express.analysis.twist.passage import twist_run_loads
 from express.analysis.twist.standard import StandardTwist, standard_twist
 from express.numeric.statespace import VehicleModel
 
-__all__ = ["FRICTION", "RADIUS", "SPEED", "FlangeClimb", "TwistAssessment", "assess_twist", "flange_climb"]
+__all__ = ["FRICTION", "RADIUS", "SPEED", "STATIC_METHOD", "FlangeClimb", "TwistAssessment", "assess_twist", "flange_climb"]
 
 #: Radius of the tight curve [m], speed in it [m/s] and the friction of Nadal's limit.
 RADIUS, SPEED, FRICTION = 150.0, 10.0 / 3.6, 0.36
+#: How the loads of a vehicle without friction elements or characteristics are found.
+STATIC_METHOD = "quasi-static, K q = P u"
 
 
 @dataclass(frozen=True)
@@ -81,6 +88,7 @@ class TwistAssessment:
     wheel_load: np.ndarray  # (n_wheelsets,) [N]
     climb: FlangeClimb | None
     assessment: Assessment
+    method: str = STATIC_METHOD
 
     @property
     def passed(self) -> bool:
@@ -91,7 +99,7 @@ class TwistAssessment:
                            "body_twist": self.twist.body_twist, "bogie_twist": self.twist.bogie_twist,
                            "cross_level": self.twist.cross_level.tolist()},
                  "delta_q": self.delta_q.tolist(), "wheel_load": self.wheel_load.tolist(),
-                 "flange_climb": None if self.climb is None else dict(self.climb.__dict__)}
+                 "flange_climb": None if self.climb is None else dict(self.climb.__dict__), "method": self.method}
         return _finite(found | self.assessment.as_dict())
 
 
@@ -146,7 +154,12 @@ def assess_twist(vehicle: VehicleModel, twist: StandardTwist | None = None, *, c
         Of the flange-climb check [m, m/s, -].
     """
     twist = standard_twist(vehicle) if twist is None else twist
-    delta = rail_height_loads(vehicle, twist.heights)[0]
+    method = STATIC_METHOD
+    if _slips(vehicle):
+        run = twist_run_loads(vehicle, twist)
+        delta, method = run.delta_q, run.method
+    else:
+        delta = rail_height_loads(vehicle, twist.heights)[0]
     loads = np.array([w.wheel_load for w in vehicle.wheelsets], dtype=float)
     unloading = float(max(0.0, np.nanmax(-delta / loads[:, None])))
     criteria = [Criterion("dQQ0_twist", f"quasi-static wheel unloading -ΔQ/Q0 on the twist ({twist.describe()})",
@@ -160,4 +173,12 @@ def assess_twist(vehicle: VehicleModel, twist: StandardTwist | None = None, *, c
     derailment = None
     if found is not None and not math.isfinite(found.y_over_q):
         derailment = f"{found.wheel} lifts on the twist in R {radius:g} m (Q + ΔQ <= 0)"
-    return TwistAssessment(twist, delta, loads, found, Assessment(tuple(criteria), derailment))
+    return TwistAssessment(twist, delta, loads, found, Assessment(tuple(criteria), derailment), method)
+
+
+def _slips(vehicle: VehicleModel) -> bool:
+    """Whether the vehicle has friction elements or characteristics."""
+    from express.model.records import ElementKind
+
+    kinds = (ElementKind.FRICTION, ElementKind.CHARACTERISTIC)
+    return vehicle.model is not None and any(e.kind in kinds for e in vehicle.model.elements)
