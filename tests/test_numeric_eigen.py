@@ -31,6 +31,7 @@ MODELS = {
     "manchester.toml": [42, 20],
     "manchester-flexible.toml": [44, 24],  # torsion joins the lateral block, bending the vertical
     "manchester-s1002.toml": [42, 20],
+    "manchester-rails.toml": [42, 20],
     "y25-wagon.toml": [42, 20],
     "coach-blowoff.toml": [66],  # the inclined lateral damper joins lateral and vertical; 4 reservoir strokes
 }

@@ -24,7 +24,7 @@ MODELS = sorted([*(ROOT / "examples").glob("*.toml"), *(ROOT / "examples" / "ele
 #: Files under examples/ that are not models.
 NOT_MODELS = {"vehicle_parameters.toml"}
 #: Models too slow to derive twice in the suite's time: checked on their numbers only.
-SLOW = {"manchester-flexible.toml", "manchester-s1002.toml", "manchester.toml"}
+SLOW = {"manchester-flexible.toml", "manchester-rails.toml", "manchester-s1002.toml", "manchester.toml"}
 
 
 def _cases():

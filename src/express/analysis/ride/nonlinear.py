@@ -119,9 +119,11 @@ def _track(spectra: Mapping[str, Any], speed: float, length: float, seed: int) -
     wavelength_min = max(speed / _BAND_HZ[1], 0.5)
     wavelength_max = max(min(speed / _BAND_HZ[0], 0.5 * length), 2 * wavelength_min)
     irregularities: dict[str, Any] = {
-        _FIELD[name]: SpectrumIrregularity(spectrum, seed=seed + k, wavelength_min=wavelength_min,
+        # each component's seed by its place in COMPONENTS: another component joining the
+        # set leaves the others' realisations as they were
+        _FIELD[name]: SpectrumIrregularity(spectrum, seed=seed + COMPONENTS.index(name), wavelength_min=wavelength_min,
                                            wavelength_max=wavelength_max, period=length)
-        for k, (name, spectrum) in enumerate(sorted(spectra.items()))
+        for name, spectrum in sorted(spectra.items())
     }
     return Track([Straight(length)], **irregularities)
 
@@ -163,7 +165,9 @@ def simulated_ride(vehicle: VehicleModel, spectra: Mapping[str, Any], speed: flo
     length : float
         [m] the run, :data:`RUN_IN` included; at least ``RUN_IN`` plus 5 s of running.
     seed : int
-        The realisation's first seed (one more per component, in name order).
+        The realisation's first seed: each component's is ``seed`` plus its index in
+        :data:`~express.rail.track.spectra.COMPONENTS` (alignment 0, vertical 1, cross
+        level 2, gauge 3), so one component's realisation does not depend on the others.
     dt : float, optional
         [s] one run at this step (``step_change`` None); by default the step is checked:
         runs at :data:`FIRST_STEP` and half of it, halved again while a RMS (relative to
@@ -206,7 +210,8 @@ def simulated_ride(vehicle: VehicleModel, spectra: Mapping[str, Any], speed: flo
             if step_change <= tolerance or dt / 2 < FINEST_STEP:
                 break
             coarse = comfort
-    notes = [f"one realisation of a random track (seeds {seed}-{seed + len(spectra) - 1}, "
+    seeds = ", ".join(f"{name} {seed + COMPONENTS.index(name)}" for name in sorted(spectra))
+    notes = [f"one realisation of a random track (seeds: {seeds}; "
              f"{_BAND_HZ[0]:g}-{_BAND_HZ[1]:g} Hz at this speed), {length - RUN_IN:g} m after a {RUN_IN:g} m run-in: "
              f"a RMS carries a sampling spread of about {100 / math.sqrt(_BAND_HZ[1] * (length - RUN_IN) / speed):.0f} %"]
     if step_change is not None:

@@ -575,7 +575,8 @@ def ride_response(
         positions = np.concatenate([positions, heights.positions])
     delays = (positions.max() - positions) / v if positions.size else positions
     # u_j at the driven inputs k: T[k, j] exp(-i w tau_k), laid out (K, F*J) for plain matrix products
-    u = (np.exp(-1j * np.outer(delays, w))[:, :, None] * mixing[:, None, :]).reshape(-1, n_f * n_j)
+    u = np.asarray(np.exp(-1j * np.outer(delays, w))[:, :, None] * mixing[:, None, :], dtype=np.complex128)
+    u = u.reshape(-1, n_f * n_j)
     s = np.repeat(1j * w, n_j)  # i w for every (frequency, component) column
     try:
         y = coordinate_response(a, b, bd, (d0, d1, d2), u, s, f, vehicle.n)
