@@ -37,7 +37,8 @@ def add_parser(subparsers) -> None:
     parser = subparsers.add_parser(
         "twist", help="quasi-static wheel unloading dQ/Q0 on a twisted track; --assess: derailment on twist",
         description="The static solution K q = P u of the linear vehicle on a twist and each wheel's load change from "
-        "the model's wheel-on-rail springs. By default the vehicle stands on EN 14363's combined twist (g* = g_lim(2a*) "
+        "the model's wheel-on-rail springs; for a vehicle with friction elements or characteristics, a slow time run "
+        "(1 m/s) onto the twist, the friction slipping. By default the vehicle stands on EN 14363's combined twist (g* = g_lim(2a*) "
         "over its bogie centres, g+ = g_lim(2a+) over the leading bogie's wheelbase); --twist mm/m (over --length) or "
         "--track FILE runs a passage instead. --assess checks the largest unloading against 0.6 and the leading outer "
         "wheel's Y/Q in a 150 m curve on the twist against Nadal (mu 0.36); a failed assessment exits 3. "
@@ -125,12 +126,19 @@ def _passage(vehicle, model: Path, twist: float, length: float, track: Path | No
     import numpy as np
 
     from express.analysis.twist import twist_passage, twisted_track
+    from express.analysis.twist.assessment import STATIC_METHOD
+    from express.analysis.twist.passage import run_passage, slips
 
     road = common.load_track(track) if track is not None else twisted_track(twist, length)
     if "cross_level" not in road.applied_components:
         raise UsageError("twist: the track has no cross level: a twist does not reach the wheels "
                          "(docs/track.md, 'Twisted track')")
-    distance, delta, wheel_load = twist_passage(vehicle, road, step)
+    if slips(vehicle):  # friction elements or characteristics: a slow time run
+        distance, delta, wheel_load, found = run_passage(vehicle, road, step)
+        method = found.method
+    else:
+        distance, delta, wheel_load = twist_passage(vehicle, road, step)
+        method = STATIC_METHOD
     ratio = delta / wheel_load[None, :, None]
     rows = []
     for i, w in enumerate(vehicle.wheelsets):
@@ -143,11 +151,11 @@ def _passage(vehicle, model: Path, twist: float, length: float, track: Path | No
     worst = max(rows, key=lambda row: row["unloading"])
     if as_json:
         common.print_json({"command": "twist", "model": str(model), "track": str(track) if track else
-                           f"twist ramp {twist * 1e3:g} mm/m over {length:g} m", "step": step, "wheels": rows,
+                           f"twist ramp {twist * 1e3:g} mm/m over {length:g} m", "step": step, "method": method, "wheels": rows,
                            "largest_unloading": worst["unloading"], "limit": None})
         return 0
     title = str(track) if track else f"twist ramp {twist * 1e3:g} mm/m over {length:g} m"
-    print(f"{vehicle.name} on {title} (quasi-static, K q = P u every {step:g} m)")
+    print(f"{vehicle.name} on {title} ({method}, every {step:g} m)")
     print(f"{'wheelset':>8}  {'wheel':>5}  {'-dQ/Q0':>7}  {'dQ [kN]':>8}  {'Q0 [kN]':>7}  {'at [m]':>7}")
     for row in rows:
         print(f"{row['wheelset']:>8}  {row['wheel']:>5}  {row['unloading']:7.4f}  {row['delta_q'] / 1e3:8.3f}  "

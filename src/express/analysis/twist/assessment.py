@@ -37,7 +37,7 @@ import numpy as np
 
 from express.analysis.curving.assessment import UNLOADING_LIMIT, Assessment, Criterion, nadal_limit
 from express.analysis.twist.loads import rail_height_loads
-from express.analysis.twist.passage import twist_run_loads
+from express.analysis.twist.passage import slips, twist_run_loads
 from express.analysis.twist.standard import StandardTwist, standard_twist
 from express.numeric.statespace import VehicleModel
 
@@ -155,7 +155,7 @@ def assess_twist(vehicle: VehicleModel, twist: StandardTwist | None = None, *, c
     """
     twist = standard_twist(vehicle) if twist is None else twist
     method = STATIC_METHOD
-    if _slips(vehicle):
+    if slips(vehicle):
         run = twist_run_loads(vehicle, twist)
         delta, method = run.delta_q, run.method
     else:
@@ -175,10 +175,3 @@ def assess_twist(vehicle: VehicleModel, twist: StandardTwist | None = None, *, c
         derailment = f"{found.wheel} lifts on the twist in R {radius:g} m (Q + ΔQ <= 0)"
     return TwistAssessment(twist, delta, loads, found, Assessment(tuple(criteria), derailment), method)
 
-
-def _slips(vehicle: VehicleModel) -> bool:
-    """Whether the vehicle has friction elements or characteristics."""
-    from express.model.records import ElementKind
-
-    kinds = (ElementKind.FRICTION, ElementKind.CHARACTERISTIC)
-    return vehicle.model is not None and any(e.kind in kinds for e in vehicle.model.elements)

@@ -29,7 +29,7 @@ from express.numeric.statespace import VehicleModel
 from express.rail.track import Straight, Track
 from express.rail.track.irregularity import ProfileIrregularity
 
-__all__ = ["PASSAGE_SPEED", "RUN_IN", "TwistRun", "standard_twist_track", "twist_run_loads"]
+__all__ = ["PASSAGE_SPEED", "RUN_IN", "TwistRun", "run_passage", "slips", "standard_twist_track", "twist_run_loads"]
 
 #: Speed of the passage [m/s] and length of the run-in from level track [m].
 PASSAGE_SPEED, RUN_IN = 1.0, 10.0
@@ -97,7 +97,39 @@ def twist_run_loads(vehicle: VehicleModel, twist: StandardTwist, *, speed: float
     return TwistRun(fine, speed, dt, change)
 
 
+def run_passage(vehicle: VehicleModel, track: Track, step: float = 0.5, *, speed: float = PASSAGE_SPEED,
+                dt: float = 0.0025) -> tuple[np.ndarray, np.ndarray, np.ndarray, TwistRun]:
+    """:func:`~express.analysis.twist.loads.twist_passage` by a slow time run: the wheels'
+    load changes every ``step`` [m] of the leading wheelset from 0 to the track's length
+    plus the wheelbase, from one run at ``dt`` (checked against ``2 dt``).
+
+    Returns
+    -------
+    distance : numpy.ndarray, shape (N,)
+        Positions of the leading wheelset [m].
+    delta_q : numpy.ndarray, shape (N, n_wheelsets, 2)
+        [N] of the (left, right) wheels.
+    wheel_load : numpy.ndarray, shape (n_wheelsets,)
+        Q0 [N].
+    run : TwistRun
+        The last position's loads, with the step's change over the whole passage.
+    """
+    stations = [w.station for w in vehicle.wheelsets]
+    end = track.length + max(stations) - min(stations)
+    distance = np.arange(0.0, end + step / 2, step)
+    coarse, fine = (_loads(vehicle, track, end, speed, h, distance) for h in (2 * dt, dt))
+    loads = np.array([w.wheel_load for w in vehicle.wheelsets], dtype=float)
+    change = float(np.nanmax(np.abs(fine - coarse) / loads[None, :, None]))
+    return distance, fine, loads, TwistRun(fine[-1], speed, dt, change)
+
+
 def _end_loads(vehicle: VehicleModel, track: Track, end: float, speed: float, dt: float) -> np.ndarray:
+    return _loads(vehicle, track, end, speed, dt, np.array([end]))[-1]
+
+
+def _loads(vehicle: VehicleModel, track: Track, end: float, speed: float, dt: float, at: np.ndarray) -> np.ndarray:
+    """The wheels' load changes of a run to ``end`` at the leading wheelset's positions
+    ``at`` (the nearest step), shape (len(at), n_wheelsets, 2)."""
     import warnings
 
     from express.analysis.time.simulate import simulate
@@ -105,24 +137,35 @@ def _end_loads(vehicle: VehicleModel, track: Track, end: float, speed: float, dt
     with warnings.catch_warnings():  # the step's resolution: checked by the caller's second run
         warnings.filterwarnings("ignore", message="the time step .* does not resolve", category=UserWarning)
         run = simulate(vehicle, track, speed=speed, dt=dt, end=end, progress=False)
+    rows = np.clip(np.searchsorted(run.distance, at - 0.5 * speed * dt), 0, run.distance.size - 1)
     if run.wheel_rail is not None:
-        return run.wheel_rail.vertical_load[-1] - run.wheel_rail.static_load[:, None]
-    return _spring_loads(vehicle, track, run, speed)
+        return (run.wheel_rail.vertical_load - run.wheel_rail.static_load[None, :, None])[rows]
+    return np.stack([_spring_loads(vehicle, track, run, speed, k) for k in rows])
 
 
-def _spring_loads(vehicle: VehicleModel, track: Track, run, speed: float) -> np.ndarray:
-    """``dQ = -(k_z (d q + e u) + c_z (d q' + e u'))`` of every wheel at the run's end, with
-    the rail heights at the springs, shape (n_wheelsets, 2) (a run without contact tables)."""
+def _spring_loads(vehicle: VehicleModel, track: Track, run, speed: float, k: int) -> np.ndarray:
+    """``dQ = -(k_z (d q + e u) + c_z (d q' + e u'))`` of every wheel at step ``k`` of the
+    run, with the rail heights at the springs, shape (n_wheelsets, 2) (a run without
+    contact tables)."""
     from express.analysis.time.track_inputs import track_inputs
     from express.rail.vertical_contact import vertical_contacts
 
-    inputs = track_inputs(vehicle, track, run.distance[-1:], speed)
+    inputs = track_inputs(vehicle, track, run.distance[k:k + 1], speed)
     pairs = vertical_contacts(vehicle.model, vehicle.values, [w.name for w in vehicle.wheelsets], vehicle.dofs,
                               vehicle.inputs)
-    q, q_dot, u, u_rate = run.q[-1], run.q_dot[-1], inputs.u[0], inputs.u_rate[0]
+    q, q_dot, u, u_rate = run.q[k], run.q_dot[k], inputs.u[0], inputs.u_rate[0]
     delta = np.array([[np.nan if s is None else -(s.stiffness * (s.dofs @ q + s.inputs @ u)
                                                   + s.damping * (s.dofs @ q_dot + s.inputs @ u_rate)) for s in pair]
                       for pair in pairs])
     if inputs.rail is not None:
         delta = delta + inputs.rail.load_changes()[0]
     return delta
+
+
+def slips(vehicle: VehicleModel) -> bool:
+    """Whether the vehicle has friction elements or characteristics (which the linear
+    static solution sees stuck or at their tangents)."""
+    from express.model.records import ElementKind
+
+    kinds = (ElementKind.FRICTION, ElementKind.CHARACTERISTIC)
+    return vehicle.model is not None and any(e.kind in kinds for e in vehicle.model.elements)
