@@ -54,6 +54,7 @@ motion the pair is the 1-D element exactly.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 from typing import NamedTuple
 
 import numpy as np
@@ -217,12 +218,20 @@ def _friction_law(x, k, law, z, record, commit):
     return None
 
 
-def _tables(xs: np.ndarray, fs: np.ndarray, r: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """``(F(r), F'(r))`` of a piecewise-linear table at many ``r`` (vectorised
-    :func:`~express.forces.characteristic.table_force`: the end segments go on)."""
-    segment = np.clip(np.searchsorted(xs, r, side="right") - 1, 0, xs.size - 2)
-    slope = (fs[segment + 1] - fs[segment]) / (xs[segment + 1] - xs[segment])
-    return fs[segment] + slope * (r - xs[segment]), slope
+@kernel
+def _normals(r, stiffness, xs, fs, counts, zero, static, sense, normal, slope):
+    """``N = sense (N0 + k r)`` or ``sense (N0 + F(r) - F(0))`` and ``dN/dr`` of every
+    element (column) at every state (row) of ``r`` (K, n_f), into ``normal`` and ``slope``
+    (:class:`FollowedLoads`)."""
+    for i in range(r.shape[0]):
+        for f in range(r.shape[1]):
+            if counts[f] > 0:
+                force, gradient = table_force(xs, fs, f, counts[f], r[i, f])
+                dynamic = force - zero[f]
+            else:
+                dynamic, gradient = stiffness[f] * r[i, f], stiffness[f]
+            normal[i, f] = sense[f] * (static[f] + dynamic)
+            slope[i, f] = sense[f] * gradient
 
 
 @dataclass(frozen=True)
@@ -260,7 +269,7 @@ class FollowedLoads:
         return FollowedLoads(zeros, np.zeros((n_f, size)), np.zeros((steps, n_f)), zeros, zeros, zeros,
                              np.zeros((n_f, 2)), np.zeros((n_f, 2)), np.zeros(n_f, dtype=np.int64))
 
-    @property
+    @cached_property
     def zero(self) -> np.ndarray:
         """``F(0)`` of each characteristic (0 for a spring)."""
         return np.array([table_force(self.xs, self.fs, f, int(c), 0.0)[0] if c > 0 else 0.0
@@ -276,14 +285,10 @@ class FollowedLoads:
 
     def normal(self, states: np.ndarray, first: int = 0) -> tuple[np.ndarray, np.ndarray]:
         """``(N, dN/dr)`` at the states (K, N) of steps ``first, first + 1, ...``, each (K, n_f)."""
-        r = states @ self.rows.T + self.offset[first: first + states.shape[0]]
-        dynamic, slope = self.stiffness * r, np.broadcast_to(self.stiffness, r.shape).copy()
-        zero = self.zero
-        for f, count in enumerate(self.counts):
-            if count > 0:
-                force, slope[:, f] = _tables(self.xs[f, :count], self.fs[f, :count], r[:, f])
-                dynamic[:, f] = force - zero[f]
-        return self.sense * (self.static + dynamic), self.sense * slope
+        r = np.ascontiguousarray(states @ self.rows.T + self.offset[first: first + states.shape[0]])
+        normal, slope = np.empty_like(r), np.empty_like(r)
+        _normals(r, self.stiffness, self.xs, self.fs, self.counts, self.zero, self.static, self.sense, normal, slope)
+        return normal, slope
 
     def limits(self, states: np.ndarray, constant: np.ndarray, first: int = 0) -> np.ndarray:
         """The friction limits at the states (K, N), shape (K, n_f) (:func:`load_limit`)."""
