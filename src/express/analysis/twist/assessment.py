@@ -174,4 +174,3 @@ def assess_twist(vehicle: VehicleModel, twist: StandardTwist | None = None, *, c
     if found is not None and not math.isfinite(found.y_over_q):
         derailment = f"{found.wheel} lifts on the twist in R {radius:g} m (Q + ΔQ <= 0)"
     return TwistAssessment(twist, delta, loads, found, Assessment(tuple(criteria), derailment), method)
-
