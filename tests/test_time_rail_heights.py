@@ -61,7 +61,6 @@ def test_a_cross_level_sine_runs_the_same_on_both_vehicles(pair, route):
     1 ms: the one-ground vehicle with its rail heights at the springs and the per-rail
     vehicle with ground inputs give the same coordinates and wheel loads to rounding
     (asserted 1e-9 of the largest; achieved 1.1e-15 and 2.3e-15), on either route."""
-    one, rails = pair
     track = Track((Straight(150.0),), vertical=SinusoidIrregularity(0.002, 18.0),
                   cross_level=SinusoidIrregularity(0.001, 10.8, phase=0.4))
     with warnings.catch_warnings():
