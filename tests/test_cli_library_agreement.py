@@ -11,7 +11,8 @@ code runs; achieved: equal, except the printed JSON's round trip of floats, exac
 Covered: eigen, critical-speed, frf, curving, simulate, ride, sensitivity (its four outputs),
 conicity, contact-geometry, study, generate, convert, export, report (byte for byte; it
 showed the expanded equations from the library and the factored ones from the command
-until ``report_html`` generated the readable ones itself).  Not here: ``draw`` (a
+until ``report_html`` generated the readable ones itself), wear (one step of a tiny route,
+its CSV and worn profile byte for byte).  Not here: ``draw`` (a
 figure; ``tests/test_cli_draw_export_report.py``), ``demo`` (the paper's numbers,
 ``tests/test_cli_demo.py``), ``cache`` (no library face). ``twist`` on the standard
 twist (the Manchester car, its rail heights imposed at the contact springs).
@@ -240,3 +241,30 @@ def test_twist(capsys):
     found = assess_twist(express.load_vehicle("examples/manchester.toml"), climb=False)
     np.testing.assert_allclose(data["delta_q"], found.delta_q, rtol=1e-12)
     assert data["criteria"][0]["value"] == pytest.approx(found.assessment.criteria[0].value, rel=1e-12)
+
+
+@pytest.mark.slow
+def test_wear(capsys, tmp_path):
+    """``express wear`` and ``predict_wear`` with the same settings, one step of a tiny
+    route: the same ``wear.csv`` and worn profile, byte for byte."""
+    from cli_support import run as run_command
+    from express.analysis.wear.prediction import WearSettings, predict_wear, prediction_identity, profile_path
+    from express.analysis.wear.route import read_route, route_problems
+    from test_wear_prediction import MODEL, TINY
+
+    route_path = tmp_path / "tiny.toml"
+    route_path.write_text(TINY, encoding="utf-8")
+    status, _, err = run_command(capsys, "wear", str(MODEL), "--route", str(route_path), "--distance", "250 km",
+                                 "-o", str(tmp_path / "cli"), "--stop-after", "1", "--workers", "1", "--no-figures")
+    assert status == 0, err
+    route = read_route(route_path)
+    problems, speeds = route_problems(route, 1.5, 9.81)
+    assert not problems
+    settings = WearSettings()
+    identity = prediction_identity(MODEL.read_text(encoding="utf-8"), {}, route, settings)
+    mine = predict_wear(express.load_vehicle(MODEL), route, speeds, 250e3, tmp_path / "library", identity=identity,
+                        settings=settings, workers=1, stop_after=1, figures=False)
+    assert (tmp_path / "cli" / "wear.csv").read_bytes() == (tmp_path / "library" / "wear.csv").read_bytes()
+    last = len(mine.rows) - 1
+    assert last >= 1
+    assert profile_path(tmp_path / "cli", last).read_bytes() == profile_path(tmp_path / "library", last).read_bytes()

@@ -47,15 +47,18 @@ def test_ride_along_a_flexible_car_body(tmp_path, capsys):
     """ERRI-high at 120 km/h: the first bending (its antinode at the centre) raises the
     vertical floor RMS at the centre by 48 % (0.135 -> 0.199 m/s^2; asserted 40-56 %), over
     the bogies by 6 % (front) and 14 % (rear) (asserted < 20 %); the lateral floor RMS,
-    which only the torsion touches, within 1 %."""
+    which only the torsion touches: unchanged at the centre, its node (asserted 1 %,
+    achieved 1e-5), and over the bogies raised by 4.5 % (front) and 4.0 % (rear) (asserted
+    2-7 %), the cross level reaching the torsion through the contact springs."""
     rigid_path = tmp_path / "rigid.toml"
     rigid_path.write_text(rigid_text(), encoding="utf-8")
     rigid, flexible = ride(capsys, rigid_path), ride(capsys, FLEXIBLE)
     assert flexible["floor_centre"]["z"] / rigid["floor_centre"]["z"] == pytest.approx(1.48, abs=0.08)
     for point in ("floor_front", "floor_rear"):
         assert 1.0 < flexible[point]["z"] / rigid[point]["z"] < 1.2
-    for point in rigid:
-        assert flexible[point]["y"] == pytest.approx(rigid[point]["y"], rel=0.01)
+    assert flexible["floor_centre"]["y"] == pytest.approx(rigid["floor_centre"]["y"], rel=0.01)
+    for point in ("floor_front", "floor_rear"):
+        assert 1.02 < flexible[point]["y"] / rigid[point]["y"] < 1.07
 
 
 def test_ride_of_a_stiff_car_body_is_the_rigid_ride(tmp_path, capsys):

@@ -107,8 +107,8 @@ def test_frf_command_takes_the_track_inputs(tmp_path, capsys):
 
 
 @pytest.mark.parametrize("argv, message", [
-    (["--input", "cross_level"], "--input cross_level: the model has no input it drives (rail grounds, docs/ride.md); "
-                                 "it feels: alignment, vertical"),
+    (["--input", "gauge"], "--input gauge: the model has no input it drives (rail grounds, docs/ride.md); "
+                           "it feels: alignment, vertical, cross_level"),
     (["--input", "vertical", "--dof", "W1.y"], "--dof goes with the alignment response"),
     (["--input", "vertical_"], "invalid choice: 'vertical_'; did you mean vertical?"),
 ])

@@ -150,19 +150,18 @@ def track_frequency_response(
     Examples
     --------
     >>> from express.numeric.statespace import load_vehicle
-    >>> coach = load_vehicle("examples/manchester.toml")  # one rail ground per axle: no cross level
+    >>> coach = load_vehicle("examples/manchester.toml")  # one rail ground per axle: cross level at the springs
     >>> frf = track_frequency_response(coach, [1.0, 2.0])
     >>> frf.components
-    ('alignment', 'vertical')
+    ('alignment', 'vertical', 'cross_level')
     >>> frf.of("floor_front.az", "vertical").shape
     (2,)
     """
-    from express.analysis.ride.vehicle import rail_inputs, ride_response
+    from express.analysis.ride.vehicle import felt_components, ride_response
     from express.base.arguments import si_argument, si_arguments
     from express.rail.track.spectra import COMPONENTS
 
-    inputs = rail_inputs(vehicle)
-    felt = [c for j, c in enumerate(COMPONENTS) if inputs.names and np.any(inputs.mixing[:, j] != 0)]
+    felt = felt_components(vehicle)
     chosen = tuple(felt if components is None else components)
     problems = [f"--input {c}: not a track component{did_you_mean(c, COMPONENTS)} (components: {', '.join(COMPONENTS)})"
                 for c in chosen if c not in COMPONENTS]

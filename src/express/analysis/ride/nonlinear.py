@@ -29,9 +29,8 @@ from typing import Any
 import numpy as np
 
 from express.analysis.ride.summaries import PointComfort, comfort_from_time_histories, simulation_accelerations
-from express.analysis.ride.vehicle import rail_inputs
+from express.analysis.ride.vehicle import felt_components
 from express.analysis.stability.limit_cycles import flange_touched
-from express.analysis.time.rail_heights import contact_springs
 from express.base.data import DataRecord, variable, xarray
 from express.base.diagnostics import InputError
 from express.numeric.statespace import VehicleModel
@@ -190,10 +189,7 @@ def simulated_ride(vehicle: VehicleModel, spectra: Mapping[str, Any], speed: flo
     if not (speed > 0 and length - RUN_IN >= 5.0 * speed):
         raise InputError(f"simulated ride: a run of {length:g} m at {speed:g} m/s leaves less than 5 s after the "
                          f"{RUN_IN:g} m run-in")
-    inputs = rail_inputs(vehicle)
-    driven = [name for j, name in enumerate(COMPONENTS) if inputs.names and np.any(inputs.mixing[:, j] != 0)]
-    if "cross_level" not in driven and contact_springs(vehicle) is not None:
-        driven.append("cross_level")  # at the contact springs (express.analysis.time.rail_heights)
+    driven = felt_components(vehicle)  # the cross level at the contact springs too, as a time run takes it
     spectra = {name: spectrum for name, spectrum in spectra.items() if name in driven}  # as the spectral ride
     if not spectra:
         raise InputError("simulated ride: the model has no input any of the spectra drives (rail grounds, docs/ride.md)")

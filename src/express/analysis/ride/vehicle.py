@@ -77,7 +77,7 @@ from express.analysis.ride.spectral import (
     spectral_rms,
 )
 from express.analysis.ride.track_classes import TRACK_CLASSES, track_class_spectra
-from express.analysis.time.rail_heights import HeightInputs, height_inputs
+from express.analysis.time.rail_heights import HeightInputs, contact_springs, height_inputs
 from express.assembly.kinematics import end_motion
 from express.base.arguments import si_argument, si_arguments
 from express.base.data import DataRecord, columns_frame
@@ -97,6 +97,7 @@ __all__ = [
     "TRACK_CLASSES",
     "RailInputs",
     "RideResponse",
+    "felt_components",
     "point_rows",
     "rail_inputs",
     "ride_response",
@@ -448,6 +449,15 @@ class RideResponse(DataRecord):
         weights = np.stack([self.input_psd[c] for c in self.components], axis=1)
         cross = np.sum((h1 * np.conj(h2)).real * weights, axis=1)
         return float(np.trapezoid(cross, self.frequencies))
+
+
+def felt_components(vehicle: VehicleModel) -> tuple[str, ...]:
+    """The track components that reach ``vehicle``: through its rail inputs, and the cross
+    level at its contact springs where no rail ground takes it (:func:`_height_inputs`)."""
+    inputs = rail_inputs(vehicle)
+    springs = contact_springs(vehicle) is not None
+    return tuple(c for j, c in enumerate(COMPONENTS)
+                 if (inputs.names and np.any(inputs.mixing[:, j] != 0)) or (c == "cross_level" and springs))
 
 
 def _height_inputs(vehicle: VehicleModel, inputs: RailInputs, outputs: list[str]) -> HeightInputs | None:

@@ -94,13 +94,33 @@ def _products(start, a_t, u, out):
         out[row] = total
 
 
+@kernel
+def _paired_products(start, a_t, u, b_t, w, out):
+    """``out[i] = start[i] + sum_j (a[i, j] u[j] + b[i, j] w[j])``, as :func:`_products`."""
+    columns, rows = a_t.shape
+    i = 0
+    while i + 4 <= rows:
+        t0, t1, t2, t3 = start[i], start[i + 1], start[i + 2], start[i + 3]
+        for j in range(columns):
+            value, other = u[j], w[j]
+            t0 += a_t[j, i] * value + b_t[j, i] * other
+            t1 += a_t[j, i + 1] * value + b_t[j, i + 1] * other
+            t2 += a_t[j, i + 2] * value + b_t[j, i + 2] * other
+            t3 += a_t[j, i + 3] * value + b_t[j, i + 3] * other
+        out[i], out[i + 1], out[i + 2], out[i + 3] = t0, t1, t2, t3
+        i += 4
+    for row in range(i, rows):
+        total = start[row]
+        for j in range(columns):
+            total += a_t[j, row] * u[j] + b_t[j, row] * w[j]
+        out[row] = total
+
+
 @njit(cache=True)
 def heun_march(phi_t, drive, g0_t, g1_t, x0, first, last, states, laws, history):
     """Steps ``first .. last`` of ``x[k+1] = phi x[k] + drive[k] + g0 z[k] + g1 (z[k+1] - z[k])``
     with the end value ``z[k+1]`` of the feedback from a predictor (Heun's scheme on the
-    feedback only): the predictor ``x~ = phi x[k] + drive[k] + g0 z[k]``, then
-    ``x[k+1] = x~ + g1 (z[k+1] - z[k])`` (``x~`` itself when the feedback did not change),
-    as :func:`express.analysis.time.sparse_march.sparse_heun_march` takes it; ``laws`` the stacked force elements' compiled laws
+    feedback only); ``laws`` the stacked force elements' compiled laws
     (:func:`express.forces.law.stacked_forces`); ``states[k + 1]`` gets each new state, ``history[k + 1]`` what the
     recording law records of it (shape (steps + 1, ...) ; empty trailing axes for a law
     that records nothing).  ``phi_t``, ``g0_t``, ``g1_t``: the transposes, C-contiguous.
@@ -112,22 +132,20 @@ def heun_march(phi_t, drive, g0_t, g1_t, x0, first, last, states, laws, history)
     z_next = np.zeros(nz)
     change = np.zeros(nz)
     base = np.zeros(size)
+    held = np.zeros(size)
+    zero = np.zeros(size)
     trial = np.zeros(size)
     scratch = np.zeros_like(history[first])
     stacked_forces(x, first, laws, z, history[first], True)
     for k in range(first, last):
         _products(drive[k], phi_t, x, base)
-        _products(base, g0_t, z, trial)  # the predictor: the feedback held at z[k]
+        _products(zero, g0_t, z, held)
+        for i in range(size):
+            trial[i] = base[i] + held[i]
         stacked_forces(trial, k + 1, laws, z_next, scratch, False)
-        moved = False
         for j in range(nz):
             change[j] = z_next[j] - z[j]
-            moved = moved or change[j] != 0.0
-        if moved:  # the corrector: the response to the feedback's change over the step
-            _products(trial, g1_t, change, x)
-        else:
-            for i in range(size):
-                x[i] = trial[i]
+        _paired_products(base, g0_t, z, g1_t, change, x)
         stacked_forces(x, k + 1, laws, z, history[k + 1], True)
         for i in range(size):
             states[k + 1, i] = x[i]
