@@ -46,8 +46,12 @@ def test_below_the_critical_speed_the_run_gives_the_spectral_ride(vehicle):
 @pytest.mark.slow
 def test_ride_above_the_critical_speed_reports_the_instability_and_the_nonlinear_run(tmp_path, capsys):
     """300 km/h: the linear model hunts; ``express ride`` exits 0 with the nonlinear
-    run's comfort (flange contact reached, the step checked: 0.5 ms against 1 ms moves a
-    RMS by 1.5 %), and the PSD file asked for is not written, with a note."""
+    run's comfort (flange contact reached) and the step check's verdict stated, and the PSD
+    file asked for is not written, with a note. The check halves down to 0.125 ms and says
+    "NOT converged" (largest change 7 %): the flanging run's floor RMS scatters by 1-2 %
+    from one step to the next, with the cross level (1.013, 1.037, 1.041, 1.063 m/s^2 at
+    1, 0.5, 0.25, 0.125 ms) and without it (1.048, 1.061, 1.065, 1.063), a chaotic limit
+    cycle rather than a step error that shrinks."""
     target = tmp_path / "psd.csv"
     status = main(["ride", str(S1002), "--track", "ERRI-high", "--speed", "300", "--json", "-o", str(target)])
     captured = capsys.readouterr()
@@ -58,7 +62,8 @@ def test_ride_above_the_critical_speed_reports_the_instability_and_the_nonlinear
     assert run["flange_contact"] is True and run["dt_s"] <= 1e-3
     assert set(run["output_points"]) == {"floor_front", "floor_rear"}
     assert all(c["rms"]["y"] > 0.3 for c in run["output_points"].values())  # the limit cycle's sway
-    assert not target.exists() and "not written" in captured.err and "converged" in captured.err
+    assert not target.exists() and "not written" in captured.err
+    assert "checked against" in captured.err and "converged" in captured.err
 
 
 @pytest.mark.parametrize("kwargs, message", [

@@ -140,26 +140,25 @@ def _loads(vehicle: VehicleModel, track: Track, end: float, speed: float, dt: fl
     rows = np.clip(np.searchsorted(run.distance, at - 0.5 * speed * dt), 0, run.distance.size - 1)
     if run.wheel_rail is not None:
         return (run.wheel_rail.vertical_load - run.wheel_rail.static_load[None, :, None])[rows]
-    return np.stack([_spring_loads(vehicle, track, run, speed, k) for k in rows])
+    return _spring_loads(vehicle, track, run, speed)[rows]
 
 
-def _spring_loads(vehicle: VehicleModel, track: Track, run, speed: float, k: int) -> np.ndarray:
-    """``dQ = -(k_z (d q + e u) + c_z (d q' + e u'))`` of every wheel at step ``k`` of the
-    run, with the rail heights at the springs, shape (n_wheelsets, 2) (a run without
-    contact tables)."""
+def _spring_loads(vehicle: VehicleModel, track: Track, run, speed: float) -> np.ndarray:
+    """The wheels' load changes along a run without contact tables, from the model's own
+    vertical contact springs as the contact march takes them
+    (:func:`express.forces.contact.dynamic_wheel_loads`, the rail heights included), shape
+    (steps + 1, n_wheelsets, 2)."""
     from express.analysis.time.track_inputs import track_inputs
-    from express.rail.vertical_contact import vertical_contacts
+    from express.base.diagnostics import ArgumentError
+    from express.forces.contact import dynamic_wheel_loads
 
-    inputs = track_inputs(vehicle, track, run.distance[k:k + 1], speed)
-    pairs = vertical_contacts(vehicle.model, vehicle.values, [w.name for w in vehicle.wheelsets], vehicle.dofs,
-                              vehicle.inputs)
-    q, q_dot, u, u_rate = run.q[k], run.q_dot[k], inputs.u[0], inputs.u_rate[0]
-    delta = np.array([[np.nan if s is None else -(s.stiffness * (s.dofs @ q + s.inputs @ u)
-                                                  + s.damping * (s.dofs @ q_dot + s.inputs @ u_rate)) for s in pair]
-                      for pair in pairs])
-    if inputs.rail is not None:
-        delta = delta + inputs.rail.load_changes()[0]
-    return delta
+    loads = dynamic_wheel_loads(vehicle, track_inputs(vehicle, track, run.distance, speed),
+                                np.zeros(len(vehicle.wheelsets)))
+    if loads is None:
+        raise ArgumentError(f"{vehicle.name}: not every wheel stands on a vertical contact spring: no wheel loads "
+                            "on the twist")
+    states = np.concatenate([run.q, run.q_dot[:, vehicle.form.massive]], axis=1)
+    return loads.offset + np.einsum("ki,ijs->kjs", states[:, loads.places], loads.gain[0])
 
 
 def slips(vehicle: VehicleModel) -> bool:
