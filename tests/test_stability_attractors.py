@@ -63,7 +63,7 @@ def test_the_s1002_car_has_a_flange_contact_and_a_tread_attractor():
     the flange clearance of the car's contact tables, the centred wheelset's displacement
     where a contact angle passes 30 degrees (7.71 mm): within 0.15 mm (achieved 0.06 mm,
     the yaw's share).  The speeds of the two attractors and their instability ratios
-    (1.25 and 0.51) are regression guards."""
+    (1.31 and 0.90 with the table law; 1.25 and 0.51 with FASTSIM) are regression guards."""
     from express.analysis.stability.nonlinear_stability import nonlinear_critical_speed
     from express.base.units import KMH
     from express.numeric.statespace import load_vehicle
@@ -78,10 +78,10 @@ def test_the_s1002_car_has_a_flange_contact_and_a_tread_attractor():
     assert first.amplitudes[-1] / second.amplitudes[0] > 1.5
     assert second.below <= result.speed <= second.lowest
     assert result.flange_speed == first.flange_lowest
-    # EN 14363's instability criterion: the flange-contact cycle fails it (1.25), the tread cycle passes (0.51)
-    assert first.instability > 1.0 > 0.6 > second.instability
+    # EN 14363's instability criterion: the flange-contact cycle fails it (1.31), the tread cycle passes (0.90)
+    assert first.instability > 1.2 and 0.8 < second.instability < 1.0
     assert (first.flange_lowest / KMH, second.highest / KMH, second.lowest / KMH) == pytest.approx(
-        (316.3, 296.3, 176.3), abs=0.1)  # regression guard
+        (326.3, 301.3, 176.3), abs=0.1)  # regression guard (FASTSIM: 316.3, 296.3, 176.3)
     contact = wheelset_contacts(vehicle.model, vehicle.values, vehicle.wheelsets)[0]
     grid = [k * 1e-5 for k in range(600, 900)]
     clearance = next(y for y in grid if max(quasi_static_forces(contact, y, speed=50.0)[f"angle_{s}"]

@@ -187,12 +187,12 @@ def test_a_resumed_prediction_gives_the_same_bytes(runs):
 def test_step_size_convergence_and_the_volume(runs):
     """Over 250 km of the tiny route (0.13-0.18 mm worn at the flange root):
 
-    * Euler, bound 0.1 -> 0.05 mm (2 -> 4 steps): the final profile changes by 0.021 mm
-      at most (asserted 0.025 mm);
-    * Heun without error control, bound 0.2 -> 0.1 mm (1 -> 2 steps): by 0.026 mm
-      (asserted 0.03 mm);
-    * Heun with its error control (tolerance 0.01 mm: 3 steps, 10 evaluations) within 0.011 mm of
-      Euler's 0.05 mm (asserted 0.015 mm).
+    * Euler, bound 0.1 -> 0.05 mm (2 -> 4 steps): the final profile changes by 0.048 mm
+      at most (asserted 0.062 mm; 0.021 mm with FASTSIM);
+    * Heun without error control, bound 0.2 -> 0.1 mm (1 -> 2 steps): by 0.041 mm
+      (asserted 0.053 mm; FASTSIM 0.026 mm);
+    * Heun with its error control (tolerance 0.01 mm) within 0.018 mm of Euler's 0.05 mm
+      (asserted 0.023 mm; FASTSIM 0.011 mm).
 
     Measured separately (docs/wear.md, "Step-size convergence"): the largest depth falls
     as the bound shrinks, 0.177, 0.157, 0.143, 0.134 mm for Euler at 0.1 ... 0.0125 mm
@@ -203,8 +203,8 @@ def test_step_size_convergence_and_the_volume(runs):
     euler = np.max(np.abs(final["euler"] - final["euler-half"]))
     heun = np.max(np.abs(final["heun-coarse"] - final["heun-fine"]))
     assert len(runs["euler-half"].rows) > len(runs["euler"].rows)
-    assert euler < 0.025e-3 and heun < 0.03e-3
-    assert np.max(np.abs(final["whole"] - final["euler-half"])) < 0.015e-3
+    controlled = np.max(np.abs(final["whole"] - final["euler-half"]))
+    assert euler < 0.062e-3 and heun < 0.053e-3 and controlled < 0.023e-3, (euler, heun, controlled)
     for name, run in runs.items():
         for row in run.rows:
             assert row["worn_volume"] == pytest.approx(row["profile_volume"], rel=1e-12, abs=1e-18)

@@ -7,7 +7,7 @@ root)::
 * manchester_contact_benchmark.png: the Manchester contact benchmark's case A-2.2
   (S1002 on UIC60 1:40, 10 kN a wheel, 2.4 mrad of yaw per mm), lateral, normal and
   longitudinal forces against CONTACT's results (tests/test_manchester_contact.py holds
-  them, docs/validation.md lists them), with FASTSIM and Polach;
+  them, docs/validation.md lists them), with the table law (the default), FASTSIM and Polach;
 * nonlinear_critical_speed_manchester_s1002.png: what
   ``express critical-speed examples/manchester-s1002.toml --nonlinear --plot`` draws.
 """
@@ -40,7 +40,7 @@ def benchmark_figure() -> Figure:
     contact = wheelset_contact(tables, LOAD, MU)
     y = np.linspace(0.0, 10.0, 401)
     curves = {}
-    for law in ("fastsim", "polach"):
+    for law in ("table", "fastsim", "polach"):
         rows = [quasi_static_forces(contact, v * 1e-3, YAW_PER_MM * v, speed=2.0, law=law) for v in y]
         curves[law] = np.array([(-r["Y_left"], r["N_left"], abs(r["Y_right"]), -r["Fx_left"]) for r in rows]) / 1e3
     ref_y = REFERENCE["y_mm"]
@@ -51,7 +51,8 @@ def benchmark_figure() -> Figure:
         panels = ((0, "flanging wheel: lateral force on the rail [kN]"), (2, "other wheel: |lateral force| [kN]"),
                   (3, "flanging wheel: longitudinal force on the rail [kN]"))
         for axis, (column, label), reference in zip(axes, panels, references, strict=True):
-            axis.plot(y, curves["fastsim"][:, column], color="C0", label="EXPRESS, FASTSIM")
+            axis.plot(y, curves["table"][:, column], color="C3", label="EXPRESS, table of the exact theory (default)")
+            axis.plot(y, curves["fastsim"][:, column], color="C0", linestyle=":", label="EXPRESS, FASTSIM")
             axis.plot(y, curves["polach"][:, column], color="C1", linestyle="--", label="EXPRESS, Polach")
             axis.plot(ref_y, reference, "o", color="black", markersize=4, label="CONTACT (Vollebregt)")
             axis.set_xlabel("lateral displacement y [mm] (yaw 2.4 mrad per mm)")

@@ -49,7 +49,7 @@ from express.rail.contact_forces import (
     profile_wheelset_forces,
 )
 from express.rail.curve import station_of
-from express.rail.options import CreepLaw
+from express.rail.options import DEFAULT_CREEP_LAW, CreepLaw
 from express.rail.profile_contact import contact_terms, profile_nodes
 from express.rail.vertical_contact import vertical_contacts
 from express.rail.wheel_rise import contact_rise
@@ -126,7 +126,7 @@ def _coefficients(model, values: dict[str, float]) -> np.ndarray:
     return out
 
 
-def contact_arrays(contacts: list[WheelsetContact], law: CreepLaw = "fastsim") -> ContactSet:
+def contact_arrays(contacts: list[WheelsetContact], law: CreepLaw = DEFAULT_CREEP_LAW) -> ContactSet:
     """The tables and rail maps of the wheelsets stacked for the compiled march
     (:func:`express.rail.contact_forces.contact_set`, cached for the same contacts)."""
     if law not in LAWS:

@@ -30,12 +30,13 @@ simulation"):
 * tangential forces: a first pass by Polach's method (:func:`express.rail.creep_law.
   polach`) at ``N = Q / cos(delta)``, the last by the chosen law (Polach, FASTSIM,
   :func:`express.rail.creep_law.fastsim`, or the tables of the exact theory,
-  :func:`express.rail.creep_table.tabulated`) at the corrected ``N`` and balanced rotation;
+  :func:`express.rail.creep_table.tabulated_with_moment`) at the corrected ``N`` and balanced rotation;
 * on the wheelset: ``Y = sum(-sigma N sin(delta) + T cos(delta))`` and
   ``M = sum(-sigma l Fx) + sum(x_s Y_s)``;
 * per contact, the frictional power per unit rolling distance
-  ``Tgamma = |Fx xi + T eta|`` at the balanced rotation (no spin moment: neither law
-  gives one) and the patch's area per ``N^(2/3)``, ``pi a b`` at 1 N (``docs/wear.md``).
+  ``Tgamma = |Fx xi + T eta + Mz phi|`` at the balanced rotation (the table law's spin
+  moment ``Mz``; FASTSIM and Polach give none) and the patch's area per ``N^(2/3)``,
+  ``pi a b`` at 1 N (``docs/wear.md``).
 
 The vertical load of each wheel is an argument: the static load
 (:func:`quasi_static_forces`' default, as the Manchester benchmark's case A) or the
@@ -76,8 +77,8 @@ from express.rail.contact_tables import (
     rail_deflection_map,
 )
 from express.rail.creep_law import fastsim, polach_longitudinal, polach_with_slope
-from express.rail.creep_table import tabulated
-from express.rail.options import CreepLaw
+from express.rail.creep_table import tabulated_with_moment
+from express.rail.options import DEFAULT_CREEP_LAW, CreepLaw
 from express.rail.wheel_rise import rail_position, rise_tables, yaw_node
 
 __all__ = [
@@ -131,9 +132,9 @@ _LIFTED = 1.0
 
 #: Columns of the work array of :func:`profile_wheelset_forces`: the table's fields, then the
 #: quantities of each contact the kernel computes.
-WORK_FIELDS = FIELDS + ("normal", "fx", "lateral", "stiffness", "u", "scale", "eta", "pitch_arm")
-_NORMAL, _FX, _LATERAL, _F11, _U, _SCALE, _ETA, _PITCH_ARM = (WORK_FIELDS.index(name)
-                                                             for name in WORK_FIELDS[len(FIELDS):])
+WORK_FIELDS = FIELDS + ("normal", "fx", "lateral", "stiffness", "u", "scale", "eta", "pitch_arm", "spin_moment")
+_NORMAL, _FX, _LATERAL, _F11, _U, _SCALE, _ETA, _PITCH_ARM, _MZ = (WORK_FIELDS.index(name)
+                                                                  for name in WORK_FIELDS[len(FIELDS):])
 
 
 @dataclass(frozen=True, eq=False)
@@ -235,7 +236,7 @@ class ContactSet(NamedTuple):
     law: int
 
 
-def contact_set(contacts: list[WheelsetContact], law: CreepLaw = "fastsim") -> ContactSet:
+def contact_set(contacts: list[WheelsetContact], law: CreepLaw = DEFAULT_CREEP_LAW) -> ContactSet:
     """The contacts of the wheelsets stacked for the compiled kernels."""
     if law not in LAWS:
         raise ArgumentError(f"creep law {law!r}: use one of {', '.join(LAWS)}")
@@ -308,7 +309,7 @@ def profile_wheelset_forces(contacts, j, load_left, load_right, y, psi, y_dot, p
     centre in the track plane (roll positive lifting the left wheel); then
     each contact's creepages ``xi``, ``eta``, ``phi`` [-, -, 1/m] at the balanced rotation,
     its lateral creep force ``T`` in the contact plane [N], the frictional power per unit
-    rolling distance ``Tgamma = |Fx xi + T eta|`` [N] and the Hertz patch's area per
+    rolling distance ``Tgamma = |Fx xi + T eta + Mz phi|`` [N] (``Mz`` of the table law only) and the Hertz patch's area per
     ``N^(2/3)`` [m^2 / N^(2/3)] (:func:`_energy`; :func:`patch_area` gives the area), its
     lateral semi-axis per ``N^(1/3)`` [m / N^(1/3)], and the contact's position on the
     wheel profile from the centred wheelset's contact [m], positive toward the field side.
@@ -398,8 +399,9 @@ def profile_wheelset_forces(contacts, j, load_left, load_right, y, psi, y_dot, p
 def _energy(work, side, rate, q, out):
     """The creepages of contact ``side`` at the balanced rotation ``rate``, its lateral
     creep force ``T`` (in the contact plane), the frictional power per unit rolling
-    distance ``Tgamma = |Fx xi + T eta|`` [N] (the spin moment's share ``Mz phi`` is
-    not included: neither law gives ``Mz``; ``docs/wear.md``) and the Hertz patch's area
+    distance ``Tgamma = |Fx xi + T eta + Mz phi|`` [N] (the spin moment ``Mz`` of the table
+    law; FASTSIM and Polach give none, so their share ``Mz phi`` is left out;
+    ``docs/wear.md``) and the Hertz patch's area
     per ``N^(2/3)``, ``pi a b`` of the tables' semi-axes of 1 N [m^2 / N^(2/3)] (the area
     is that times ``N^(2/3)`` of the final normal force: the power is left to NumPy) into
     ``out``."""
@@ -409,7 +411,7 @@ def _energy(work, side, rate, q, out):
     out[_OUT_ETA[side]] = eta
     out[_OUT_PHI[side]] = phi
     out[_OUT_CREEP_Y[side]] = fy
-    out[_OUT_TGAMMA[side]] = abs(fx * xi + fy * eta)
+    out[_OUT_TGAMMA[side]] = abs(fx * xi + fy * eta + work[side, _MZ] * phi)
     out[_OUT_AREA[side]] = math.pi * work[side, SEMI_A] * work[side, SEMI_B]
     out[_OUT_SEMI_B[side]] = work[side, SEMI_B]
 
@@ -446,14 +448,16 @@ def _creep_pass(work, law, rate, q, friction, shear_modulus, loads, final):
         scale = work[side, _SCALE]
         args = (work[side, _NORMAL], friction, work[side, SEMI_A] * scale, work[side, SEMI_B] * scale, shear_modulus,
                 work[side, C11], work[side, C22], work[side, C23], xi, eta, phi)
+        moment = 0.0
         if law == FASTSIM:
             fx, fy = fastsim(*args)
         elif law == TABLE:
-            fx, fy = tabulated(*args)
+            fx, fy, moment = tabulated_with_moment(*args)
         else:
             fx, fy, work[side, _F11] = polach_with_slope(*args)  # the tangent, for the pitch balance
         work[side, _FX] = fx
         work[side, _LATERAL] = fy
+        work[side, _MZ] = moment
         sigma = 1.0 - 2.0 * side
         old = work[side, _NORMAL]
         new = loads[side] / max(work[side, COS_ANGLE] + sigma * fy / old * work[side, SIN_ANGLE], 0.05)
@@ -461,6 +465,7 @@ def _creep_pass(work, law, rate, q, friction, shear_modulus, loads, final):
         if final:
             work[side, _FX] *= new / old
             work[side, _LATERAL] *= new / old
+            work[side, _MZ] *= new / old
         else:
             work[side, _SCALE] = new ** (1.0 / 3.0)
 

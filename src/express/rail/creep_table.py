@@ -81,6 +81,8 @@ _THETA_STEP = float(_TABLE["thetas"][1])
 _ALPHA_STEP = float(_TABLE["alphas"][1])
 _RADIUS_STEP = float(_TABLE["radii"][1])
 _SLOPES = np.ascontiguousarray(_TABLE["moment_slopes"], dtype=np.float64)
+#: In-plane creepage below this share of the spin's (normalised) is taken as pure spin.
+_SPIN_AXIS = 1e-12
 
 
 @kernel
@@ -184,6 +186,12 @@ def _tabulated(values, slopes, normal, friction, a, b, shear_modulus, c11, c22, 
         ux, sign_x = -ux, -1.0
     if ux == 0.0 and uy == 0.0 and up == 0.0:
         return 0.0, 0.0, 0.0
+    if ux * ux + uy * uy <= (_SPIN_AXIS * up) ** 2:
+        # pure spin: the direction of (xi, eta) is undefined there and the table's nodes
+        # at theta = 0 agree across alpha only to about 0.3 % of the force, so rounding
+        # noise in xi and eta would pick a direction at random (docs/contact.md)
+        ux = 0.0
+        uy = 0.0
     fx, fy, mz = _interpolate(values, slopes, a / b, ux, uy, up, c11, c22, moment)
     size2 = fx * fx + fy * fy
     if size2 > 1.0:  # the cubics may overshoot full slip by ~1e-5: the force is at most mu N

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from typing import Literal, get_args
 
-__all__ = ["CONTACT_MODELS", "CREEP_LAWS", "PROFILE_KINDS", "ContactModel", "CreepLaw", "ProfileKind"]
+__all__ = ["CONTACT_MODELS", "CREEP_LAWS", "DEFAULT_CREEP_LAW", "PROFILE_KINDS", "ContactModel", "CreepLaw", "ProfileKind"]
 
 #: The tangential contact law of the nonlinear contact (``rail/creep_law.py``; ``"table"``:
 #: the tables of the exact theory, ``rail/creep_table.py``).
@@ -16,5 +16,9 @@ ContactModel = Literal["tables", "deadband"]
 ProfileKind = Literal["wheel", "rail"]
 
 CREEP_LAWS: tuple[CreepLaw, ...] = get_args(CreepLaw)
+#: The creep law of the contact from profiles unless one is chosen: the tables of the exact
+#: theory (``docs/contact.md``: accurate in every regime, spin and flange contact included);
+#: FASTSIM and Polach stay selectable.
+DEFAULT_CREEP_LAW: CreepLaw = "table"
 CONTACT_MODELS: tuple[ContactModel, ...] = get_args(ContactModel)
 PROFILE_KINDS: tuple[ProfileKind, ...] = get_args(ProfileKind)

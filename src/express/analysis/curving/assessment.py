@@ -43,7 +43,7 @@ import numpy as np
 from express.analysis.curving.outputs import SIDES, WheelRailOutputs
 from express.analysis.curving.processing import Filtering, Percentiles, filtered, percentiles
 from express.rail.contact_forces import ContactSet
-from express.rail.options import CreepLaw
+from express.rail.options import DEFAULT_CREEP_LAW, CreepLaw
 
 __all__ = [
     "SAMPLING",
@@ -315,7 +315,7 @@ def assess_run(vehicle, track, result) -> tuple[WheelRailOutputs, Assessment]:
     contact = None
     label = str(result.options.get("contact", ""))
     if label.startswith("tables"):
-        law = cast("CreepLaw", label.partition("(")[2].rstrip(")") or "fastsim")  # the run's own label
+        law = cast("CreepLaw", label.partition("(")[2].rstrip(")") or DEFAULT_CREEP_LAW)  # the run's own label
         contact = contact_tables_of(vehicle, "tables", law)
     outputs = getattr(result, "wheel_rail", None)  # the march's own contact forces (contact tables)
     if outputs is None:
@@ -339,7 +339,7 @@ def assess_steady(vehicle, steady) -> Assessment:
 
     contact = None
     if steady.contact.startswith("tables"):
-        contact = contact_tables_of(vehicle, "tables", steady.contact.partition("(")[2].rstrip(")") or "fastsim")
+        contact = contact_tables_of(vehicle, "tables", steady.contact.partition("(")[2].rstrip(")") or DEFAULT_CREEP_LAW)
     friction = min(w.friction for w in vehicle.wheelsets)
     return assess(steady.wheel_rail, [0.0], radius=steady.curve.radius, friction=friction,
                   flange_angle=flange_angle_of(contact, DEFAULT_FLANGE_ANGLE))

@@ -27,8 +27,8 @@ With the contact tables (not the dead-band model) each wheel also has, after the
 other columns (``docs/wear.md``):
 
 ``Tgamma{n}{s}`` [N]
-    the contact's frictional power per unit rolling distance, ``|Fx xi + T eta|`` (the
-    spin moment's share left out: the creep laws give no spin moment);
+    the contact's frictional power per unit rolling distance, ``|Fx xi + T eta + Mz phi|``
+    (the spin moment ``Mz`` of the default table law; FASTSIM and Polach give none);
 ``wear{n}{s}`` [ug/m/mm^2]
     the USFD wear rate of R8T wheel steel at ``Tgamma / A`` (:func:`express.rail.wear.
     usfd_wear_rate`, ``A`` the Hertz patch's area): mass lost per metre rolled per mm^2

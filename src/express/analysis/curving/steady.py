@@ -48,7 +48,7 @@ from express.forces.element import ForceSet
 from express.model.modal_body import coordinate_unit
 from express.model.parameters import expression_value
 from express.numeric.statespace import VehicleModel
-from express.rail.options import ContactModel, CreepLaw
+from express.rail.options import DEFAULT_CREEP_LAW, ContactModel, CreepLaw
 
 __all__ = [
     "MAX_UNBALANCED_ACCELERATION",
@@ -184,8 +184,9 @@ class SteadyCurvingSolver:
     contact : {"tables", "deadband"}, optional
         As :func:`express.analysis.time.simulate.simulate` (tables when the model's contact
         comes from profiles).
-    creep_law : {"fastsim", "polach", "table"}
-        Creep law of the contact tables.
+    creep_law : {"table", "fastsim", "polach"}
+        Creep law of the contact tables (default ``"table"``, the tables of the exact
+        theory; ``docs/contact.md``).
     flange, saturation : bool
         The dead-band model's flange contact and creep saturation (both off: the
         linear steady state).
@@ -197,7 +198,7 @@ class SteadyCurvingSolver:
     """
 
     def __init__(self, vehicle: VehicleModel, speed: float | None = None, *, contact: ContactModel | None = None,
-                 creep_law: CreepLaw = "fastsim", flange: bool = True, saturation: bool = True,
+                 creep_law: CreepLaw = DEFAULT_CREEP_LAW, flange: bool = True, saturation: bool = True,
                  path: str = "transition"):
         if path not in ("transition", "rest"):
             raise ArgumentError(f"path must be 'transition' or 'rest', got {path!r}")

@@ -28,7 +28,7 @@ import numpy as np
 from express.analysis.time.simulate import SimulationResult, simulate
 from express.base.diagnostics import ArgumentError
 from express.numeric.statespace import VehicleModel
-from express.rail.options import ContactModel, CreepLaw
+from express.rail.options import DEFAULT_CREEP_LAW, ContactModel, CreepLaw
 from express.rail.track import Straight, Track
 
 __all__ = ["SETTLED_WINDOWS", "CycleCheck", "flange_touched", "instability_ratio", "limit_cycle", "settle_cycle",
@@ -91,7 +91,7 @@ def instability_ratio(result: SimulationResult) -> float:
 
 
 def limit_cycle(vehicle: VehicleModel, speed: float, state: np.ndarray, *, duration: float, dt: float,
-                wheelset: int = 0, creep_law: CreepLaw = "fastsim", contact: ContactModel | None = None):
+                wheelset: int = 0, creep_law: CreepLaw = DEFAULT_CREEP_LAW, contact: ContactModel | None = None):
     """Run ``duration`` [s] at ``speed`` from ``state`` on straight track; returns the
     amplitudes of the wheelset's lateral motion over the last and the middle third [m],
     the largest flange force of the last third [N], the final state, the simulation's
@@ -154,7 +154,7 @@ def settled(amplitudes: list[float] | tuple[float, ...], spread: float) -> bool:
 
 def settle_cycle(vehicle: VehicleModel, speed: float, state: np.ndarray, *, dt: float, window: float = 2.0,
                  longest: float = 40.0, spread: float = 2e-3, threshold: float = 0.1e-3, wheelset: int = 0,
-                 creep_law: CreepLaw = "fastsim", contact: ContactModel | None = None) -> CycleCheck:
+                 creep_law: CreepLaw = DEFAULT_CREEP_LAW, contact: ContactModel | None = None) -> CycleCheck:
     """Run at ``speed`` from ``state`` window after window: does the motion survive
     ``longest`` seconds?
 

@@ -60,7 +60,7 @@ from express.base.diagnostics import ArgumentError
 from express.base.threads import limited_blas
 from express.base.units import KMH
 from express.numeric.statespace import VehicleModel
-from express.rail.options import ContactModel, CreepLaw
+from express.rail.options import DEFAULT_CREEP_LAW, ContactModel, CreepLaw
 
 __all__ = ["Attractor", "BifurcationPoint", "NonlinearCriticalSpeed", "StepCheck", "limit_cycle",
            "nonlinear_critical_speed"]
@@ -464,7 +464,7 @@ def nonlinear_critical_speed(
     disturbance: float = 5e-3,
     threshold: float = 0.1e-3,
     persistence: float = 0.95,
-    creep_law: CreepLaw = "fastsim",
+    creep_law: CreepLaw = DEFAULT_CREEP_LAW,
     contact: ContactModel | None = None,
     linear: CriticalSpeed | None = None,
     v_max: float = 150.0,

@@ -62,6 +62,7 @@ from express.base.data import DataRecord, variable, xarray
 from express.base.diagnostics import ArgumentError
 from express.numeric.compiled import CompiledExpressions
 from express.numeric.statespace import VehicleModel
+from express.rail.options import DEFAULT_CREEP_LAW
 
 __all__ = [
     "CONTACT_STEP",
@@ -318,7 +319,7 @@ def _margin(values: np.ndarray, index: int) -> float:
 
 def steady_curving_sensitivity(
     vehicle: VehicleModel, curve: SteadyCurve, *, speed: float | str | None = None,
-    parameters: Sequence[str] | None = None, contact: str | None = None, creep_law: str = "fastsim",
+    parameters: Sequence[str] | None = None, contact: str | None = None, creep_law: str = DEFAULT_CREEP_LAW,
     flange: bool = True, saturation: bool = True,
 ) -> SteadyCurvingSensitivity:
     """The steady state in ``curve`` and the derivatives of its outputs with respect to

@@ -21,7 +21,7 @@ from express.rail.contact_forces import (
     patch_area,
     profile_wheelset_forces,
 )
-from express.rail.options import CreepLaw
+from express.rail.options import DEFAULT_CREEP_LAW, CreepLaw
 
 __all__ = ["contact_force_history", "contact_rhs", "contact_wheel_outputs"]
 
@@ -71,7 +71,7 @@ def contact_wheel_outputs(vehicle, history: np.ndarray, q: np.ndarray, loads: st
 
 
 def contact_rhs(vehicle, track, contacts: list[WheelsetContact], *, speed: float | None = None, start: float = 0.0,
-                law: CreepLaw = "fastsim"):
+                law: CreepLaw = DEFAULT_CREEP_LAW):
     """The contact simulation's equations as ``f(t, x)`` for reference integrations
     (``scipy.integrate.solve_ivp``); bump stops are not included, the wheel loads are
     the static ones (the march adds the load transfer of

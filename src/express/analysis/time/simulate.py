@@ -71,7 +71,7 @@ from express.model.modal_body import coordinate_unit
 from express.model.topology import Topology, classify_bodies
 from express.numeric.statespace import VehicleModel
 from express.rail.nonlinear import wheelset_forces
-from express.rail.options import ContactModel, CreepLaw
+from express.rail.options import DEFAULT_CREEP_LAW, ContactModel, CreepLaw
 from express.rail.track import Track
 
 __all__ = [
@@ -269,7 +269,7 @@ def simulate(
     progress: bool | None = None,
     clearances: bool | None = None,
     contact: ContactModel | None = None,
-    creep_law: CreepLaw = "fastsim",
+    creep_law: CreepLaw = DEFAULT_CREEP_LAW,
     route: Route = "auto",
 ) -> SimulationResult:
     """Run ``vehicle`` along ``track``.
@@ -307,8 +307,9 @@ def simulate(
         model's conicity comes from profiles), ``"deadband"`` is the flange spring and
         creep saturation of :mod:`express.rail.nonlinear`.  A linear run (``flange`` and
         ``saturation`` off) uses neither.
-    creep_law : {"fastsim", "polach", "table"}
-        The creep law of the contact tables.
+    creep_law : {"table", "fastsim", "polach"}
+        The creep law of the contact tables (default ``"table"``, the tables of the exact
+        theory; ``docs/contact.md``).
     route : {"auto", "dense", "sparse"}
         How the linear part of a step is taken (the same exact discretization and time
         step either way): dense matrices ``exp(A dt)`` and its hold integrals, or their

@@ -40,6 +40,7 @@ from express.analysis.twist.loads import rail_height_loads
 from express.analysis.twist.passage import slips, twist_run_loads
 from express.analysis.twist.standard import StandardTwist, standard_twist
 from express.numeric.statespace import VehicleModel
+from express.rail.options import DEFAULT_CREEP_LAW
 
 __all__ = ["FRICTION", "RADIUS", "SPEED", "STATIC_METHOD", "FlangeClimb", "TwistAssessment", "assess_twist", "flange_climb"]
 
@@ -133,7 +134,7 @@ def flange_climb(vehicle: VehicleModel, delta_q: np.ndarray, *, radius: float = 
         source = f"settled time run: {settled.reason.split(' (')[0]}"
     loaded = q + float(delta_q[lead, 0])
     climb = y_over_q * q / loaded if loaded > 0 else math.inf
-    angle = flange_angle_of(contact_tables_of(vehicle, None, "fastsim"), DEFAULT_FLANGE_ANGLE)
+    angle = flange_angle_of(contact_tables_of(vehicle, None, DEFAULT_CREEP_LAW), DEFAULT_FLANGE_ANGLE)
     return FlangeClimb(f"{vehicle.wheelsets[lead].name} left", y_over_q, q, float(delta_q[lead, 0]), climb,
                        nadal_limit(angle, friction), source)
 

@@ -28,6 +28,7 @@ from express.base.data import DataRecord, variable, xarray
 from express.base.diagnostics import ArgumentError, UsageError
 from express.io.output import output_transaction, write_csv, write_text
 from express.numeric.statespace import VehicleModel
+from express.rail.options import DEFAULT_CREEP_LAW
 from express.rail.wear_profile import smooth_depth
 from express.rail.wheel_dimensions import flange_dimensions
 
@@ -57,7 +58,7 @@ class WearSettings:
     spacing : float
         Lateral spacing of the profile's nodes and wear cells [m] (0.1 mm).
     creep_law : str
-        Creep law of the steady states and time runs (``"fastsim"``).
+        Creep law of the steady states and time runs (``"table"``, :data:`~express.rail.options.DEFAULT_CREEP_LAW`).
     method : {"euler", "heun"}
         ``"euler"`` (default): the rate at the start only (first order, the length from
         ``bound``); ``"heun"``: the depth rate at the step's start and on the profile the
@@ -71,7 +72,7 @@ class WearSettings:
     bound: float = 0.1e-3
     smoothing: float = 1e-3
     spacing: float = 0.1e-3
-    creep_law: str = "fastsim"
+    creep_law: str = DEFAULT_CREEP_LAW
     method: str = "euler"
     tolerance: float = 0.01e-3
 

@@ -23,6 +23,7 @@ from express.analysis.curving.outputs import WheelRailOutputs
 from express.analysis.wear.route import RouteCase
 from express.base.diagnostics import AnalysisError
 from express.numeric.statespace import VehicleModel
+from express.rail.options import DEFAULT_CREEP_LAW
 
 __all__ = ["DT", "LEAD", "SETTLE", "RandomTrackRun", "random_track_run"]
 
@@ -62,7 +63,7 @@ class RandomTrackRun:
     lateral_rms: np.ndarray
 
 
-def random_track_run(vehicle: VehicleModel, case: RouteCase, speed: float, *, creep_law: str = "fastsim",
+def random_track_run(vehicle: VehicleModel, case: RouteCase, speed: float, *, creep_law: str = DEFAULT_CREEP_LAW,
                      dt: float = DT) -> RandomTrackRun:
     """Run ``vehicle`` on ``case``'s random track at ``speed`` [m/s] (module docstring).
 
