@@ -252,25 +252,15 @@ def plain_relative(pair, regime):
     return (np.abs(ours - ref) / np.abs(ref))[rows(regime)].max()
 
 
-@pytest.mark.parametrize("quantity, regime, achieved, tolerance", FASTSIM,
-                         ids=[f"{q}-{r}" for q, r, *_ in FASTSIM])
-def test_fastsim_forces_against_contact(fastsim, quantity, regime, achieved, tolerance):
-    worst = plain_relative(fastsim[quantity], regime)
-    assert worst <= tolerance, (quantity, regime, worst, achieved)
+LAWS = {"fastsim": FASTSIM, "polach": POLACH, "table": TABLE}
+CASES = [(law, *row) for law, rows in LAWS.items() for row in rows]
 
 
-@pytest.mark.parametrize("quantity, regime, achieved, tolerance", POLACH,
-                         ids=[f"{q}-{r}" for q, r, *_ in POLACH])
-def test_polach_forces_against_contact(polach, quantity, regime, achieved, tolerance):
-    worst = plain_relative(polach[quantity], regime)
-    assert worst <= tolerance, (quantity, regime, worst, achieved)
-
-
-@pytest.mark.parametrize("quantity, regime, achieved, tolerance", TABLE,
-                         ids=[f"{q}-{r}" for q, r, *_ in TABLE])
-def test_table_forces_against_contact(table, quantity, regime, achieved, tolerance):
-    worst = plain_relative(table[quantity], regime)
-    assert worst <= tolerance, (quantity, regime, worst, achieved)
+@pytest.mark.parametrize("law, quantity, regime, achieved, tolerance", CASES,
+                         ids=[f"{law}-{q}-{r}" for law, q, r, *_ in CASES])
+def test_forces_against_contact(request, law, quantity, regime, achieved, tolerance):
+    worst = plain_relative(request.getfixturevalue(law)[quantity], regime)
+    assert worst <= tolerance, (law, quantity, regime, worst, achieved)
 
 
 def test_forces_at_the_centre(fastsim):
