@@ -20,11 +20,13 @@ twist (the Manchester car, its rail heights imposed at the contact springs).
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
 import express
-from cli_support import CONVENTIONAL, run_json
+from cli_support import CONVENTIONAL, assert_input_error, run_json
 
 KMH = 1 / 3.6
 
@@ -78,6 +80,44 @@ def test_simulate(capsys, car):
     assert data["speed"] == pytest.approx(run.speed, rel=1e-15)
     for name, value in run.max_abs().items():
         assert data["max_abs"][name] == pytest.approx(value, rel=1e-12, abs=1e-300), name
+
+
+PROFILED = str(Path(CONVENTIONAL).with_name("manchester-s1002.toml"))
+
+
+def test_simulate_with_a_creep_law(capsys):
+    """``--creep-law`` is the library's ``creep_law=``; the summary names the contact and law."""
+    data = run_json(capsys, "simulate", PROFILED, "--track", "R600", "--dt", "0.01", "--creep-law", "fastsim")
+    vehicle = express.load_vehicle(PROFILED)
+    run = express.simulate(vehicle, express.load_track("R600"), dt=0.01, creep_law="fastsim", progress=False)
+    assert data["contact"] == run.options["contact"] == "tables (fastsim)"
+    for name, value in run.max_abs().items():
+        assert data["max_abs"][name] == pytest.approx(value, rel=1e-12, abs=1e-300), name
+    default = express.simulate(vehicle, express.load_track("R600"), dt=0.01, progress=False)
+    assert default.options["contact"] == "tables (table)"
+    assert default.max_abs()["Y1L"] != pytest.approx(run.max_abs()["Y1L"], rel=1e-3)  # the law does change the run
+
+
+def test_curving_with_a_creep_law(capsys):
+    from express.analysis.curving.steady import SteadyCurve
+
+    data = run_json(capsys, "curving", PROFILED, "--radius", "1000", "--speed", "120", "--creep-law", "polach")
+    mine = express.steady_curving(express.load_vehicle(PROFILED), SteadyCurve(1000.0, 0.0), speeds=120 * KMH,
+                                  creep_law="polach")[0]
+    cli, library = data["results"][0], mine.columns()
+    assert mine.contact.endswith("(polach)")
+    for name in ("Q1L", "YQ1L", "aoa1", "SY1"):
+        assert cli[name] == pytest.approx(library[name], rel=1e-12, abs=1e-15), name
+
+
+@pytest.mark.parametrize(("argv", "mentions"), [
+    (("simulate", PROFILED, "--linear", "--creep-law", "fastsim"), "--linear"),
+    (("simulate", CONVENTIONAL, "--creep-law", "fastsim"), "profiles"),
+    (("curving", PROFILED, "--radius", "600", "--contact", "deadband", "--creep-law", "polach"), "dead-band"),
+    (("curving", PROFILED, "--radius", "600", "--creep-law", "kalker"), "invalid choice"),
+])
+def test_a_creep_law_where_none_applies_is_refused(capsys, argv, mentions):
+    assert_input_error(capsys, *argv, mentions=mentions)
 
 
 def test_ride(capsys, car):

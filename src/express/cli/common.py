@@ -294,6 +294,33 @@ def load_rail_vehicle(model: Path, overrides: dict[str, str], command: str) -> A
 
 #: The linearisations of :data:`express.forces.linearisation.KINDS` (for --help without
 #: importing NumPy; a test keeps the two equal).
+def add_creep_law_argument(parser: argparse.ArgumentParser) -> None:
+    """``--creep-law`` of the commands that run the nonlinear contact from profiles."""
+    from express.rail.options import CREEP_LAWS
+
+    parser.add_argument("--creep-law", choices=CREEP_LAWS, default=None,
+                        help="with the contact from profiles: the creep law (default table: the tables of the exact "
+                             "theory; fastsim, polach; docs/contact.md)")
+
+
+def creep_law_options(vehicle: Any, creep_law: str | None, *, nonlinear: bool, contact: str | None = None) -> dict:
+    """``{"creep_law": creep_law}`` for the library's call, ``{}`` without ``--creep-law``;
+    a :class:`~express.base.diagnostics.UsageError` where no creep law applies (a linear
+    run, the dead-band contact, a model without profiles)."""
+    if creep_law is None:
+        return {}
+    from express.rail.profile_contact import profile_nodes
+
+    if not nonlinear:
+        raise UsageError("--creep-law is for the nonlinear contact: drop --linear or --creep-law")
+    if contact == "deadband":
+        raise UsageError("--creep-law is for the contact from profiles: the dead-band contact has its own saturation")
+    if vehicle.model is None or not profile_nodes(vehicle.model):
+        raise UsageError("--creep-law is for the contact from profiles: the model's wheelsets have none "
+                         "(docs/contact.md)")
+    return {"creep_law": creep_law}
+
+
 LINEARISATIONS = ("tangent", "equivalent", "statistical")
 ELEMENT_AMPLITUDE = Quantity("--element-amplitude", "length", "mm", 0.0, 1000.0, open_low=True)
 ELEMENT_ANGLE = Quantity("--element-angle", "angle", "mrad", 0.0, 1000.0, open_low=True)

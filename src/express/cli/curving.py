@@ -71,6 +71,7 @@ def add_parser(subparsers) -> None:
                         help="wheel/rail contact: the profiles' tables (default when the model has profiles) or the "
                         "paper's dead-band flange and creep saturation")
     parser.add_argument("--linear", action="store_true", help="linear creep and no flange contact")
+    common.add_creep_law_argument(parser)
     parser.add_argument("-o", "--output", metavar="FILE", help="every output of every curve as CSV (units in the header; - for standard output)")
     parser.add_argument("--plot", type=common.figure_path, metavar="FILE", help="the outputs against the sweep (.png, .svg or .pdf)")
     common.add_json_option(parser)
@@ -81,7 +82,7 @@ def run(
     model: Path, overrides: dict[str, str], *, radius: list[float] | None = None, cant: float | None = None,
     direction: str = "right", speed: list[float] | None = None, cant_deficiency: list[float] | None = None,
     track: str | None = None, contact: str | None = None, linear: bool = False, output: str | None = None,
-    plot: Path | None = None, as_json: bool = False,
+    plot: Path | None = None, as_json: bool = False, creep_law: str | None = None,
 ) -> int:
     """Solve every curve and write the outputs together; returns the exit status."""
     from express.analysis.curving.settled import curving_or_settled
@@ -100,7 +101,9 @@ def run(
                 transaction.declare(path, binary=binary)
         vehicle = common.load_rail_vehicle(model, overrides, "curving")
         curves, speeds, where = _cases(vehicle, radius, cant or 0.0, direction, speed, cant_deficiency, track)
-        found = curving_or_settled(vehicle, curves, speeds, contact=contact, flange=not linear, saturation=not linear)
+        law = common.creep_law_options(vehicle, creep_law, nonlinear=not linear, contact=contact)
+        found = curving_or_settled(vehicle, curves, speeds, contact=contact, flange=not linear, saturation=not linear,
+                                   **law)
         results = [steady for steady, _ in found if steady is not None]
         settled = [run for _, run in found if run is not None]
         if not results and (output is not None or plot is not None):

@@ -52,6 +52,7 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--dt", type=common.DT, default=0.005, metavar="DT",
                         help=common.DT.help("time step", f"0.005 s; at most {MAX_STEPS:,} steps"))
     parser.add_argument("--linear", action="store_true", help="no flange contact and no creep saturation")
+    common.add_creep_law_argument(parser)
     parser.add_argument("-o", "--output", dest="outputs", action="append", default=[], type=table_path, metavar="FILE",
                         help="time histories: .csv (units in the header), .npz or .mat by suffix, - for CSV on "
                         "standard output (repeatable)")
@@ -73,7 +74,7 @@ def add_parser(subparsers) -> None:
 def run(
     model: Path, overrides: dict[str, str], *, track: str | None = None, speed: float | None = None,
     dt: float = 0.005, linear: bool = False, outputs: list[str] | None = None, plot: Path | None = None,
-    assess: bool = False, as_json: bool = False, step_check: bool = True,
+    assess: bool = False, as_json: bool = False, step_check: bool = True, creep_law: str | None = None,
 ) -> int:
     """Simulate and write the outputs all together; returns the exit status."""
     from express.io.output import output_transaction
@@ -96,6 +97,7 @@ def run(
         road, where = common.track_and_name(track)
         transaction.add_inputs(_files_read_by(road))
         vehicle = common.load_rail_vehicle(model, overrides, "simulate")
+        law = common.creep_law_options(vehicle, creep_law, nonlinear=not linear)
         v, where = _speed_and_source(vehicle, speed, road, where)
         from express.analysis.curving.steady import track_problems
 
@@ -106,7 +108,7 @@ def run(
         if steps > MAX_STEPS:
             raise UsageError(f"--dt {dt:g} s: {steps:,.0f} steps for {road.length:g} m at {v / common.KMH:g} km/h; "
                              f"at most {MAX_STEPS:,} (give a larger --dt)")
-        result = _simulate(vehicle, road, v, dt, linear)
+        result = _simulate(vehicle, road, v, dt, linear, law)
         from express.analysis.time.divergence import find_divergence
 
         divergence = find_divergence(result, vehicle)
@@ -114,7 +116,7 @@ def run(
             if assess:
                 assessment = _assess(vehicle, road, result)
                 if step_check:
-                    result, assessment, check = _step_check(vehicle, road, v, dt, (result, assessment))
+                    result, assessment, check = _step_check(vehicle, road, v, dt, (result, assessment), law)
                     dt = check.dt
             _write(result, outputs, plot, f"{vehicle.equations.name}: {v / common.KMH:.0f} km/h, {_track_name(track)}")
         else:
@@ -126,7 +128,8 @@ def run(
     summary = {
         "model": str(model), "track": str(track) if track is not None else "paper", "track_used": where, "speed": v,
         "speed_kmh": v / common.KMH, "track_length": road.length, "dt": dt, "linear": bool(linear),
-        "steps": int(result.time.size), "max_abs": result.max_abs(),
+        "contact": result.options.get("contact", "deadband"), "steps": int(result.time.size),
+        "max_abs": result.max_abs(),
         "outputs_written": [p for p in outputs if p != "-"] + ([str(plot)] if plot is not None else []),
     }
     if assessment is not None:
@@ -175,13 +178,14 @@ def _assess(vehicle: Any, road: Any, result: Any) -> Any:
     return assessment
 
 
-def _step_check(vehicle: Any, road: Any, speed: float, dt: float, first: tuple[Any, Any]) -> tuple[Any, Any, Any]:
+def _step_check(vehicle: Any, road: Any, speed: float, dt: float, first: tuple[Any, Any],
+                law: dict) -> tuple[Any, Any, Any]:
     """The assessed run checked against twice its step, halved until its quantities agree
     (:func:`express.analysis.time.step_check.checked_simulation`)."""
     from express.analysis.time.step_check import checked_simulation
 
     smallest = max(1e-5, road.length / (speed * MAX_STEPS))
-    return checked_simulation(vehicle, lambda step: _simulate(vehicle, road, speed, step, False),
+    return checked_simulation(vehicle, lambda step: _simulate(vehicle, road, speed, step, False, law),
                               lambda result: (result, _assess(vehicle, road, result)), dt, first=first,
                               smallest=smallest)
 
@@ -211,14 +215,14 @@ def _files_read_by(road: Any) -> list[str]:
     return [source] if isinstance(source, str) and Path(source).is_file() else []
 
 
-def _simulate(vehicle: Any, road: Any, speed: float, dt: float, linear: bool) -> Any:
+def _simulate(vehicle: Any, road: Any, speed: float, dt: float, linear: bool, law: dict) -> Any:
     import numpy as np
 
     from express.analysis.time.simulate import simulate
 
     with np.errstate(over="ignore", invalid="ignore"):  # a diverging run is reported: analysis.divergence
         return simulate(vehicle, road, speed=speed, dt=dt, flange=not linear, saturation=not linear,
-                        progress=common.is_terminal(sys.stderr))
+                        progress=common.is_terminal(sys.stderr), **law)
 
 
 def _write(result: Any, outputs: list[str], plot: Path | None, title: str) -> None:
@@ -261,10 +265,17 @@ def _print_summary(name: str, summary: dict, track: str | None, stream: Any) -> 
     print(f"track: {summary['track_used']}", file=stream)
     print(f"{name}: {_track_name(track)}, {summary['track_length']:.1f} m at {v / common.KMH:.1f} km/h "
           f"({v:.2f} m/s), dt = {summary['dt']:g} s"
-          f"{', linear' if summary['linear'] else ', flange contact and creep saturation'}", file=stream)
+          f"{', linear' if summary['linear'] else _contact_words(summary['contact'])}", file=stream)
     print("largest absolute values:", file=stream)
     for key, value in summary["max_abs"].items():
         print(f"  {key:<10} {_with_unit(key, value)}", file=stream)
+
+
+def _contact_words(contact: str) -> str:
+    """How the summary names the run's wheel/rail contact."""
+    if contact == "deadband":
+        return ", flange contact and creep saturation (dead-band)"
+    return f", contact {contact.replace('(', '(creep law ')}"
 
 
 def _with_unit(name: str, value: float) -> str:
