@@ -107,3 +107,21 @@ def test_critical_speed_bad_input_exits_2(capsys, argv, mentions):
 def test_critical_speed_needs_rail_data(capsys, tmp_path):
     """A model with values but no rail data: status 2 and a message saying what applies."""
     assert_input_error(capsys, "critical-speed", valued_lever(tmp_path), mentions="no rail data")
+
+
+@pytest.mark.parametrize(("argv", "law"), [((), "table"), (("--creep-law", "fastsim"), "fastsim")])
+def test_the_creep_law_reaches_the_nonlinear_search(capsys, monkeypatch, argv, law):
+    """``--creep-law`` (the option ``simulate`` and ``curving`` share) is handed to the
+    nonlinear search, the default law without it; the search itself is tested in
+    ``tests/test_contact_critical_speed.py``."""
+    import express.cli.critical_speed as command
+
+    seen = []
+    monkeypatch.setattr(command, "_run_nonlinear", lambda *args: seen.append(args[9]) or 0)
+    status, _, err = run(capsys, "critical-speed", "examples/manchester-s1002.toml", "--nonlinear", *argv)
+    assert status == 0, err
+    assert seen == [law]
+
+
+def test_a_creep_law_without_nonlinear_is_refused(capsys):
+    assert_input_error(capsys, "critical-speed", CONVENTIONAL, "--creep-law", "fastsim", mentions="--nonlinear")

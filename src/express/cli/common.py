@@ -292,8 +292,6 @@ def load_rail_vehicle(model: Path, overrides: dict[str, str], command: str) -> A
     return vehicle
 
 
-#: The linearisations of :data:`express.forces.linearisation.KINDS` (for --help without
-#: importing NumPy; a test keeps the two equal).
 def add_creep_law_argument(parser: argparse.ArgumentParser) -> None:
     """``--creep-law`` of the commands that run the nonlinear contact from profiles."""
     from express.rail.options import CREEP_LAWS
@@ -321,6 +319,8 @@ def creep_law_options(vehicle: Any, creep_law: str | None, *, nonlinear: bool, c
     return {"creep_law": creep_law}
 
 
+#: The linearisations of :data:`express.forces.linearisation.KINDS` (for --help without
+#: importing NumPy; a test keeps the two equal).
 LINEARISATIONS = ("tangent", "equivalent", "statistical")
 ELEMENT_AMPLITUDE = Quantity("--element-amplitude", "length", "mm", 0.0, 1000.0, open_low=True)
 ELEMENT_ANGLE = Quantity("--element-angle", "angle", "mrad", 0.0, 1000.0, open_low=True)

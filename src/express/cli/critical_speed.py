@@ -15,7 +15,7 @@ from express.base.diagnostics import UsageError
 from express.cli import common
 from express.cli.common import SEARCH
 from express.cli.runner import run_command
-from express.rail.options import CREEP_LAWS, DEFAULT_CREEP_LAW, CreepLaw
+from express.rail.options import DEFAULT_CREEP_LAW, CreepLaw
 
 __all__ = ["MAX_SWEEP", "add_parser", "main", "parse_range", "run"]
 
@@ -101,8 +101,7 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--disturbance", type=DISTURBANCE, metavar="LENGTH",
                         help=DISTURBANCE.help("with --nonlinear: every wheelset's lateral displacement at the start",
                                               "5 mm"))
-    parser.add_argument("--creep-law", choices=CREEP_LAWS, default=DEFAULT_CREEP_LAW,
-                        help="with --nonlinear and profiles: the creep law (default table: the tables of the exact theory)")
+    common.add_creep_law_argument(parser)
     common.add_json_option(parser)
     common.add_linearisation_arguments(parser)
     parser.set_defaults(handler=run, numeric=True)
@@ -113,7 +112,7 @@ def run(
     tolerance: float = SEARCH.tolerance,
     conicities: list[float] | None = None, parameter: str = "Gamma", output: str | None = None,
     plot: Path | None = None, as_json: bool = False, nonlinear: bool = False, vstart: float | None = None,
-    threshold: float | None = None, disturbance: float | None = None, creep_law: CreepLaw = DEFAULT_CREEP_LAW, linearisation: str = "tangent", element_amplitude: float | None = None, element_angle: float | None = None, element_frequency: float | None = None,
+    threshold: float | None = None, disturbance: float | None = None, creep_law: CreepLaw | None = None, linearisation: str = "tangent", element_amplitude: float | None = None, element_angle: float | None = None, element_frequency: float | None = None,
 ) -> int:
     """Find the critical speed (and the sweep) and write the outputs all together."""
     spec = common.linearisation_spec(linearisation, element_amplitude, element_angle, element_frequency)
@@ -126,9 +125,11 @@ def run(
             raise UsageError("--nonlinear and --conicities: choose one")
         if spec.kind != "tangent":
             raise UsageError("--nonlinear marches the whole nonlinear elements: --linearisation is for the linear critical speed")
-        return _run_nonlinear(model, overrides, vmin, vmax, tolerance, output, plot, as_json, vstart, creep_law,
+        return _run_nonlinear(model, overrides, vmin, vmax, tolerance, output, plot, as_json, vstart,
+                              creep_law or DEFAULT_CREEP_LAW,
                               {k: v for k, v in (("threshold", threshold), ("disturbance", disturbance)) if v is not None})
-    for option, value in (("--vstart", vstart), ("--threshold", threshold), ("--disturbance", disturbance)):
+    for option, value in (("--vstart", vstart), ("--threshold", threshold), ("--disturbance", disturbance),
+                          ("--creep-law", creep_law)):
         if value is not None:
             raise UsageError(f"{option} is used only with --nonlinear")
     if output is not None and conicities is None:
